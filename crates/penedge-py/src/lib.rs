@@ -1,0 +1,1 @@
+//! Python bindings of penedge (filled in next).

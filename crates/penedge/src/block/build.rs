@@ -1,0 +1,399 @@
+//! Building a [`ConvexBlock`] from vertices and faces, with validation.
+//!
+//! The checks run from the cheapest to the most geometric, so the first error reported is the
+//! most basic one: input shape, finite coordinates, repeated or unused vertices, closed
+//! manifold surface with consistent orientation and sphere topology, orientation (positive
+//! volume), then planar convex faces and a convex block. Adjacent coplanar faces (a
+//! triangulated box face, say) are merged into one polygon first: the contact types speak of
+//! geometric faces, not of the triangles that happen to describe them.
+
+use super::{BlockError, ConvexBlock, Edge};
+use crate::geometry::{newell_normal, Aabb, DVec3, Plane};
+use crate::tolerance::Tolerance;
+use std::collections::HashMap;
+
+impl ConvexBlock {
+    /// Builds a block from vertices and faces (vertex index lists, counter-clockwise seen
+    /// from outside) with the default [`Tolerance`].
+    pub fn new<F: AsRef<[usize]>>(
+        vertices: &[[f64; 3]],
+        faces: &[F],
+    ) -> Result<ConvexBlock, BlockError> {
+        ConvexBlock::with_tolerance(vertices, faces, &Tolerance::default())
+    }
+
+    /// Builds a block; `tol.length()` (relative to the block's size) is the distance within
+    /// which vertices coincide and a vertex counts as lying on a plane.
+    pub fn with_tolerance<F: AsRef<[usize]>>(
+        vertices: &[[f64; 3]],
+        faces: &[F],
+        tol: &Tolerance,
+    ) -> Result<ConvexBlock, BlockError> {
+        let faces: Vec<Vec<usize>> = faces.iter().map(|f| f.as_ref().to_vec()).collect();
+        let points = check_points(vertices)?;
+        let eps = tol.length() * Aabb::of_points(&points).diagonal();
+        check_face_lists(&faces, points.len())?;
+        check_repeated_vertices(&points, eps)?;
+        let faces = merge_coplanar_faces(&points, faces, eps)?;
+        build_checked(points, faces, eps)
+    }
+}
+
+fn check_points(vertices: &[[f64; 3]]) -> Result<Vec<DVec3>, BlockError> {
+    vertices
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let p = DVec3::from_array(*v);
+            if p.is_finite() {
+                Ok(p)
+            } else {
+                Err(BlockError::NonFiniteVertex { vertex: i })
+            }
+        })
+        .collect()
+}
+
+fn check_face_lists(faces: &[Vec<usize>], n_vertices: usize) -> Result<(), BlockError> {
+    if n_vertices < 4 || faces.len() < 4 {
+        return Err(BlockError::TooSmall {
+            vertices: n_vertices,
+            faces: faces.len(),
+        });
+    }
+    let mut used = vec![false; n_vertices];
+    for (f, face) in faces.iter().enumerate() {
+        if face.len() < 3 {
+            return Err(BlockError::DegenerateFaceList { face: f });
+        }
+        for (k, &v) in face.iter().enumerate() {
+            if v >= n_vertices {
+                return Err(BlockError::VertexIndexOutOfRange {
+                    face: f,
+                    vertex: v,
+                    count: n_vertices,
+                });
+            }
+            if face[..k].contains(&v) {
+                return Err(BlockError::DegenerateFaceList { face: f });
+            }
+            used[v] = true;
+        }
+    }
+    match used.iter().position(|u| !u) {
+        Some(v) => Err(BlockError::UnusedVertex { vertex: v }),
+        None => Ok(()),
+    }
+}
+
+/// Pairs of vertices closer than `eps`, found by a sweep along x.
+fn check_repeated_vertices(points: &[DVec3], eps: f64) -> Result<(), BlockError> {
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by(|&a, &b| points[a].x.total_cmp(&points[b].x));
+    for (k, &i) in order.iter().enumerate() {
+        for &j in &order[k + 1..] {
+            if points[j].x - points[i].x > eps {
+                break;
+            }
+            if points[i].distance(points[j]) <= eps {
+                let (first, second) = (i.min(j), i.max(j));
+                return Err(BlockError::RepeatedVertex { first, second });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Undirected edges with the faces on each side; checks a closed, manifold, consistently
+/// oriented surface.
+fn build_edges(faces: &[Vec<usize>]) -> Result<Vec<Edge>, BlockError> {
+    let mut index: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut edges: Vec<(Edge, bool)> = Vec::new();
+    for (f, face) in faces.iter().enumerate() {
+        for k in 0..face.len() {
+            let (a, b) = (face[k], face[(k + 1) % face.len()]);
+            let key = (a.min(b), a.max(b));
+            match index.get(&key) {
+                None => {
+                    index.insert(key, edges.len());
+                    let e = Edge {
+                        vertices: [a as u32, b as u32],
+                        faces: [f as u32, u32::MAX],
+                    };
+                    edges.push((e, false));
+                }
+                Some(&i) => {
+                    let (e, paired) = &mut edges[i];
+                    if *paired {
+                        return Err(BlockError::NonManifoldEdge {
+                            first: key.0,
+                            second: key.1,
+                        });
+                    }
+                    if e.vertices[0] as usize == a {
+                        return Err(BlockError::InconsistentOrientation {
+                            first: e.faces[0] as usize,
+                            second: f,
+                            a,
+                            b,
+                        });
+                    }
+                    e.faces[1] = f as u32;
+                    *paired = true;
+                }
+            }
+        }
+    }
+    match edges.iter().find(|(_, paired)| !paired) {
+        Some((e, _)) => Err(BlockError::OpenSurface {
+            first: e.vertices[0].min(e.vertices[1]) as usize,
+            second: e.vertices[0].max(e.vertices[1]) as usize,
+        }),
+        None => Ok(edges.into_iter().map(|(e, _)| e).collect()),
+    }
+}
+
+fn face_plane(points: &[DVec3], face: &[usize], f: usize, eps: f64) -> Result<Plane, BlockError> {
+    let n = newell_normal(face.iter().map(|&v| points[v]));
+    let len = n.length();
+    let perimeter: f64 = (0..face.len())
+        .map(|k| points[face[k]].distance(points[face[(k + 1) % face.len()]]))
+        .sum();
+    // Twice the area against the perimeter: the face's mean width must exceed eps.
+    if !(len > eps * perimeter) {
+        return Err(BlockError::ZeroAreaFace { face: f });
+    }
+    let centre = face.iter().map(|&v| points[v]).sum::<DVec3>() / face.len() as f64;
+    Ok(Plane {
+        normal: n / len,
+        point: centre,
+    })
+}
+
+/// Merges faces that share an edge and lie in one plane.
+fn merge_coplanar_faces(
+    points: &[DVec3],
+    faces: Vec<Vec<usize>>,
+    eps: f64,
+) -> Result<Vec<Vec<usize>>, BlockError> {
+    let edges = build_edges(&faces)?;
+    let planes: Vec<Plane> = (0..faces.len())
+        .map(|f| face_plane(points, &faces[f], f, eps))
+        .collect::<Result<_, _>>()?;
+    let mut group: Vec<usize> = (0..faces.len()).collect();
+    let mut merged_any = false;
+    for e in &edges {
+        let (f, g) = (e.faces[0] as usize, e.faces[1] as usize);
+        let coplanar = planes[f].normal.dot(planes[g].normal) > 0.0
+            && faces[g]
+                .iter()
+                .all(|&v| planes[f].distance(points[v]).abs() <= eps)
+            && faces[f]
+                .iter()
+                .all(|&v| planes[g].distance(points[v]).abs() <= eps);
+        if coplanar {
+            let (rf, rg) = (find(&mut group, f), find(&mut group, g));
+            if rf != rg {
+                group[rg] = rf;
+                merged_any = true;
+            }
+        }
+    }
+    if !merged_any {
+        return Ok(faces);
+    }
+    let roots: Vec<usize> = (0..faces.len()).map(|f| find(&mut group, f)).collect();
+    let mut merged = Vec::new();
+    for root in 0..faces.len() {
+        if roots[root] == root {
+            merged.push(boundary_loop(&faces, &roots, root)?);
+        }
+    }
+    Ok(merged)
+}
+
+fn find(group: &mut [usize], mut f: usize) -> usize {
+    while group[f] != f {
+        group[f] = group[group[f]];
+        f = group[f];
+    }
+    f
+}
+
+/// The outer boundary of the faces in one group, as one counter-clockwise loop.
+fn boundary_loop(
+    faces: &[Vec<usize>],
+    roots: &[usize],
+    root: usize,
+) -> Result<Vec<usize>, BlockError> {
+    let mut directed: HashMap<(usize, usize), ()> = HashMap::new();
+    for (f, face) in faces.iter().enumerate().filter(|(f, _)| roots[*f] == root) {
+        let _ = f;
+        for k in 0..face.len() {
+            directed.insert((face[k], face[(k + 1) % face.len()]), ());
+        }
+    }
+    let mut next: HashMap<usize, usize> = HashMap::new();
+    for &(a, b) in directed.keys() {
+        if !directed.contains_key(&(b, a)) && next.insert(a, b).is_some() {
+            return Err(BlockError::NotConvex {
+                face: root,
+                vertex: a,
+                distance: 0.0,
+            });
+        }
+    }
+    let start = *next
+        .keys()
+        .min()
+        .ok_or(BlockError::ZeroAreaFace { face: root })?;
+    let mut loop_ = vec![start];
+    let mut v = next[&start];
+    while v != start {
+        if loop_.len() > next.len() {
+            return Err(BlockError::NotConvex {
+                face: root,
+                vertex: v,
+                distance: 0.0,
+            });
+        }
+        loop_.push(v);
+        v = *next.get(&v).ok_or(BlockError::OpenSurface {
+            first: v,
+            second: v,
+        })?;
+    }
+    if loop_.len() != next.len() {
+        // A coplanar group with a hole or two boundary loops is not a convex face.
+        return Err(BlockError::NotConvex {
+            face: root,
+            vertex: start,
+            distance: 0.0,
+        });
+    }
+    Ok(loop_)
+}
+
+fn build_checked(
+    points: Vec<DVec3>,
+    faces: Vec<Vec<usize>>,
+    eps: f64,
+) -> Result<ConvexBlock, BlockError> {
+    let edges = build_edges(&faces)?;
+    let euler = points.len() as i64 - edges.len() as i64 + faces.len() as i64;
+    if euler != 2 {
+        return Err(BlockError::NotASphere { euler });
+    }
+    check_corners(points.len(), &faces)?;
+    let planes: Vec<Plane> = (0..faces.len())
+        .map(|f| face_plane(&points, &faces[f], f, eps))
+        .collect::<Result<_, _>>()?;
+    let (volume, centroid) = volume_and_centroid(&points, &faces);
+    let aabb = Aabb::of_points(&points);
+    if volume < 0.0 && volume.abs() > eps * aabb.diagonal().powi(2) {
+        return Err(BlockError::WrongOrientation);
+    }
+    if !(volume > eps * aabb.diagonal().powi(2)) {
+        return Err(BlockError::ZeroVolume);
+    }
+    check_faces_planar_convex(&points, &faces, &planes, eps)?;
+    check_block_convex(&points, &planes, eps)?;
+    let face_offsets = std::iter::once(0)
+        .chain(faces.iter().scan(0u32, |acc, f| {
+            *acc += f.len() as u32;
+            Some(*acc)
+        }))
+        .collect();
+    let face_vertices = faces.iter().flatten().map(|&v| v as u32).collect();
+    Ok(ConvexBlock {
+        vertices: points,
+        face_offsets,
+        face_vertices,
+        planes,
+        edges,
+        volume,
+        centroid,
+        aabb,
+    })
+}
+
+/// Every vertex must be a corner, in three faces or more.
+fn check_corners(n_vertices: usize, faces: &[Vec<usize>]) -> Result<(), BlockError> {
+    let mut degree = vec![0usize; n_vertices];
+    for &v in faces.iter().flatten() {
+        degree[v] += 1;
+    }
+    match degree.iter().position(|&d| d < 3) {
+        Some(vertex) => Err(BlockError::NotACorner { vertex }),
+        None => Ok(()),
+    }
+}
+
+/// Signed volume and centroid by the divergence theorem, in coordinates local to vertex 0.
+fn volume_and_centroid(points: &[DVec3], faces: &[Vec<usize>]) -> (f64, DVec3) {
+    let origin = points[0];
+    let mut volume = 0.0;
+    let mut moment = DVec3::ZERO;
+    for face in faces {
+        let a = points[face[0]] - origin;
+        for k in 1..face.len() - 1 {
+            let b = points[face[k]] - origin;
+            let c = points[face[k + 1]] - origin;
+            let v6 = a.dot(b.cross(c));
+            volume += v6;
+            moment += v6 * (a + b + c);
+        }
+    }
+    let centroid = if volume != 0.0 {
+        origin + moment / (4.0 * volume)
+    } else {
+        origin
+    };
+    (volume / 6.0, centroid)
+}
+
+fn check_faces_planar_convex(
+    points: &[DVec3],
+    faces: &[Vec<usize>],
+    planes: &[Plane],
+    eps: f64,
+) -> Result<(), BlockError> {
+    for (f, (face, plane)) in faces.iter().zip(planes).enumerate() {
+        for (k, &v) in face.iter().enumerate() {
+            let distance = plane.distance(points[v]);
+            if distance.abs() > eps {
+                return Err(BlockError::NonPlanarFace {
+                    face: f,
+                    vertex: v,
+                    distance,
+                });
+            }
+            let a = points[face[(k + face.len() - 1) % face.len()]];
+            let b = points[v];
+            let c = points[face[(k + 1) % face.len()]];
+            let edge = b - a;
+            // Signed distance of c from the line ab, positive on the inner (left) side.
+            let inward = plane.normal.cross(edge).normalize_or_zero();
+            if inward.dot(c - b) < -eps {
+                return Err(BlockError::NonConvexFace { face: f, vertex: v });
+            }
+        }
+    }
+    Ok(())
+}
+
+fn check_block_convex(points: &[DVec3], planes: &[Plane], eps: f64) -> Result<(), BlockError> {
+    for (f, plane) in planes.iter().enumerate() {
+        for (v, &p) in points.iter().enumerate() {
+            let distance = plane.distance(p);
+            if distance > eps {
+                return Err(BlockError::NotConvex {
+                    face: f,
+                    vertex: v,
+                    distance,
+                });
+            }
+        }
+    }
+    Ok(())
+}

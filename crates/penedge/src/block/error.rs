@@ -1,0 +1,152 @@
+//! Errors raised when a block cannot be built.
+
+use thiserror::Error;
+
+/// Why a set of vertices and faces (or half-spaces) is not a valid convex block.
+///
+/// Each variant names the offending vertex or face by its index in the input.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum BlockError {
+    /// Fewer than 4 vertices or 4 faces.
+    #[error(
+        "a block needs at least 4 vertices and 4 faces, got {vertices} vertices and {faces} faces"
+    )]
+    TooSmall {
+        /// Vertices given.
+        vertices: usize,
+        /// Faces given.
+        faces: usize,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error("vertex {vertex} has a NaN or infinite coordinate")]
+    NonFiniteVertex {
+        /// Vertex index.
+        vertex: usize,
+    },
+    /// A face refers to a vertex that does not exist.
+    #[error("face {face} refers to vertex {vertex}, but there are only {count} vertices")]
+    VertexIndexOutOfRange {
+        /// Face index.
+        face: usize,
+        /// Index found.
+        vertex: usize,
+        /// Number of vertices.
+        count: usize,
+    },
+    /// A face with fewer than 3 vertices, or with a vertex listed twice.
+    #[error("face {face} is not a polygon: it needs 3 or more distinct vertices")]
+    DegenerateFaceList {
+        /// Face index.
+        face: usize,
+    },
+    /// Two vertices at the same position.
+    #[error("vertices {first} and {second} are at the same position")]
+    RepeatedVertex {
+        /// First vertex.
+        first: usize,
+        /// Second vertex.
+        second: usize,
+    },
+    /// A vertex that no face uses.
+    #[error("vertex {vertex} belongs to no face")]
+    UnusedVertex {
+        /// Vertex index.
+        vertex: usize,
+    },
+    /// An edge used by one face only: the surface has a hole.
+    #[error("the surface is open: edge ({first}, {second}) belongs to one face only")]
+    OpenSurface {
+        /// One end.
+        first: usize,
+        /// Other end.
+        second: usize,
+    },
+    /// An edge used by more than two faces.
+    #[error(
+        "the surface is not manifold: edge ({first}, {second}) belongs to more than two faces"
+    )]
+    NonManifoldEdge {
+        /// One end.
+        first: usize,
+        /// Other end.
+        second: usize,
+    },
+    /// Two faces run along an edge in the same direction.
+    #[error("faces {first} and {second} have inconsistent orientation along edge ({a}, {b})")]
+    InconsistentOrientation {
+        /// One face.
+        first: usize,
+        /// The other face.
+        second: usize,
+        /// One end of the edge.
+        a: usize,
+        /// Other end of the edge.
+        b: usize,
+    },
+    /// The surface is closed but not a sphere (several shells, a handle).
+    #[error("the surface is not a single closed shell (V - E + F = {euler}, expected 2)")]
+    NotASphere {
+        /// The Euler characteristic found.
+        euler: i64,
+    },
+    /// The faces are listed clockwise seen from outside (inward normals).
+    #[error("the faces are clockwise seen from outside (the signed volume is negative); list them counter-clockwise")]
+    WrongOrientation,
+    /// The block has no volume.
+    #[error("the block has zero volume")]
+    ZeroVolume,
+    /// A face with (almost) no area.
+    #[error("face {face} has zero area")]
+    ZeroAreaFace {
+        /// Face index.
+        face: usize,
+    },
+    /// A face whose vertices are not in one plane.
+    #[error("face {face} is not planar: vertex {vertex} is {distance:e} off its plane")]
+    NonPlanarFace {
+        /// Face index.
+        face: usize,
+        /// Vertex index.
+        vertex: usize,
+        /// Distance from the plane.
+        distance: f64,
+    },
+    /// A face polygon that is not convex.
+    #[error("face {face} is not convex at vertex {vertex}")]
+    NonConvexFace {
+        /// Face index.
+        face: usize,
+        /// Vertex index.
+        vertex: usize,
+    },
+    /// The block is not convex: a vertex lies outside a face plane.
+    #[error(
+        "the block is not convex: vertex {vertex} is {distance:e} outside the plane of face {face}"
+    )]
+    NotConvex {
+        /// Face index.
+        face: usize,
+        /// Vertex index.
+        vertex: usize,
+        /// Distance outside.
+        distance: f64,
+    },
+    /// A vertex that lies on a straight edge (it belongs to two faces only).
+    #[error("vertex {vertex} is not a corner: it lies on the straight edge between two faces")]
+    NotACorner {
+        /// Vertex index.
+        vertex: usize,
+    },
+    /// Half-spaces that do not bound a solid.
+    #[error("the half-spaces do not bound a solid block ({reason})")]
+    Unbounded {
+        /// What went wrong.
+        reason: &'static str,
+    },
+    /// A half-space with a zero, NaN or infinite normal or offset.
+    #[error("half-space {plane} has a zero, NaN or infinite normal or offset")]
+    DegeneratePlane {
+        /// Plane index.
+        plane: usize,
+    },
+}

@@ -1,0 +1,146 @@
+//! Convex blocks: vertices, edges, faces and their derived data.
+//!
+//! A [`ConvexBlock`] is immutable once built; every derived quantity (edges with their two
+//! faces, outward unit face planes, volume, centroid, bounding box, size) is computed once,
+//! by [`ConvexBlock::new`] (vertices + faces) or [`ConvexBlock::from_planes`] (half-spaces),
+//! which validate the input and return a [`BlockError`] naming what is wrong.
+
+mod build;
+mod error;
+mod halfspace;
+pub(crate) use halfspace::sort_ccw;
+
+pub use error::BlockError;
+
+use crate::geometry::{Aabb, DVec3, Plane};
+use glam::DQuat;
+
+/// An edge: its two end vertices and the two faces that meet along it.
+///
+/// `faces[0]` runs from `vertices[0]` to `vertices[1]` (counter-clockwise seen from outside),
+/// `faces[1]` the other way.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Edge {
+    /// End vertices.
+    pub vertices: [u32; 2],
+    /// The two faces along the edge.
+    pub faces: [u32; 2],
+}
+
+/// A validated convex polyhedron.
+#[derive(Clone, Debug)]
+pub struct ConvexBlock {
+    vertices: Vec<DVec3>,
+    face_offsets: Vec<u32>,
+    face_vertices: Vec<u32>,
+    planes: Vec<Plane>,
+    edges: Vec<Edge>,
+    volume: f64,
+    centroid: DVec3,
+    aabb: Aabb,
+}
+
+impl ConvexBlock {
+    /// Vertex positions.
+    pub fn vertices(&self) -> &[DVec3] {
+        &self.vertices
+    }
+
+    /// Number of faces.
+    pub fn n_faces(&self) -> usize {
+        self.planes.len()
+    }
+
+    /// The vertex indices of face `f`, counter-clockwise seen from outside.
+    pub fn face(&self, f: usize) -> &[u32] {
+        let (s, e) = (self.face_offsets[f], self.face_offsets[f + 1]);
+        &self.face_vertices[s as usize..e as usize]
+    }
+
+    /// All faces, as vertex index lists.
+    pub fn faces(&self) -> impl Iterator<Item = &[u32]> + '_ {
+        (0..self.n_faces()).map(|f| self.face(f))
+    }
+
+    /// Outward unit face planes, one per face.
+    pub fn planes(&self) -> &[Plane] {
+        &self.planes
+    }
+
+    /// Edges, each with its two faces.
+    pub fn edges(&self) -> &[Edge] {
+        &self.edges
+    }
+
+    /// Volume.
+    pub fn volume(&self) -> f64 {
+        self.volume
+    }
+
+    /// Centroid (centre of volume).
+    pub fn centroid(&self) -> DVec3 {
+        self.centroid
+    }
+
+    /// Axis-aligned bounding box.
+    pub fn aabb(&self) -> Aabb {
+        self.aabb
+    }
+
+    /// Characteristic length: the diagonal of the bounding box. Tolerances scale with it.
+    pub fn size(&self) -> f64 {
+        self.aabb.diagonal()
+    }
+
+    /// A rectangular box with the given corners.
+    pub fn cuboid(min: [f64; 3], max: [f64; 3]) -> Result<ConvexBlock, BlockError> {
+        let (a, b) = (min, max);
+        let v = [
+            [a[0], a[1], a[2]],
+            [b[0], a[1], a[2]],
+            [b[0], b[1], a[2]],
+            [a[0], b[1], a[2]],
+            [a[0], a[1], b[2]],
+            [b[0], a[1], b[2]],
+            [b[0], b[1], b[2]],
+            [a[0], b[1], b[2]],
+        ];
+        let f: [&[usize]; 6] = [
+            &[0, 3, 2, 1],
+            &[4, 5, 6, 7],
+            &[0, 1, 5, 4],
+            &[1, 2, 6, 5],
+            &[2, 3, 7, 6],
+            &[3, 0, 4, 7],
+        ];
+        ConvexBlock::new(&v, &f)
+    }
+
+    /// The block moved rigidly (rotation about the origin, then translation) and scaled
+    /// about the origin by `scale` (> 0). Topology and ids are kept.
+    pub fn transformed(&self, rotation: DQuat, translation: DVec3, scale: f64) -> ConvexBlock {
+        let map = |p: DVec3| rotation * (p * scale) + translation;
+        let vertices: Vec<DVec3> = self.vertices.iter().map(|&p| map(p)).collect();
+        let planes = self
+            .planes
+            .iter()
+            .map(|pl| Plane {
+                normal: (rotation * pl.normal).normalize(),
+                point: map(pl.point),
+            })
+            .collect();
+        ConvexBlock {
+            aabb: Aabb::of_points(&vertices),
+            vertices,
+            face_offsets: self.face_offsets.clone(),
+            face_vertices: self.face_vertices.clone(),
+            planes,
+            edges: self.edges.clone(),
+            volume: self.volume * scale.powi(3),
+            centroid: map(self.centroid),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

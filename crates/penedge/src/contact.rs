@@ -1,0 +1,120 @@
+//! The pair query: penetration edges, then the contact decision and type.
+
+use crate::block::ConvexBlock;
+use crate::classify::{classify, representative_points, PairResult};
+use crate::geometry::DVec3;
+use crate::penetration::{any_edge_deeper, clip_edges, DistanceTable, PenetrationEdge, Side};
+use crate::tolerance::{Thresholds, Tolerance};
+
+/// A reusable pair detector: holds the tolerance and the scratch buffers, so that a loop
+/// over many pairs allocates nothing once the buffers have grown.
+///
+/// After [`Detector::detect`] the penetration edges of the last pair stay available through
+/// [`Detector::penetration_edges`].
+#[derive(Clone, Debug, Default)]
+pub struct Detector {
+    tolerance: Tolerance,
+    a_to_b: DistanceTable,
+    b_to_a: DistanceTable,
+    edges: Vec<PenetrationEdge>,
+    points: Vec<DVec3>,
+}
+
+impl Detector {
+    /// A detector with the given tolerance.
+    pub fn new(tolerance: Tolerance) -> Self {
+        Detector {
+            tolerance,
+            ..Default::default()
+        }
+    }
+
+    /// The tolerance in use.
+    pub fn tolerance(&self) -> &Tolerance {
+        &self.tolerance
+    }
+
+    /// Absolute thresholds for a pair: the policy at the smaller block's size.
+    pub fn thresholds(&self, a: &ConvexBlock, b: &ConvexBlock) -> Thresholds {
+        self.tolerance.at_scale(a.size().min(b.size()))
+    }
+
+    /// Detects and classifies the contact of `a` and `b`.
+    ///
+    /// 1. distances of each block's vertices to the other's planes; a separating face plane
+    ///    ends the query (`Separated`);
+    /// 2. penetration edges with the gap; none means `Separated`;
+    /// 3. an edge deeper than the gap inside the other block means `Penetrating`;
+    /// 4. otherwise the type from the penetration edges ([`crate::classify`]).
+    pub fn detect(&mut self, a: &ConvexBlock, b: &ConvexBlock) -> PairResult {
+        self.edges.clear();
+        let th = self.thresholds(a, b);
+        if !self.fill_tables(a, b, th.gap) {
+            return PairResult::Separated;
+        }
+        clip_edges(
+            a,
+            Side::A,
+            b,
+            &self.a_to_b,
+            th.gap,
+            th.length,
+            &mut self.edges,
+        );
+        clip_edges(
+            b,
+            Side::B,
+            a,
+            &self.b_to_a,
+            th.gap,
+            th.length,
+            &mut self.edges,
+        );
+        if self.edges.is_empty() {
+            return PairResult::Separated;
+        }
+        if any_edge_deeper(a, b, &self.a_to_b, th.gap)
+            || any_edge_deeper(b, a, &self.b_to_a, th.gap)
+        {
+            return PairResult::Penetrating;
+        }
+        representative_points(a, b, &self.edges, &mut self.points);
+        classify(a, b, &self.points, th.length)
+    }
+
+    /// Penetration edges of the pair last given to [`Detector::detect`] (empty when it was
+    /// separated by a face plane before any clipping).
+    pub fn penetration_edges(&self) -> &[PenetrationEdge] {
+        &self.edges
+    }
+
+    /// Counts of the last pair's penetration edges by block and Table 1 type
+    /// (`[side][type - 1]`), and the number of distinct original vertices of each block
+    /// among them (`N^orig`), as in the paper's Table 2.
+    pub fn table1_counts(&self) -> ([[usize; 5]; 2], [usize; 2]) {
+        let mut counts = [[0; 5]; 2];
+        let mut originals: [Vec<u32>; 2] = [Vec::new(), Vec::new()];
+        for pe in &self.edges {
+            let s = (pe.side == Side::B) as usize;
+            counts[s][pe.kind as usize - 1] += 1;
+            for end in pe.ends {
+                if let crate::penetration::EdgeEnd::Vertex(v) = end {
+                    if !originals[s].contains(&v) {
+                        originals[s].push(v);
+                    }
+                }
+            }
+        }
+        (counts, [originals[0].len(), originals[1].len()])
+    }
+
+    fn fill_tables(&mut self, a: &ConvexBlock, b: &ConvexBlock, gap: f64) -> bool {
+        self.a_to_b.fill(a, b, gap) && self.b_to_a.fill(b, a, gap)
+    }
+}
+
+/// Detects and classifies the contact of two blocks (allocates scratch buffers; use a
+/// [`Detector`] in loops).
+pub fn detect_pair(a: &ConvexBlock, b: &ConvexBlock, tolerance: &Tolerance) -> PairResult {
+    Detector::new(*tolerance).detect(a, b)
+}

@@ -1,0 +1,65 @@
+//! The paper's three examples (section 4): a 10 m cube cut by infinite planes.
+
+use super::{BlockSystem, SystemError};
+use crate::block::ConvexBlock;
+use crate::tolerance::Tolerance;
+
+/// One of the paper's examples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PaperExample {
+    /// Cut by x = 5, y = 5, z = 5 (8 blocks).
+    One = 1,
+    /// Cut by x + y = 10, y + z = 10, z + x = 10 (8 blocks).
+    Two = 2,
+    /// Cut by all six planes (26 blocks).
+    Three = 3,
+}
+
+impl PaperExample {
+    /// The example with number 1, 2 or 3.
+    pub fn from_number(n: u32) -> Option<PaperExample> {
+        match n {
+            1 => Some(PaperExample::One),
+            2 => Some(PaperExample::Two),
+            3 => Some(PaperExample::Three),
+            _ => None,
+        }
+    }
+
+    /// The cutting planes `normal · x = offset`.
+    pub fn planes(self) -> (Vec<[f64; 3]>, Vec<f64>) {
+        let axes = (
+            vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            vec![5.0; 3],
+        );
+        let diagonals = (
+            vec![[1.0, 1.0, 0.0], [0.0, 1.0, 1.0], [1.0, 0.0, 1.0]],
+            vec![10.0; 3],
+        );
+        match self {
+            PaperExample::One => axes,
+            PaperExample::Two => diagonals,
+            PaperExample::Three => (
+                [axes.0, diagonals.0].concat(),
+                [axes.1, diagonals.1].concat(),
+            ),
+        }
+    }
+}
+
+/// The block system of a paper example.
+pub fn paper_example(example: PaperExample) -> Result<BlockSystem, SystemError> {
+    let domain = ConvexBlock::cuboid([0.0; 3], [10.0; 3])?;
+    let (normals, offsets) = example.planes();
+    BlockSystem::from_domain_cut(domain, &normals, &offsets, &Tolerance::default())
+}
+
+/// The counts printed in the paper's Table 3, in the order of
+/// [`crate::ContactType::ALL`].
+pub fn paper_table3(example: PaperExample) -> [usize; 7] {
+    match example {
+        PaperExample::One => [4, 0, 0, 12, 0, 0, 12],
+        PaperExample::Two => [4, 0, 0, 4, 0, 0, 20],
+        PaperExample::Three => [205, 0, 0, 78, 0, 0, 42],
+    }
+}

@@ -1,0 +1,133 @@
+//! The one tolerance policy of penedge.
+//!
+//! Every threshold is a fraction of a length scale, so that results do not change when a
+//! whole system is scaled. For a pair of blocks the scale is the smaller of the two blocks'
+//! characteristic lengths ([`crate::ConvexBlock::size`], the diagonal of its bounding box);
+//! for a single block it is that block's size. Two numbers, both relative:
+//!
+//! * `gap`: blocks whose distance is at most `gap * scale` are in contact, and a penetration
+//!   of at most `gap * scale` still counts as touching (the paper's widening of each block by
+//!   the gap). A penetration edge that goes deeper than that into the other block makes the
+//!   pair *penetrating*. The default (`1e-12`) only absorbs floating-point rounding: exactly
+//!   touching blocks touch. DEM and DDA users set the gap they allow.
+//! * `length`: the length below which a penetration edge "has no length" (paper Table 1),
+//!   and the distance within which a point counts as lying on a plane or two points as one.
+//!   It must be at least `10 * gap`: a penetration edge born of the gap widening is about
+//!   `gap / sin(angle)` long, and must read as a point for all but grazing angles.
+//!   Block validation (planarity, repeated vertices) uses it too.
+
+use thiserror::Error;
+
+/// The relative thresholds of the tolerance policy (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Tolerance {
+    gap: f64,
+    length: f64,
+}
+
+/// An impossible tolerance setting.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ToleranceError {
+    /// A threshold is NaN, infinite, negative or not small.
+    #[error("tolerance `{name}` must be a finite number in [0, 0.1), got {value}")]
+    OutOfRange {
+        /// Which threshold.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// The length threshold is below ten times the gap.
+    #[error("tolerance `length` ({length}) must be at least 10 x `gap` ({gap})")]
+    LengthBelowGap {
+        /// The gap given.
+        gap: f64,
+        /// The length given.
+        length: f64,
+    },
+}
+
+impl Default for Tolerance {
+    fn default() -> Self {
+        Tolerance {
+            gap: 1e-12,
+            length: 1e-9,
+        }
+    }
+}
+
+impl Tolerance {
+    /// A policy with the given relative gap and length thresholds.
+    pub fn new(gap: f64, length: f64) -> Result<Self, ToleranceError> {
+        check_range("gap", gap)?;
+        check_range("length", length)?;
+        if length < 10.0 * gap {
+            return Err(ToleranceError::LengthBelowGap { gap, length });
+        }
+        Ok(Tolerance { gap, length })
+    }
+
+    /// A policy with the given relative gap and the length threshold set to
+    /// `max(default length, 10 * gap)`.
+    pub fn with_gap(gap: f64) -> Result<Self, ToleranceError> {
+        check_range("gap", gap)?;
+        let length = Tolerance::default().length.max(10.0 * gap);
+        Tolerance::new(gap, length)
+    }
+
+    /// The relative gap.
+    pub fn gap(&self) -> f64 {
+        self.gap
+    }
+
+    /// The relative length threshold.
+    pub fn length(&self) -> f64 {
+        self.length
+    }
+
+    /// Absolute thresholds for a given length scale.
+    pub fn at_scale(&self, scale: f64) -> Thresholds {
+        Thresholds {
+            gap: self.gap * scale,
+            length: self.length * scale,
+        }
+    }
+}
+
+fn check_range(name: &'static str, value: f64) -> Result<(), ToleranceError> {
+    if value.is_finite() && (0.0..0.1).contains(&value) {
+        Ok(())
+    } else {
+        Err(ToleranceError::OutOfRange { name, value })
+    }
+}
+
+/// Absolute thresholds (lengths) for one pair or one block.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Thresholds {
+    /// Absolute gap.
+    pub gap: f64,
+    /// Absolute length threshold.
+    pub length: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_impossible_settings() {
+        assert!(Tolerance::new(f64::NAN, 1e-9).is_err());
+        assert!(Tolerance::new(-1e-9, 1e-9).is_err());
+        assert!(Tolerance::new(1e-6, 1e-9).is_err());
+        assert!(Tolerance::new(1e-3, 0.5).is_err());
+        assert!(Tolerance::new(1e-6, 1e-5).is_ok());
+    }
+
+    #[test]
+    fn with_gap_keeps_length_ten_times_larger() {
+        let t = Tolerance::with_gap(1e-3).unwrap();
+        assert_eq!(t.length(), 1e-2);
+        let t = Tolerance::with_gap(1e-14).unwrap();
+        assert_eq!(t.length(), Tolerance::default().length());
+    }
+}
