@@ -34,9 +34,11 @@ impl Detector {
         &self.tolerance
     }
 
-    /// Absolute thresholds for a pair: the policy at the smaller block's size.
+    /// Absolute thresholds for a pair: the policy at the smaller block's size, with the
+    /// rounding floor of the pair's largest coordinate.
     pub fn thresholds(&self, a: &ConvexBlock, b: &ConvexBlock) -> Thresholds {
-        self.tolerance.at_scale(a.size().min(b.size()))
+        let magnitude = a.aabb().magnitude().max(b.aabb().magnitude());
+        self.tolerance.at_scale(a.size().min(b.size()), magnitude)
     }
 
     /// Detects and classifies the contact of `a` and `b`.

@@ -26,7 +26,7 @@ pub fn split_block(
     plane: &Plane,
     tol: &Tolerance,
 ) -> Result<Split, BlockError> {
-    let eps = tol.length() * block.size();
+    let eps = tol.for_box(&block.aabb()).length;
     let side: Vec<i8> = block
         .vertices()
         .iter()

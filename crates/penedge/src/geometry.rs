@@ -52,6 +52,11 @@ impl Aabb {
         (self.max - self.min).length()
     }
 
+    /// The largest absolute coordinate of the box.
+    pub fn magnitude(&self) -> f64 {
+        self.min.abs().max(self.max.abs()).max_element()
+    }
+
     /// Whether the boxes, each widened by `margin`, overlap (touching counts).
     pub fn overlaps(&self, other: &Aabb, margin: f64) -> bool {
         (self.min - margin).cmple(other.max + margin).all()

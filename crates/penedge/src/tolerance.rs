@@ -15,6 +15,12 @@
 //!   It must be at least `10 * gap`: a penetration edge born of the gap widening is about
 //!   `gap / sin(angle)` long, and must read as a point for all but grazing angles.
 //!   Block validation (planarity, repeated vertices) uses it too.
+//!
+//! A floor keeps the thresholds above the rounding of the coordinates themselves: blocks far
+//! from the origin (mine-grid coordinates, x ~ 5e5, y ~ 4e6) carry a rounding error of about
+//! `|x| * 2^-52` in every coordinate, which no computation can undo. The absolute gap is
+//! therefore never below `ROUNDING_FLOOR * m`, where `m` is the largest coordinate magnitude of
+//! the pair, and the absolute length threshold never below ten times the absolute gap.
 
 use thiserror::Error;
 
@@ -84,11 +90,18 @@ impl Tolerance {
         self.length
     }
 
-    /// Absolute thresholds for a given length scale.
-    pub fn at_scale(&self, scale: f64) -> Thresholds {
+    /// Absolute thresholds for one block (or a set of points) with this bounding box.
+    pub fn for_box(&self, aabb: &crate::geometry::Aabb) -> Thresholds {
+        self.at_scale(aabb.diagonal(), aabb.magnitude())
+    }
+
+    /// Absolute thresholds for a given length scale, for coordinates of magnitude at most
+    /// `magnitude` (see the rounding floor in the module docs).
+    pub fn at_scale(&self, scale: f64, magnitude: f64) -> Thresholds {
+        let gap = (self.gap * scale).max(ROUNDING_FLOOR * magnitude);
         Thresholds {
-            gap: self.gap * scale,
-            length: self.length * scale,
+            gap,
+            length: (self.length * scale).max(10.0 * gap),
         }
     }
 }
@@ -100,6 +113,10 @@ fn check_range(name: &'static str, value: f64) -> Result<(), ToleranceError> {
         Err(ToleranceError::OutOfRange { name, value })
     }
 }
+
+/// The absolute gap is at least this fraction of the largest coordinate magnitude:
+/// 16 units of rounding (`2^-52` each) of a coordinate.
+pub const ROUNDING_FLOOR: f64 = 16.0 * f64::EPSILON;
 
 /// Absolute thresholds (lengths) for one pair or one block.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -10,6 +10,7 @@
 use super::{BlockError, ConvexBlock, Edge};
 use crate::geometry::{newell_normal, Aabb, DVec3, Plane};
 use crate::tolerance::Tolerance;
+use std::cmp::Ordering;
 use std::collections::HashMap;
 
 impl ConvexBlock {
@@ -31,9 +32,10 @@ impl ConvexBlock {
     ) -> Result<ConvexBlock, BlockError> {
         let faces: Vec<Vec<usize>> = faces.iter().map(|f| f.as_ref().to_vec()).collect();
         let points = check_points(vertices)?;
-        let eps = tol.length() * Aabb::of_points(&points).diagonal();
+        let eps = tol.for_box(&Aabb::of_points(&points)).length;
         check_face_lists(&faces, points.len())?;
         check_repeated_vertices(&points, eps)?;
+        check_closed_solid(&points, &faces, eps)?;
         let faces = merge_coplanar_faces(&points, faces, eps)?;
         build_checked(points, faces, eps)
     }
@@ -160,7 +162,8 @@ fn face_plane(points: &[DVec3], face: &[usize], f: usize, eps: f64) -> Result<Pl
         .map(|k| points[face[k]].distance(points[face[(k + 1) % face.len()]]))
         .sum();
     // Twice the area against the perimeter: the face's mean width must exceed eps.
-    if !(len > eps * perimeter) {
+    // Negated so that a NaN (overflowing coordinates) is rejected too.
+    if len.partial_cmp(&(eps * perimeter)) != Some(Ordering::Greater) {
         return Err(BlockError::ZeroAreaFace { face: f });
     }
     let centre = face.iter().map(|&v| points[v]).sum::<DVec3>() / face.len() as f64;
@@ -274,28 +277,42 @@ fn boundary_loop(
     Ok(loop_)
 }
 
+/// A closed, manifold, consistently oriented sphere with a positive volume; checked on the
+/// faces as given, before coplanar faces are merged.
+fn check_closed_solid(
+    points: &[DVec3],
+    faces: &[Vec<usize>],
+    eps: f64,
+) -> Result<Vec<Edge>, BlockError> {
+    let edges = build_edges(faces)?;
+    let euler = points.len() as i64 - edges.len() as i64 + faces.len() as i64;
+    if euler != 2 {
+        return Err(BlockError::NotASphere { euler });
+    }
+    let (volume, _) = volume_and_centroid(points, faces);
+    let size = Aabb::of_points(points).diagonal();
+    if volume < 0.0 && volume.abs() > eps * size.powi(2) {
+        return Err(BlockError::WrongOrientation);
+    }
+    // Negated so that a NaN (overflowing coordinates) is rejected too.
+    if volume.partial_cmp(&(eps * size.powi(2))) != Some(Ordering::Greater) {
+        return Err(BlockError::ZeroVolume);
+    }
+    Ok(edges)
+}
+
 fn build_checked(
     points: Vec<DVec3>,
     faces: Vec<Vec<usize>>,
     eps: f64,
 ) -> Result<ConvexBlock, BlockError> {
-    let edges = build_edges(&faces)?;
-    let euler = points.len() as i64 - edges.len() as i64 + faces.len() as i64;
-    if euler != 2 {
-        return Err(BlockError::NotASphere { euler });
-    }
+    let edges = check_closed_solid(&points, &faces, eps)?;
     check_corners(points.len(), &faces)?;
     let planes: Vec<Plane> = (0..faces.len())
         .map(|f| face_plane(&points, &faces[f], f, eps))
         .collect::<Result<_, _>>()?;
     let (volume, centroid) = volume_and_centroid(&points, &faces);
     let aabb = Aabb::of_points(&points);
-    if volume < 0.0 && volume.abs() > eps * aabb.diagonal().powi(2) {
-        return Err(BlockError::WrongOrientation);
-    }
-    if !(volume > eps * aabb.diagonal().powi(2)) {
-        return Err(BlockError::ZeroVolume);
-    }
     check_faces_planar_convex(&points, &faces, &planes, eps)?;
     check_block_convex(&points, &planes, eps)?;
     let face_offsets = std::iter::once(0)

@@ -43,7 +43,7 @@ impl ConvexBlock {
                 reason: "the half-spaces meet in fewer than 4 corners",
             });
         }
-        let eps = tol.length() * Aabb::of_points(&feasible).diagonal();
+        let eps = tol.for_box(&Aabb::of_points(&feasible)).length;
         let vertices = dedupe(feasible, eps);
         let faces = face_loops(&planes, &vertices, eps);
         let coords: Vec<[f64; 3]> = vertices.iter().map(|p| p.to_array()).collect();

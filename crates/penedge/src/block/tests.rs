@@ -1,1 +1,274 @@
+//! Block construction and validation: each error names what is wrong.
 
+use super::*;
+
+fn cube_vertices() -> Vec<[f64; 3]> {
+    vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [0.0, 1.0, 1.0],
+    ]
+}
+
+fn cube_faces() -> Vec<Vec<usize>> {
+    vec![
+        vec![0, 3, 2, 1],
+        vec![4, 5, 6, 7],
+        vec![0, 1, 5, 4],
+        vec![1, 2, 6, 5],
+        vec![2, 3, 7, 6],
+        vec![3, 0, 4, 7],
+    ]
+}
+
+fn build(v: &[[f64; 3]], f: &[Vec<usize>]) -> Result<ConvexBlock, BlockError> {
+    ConvexBlock::new(v, f)
+}
+
+#[test]
+fn cube_has_its_derived_data() {
+    let b = build(&cube_vertices(), &cube_faces()).unwrap();
+    assert_eq!(
+        (b.vertices().len(), b.edges().len(), b.n_faces()),
+        (8, 12, 6)
+    );
+    assert!((b.volume() - 1.0).abs() < 1e-15);
+    assert!(b.centroid().distance(DVec3::splat(0.5)) < 1e-15);
+    assert!((b.size() - 3f64.sqrt()).abs() < 1e-15);
+    for (f, plane) in b.planes().iter().enumerate() {
+        assert!((plane.normal.length() - 1.0).abs() < 1e-15);
+        // Outward: the centroid is inside.
+        assert!(plane.distance(b.centroid()) < 0.0, "face {f}");
+    }
+    for e in b.edges() {
+        let [f, g] = e.faces;
+        assert_ne!(f, g);
+        assert!(
+            b.face(f as usize).contains(&e.vertices[0])
+                && b.face(g as usize).contains(&e.vertices[1])
+        );
+    }
+}
+
+#[test]
+fn triangulated_faces_are_merged() {
+    let faces: Vec<Vec<usize>> = cube_faces()
+        .into_iter()
+        .flat_map(|f| [vec![f[0], f[1], f[2]], vec![f[0], f[2], f[3]]])
+        .collect();
+    let b = build(&cube_vertices(), &faces).unwrap();
+    assert_eq!((b.n_faces(), b.edges().len()), (6, 12));
+}
+
+#[test]
+fn from_planes_gives_the_same_cube() {
+    let normals = [
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 2.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+    ];
+    let offsets = [1.0, 0.0, 2.0, 0.0, 1.0, 0.0];
+    let b = ConvexBlock::from_planes(&normals, &offsets).unwrap();
+    assert_eq!((b.vertices().len(), b.n_faces()), (8, 6));
+    assert!((b.volume() - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn from_planes_rejects_unbounded_and_degenerate_sets() {
+    let open = [
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    assert!(matches!(
+        ConvexBlock::from_planes(&open, &[1.0; 5]),
+        Err(BlockError::Unbounded { .. })
+    ));
+    let mut bad = open.to_vec();
+    bad.push([0.0, 0.0, 0.0]);
+    assert_eq!(
+        ConvexBlock::from_planes(&bad, &[1.0; 6]).unwrap_err(),
+        BlockError::DegeneratePlane { plane: 5 }
+    );
+    let nan = [
+        [f64::NAN, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+    ];
+    assert_eq!(
+        ConvexBlock::from_planes(&nan, &[1.0; 4]).unwrap_err(),
+        BlockError::DegeneratePlane { plane: 0 }
+    );
+    // Empty intersection: x <= 0 and x >= 1.
+    let empty = [
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+    ];
+    assert!(ConvexBlock::from_planes(&empty, &[0.0, -1.0, 1.0, 1.0, 1.0, 1.0]).is_err());
+}
+
+#[test]
+fn bad_input_is_named() {
+    let v = cube_vertices();
+    let f = cube_faces();
+    let mut nan = v.clone();
+    nan[3][1] = f64::NAN;
+    assert_eq!(
+        build(&nan, &f).unwrap_err(),
+        BlockError::NonFiniteVertex { vertex: 3 }
+    );
+    let mut inf = v.clone();
+    inf[5][0] = f64::INFINITY;
+    assert_eq!(
+        build(&inf, &f).unwrap_err(),
+        BlockError::NonFiniteVertex { vertex: 5 }
+    );
+
+    let mut out_of_range = f.clone();
+    out_of_range[2][1] = 9;
+    assert!(matches!(
+        build(&v, &out_of_range),
+        Err(BlockError::VertexIndexOutOfRange {
+            face: 2,
+            vertex: 9,
+            ..
+        })
+    ));
+
+    let mut open = f.clone();
+    open.pop();
+    assert!(matches!(
+        build(&v, &open),
+        Err(BlockError::UnusedVertex { .. } | BlockError::OpenSurface { .. })
+    ));
+    let mut open = f.clone();
+    open[1] = vec![4, 5, 6];
+    assert!(matches!(
+        build(&v, &open),
+        Err(BlockError::OpenSurface { .. })
+    ));
+
+    let mut flipped = f.clone();
+    flipped[0].reverse();
+    assert!(matches!(
+        build(&v, &flipped),
+        Err(BlockError::InconsistentOrientation { .. })
+    ));
+
+    let inward: Vec<Vec<usize>> = f
+        .iter()
+        .map(|face| face.iter().rev().copied().collect())
+        .collect();
+    assert_eq!(
+        build(&v, &inward).unwrap_err(),
+        BlockError::WrongOrientation
+    );
+
+    let mut repeated = v.clone();
+    repeated.push([1.0, 1.0, 1.0]);
+    assert!(matches!(
+        build(&repeated, &f),
+        Err(BlockError::UnusedVertex { vertex: 8 })
+    ));
+    let mut dup = v.clone();
+    dup[7] = dup[6];
+    assert_eq!(
+        build(&dup, &f).unwrap_err(),
+        BlockError::RepeatedVertex {
+            first: 6,
+            second: 7
+        }
+    );
+
+    let mut short = f.clone();
+    short[0] = vec![0, 3];
+    assert_eq!(
+        build(&v, &short).unwrap_err(),
+        BlockError::DegenerateFaceList { face: 0 }
+    );
+    assert!(matches!(
+        build(&v[..3], &f[..2]),
+        Err(BlockError::TooSmall { .. })
+    ));
+}
+
+#[test]
+fn non_planar_and_non_convex_blocks_are_rejected() {
+    let f = cube_faces();
+    let mut warped = cube_vertices();
+    warped[6] = [1.0, 1.0, 1.2];
+    assert!(matches!(
+        build(&warped, &f),
+        Err(BlockError::NonPlanarFace { .. } | BlockError::NotConvex { .. })
+    ));
+    // A dent: the top face's centre pushed down, as four triangles.
+    let mut v = cube_vertices();
+    v.push([0.5, 0.5, 0.6]);
+    let mut dented: Vec<Vec<usize>> = f[..1].to_vec();
+    dented.extend(f[2..].iter().cloned());
+    dented.extend([vec![4, 5, 8], vec![5, 6, 8], vec![6, 7, 8], vec![7, 4, 8]]);
+    assert!(matches!(
+        build(&v, &dented),
+        Err(BlockError::NotConvex { .. })
+    ));
+}
+
+#[test]
+fn flat_blocks_have_zero_volume() {
+    let v = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.3, 0.3, 0.0],
+    ];
+    let f = [vec![0, 2, 1], vec![0, 1, 3], vec![1, 2, 3], vec![2, 0, 3]];
+    assert_eq!(build(&v, &f).unwrap_err(), BlockError::ZeroVolume);
+}
+
+#[test]
+fn two_tetrahedra_sharing_nothing_are_not_one_block() {
+    let mut v: Vec<[f64; 3]> = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    v.extend(v.clone().iter().map(|p| [p[0] + 5.0, p[1], p[2]]));
+    let t = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+    let f: Vec<Vec<usize>> = t
+        .iter()
+        .flat_map(|tri| [tri.to_vec(), tri.iter().map(|i| i + 4).collect()])
+        .collect();
+    assert!(matches!(
+        build(&v, &f),
+        Err(BlockError::NotASphere { euler: 4 })
+    ));
+}
+
+#[test]
+fn transformed_blocks_keep_volume_and_planes() {
+    let b = ConvexBlock::cuboid([0.0; 3], [1.0, 2.0, 3.0]).unwrap();
+    let q = glam::DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), 0.7);
+    let t = b.transformed(q, DVec3::new(5e5, 4e6, 1e3), 2.0);
+    assert!((t.volume() - 48.0).abs() < 1e-9);
+    for (plane, face) in t.planes().iter().zip(t.faces()) {
+        for &v in face {
+            assert!(plane.distance(t.vertices()[v as usize]).abs() < 1e-9);
+        }
+    }
+}

@@ -32,7 +32,7 @@ impl BlockSystem {
     /// Candidate pairs `(i, j)`, `i < j`, whose bounding boxes widened by the gap overlap.
     pub fn candidate_pairs(&self, tol: &Tolerance) -> Vec<[u32; 2]> {
         let blocks = self.blocks();
-        let margin = |i: usize| tol.gap() * blocks[i].size();
+        let margin = |i: usize| tol.for_box(&blocks[i].aabb()).gap;
         let mut order: Vec<usize> = (0..blocks.len()).collect();
         order.sort_by(|&i, &j| blocks[i].aabb().min.x.total_cmp(&blocks[j].aabb().min.x));
         let mut pairs = Vec::new();
