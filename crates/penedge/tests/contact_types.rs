@@ -136,11 +136,17 @@ fn table1_counts_of_face_face_cubes() {
     // faces (type 2) and one vertical stub at the corner inside the other face (type 3).
     let (b, _) = touching(ContactType::FaceFace);
     det.detect(&cube(), &b);
-    assert_eq!(det.table1_counts(), ([[0, 2, 1, 0, 0], [0, 2, 1, 0, 0]], [1, 1]));
+    assert_eq!(
+        det.table1_counts(),
+        ([[0, 2, 1, 0, 0], [0, 2, 1, 0, 0]], [1, 1])
+    );
     // Face to face: the four face edges of each (type 1) and four vertical stubs (type 3).
     let on_top = ConvexBlock::cuboid([0.0, 0.0, 1.0], [1.0, 1.0, 2.0]).unwrap();
     det.detect(&cube(), &on_top);
-    assert_eq!(det.table1_counts(), ([[4, 0, 4, 0, 0], [4, 0, 4, 0, 0]], [4, 4]));
+    assert_eq!(
+        det.table1_counts(),
+        ([[4, 0, 4, 0, 0], [4, 0, 4, 0, 0]], [4, 4])
+    );
 }
 
 fn arb_rotation() -> impl Strategy<Value = DQuat> {

@@ -323,6 +323,7 @@ fn build_checked(
         .collect();
     let face_vertices = faces.iter().flatten().map(|&v| v as u32).collect();
     Ok(ConvexBlock {
+        local: super::LocalCoordinates::of(&points),
         vertices: points,
         face_offsets,
         face_vertices,

@@ -38,6 +38,26 @@ pub struct ConvexBlock {
     volume: f64,
     centroid: DVec3,
     aabb: Aabb,
+    local: LocalCoordinates,
+}
+
+/// Vertex coordinates relative to vertex 0, as three arrays (structure of arrays), so that
+/// the distances of all vertices to a plane are one vectorisable loop.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct LocalCoordinates {
+    pub(crate) origin: DVec3,
+    pub(crate) xyz: [Vec<f64>; 3],
+}
+
+impl LocalCoordinates {
+    pub(crate) fn of(vertices: &[DVec3]) -> Self {
+        let origin = vertices[0];
+        let axis = |k: usize| vertices.iter().map(|&v| (v - origin)[k]).collect();
+        LocalCoordinates {
+            origin,
+            xyz: [axis(0), axis(1), axis(2)],
+        }
+    }
 }
 
 impl ConvexBlock {
@@ -65,6 +85,10 @@ impl ConvexBlock {
     /// Outward unit face planes, one per face.
     pub fn planes(&self) -> &[Plane] {
         &self.planes
+    }
+
+    pub(crate) fn local(&self) -> &LocalCoordinates {
+        &self.local
     }
 
     /// Edges, each with its two faces.
@@ -131,6 +155,7 @@ impl ConvexBlock {
             .collect();
         ConvexBlock {
             aabb: Aabb::of_points(&vertices),
+            local: LocalCoordinates::of(&vertices),
             vertices,
             face_offsets: self.face_offsets.clone(),
             face_vertices: self.face_vertices.clone(),
