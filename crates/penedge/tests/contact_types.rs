@@ -188,3 +188,49 @@ proptest! {
         prop_assert_eq!(det.detect(&pushed, &a), PairResult::Penetrating);
     }
 }
+
+/// A random convex block: the unit cube's six planes tilted and moved at random.
+fn arb_block() -> impl Strategy<Value = ConvexBlock> {
+    prop::collection::vec((-0.3..0.3f64, -0.3..0.3f64, 0.5..1.5f64), 6).prop_filter_map(
+        "valid",
+        |p| {
+            let axes = [
+                DVec3::X,
+                -DVec3::X,
+                DVec3::Y,
+                -DVec3::Y,
+                DVec3::Z,
+                -DVec3::Z,
+            ];
+            let normals: Vec<[f64; 3]> = axes
+                .iter()
+                .zip(&p)
+                .map(|(a, (u, v, _))| {
+                    (*a + a.any_orthonormal_pair().0 * *u + a.any_orthonormal_pair().1 * *v)
+                        .to_array()
+                })
+                .collect();
+            let offsets: Vec<f64> = p.iter().map(|(_, _, d)| *d).collect();
+            ConvexBlock::from_planes(&normals, &offsets).ok()
+        },
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Random blocks in random placements: the answer does not depend on the order.
+    #[test]
+    fn random_pairs_answer_the_same_in_both_orders(
+        a in arb_block(),
+        b in arb_block(),
+        q in arb_rotation(),
+        t in (-2.5..2.5f64, -2.5..2.5f64, -2.5..2.5f64),
+    ) {
+        let b = b.transformed(q, DVec3::new(t.0, t.1, t.2), 1.0);
+        let mut det = Detector::new(Tolerance::default());
+        let ab = det.detect(&a, &b);
+        let ba = det.detect(&b, &a);
+        prop_assert_eq!(ab.name(), ba.name());
+    }
+}

@@ -272,3 +272,52 @@ fn transformed_blocks_keep_volume_and_planes() {
         }
     }
 }
+
+mod no_panic {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn coordinate() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            8 => -2.0..2.0f64,
+            1 => Just(f64::NAN),
+            1 => Just(f64::INFINITY),
+            1 => Just(1e300),
+            1 => Just(0.0),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(512))]
+
+        /// Arbitrary vertices and face lists give a block or an error, never a panic.
+        #[test]
+        fn arbitrary_input_never_panics(
+            vertices in prop::collection::vec([coordinate(), coordinate(), coordinate()], 0..10),
+            faces in prop::collection::vec(prop::collection::vec(0usize..12, 0..6), 0..10),
+        ) {
+            let _ = ConvexBlock::new(&vertices, &faces);
+        }
+
+        /// Arbitrary half-spaces likewise.
+        #[test]
+        fn arbitrary_planes_never_panic(
+            normals in prop::collection::vec([coordinate(), coordinate(), coordinate()], 0..9),
+            offsets in prop::collection::vec(coordinate(), 0..9),
+        ) {
+            let _ = ConvexBlock::from_planes(&normals, &offsets);
+        }
+
+        /// A perturbed cube (vertices moved a little) is either valid or named invalid.
+        #[test]
+        fn perturbed_cubes_never_panic(noise in prop::collection::vec(-0.2..0.2f64, 24)) {
+            let mut v = cube_vertices();
+            for (k, n) in noise.iter().enumerate() {
+                v[k / 3][k % 3] += n;
+            }
+            if let Ok(b) = ConvexBlock::new(&v, &cube_faces()) {
+                prop_assert!(b.volume() > 0.0);
+            }
+        }
+    }
+}
