@@ -31,7 +31,9 @@
 pub mod block;
 pub mod classify;
 pub mod contact;
+pub mod contact_geometry;
 pub mod cutting;
+pub mod generation;
 pub mod geometry;
 pub mod penetration;
 pub mod system;

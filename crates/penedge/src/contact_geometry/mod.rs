@@ -1,0 +1,2 @@
+//! Contact geometry for mechanics: normal, contact points or polygon, area, signed distance.
+//! (Being written.)

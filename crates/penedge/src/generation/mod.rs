@@ -1,0 +1,1 @@
+//! Block generation: a domain cut by joint planes and joint sets. (Being written.)
