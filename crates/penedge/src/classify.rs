@@ -166,14 +166,23 @@ pub(crate) fn representative_points(
     out: &mut Vec<DVec3>,
 ) {
     out.clear();
+    // Original vertices come back once per edge at them: keep each point once.
+    let mut push = |p: DVec3| {
+        if !out.contains(&p) {
+            out.push(p)
+        }
+    };
     for pe in edges {
         let owner = if pe.side == Side::A { a } else { b };
         let [p, q] = pe.points(owner);
         match (pe.kind, pe.ends) {
-            (PenetrationEdgeType::T3, [EdgeEnd::Vertex(_), _]) => out.push(p),
-            (PenetrationEdgeType::T3, _) => out.push(q),
-            (PenetrationEdgeType::T5, _) => out.push((p + q) * 0.5),
-            _ => out.extend([p, q]),
+            (PenetrationEdgeType::T3, [EdgeEnd::Vertex(_), _]) => push(p),
+            (PenetrationEdgeType::T3, _) => push(q),
+            (PenetrationEdgeType::T5, _) => push((p + q) * 0.5),
+            _ => {
+                push(p);
+                push(q);
+            }
         }
     }
 }
@@ -268,8 +277,17 @@ fn edge_between(block: &ConvexBlock, f: u32, g: u32) -> Option<Feature> {
         .map(|e| Feature::Edge(e as u32))
 }
 
-/// The vertex closest to all the given face planes.
+/// The vertex shared by the given faces (by incidence), or else the vertex closest to all
+/// their planes.
 fn vertex_on(block: &ConvexBlock, faces: &[u32]) -> u32 {
+    let shared = block.face(faces[0] as usize).iter().find(|v| {
+        faces[1..]
+            .iter()
+            .all(|&f| block.face(f as usize).contains(v))
+    });
+    if let Some(&v) = shared {
+        return v;
+    }
     let off = |v: &DVec3| {
         faces
             .iter()

@@ -3,7 +3,7 @@
 use crate::block::ConvexBlock;
 use crate::classify::{classify, representative_points, PairResult};
 use crate::geometry::DVec3;
-use crate::penetration::{any_edge_deeper, clip_edges, DistanceTable, PenetrationEdge, Side};
+use crate::penetration::{clip_edges, DistanceTable, PenetrationEdge, Side};
 use crate::tolerance::{Thresholds, Tolerance};
 
 /// A reusable pair detector: holds the tolerance and the scratch buffers, so that a loop
@@ -54,30 +54,12 @@ impl Detector {
         if !self.fill_tables(a, b, th.gap) {
             return PairResult::Separated;
         }
-        clip_edges(
-            a,
-            Side::A,
-            b,
-            &self.a_to_b,
-            th.gap,
-            th.length,
-            &mut self.edges,
-        );
-        clip_edges(
-            b,
-            Side::B,
-            a,
-            &self.b_to_a,
-            th.gap,
-            th.length,
-            &mut self.edges,
-        );
+        let deep_a = clip_edges(a, Side::A, b, &self.a_to_b, th, &mut self.edges);
+        let deep_b = clip_edges(b, Side::B, a, &self.b_to_a, th, &mut self.edges);
         if self.edges.is_empty() {
             return PairResult::Separated;
         }
-        if any_edge_deeper(a, b, &self.a_to_b, th.gap)
-            || any_edge_deeper(b, a, &self.b_to_a, th.gap)
-        {
+        if deep_a || deep_b {
             return PairResult::Penetrating;
         }
         representative_points(a, b, &self.edges, &mut self.points);

@@ -13,6 +13,7 @@
 //! query early.
 
 use crate::block::ConvexBlock;
+use crate::tolerance::Thresholds;
 
 /// Which block of the pair.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
@@ -238,27 +239,31 @@ struct Clipped {
     cut: [Option<u32>; 2],
 }
 
-/// Appends to `out` the penetration edges of `of`'s edges inside `other` widened by `gap`.
-/// `table` holds the distances of `of`'s vertices to `other`'s planes.
+/// Appends to `out` the penetration edges of `of`'s edges inside `other` widened by `gap`
+/// (`table` holds the distances of `of`'s vertices to `other`'s planes). Returns whether one
+/// of them goes deeper than `gap` into `other` (strictly): an edge deeper than the gap is a
+/// penetration edge too, so only the surviving edges need that second test.
 pub(crate) fn clip_edges(
     of: &ConvexBlock,
     side: Side,
     other: &ConvexBlock,
     table: &DistanceTable,
-    gap: f64,
-    length: f64,
+    th: Thresholds,
     out: &mut Vec<PenetrationEdge>,
-) {
+) -> bool {
     let n_faces = other.n_faces();
+    let mut deep = false;
     for (e, edge) in of.edges().iter().enumerate() {
         let [v1, v2] = edge.vertices;
-        let Some(c) = table.clip(n_faces, v1, v2, gap, false) else {
+        let Some(c) = table.clip(n_faces, v1, v2, th.gap, false) else {
             continue;
         };
+        deep = deep || table.clip(n_faces, v1, v2, th.gap, true).is_some();
         let end = |k: usize, v: u32| c.cut[k].map_or(EdgeEnd::Vertex(v), EdgeEnd::Cut);
         let ends = [end(0, v1), end(1, v2)];
-        let edge_length = of.vertices()[v1 as usize].distance(of.vertices()[v2 as usize]);
-        let has_length = (c.t[1] - c.t[0]) * edge_length > length;
+        let edge_vector = of.vertices()[v2 as usize] - of.vertices()[v1 as usize];
+        let piece = c.t[1] - c.t[0];
+        let has_length = piece * piece * edge_vector.length_squared() > th.length * th.length;
         out.push(PenetrationEdge {
             side,
             edge: e as u32,
@@ -267,21 +272,7 @@ pub(crate) fn clip_edges(
             kind: PenetrationEdgeType::of(ends, has_length),
         });
     }
-}
-
-/// Whether some edge of `of` goes deeper than `depth` into `other` (strictly).
-pub(crate) fn any_edge_deeper(
-    of: &ConvexBlock,
-    other: &ConvexBlock,
-    table: &DistanceTable,
-    depth: f64,
-) -> bool {
-    let n_faces = other.n_faces();
-    of.edges().iter().any(|e| {
-        table
-            .clip(n_faces, e.vertices[0], e.vertices[1], depth, true)
-            .is_some()
-    })
+    deep
 }
 
 impl PenetrationEdge {
