@@ -72,6 +72,12 @@ impl Detector {
         &self.edges
     }
 
+    /// Representative points of the last pair's penetration edges ([`crate::classify`],
+    /// step 1); filled only when the last pair was a contact.
+    pub(crate) fn representative_points(&self) -> &[DVec3] {
+        &self.points
+    }
+
     /// Counts of the last pair's penetration edges by block and Table 1 type
     /// (`[side][type - 1]`), and the number of distinct original vertices of each block
     /// among them (`N^orig`), as in the paper's Table 2.
@@ -93,7 +99,12 @@ impl Detector {
     }
 
     fn fill_tables(&mut self, a: &ConvexBlock, b: &ConvexBlock, gap: f64) -> bool {
-        self.a_to_b.fill(a, b, gap) && self.b_to_a.fill(b, a, gap)
+        if !(self.a_to_b.fill(a, b, gap) && self.b_to_a.fill(b, a, gap)) {
+            return false;
+        }
+        self.a_to_b.build_masks(b.n_faces(), gap);
+        self.b_to_a.build_masks(a.n_faces(), gap);
+        true
     }
 }
 

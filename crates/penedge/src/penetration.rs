@@ -108,46 +108,52 @@ const MASK_FACES: usize = 64;
 impl DistanceTable {
     /// Fills the table with the distances of `of`'s vertices to `to`'s planes; returns
     /// `false` as soon as one plane has every vertex farther than `gap` (separation).
+    /// The masks are left for [`DistanceTable::build_masks`], once neither table separates.
     pub(crate) fn fill(&mut self, of: &ConvexBlock, to: &ConvexBlock, gap: f64) -> bool {
-        let verts = of.vertices();
-        let n = verts.len();
+        let n = of.vertices().len();
         self.n_vertices = n;
         // Coordinates local to one vertex: `n · (v - o) - n · (p - o)` keeps the accuracy of
         // `n · (v - p)` (differences of nearby coordinates) with one dot product per vertex.
         let local = of.local();
         let origin = local.origin;
         self.table.resize(to.n_faces() * n, 0.0);
-        let masked = to.n_faces() <= MASK_FACES;
-        self.outside.clear();
-        self.shallow.clear();
-        self.outside.resize(if masked { n } else { 0 }, 0);
-        self.shallow.resize(if masked { n } else { 0 }, 0);
         let [xs, ys, zs] = &local.xyz;
         let (xs, ys, zs) = (&xs[..n], &ys[..n], &zs[..n]);
-        for (f, (plane, row)) in to
-            .planes()
-            .iter()
-            .zip(self.table.chunks_exact_mut(n))
-            .enumerate()
-        {
+        for (plane, row) in to.planes().iter().zip(self.table.chunks_exact_mut(n)) {
             let normal = plane.normal;
             let offset = normal.dot(plane.point - origin);
             // Structure of arrays, so that the loop vectorises.
+            let mut separating = true;
             for i in 0..n {
                 row[i] = normal.x * xs[i] + normal.y * ys[i] + normal.z * zs[i] - offset;
+                separating &= row[i] > gap;
             }
-            if row.iter().all(|&s| s > gap) {
+            if separating {
                 return false;
-            }
-            if masked {
-                let (outside, shallow) = (&mut self.outside[..n], &mut self.shallow[..n]);
-                for i in 0..n {
-                    outside[i] |= ((row[i] > gap) as u64) << f;
-                    shallow[i] |= ((row[i] >= -gap) as u64) << f;
-                }
             }
         }
         true
+    }
+
+    /// Per-vertex masks of the faces a vertex is outside of (`s > gap`) and not deeper than
+    /// the gap behind (`s >= -gap`); none when the other block has more than 64 faces.
+    pub(crate) fn build_masks(&mut self, n_faces: usize, gap: f64) {
+        let n = self.n_vertices;
+        let masked = n_faces <= MASK_FACES;
+        self.outside.clear();
+        self.shallow.clear();
+        if !masked {
+            return;
+        }
+        self.outside.resize(n, 0);
+        self.shallow.resize(n, 0);
+        let (outside, shallow) = (&mut self.outside[..n], &mut self.shallow[..n]);
+        for (f, row) in self.table.chunks_exact(n).enumerate() {
+            for i in 0..n {
+                outside[i] |= ((row[i] > gap) as u64) << f;
+                shallow[i] |= ((row[i] >= -gap) as u64) << f;
+            }
+        }
     }
 
     #[inline]
