@@ -34,13 +34,16 @@ pub struct Tolerance {
 /// An impossible tolerance setting.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum ToleranceError {
-    /// A threshold is NaN, infinite, negative or not small.
-    #[error("tolerance `{name}` must be a finite number in [0, 0.1), got {value}")]
+    /// A threshold is NaN, infinite, negative or not small (the gap below 0.01, the length
+    /// below 0.1, both relative to the block size).
+    #[error("tolerance `{name}` must be a finite number in [0, {max}) (relative to block size), got {value}")]
     OutOfRange {
         /// Which threshold.
         name: &'static str,
         /// The value given.
         value: f64,
+        /// The exclusive upper bound.
+        max: f64,
     },
     /// The length threshold is below ten times the gap.
     #[error("tolerance `length` ({length}) must be at least 10 x `gap` ({gap})")]
@@ -64,8 +67,8 @@ impl Default for Tolerance {
 impl Tolerance {
     /// A policy with the given relative gap and length thresholds.
     pub fn new(gap: f64, length: f64) -> Result<Self, ToleranceError> {
-        check_range("gap", gap)?;
-        check_range("length", length)?;
+        check_range("gap", gap, MAX_GAP)?;
+        check_range("length", length, MAX_LENGTH)?;
         if length < 10.0 * gap {
             return Err(ToleranceError::LengthBelowGap { gap, length });
         }
@@ -75,7 +78,7 @@ impl Tolerance {
     /// A policy with the given relative gap and the length threshold set to
     /// `max(default length, 10 * gap)`.
     pub fn with_gap(gap: f64) -> Result<Self, ToleranceError> {
-        check_range("gap", gap)?;
+        check_range("gap", gap, MAX_GAP)?;
         let length = Tolerance::default().length.max(10.0 * gap);
         Tolerance::new(gap, length)
     }
@@ -106,11 +109,17 @@ impl Tolerance {
     }
 }
 
-fn check_range(name: &'static str, value: f64) -> Result<(), ToleranceError> {
-    if value.is_finite() && (0.0..0.1).contains(&value) {
+/// The largest relative gap (exclusive): its length threshold, ten times larger, stays below
+/// [`MAX_LENGTH`].
+pub const MAX_GAP: f64 = 0.01;
+/// The largest relative length threshold (exclusive).
+pub const MAX_LENGTH: f64 = 0.1;
+
+fn check_range(name: &'static str, value: f64, max: f64) -> Result<(), ToleranceError> {
+    if value.is_finite() && (0.0..max).contains(&value) {
         Ok(())
     } else {
-        Err(ToleranceError::OutOfRange { name, value })
+        Err(ToleranceError::OutOfRange { name, value, max })
     }
 }
 
@@ -137,6 +146,14 @@ mod tests {
         assert!(Tolerance::new(-1e-9, 1e-9).is_err());
         assert!(Tolerance::new(1e-6, 1e-9).is_err());
         assert!(Tolerance::new(1e-3, 0.5).is_err());
+        assert!(Tolerance::new(0.02, 0.05).is_err());
+        for gap in [0.0, 1e-3, 0.0099] {
+            assert!(Tolerance::with_gap(gap).is_ok(), "{gap}");
+        }
+        assert!(matches!(
+            Tolerance::with_gap(0.05),
+            Err(ToleranceError::OutOfRange { name: "gap", .. })
+        ));
         assert!(Tolerance::new(1e-6, 1e-5).is_ok());
     }
 
