@@ -35,6 +35,7 @@ pub mod contact_geometry;
 pub mod cutting;
 pub mod generation;
 pub mod geometry;
+pub mod io;
 pub mod penetration;
 pub mod system;
 pub mod tolerance;

@@ -41,7 +41,7 @@ impl ConvexBlock {
     }
 }
 
-fn check_points(vertices: &[[f64; 3]]) -> Result<Vec<DVec3>, BlockError> {
+pub(super) fn check_points(vertices: &[[f64; 3]]) -> Result<Vec<DVec3>, BlockError> {
     vertices
         .iter()
         .enumerate()
@@ -56,7 +56,7 @@ fn check_points(vertices: &[[f64; 3]]) -> Result<Vec<DVec3>, BlockError> {
         .collect()
 }
 
-fn check_face_lists(faces: &[Vec<usize>], n_vertices: usize) -> Result<(), BlockError> {
+pub(super) fn check_face_lists(faces: &[Vec<usize>], n_vertices: usize) -> Result<(), BlockError> {
     if n_vertices < 4 || faces.len() < 4 {
         return Err(BlockError::TooSmall {
             vertices: n_vertices,
@@ -323,6 +323,7 @@ fn build_checked(
         .collect();
     let face_vertices = faces.iter().flatten().map(|&v| v as u32).collect();
     Ok(ConvexBlock {
+        origins: vec![super::FaceOrigin::Unknown; planes.len()],
         local: super::LocalCoordinates::of(&points),
         vertices: points,
         face_offsets,

@@ -149,4 +149,25 @@ pub enum BlockError {
         /// Plane index.
         plane: usize,
     },
+    /// A list with one entry per face has the wrong length.
+    #[error("expected one entry per face ({expected}), got {got}")]
+    OriginCount {
+        /// Number of faces.
+        expected: usize,
+        /// Entries given.
+        got: usize,
+    },
+    /// A stored face plane whose normal is not a finite unit vector.
+    #[error("the plane of face {face} has no finite unit normal")]
+    BadPlane {
+        /// Face index.
+        face: usize,
+    },
+    /// A cut whose pieces do not close: the plane passes within the tolerance of the block's
+    /// features in a way that no consistent pair of pieces can represent.
+    #[error("degenerate cut: {reason}")]
+    DegenerateCut {
+        /// What went wrong.
+        reason: &'static str,
+    },
 }

@@ -140,7 +140,7 @@ fn face_loops(planes: &[Plane], vertices: &[DVec3], eps: f64) -> Vec<Vec<usize>>
 }
 
 /// Sorts points of a convex planar polygon counter-clockwise about `normal`.
-pub(crate) fn sort_ccw(vertices: &[DVec3], mut ids: Vec<usize>, normal: DVec3) -> Vec<usize> {
+fn sort_ccw(vertices: &[DVec3], mut ids: Vec<usize>, normal: DVec3) -> Vec<usize> {
     let centre = ids.iter().map(|&v| vertices[v]).sum::<DVec3>() / ids.len() as f64;
     let u = (vertices[ids[0]] - centre).normalize_or_zero();
     let w = normal.cross(u);

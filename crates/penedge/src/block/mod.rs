@@ -5,12 +5,16 @@
 //! by [`ConvexBlock::new`] (vertices + faces) or [`ConvexBlock::from_planes`] (half-spaces),
 //! which validate the input and return a [`BlockError`] naming what is wrong.
 
+mod assemble;
 mod build;
 mod error;
 mod halfspace;
-pub(crate) use halfspace::sort_ccw;
+mod origin;
+mod stored;
+pub(crate) use assemble::BlockParts;
 
 pub use error::BlockError;
+pub use origin::FaceOrigin;
 
 use crate::geometry::{Aabb, DVec3, Plane};
 use glam::DQuat;
@@ -34,6 +38,7 @@ pub struct ConvexBlock {
     face_offsets: Vec<u32>,
     face_vertices: Vec<u32>,
     planes: Vec<Plane>,
+    origins: Vec<FaceOrigin>,
     edges: Vec<Edge>,
     volume: f64,
     centroid: DVec3,
@@ -85,6 +90,23 @@ impl ConvexBlock {
     /// Outward unit face planes, one per face.
     pub fn planes(&self) -> &[Plane] {
         &self.planes
+    }
+
+    /// Where each face comes from (domain boundary or joint), one per face.
+    pub fn face_origins(&self) -> &[FaceOrigin] {
+        &self.origins
+    }
+
+    /// The block with its face origins replaced (one per face, in face order).
+    pub fn with_face_origins(mut self, origins: Vec<FaceOrigin>) -> Result<Self, BlockError> {
+        if origins.len() != self.n_faces() {
+            return Err(BlockError::OriginCount {
+                expected: self.n_faces(),
+                got: origins.len(),
+            });
+        }
+        self.origins = origins;
+        Ok(self)
     }
 
     pub(crate) fn local(&self) -> &LocalCoordinates {
@@ -160,6 +182,7 @@ impl ConvexBlock {
             face_offsets: self.face_offsets.clone(),
             face_vertices: self.face_vertices.clone(),
             planes,
+            origins: self.origins.clone(),
             edges: self.edges.clone(),
             volume: self.volume * scale.powi(3),
             centroid: map(self.centroid),

@@ -1,8 +1,8 @@
-//! The paper's three examples (section 4): a 10 m cube cut by infinite planes.
+//! The paper's three examples (section 4): a 10 m cube cut by infinite planes, produced by
+//! the generator from a spec (also in `examples/paper_example_*.toml`).
 
 use super::{BlockSystem, SystemError};
-use crate::block::ConvexBlock;
-use crate::tolerance::Tolerance;
+use crate::generation::{generate, Discontinuity, Domain, Orientation, Spec};
 
 /// One of the paper's examples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,11 +47,26 @@ impl PaperExample {
     }
 }
 
+/// The generation spec of a paper example: the cube and its planes, each through a point
+/// (`offset / |n|² · n`) with its normal.
+pub fn paper_spec(example: PaperExample) -> Spec {
+    let domain = Domain::cuboid([0.0; 3], [10.0; 3]).expect("a valid cube");
+    let (normals, offsets) = example.planes();
+    normals
+        .iter()
+        .zip(offsets)
+        .enumerate()
+        .fold(Spec::new(domain), |spec, (i, (n, d))| {
+            let scale = d / (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            let point = n.map(|c| c * scale);
+            let plane = Discontinuity::plane(point, Orientation::Normal(*n));
+            spec.with(plane.named(format!("plane {}", i + 1)))
+        })
+}
+
 /// The block system of a paper example.
 pub fn paper_example(example: PaperExample) -> Result<BlockSystem, SystemError> {
-    let domain = ConvexBlock::cuboid([0.0; 3], [10.0; 3])?;
-    let (normals, offsets) = example.planes();
-    BlockSystem::from_domain_cut(domain, &normals, &offsets, &Tolerance::default())
+    Ok(generate(&paper_spec(example))?.system)
 }
 
 /// The counts printed in the paper's Table 3, in the order of

@@ -1,22 +1,30 @@
-//! Block systems: a set of blocks with ids, built by cutting a box with planes, and the
-//! detection of every contact in it.
+//! Block systems: a set of blocks with ids, built by cutting a domain with planes (see
+//! [`crate::generation`]), and the detection of every contact in it.
 
 mod detect;
 mod examples;
 
 pub use detect::{count_types, PairContact, SystemContacts};
-pub use examples::{paper_example, paper_table3, PaperExample};
+pub use examples::{paper_example, paper_spec, paper_table3, PaperExample};
 
 use crate::block::{BlockError, ConvexBlock};
-use crate::cutting::split_block;
+use crate::generation::{upward, Domain, GenerationError, JointRecord, JointShape};
+use crate::generation::{SetKind, SetRecord};
 use crate::geometry::{DVec3, Plane};
 use crate::tolerance::Tolerance;
 use thiserror::Error;
 
 /// A system of blocks; a block's id is its index.
+///
+/// A generated system also carries where it came from: the domain's convex parts, the joint
+/// table (every plane applied, in order) and one record per spec entry; each block's
+/// [`crate::block::FaceOrigin`]s point into them.
 #[derive(Clone, Debug, Default)]
 pub struct BlockSystem {
     blocks: Vec<ConvexBlock>,
+    domain: Vec<ConvexBlock>,
+    joints: Vec<JointRecord>,
+    sets: Vec<SetRecord>,
 }
 
 /// Why a block system cannot be built.
@@ -31,17 +39,53 @@ pub enum SystemError {
     /// The domain or a piece is not a valid block.
     #[error("invalid block: {0}")]
     Block(#[from] BlockError),
+    /// Generation failed.
+    #[error("{0}")]
+    Generation(#[from] GenerationError),
 }
 
 impl BlockSystem {
     /// A system of the given blocks.
     pub fn new(blocks: Vec<ConvexBlock>) -> Self {
-        BlockSystem { blocks }
+        BlockSystem {
+            blocks,
+            ..BlockSystem::default()
+        }
+    }
+
+    /// A system with its domain parts, joint table and spec entries.
+    pub fn with_provenance(
+        blocks: Vec<ConvexBlock>,
+        domain: Vec<ConvexBlock>,
+        joints: Vec<JointRecord>,
+        sets: Vec<SetRecord>,
+    ) -> Self {
+        BlockSystem {
+            blocks,
+            domain,
+            joints,
+            sets,
+        }
     }
 
     /// The blocks, indexed by id.
     pub fn blocks(&self) -> &[ConvexBlock] {
         &self.blocks
+    }
+
+    /// The domain's convex parts (empty when not known).
+    pub fn domain(&self) -> &[ConvexBlock] {
+        &self.domain
+    }
+
+    /// The joint table: every joint plane applied, in order.
+    pub fn joints(&self) -> &[JointRecord] {
+        &self.joints
+    }
+
+    /// One record (name, kind) per entry of the generation spec.
+    pub fn sets(&self) -> &[SetRecord] {
+        &self.sets
     }
 
     /// Number of blocks.
@@ -55,52 +99,106 @@ impl BlockSystem {
     }
 
     /// The `domain` cut by infinite planes `normals[i] · x = offsets[i]`: each plane splits
-    /// every block it crosses (bounding boxes first).
+    /// every block it crosses (through the cutting tree). Plane `i` is joint `i` of entry `i`;
+    /// planes that miss the domain cut nothing.
     pub fn from_domain_cut(
         domain: ConvexBlock,
         normals: &[[f64; 3]],
         offsets: &[f64],
         tol: &Tolerance,
     ) -> Result<Self, SystemError> {
-        let mut blocks = vec![domain];
+        let domain = Domain::convex(domain);
+        let mut joints = Vec::with_capacity(normals.len());
         for (i, (n, &d)) in normals.iter().zip(offsets).enumerate() {
             let n = DVec3::from_array(*n);
             let len = n.length();
             if !(len > 0.0 && len.is_finite() && d.is_finite()) {
                 return Err(SystemError::DegeneratePlane { plane: i });
             }
-            let plane = Plane {
-                normal: n / len,
-                point: n * (d / (len * len)),
-            };
-            blocks = cut_all(blocks, &plane, tol)?;
+            joints.push(JointRecord {
+                set: i as u32,
+                member: 0,
+                plane: Plane {
+                    normal: upward(n / len),
+                    point: n * (d / (len * len)),
+                },
+                shape: JointShape::Infinite,
+            });
         }
-        Ok(BlockSystem { blocks })
+        let sets = (0..joints.len())
+            .map(|i| SetRecord {
+                name: format!("plane {i}"),
+                kind: SetKind::Plane,
+            })
+            .collect();
+        let eps = tol.for_box(&domain.aabb()).length;
+        let blocks = crate::generation::cut_domain(&domain, &joints, eps)?;
+        Ok(BlockSystem::with_provenance(
+            blocks,
+            domain.parts().to_vec(),
+            joints,
+            sets,
+        ))
     }
 }
 
-fn cut_all(
-    blocks: Vec<ConvexBlock>,
-    plane: &Plane,
-    tol: &Tolerance,
-) -> Result<Vec<ConvexBlock>, SystemError> {
-    let mut out = Vec::with_capacity(blocks.len() * 2);
-    for block in blocks {
-        if !crosses(&block, plane) {
-            out.push(block);
-            continue;
-        }
-        let split = split_block(&block, plane, tol)?;
-        out.extend(split.below);
-        out.extend(split.above);
-    }
-    Ok(out)
+/// A block system as flat arrays (for numpy and other array consumers): block `i` owns
+/// vertices `vertex_offsets[i]..vertex_offsets[i + 1]` and faces
+/// `face_offsets[i]..face_offsets[i + 1]`; face `f` lists `face_vertices[loop_offsets[f]..
+/// loop_offsets[f + 1]]`, indices into the flat vertex array.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SystemArrays {
+    /// All vertices, block after block.
+    pub vertices: Vec<[f64; 3]>,
+    /// Per block, the start of its vertices (length: blocks + 1).
+    pub vertex_offsets: Vec<u64>,
+    /// Per block, the start of its faces (length: blocks + 1).
+    pub face_offsets: Vec<u64>,
+    /// Per face, the start of its vertex loop (length: faces + 1).
+    pub loop_offsets: Vec<u64>,
+    /// Vertex loops of all faces (global vertex indices), counter-clockwise from outside.
+    pub face_vertices: Vec<u64>,
+    /// Per face, its outward unit normal.
+    pub face_normals: Vec<[f64; 3]>,
+    /// Per face, [`crate::block::FaceOrigin::code`]: 0 unknown, 1 boundary, 2 joint.
+    pub origin_kind: Vec<u8>,
+    /// Per face, the domain part (boundary) or spec entry (joint); -1 when unknown.
+    pub origin_set: Vec<i64>,
+    /// Per face, the domain face (boundary) or joint id (joint); -1 when unknown.
+    pub origin_index: Vec<i64>,
+    /// Per block, its volume.
+    pub volumes: Vec<f64>,
+    /// Per block, its centroid.
+    pub centroids: Vec<[f64; 3]>,
 }
 
-/// Whether the plane can cross the block's bounding box.
-fn crosses(block: &ConvexBlock, plane: &Plane) -> bool {
-    let b = block.aabb();
-    let centre = (b.min + b.max) * 0.5;
-    let half = (b.max - b.min) * 0.5;
-    plane.distance(centre).abs() <= half.dot(plane.normal.abs())
+impl BlockSystem {
+    /// The system as flat arrays.
+    pub fn arrays(&self) -> SystemArrays {
+        let mut a = SystemArrays {
+            vertex_offsets: vec![0],
+            face_offsets: vec![0],
+            loop_offsets: vec![0],
+            ..SystemArrays::default()
+        };
+        for b in &self.blocks {
+            let first = a.vertices.len() as u64;
+            a.vertices.extend(b.vertices().iter().map(|v| v.to_array()));
+            for (f, face) in b.faces().enumerate() {
+                a.face_vertices
+                    .extend(face.iter().map(|&v| first + v as u64));
+                a.loop_offsets.push(a.face_vertices.len() as u64);
+                a.face_normals.push(b.planes()[f].normal.to_array());
+                let origin = b.face_origins()[f];
+                a.origin_kind.push(origin.code());
+                a.origin_set.push(origin.ids().0);
+                a.origin_index.push(origin.ids().1);
+            }
+            a.vertex_offsets.push(a.vertices.len() as u64);
+            a.face_offsets.push(a.origin_kind.len() as u64);
+            a.volumes.push(b.volume());
+            a.centroids.push(b.centroid().to_array());
+        }
+        a
+    }
 }

@@ -1,0 +1,126 @@
+//! What generation did: counts for the user, slivers never silently kept or dropped.
+
+use super::expand::Plan;
+use super::spec::{Options, SliverPolicy, DEFAULT_MIN_THICKNESS};
+use super::tree::CutCounts;
+use crate::block::ConvexBlock;
+
+/// The report of one generation run.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct GenerationReport {
+    /// Blocks in the system.
+    pub blocks: usize,
+    /// Joint planes applied (the joint table's length).
+    pub joint_planes: usize,
+    /// Blocks split.
+    pub splits: usize,
+    /// Finite joints that ended inside a block, which was left whole (block-joint pairs).
+    pub partial_cuts_skipped: usize,
+    /// The same, per spec entry.
+    pub partial_cuts_by_entry: Vec<usize>,
+    /// Planes of joint sets with a given number that miss the domain, left out.
+    pub set_planes_outside: usize,
+    /// Cuts redone with exact signs because the pieces did not close with the length
+    /// threshold (degenerate positions within the tolerance of a vertex or edge).
+    pub retried_cuts: usize,
+    /// Volume of the domain.
+    pub domain_volume: f64,
+    /// Total volume of the blocks kept.
+    pub block_volume: f64,
+    /// `|kept + dropped - domain| / domain`: the cutting's volume error.
+    pub volume_error: f64,
+    /// Slivers found.
+    pub slivers: SliverReport,
+}
+
+/// Slivers: blocks below the minimum volume or thickness.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SliverReport {
+    /// Keep or drop.
+    pub policy: SliverPolicy,
+    /// The minimum volume used.
+    pub min_volume: f64,
+    /// The minimum thickness used.
+    pub min_thickness: f64,
+    /// Slivers found (kept or dropped).
+    pub count: usize,
+    /// Their total volume.
+    pub volume: f64,
+    /// Ids of the slivers kept in the system (empty when dropped).
+    pub kept_ids: Vec<u32>,
+}
+
+/// Thickness of a convex block: the smallest, over its faces, of the distance from the face
+/// plane to the farthest vertex (the width across that face; an upper bound of the true
+/// minimum width, equal to it for blocks between parallel faces).
+pub fn thickness(block: &ConvexBlock) -> f64 {
+    block
+        .planes()
+        .iter()
+        .map(|plane| {
+            block
+                .vertices()
+                .iter()
+                .map(|&v| -plane.distance(v))
+                .fold(0.0, f64::max)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Finds the slivers among `blocks`, keeps or drops them as asked, and reports them.
+pub(crate) fn sort_slivers(
+    blocks: Vec<ConvexBlock>,
+    options: &Options,
+    domain_size: f64,
+) -> (Vec<ConvexBlock>, SliverReport) {
+    let mut report = SliverReport {
+        policy: options.slivers,
+        min_volume: options.min_volume,
+        min_thickness: options
+            .min_thickness
+            .unwrap_or(DEFAULT_MIN_THICKNESS * domain_size),
+        ..SliverReport::default()
+    };
+    let mut kept = Vec::with_capacity(blocks.len());
+    for block in blocks {
+        let sliver = block.volume() < report.min_volume || thickness(&block) < report.min_thickness;
+        if sliver {
+            report.count += 1;
+            report.volume += block.volume();
+            if options.slivers == SliverPolicy::Drop {
+                continue;
+            }
+            report.kept_ids.push(kept.len() as u32);
+        }
+        kept.push(block);
+    }
+    (kept, report)
+}
+
+/// The report of a run (without the per-entry partial counts).
+pub(crate) fn summarise(
+    blocks: &[ConvexBlock],
+    domain_volume: f64,
+    plan: &Plan,
+    counts: &CutCounts,
+    slivers: SliverReport,
+) -> GenerationReport {
+    let block_volume: f64 = blocks.iter().map(|b| b.volume()).sum();
+    let dropped = match slivers.policy {
+        SliverPolicy::Drop => slivers.volume,
+        SliverPolicy::Keep => 0.0,
+    };
+    GenerationReport {
+        blocks: blocks.len(),
+        joint_planes: plan.records.len(),
+        splits: counts.splits,
+        partial_cuts_skipped: counts.partial,
+        partial_cuts_by_entry: Vec::new(),
+        set_planes_outside: plan.outside,
+        retried_cuts: counts.retried,
+        domain_volume,
+        block_volume,
+        volume_error: (block_volume + dropped - domain_volume).abs() / domain_volume,
+        slivers,
+    }
+}

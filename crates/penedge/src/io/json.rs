@@ -1,0 +1,248 @@
+//! The block system as JSON (`docs/block-file-format.md`), versioned and lossless: numbers
+//! are written in the shortest form that reads back to the same `f64`, and reading restores
+//! each block from its stored vertices, faces, planes and origins without refitting anything
+//! (edges, volume and centroid are derived by the same code as when the block was made).
+
+use super::{read_text, write_atomic, IoError};
+use crate::block::{ConvexBlock, FaceOrigin};
+use crate::generation::{JointRecord, JointShape, SetRecord};
+use crate::geometry::{DVec3, Plane};
+use crate::system::BlockSystem;
+use crate::tolerance::Tolerance;
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::Path;
+
+/// The value of the `format` field.
+pub const FORMAT: &str = "penedge-blocks";
+/// The schema version written (and the only one read).
+pub const VERSION: u32 = 1;
+/// The value of the `frame` field.
+pub const FRAME: &str = "x East, y North, z up";
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SystemFile {
+    format: String,
+    version: u32,
+    frame: String,
+    domain: Vec<BlockFile>,
+    sets: Vec<SetRecord>,
+    joints: Vec<JointFile>,
+    blocks: Vec<BlockFile>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BlockFile {
+    id: u32,
+    vertices: Vec<[f64; 3]>,
+    faces: Vec<Vec<u32>>,
+    planes: Vec<[f64; 6]>,
+    origins: Vec<FaceOrigin>,
+    volume: f64,
+    centroid: [f64; 3],
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct JointFile {
+    id: u32,
+    set: u32,
+    member: u32,
+    normal: [f64; 3],
+    point: [f64; 3],
+    dip: f64,
+    dip_direction: f64,
+    shape: ShapeFile,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum ShapeFile {
+    Infinite,
+    Disc { center: [f64; 3], radius: f64 },
+    Polygon { vertices: Vec<[f64; 3]> },
+}
+
+/// The system as a JSON string.
+pub fn to_json_string(system: &BlockSystem) -> String {
+    serde_json::to_string(&file_of(system)).expect("plain data always serialises")
+}
+
+/// Writes the system as JSON, atomically.
+pub fn write_json(system: &BlockSystem, path: &Path) -> Result<(), IoError> {
+    let file = file_of(system);
+    write_atomic(path, |w: &mut dyn Write| {
+        serde_json::to_writer(&mut *w, &file).map_err(std::io::Error::other)?;
+        w.write_all(b"\n")
+    })
+}
+
+/// Reads a system written by [`write_json`].
+pub fn read_json(path: &Path) -> Result<BlockSystem, IoError> {
+    let text = read_text(path)?;
+    from_json_str(&text).map_err(|e| match e {
+        IoError::Syntax { message, .. } => IoError::Syntax {
+            path: path.to_path_buf(),
+            message,
+        },
+        other => other,
+    })
+}
+
+/// Parses a system from a JSON string.
+pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
+    let file: SystemFile = serde_json::from_str(text).map_err(|e| IoError::Syntax {
+        path: "<string>".into(),
+        message: e.to_string(),
+    })?;
+    if file.format != FORMAT || file.version != VERSION {
+        return Err(format_error(
+            "version",
+            format!(
+                "expected format `{FORMAT}` version {VERSION}, got `{}` version {}",
+                file.format, file.version
+            ),
+        ));
+    }
+    let domain = blocks_of("domain", &file.domain)?;
+    let blocks = blocks_of("blocks", &file.blocks)?;
+    let joints = file.joints.into_iter().map(record_of).collect::<Vec<_>>();
+    check_origins(&blocks, domain.len(), joints.len(), file.sets.len())?;
+    Ok(BlockSystem::with_provenance(
+        blocks, domain, joints, file.sets,
+    ))
+}
+
+/// Every face origin points into the domain parts, joint table and sets that the file has.
+fn check_origins(
+    blocks: &[ConvexBlock],
+    parts: usize,
+    joints: usize,
+    sets: usize,
+) -> Result<(), IoError> {
+    for (i, b) in blocks.iter().enumerate() {
+        for (f, origin) in b.face_origins().iter().enumerate() {
+            let ok = match *origin {
+                FaceOrigin::Unknown => true,
+                FaceOrigin::Boundary { part, .. } => (part as usize) < parts.max(1),
+                FaceOrigin::Joint { set, joint } => {
+                    (set as usize) < sets && (joint as usize) < joints
+                }
+            };
+            if !ok {
+                let msg =
+                    format!("{origin:?} refers to a part, set or joint the file does not have");
+                return Err(format_error(format!("blocks[{i}].origins[{f}]"), msg));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn format_error(field: impl Into<String>, message: String) -> IoError {
+    IoError::Format {
+        field: field.into(),
+        message,
+    }
+}
+
+fn file_of(system: &BlockSystem) -> SystemFile {
+    SystemFile {
+        format: FORMAT.to_string(),
+        version: VERSION,
+        frame: FRAME.to_string(),
+        domain: system.domain().iter().enumerate().map(block_file).collect(),
+        sets: system.sets().to_vec(),
+        joints: system.joints().iter().enumerate().map(joint_file).collect(),
+        blocks: system.blocks().iter().enumerate().map(block_file).collect(),
+    }
+}
+
+fn block_file((id, b): (usize, &ConvexBlock)) -> BlockFile {
+    BlockFile {
+        id: id as u32,
+        vertices: b.vertices().iter().map(|v| v.to_array()).collect(),
+        faces: b.faces().map(<[u32]>::to_vec).collect(),
+        planes: b
+            .planes()
+            .iter()
+            .map(|p| {
+                let (n, q) = (p.normal, p.point);
+                [n.x, n.y, n.z, q.x, q.y, q.z]
+            })
+            .collect(),
+        origins: b.face_origins().to_vec(),
+        volume: b.volume(),
+        centroid: b.centroid().to_array(),
+    }
+}
+
+fn blocks_of(field: &str, files: &[BlockFile]) -> Result<Vec<ConvexBlock>, IoError> {
+    let tol = Tolerance::default();
+    files
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            if f.id as usize != i {
+                let msg = format!("ids must run 0, 1, 2, ... in order; found {}", f.id);
+                return Err(format_error(format!("{field}[{i}].id"), msg));
+            }
+            let planes: Vec<Plane> = f
+                .planes
+                .iter()
+                .map(|p| Plane {
+                    normal: DVec3::new(p[0], p[1], p[2]),
+                    point: DVec3::new(p[3], p[4], p[5]),
+                })
+                .collect();
+            ConvexBlock::from_parts(&f.vertices, &f.faces, &planes, &f.origins, &tol)
+                .map_err(|e| format_error(format!("{field}[{i}]"), e.to_string()))
+        })
+        .collect()
+}
+
+fn joint_file((id, r): (usize, &JointRecord)) -> JointFile {
+    let attitude = r.attitude();
+    JointFile {
+        id: id as u32,
+        set: r.set,
+        member: r.member,
+        normal: r.plane.normal.to_array(),
+        point: r.plane.point.to_array(),
+        dip: attitude.dip,
+        dip_direction: attitude.dip_direction,
+        shape: match &r.shape {
+            JointShape::Infinite => ShapeFile::Infinite,
+            JointShape::Disc { center, radius } => ShapeFile::Disc {
+                center: center.to_array(),
+                radius: *radius,
+            },
+            JointShape::Polygon { vertices } => ShapeFile::Polygon {
+                vertices: vertices.iter().map(|v| v.to_array()).collect(),
+            },
+        },
+    }
+}
+
+fn record_of(f: JointFile) -> JointRecord {
+    JointRecord {
+        set: f.set,
+        member: f.member,
+        plane: Plane {
+            normal: DVec3::from_array(f.normal),
+            point: DVec3::from_array(f.point),
+        },
+        shape: match f.shape {
+            ShapeFile::Infinite => JointShape::Infinite,
+            ShapeFile::Disc { center, radius } => JointShape::Disc {
+                center: DVec3::from_array(center),
+                radius,
+            },
+            ShapeFile::Polygon { vertices } => JointShape::Polygon {
+                vertices: vertices.into_iter().map(DVec3::from_array).collect(),
+            },
+        },
+    }
+}

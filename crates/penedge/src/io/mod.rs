@@ -1,0 +1,104 @@
+//! File formats: the generation spec (TOML or JSON), the block system (JSON, versioned),
+//! ParaView files (VTU) and the block table (CSV).
+//!
+//! Every file is written atomically: to a temporary file in the same folder, flushed to
+//! disk, then renamed over the target, so a reader never sees a half-written file and a
+//! failed write leaves the old file in place.
+
+pub mod csv;
+pub mod json;
+pub mod spec;
+pub mod vtu;
+
+use crate::generation::SpecError;
+use std::fs::{self, File};
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use thiserror::Error;
+
+/// Why a file could not be read or written.
+#[derive(Debug, Error)]
+pub enum IoError {
+    /// The operating system refused (missing folder, no permission, disk full).
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: io::Error,
+    },
+    /// The file is not valid JSON, or not of the expected shape.
+    #[error("{path}: {message}")]
+    Syntax {
+        /// The file.
+        path: PathBuf,
+        /// What the parser said (with line and column).
+        message: String,
+    },
+    /// The file parses but a field is wrong (a bad block, an unknown version).
+    #[error("{field}: {message}")]
+    Format {
+        /// The field, as a path (`blocks[3].faces`).
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A generation spec file with a bad field.
+    #[error("{0}")]
+    Spec(#[from] SpecError),
+}
+
+impl IoError {
+    pub(crate) fn io(path: &Path, source: io::Error) -> IoError {
+        IoError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+}
+
+static COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// Writes `path` atomically through a buffered writer: temporary file, flush, sync, rename.
+pub fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> Result<(), IoError> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| IoError::io(path, io::Error::other("not a file name")))?;
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let unique = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let tmp = dir.join(format!(
+        ".{}.{}-{unique}.tmp",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = write_then_rename(&tmp, path, write);
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result.map_err(|source| IoError::io(path, source))
+}
+
+fn write_then_rename(
+    tmp: &Path,
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> io::Result<()> {
+    let mut out = BufWriter::with_capacity(1 << 16, File::create(tmp)?);
+    write(&mut out)?;
+    let file = out.into_inner().map_err(|e| e.into_error())?;
+    file.sync_all()?;
+    drop(file);
+    fs::rename(tmp, path)
+}
+
+/// Reads a whole text file.
+pub(crate) fn read_text(path: &Path) -> Result<String, IoError> {
+    fs::read_to_string(path).map_err(|source| IoError::io(path, source))
+}

@@ -1,0 +1,341 @@
+//! The generation spec file (TOML, or the same structure in JSON): see
+//! `docs/generation.md` for every field, and `examples/` for one file per feature.
+//!
+//! ```toml
+//! [domain]
+//! type = "box"
+//! min = [0, 0, 0]
+//! max = [10, 10, 10]
+//!
+//! [[joints]]
+//! type = "set"
+//! name = "bedding"
+//! dip = 10
+//! dip_direction = 135
+//! spacing = 2.5
+//! ```
+//!
+//! Parsing checks the shape (known keys, value types, the fields each `type` takes);
+//! [`crate::generation::generate`] checks the values. Errors name the field.
+
+use super::{read_text, IoError};
+use crate::generation::{Attitude, Deviation, Discontinuity, Domain, JointKind, JointSet};
+use crate::generation::{Options, Orientation, Problem, SliverPolicy, Spec, SpecError};
+use crate::tolerance::Tolerance;
+use serde::Deserialize;
+use std::path::Path;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSpec {
+    domain: RawDomain,
+    #[serde(default)]
+    joints: Vec<RawJoint>,
+    #[serde(default)]
+    options: RawOptions,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawDomain {
+    #[serde(rename = "type")]
+    kind: String,
+    min: Option<[f64; 3]>,
+    max: Option<[f64; 3]>,
+    vertices: Option<Vec<[f64; 3]>>,
+    faces: Option<Vec<Vec<usize>>>,
+    normals: Option<Vec<[f64; 3]>>,
+    offsets: Option<Vec<f64>>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawJoint {
+    #[serde(rename = "type")]
+    kind: String,
+    name: Option<String>,
+    point: Option<[f64; 3]>,
+    normal: Option<[f64; 3]>,
+    dip: Option<f64>,
+    dip_direction: Option<f64>,
+    origin: Option<[f64; 3]>,
+    spacing: Option<f64>,
+    number: Option<i64>,
+    dip_deviation: Option<f64>,
+    dip_direction_deviation: Option<f64>,
+    spacing_deviation: Option<f64>,
+    seed: Option<i64>,
+    center: Option<[f64; 3]>,
+    radius: Option<f64>,
+    vertices: Option<Vec<[f64; 3]>>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawOptions {
+    min_volume: Option<f64>,
+    min_thickness: Option<f64>,
+    slivers: Option<String>,
+    gap: Option<f64>,
+    length: Option<f64>,
+}
+
+/// Parses a TOML spec.
+pub fn parse_toml(text: &str) -> Result<Spec, SpecError> {
+    let raw: RawSpec =
+        toml::from_str(text).map_err(|e| syntax(e.to_string().trim_end().to_string()))?;
+    convert(raw)
+}
+
+/// Parses a JSON spec (the same structure as the TOML file).
+pub fn parse_json(text: &str) -> Result<Spec, SpecError> {
+    let raw: RawSpec = serde_json::from_str(text).map_err(|e| syntax(e.to_string()))?;
+    convert(raw)
+}
+
+/// Reads a spec file: JSON if its name ends in `.json`, TOML otherwise.
+pub fn read_spec(path: &Path) -> Result<Spec, IoError> {
+    let text = read_text(path)?;
+    let is_json = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    Ok(if is_json {
+        parse_json(&text)?
+    } else {
+        parse_toml(&text)?
+    })
+}
+
+fn syntax(message: String) -> SpecError {
+    SpecError::new("spec", Problem::Syntax(message))
+}
+
+fn convert(raw: RawSpec) -> Result<Spec, SpecError> {
+    let domain = domain(&raw.domain)?;
+    let joints = raw
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(i, j)| joint(&format!("joints[{i}]"), j))
+        .collect::<Result<_, _>>()?;
+    let options = options(&raw.options)?;
+    Ok(Spec {
+        domain,
+        joints,
+        options,
+    })
+}
+
+fn need<T: Clone>(field: String, value: &Option<T>) -> Result<T, SpecError> {
+    value.clone().ok_or(SpecError::new(field, Problem::Missing))
+}
+
+/// The first field given that `allowed` does not list.
+fn only(
+    prefix: &str,
+    kind: &str,
+    given: &[(&str, bool)],
+    allowed: &[&str],
+) -> Result<(), SpecError> {
+    match given.iter().find(|(k, set)| *set && !allowed.contains(k)) {
+        Some((key, _)) => Err(SpecError::new(
+            format!("{prefix}.{key}"),
+            Problem::NotAllowed {
+                kind: kind.to_string(),
+            },
+        )),
+        None => Ok(()),
+    }
+}
+
+fn domain(d: &RawDomain) -> Result<Domain, SpecError> {
+    let given = [
+        ("min", d.min.is_some()),
+        ("max", d.max.is_some()),
+        ("vertices", d.vertices.is_some()),
+        ("faces", d.faces.is_some()),
+        ("normals", d.normals.is_some()),
+        ("offsets", d.offsets.is_some()),
+    ];
+    let built = match d.kind.as_str() {
+        "box" => {
+            only("domain", "box", &given, &["min", "max"])?;
+            let (min, max) = (
+                need("domain.min".into(), &d.min)?,
+                need("domain.max".into(), &d.max)?,
+            );
+            check_box(min, max)?;
+            Domain::cuboid(min, max)
+        }
+        "polyhedron" => {
+            only("domain", "polyhedron", &given, &["vertices", "faces"])?;
+            let vertices = need("domain.vertices".into(), &d.vertices)?;
+            Domain::from_vertices_faces(&vertices, &need("domain.faces".into(), &d.faces)?)
+        }
+        "halfspaces" => {
+            only("domain", "halfspaces", &given, &["normals", "offsets"])?;
+            let normals = need("domain.normals".into(), &d.normals)?;
+            Domain::from_halfspaces(&normals, &need("domain.offsets".into(), &d.offsets)?)
+        }
+        other => {
+            return Err(unknown_type(
+                "domain.type",
+                other,
+                "box, polyhedron, halfspaces",
+            ))
+        }
+    };
+    built.map_err(|e| SpecError::new("domain", Problem::Domain(e)))
+}
+
+fn check_box(min: [f64; 3], max: [f64; 3]) -> Result<(), SpecError> {
+    for (field, p) in [("domain.min", min), ("domain.max", max)] {
+        for v in p {
+            if !v.is_finite() {
+                return Err(SpecError::new(field, Problem::NotFinite { value: v }));
+            }
+        }
+    }
+    if (0..3).any(|k| max[k] <= min[k]) {
+        let msg = "must be greater than `domain.min` in every coordinate".to_string();
+        return Err(SpecError::new("domain.max", Problem::Invalid(msg)));
+    }
+    Ok(())
+}
+
+fn unknown_type(field: &str, found: &str, expected: &'static str) -> SpecError {
+    let found = found.to_string();
+    SpecError::new(field, Problem::UnknownType { found, expected })
+}
+
+const PLANE_FIELDS: [&str; 4] = ["point", "normal", "dip", "dip_direction"];
+const DISC_FIELDS: [&str; 5] = ["center", "normal", "dip", "dip_direction", "radius"];
+
+fn joint(prefix: &str, j: &RawJoint) -> Result<Discontinuity, SpecError> {
+    let given = given_fields(j);
+    let kind = match j.kind.as_str() {
+        "plane" => {
+            only(prefix, "plane", &given, &PLANE_FIELDS)?;
+            let point = need(format!("{prefix}.point"), &j.point)?;
+            let orientation = orientation(prefix, j)?;
+            JointKind::Plane { point, orientation }
+        }
+        "set" => JointKind::Set(joint_set(prefix, j, &given)?),
+        "disc" => {
+            only(prefix, "disc", &given, &DISC_FIELDS)?;
+            JointKind::Disc {
+                center: need(format!("{prefix}.center"), &j.center)?,
+                orientation: orientation(prefix, j)?,
+                radius: need(format!("{prefix}.radius"), &j.radius)?,
+            }
+        }
+        "polygon" => {
+            only(prefix, "polygon", &given, &["vertices"])?;
+            let vertices = need(format!("{prefix}.vertices"), &j.vertices)?;
+            JointKind::Polygon { vertices }
+        }
+        other => {
+            let expected = "plane, set, disc, polygon";
+            return Err(unknown_type(&format!("{prefix}.type"), other, expected));
+        }
+    };
+    let name = j.name.clone();
+    Ok(Discontinuity { name, kind })
+}
+
+fn given_fields(j: &RawJoint) -> [(&'static str, bool); 15] {
+    [
+        ("point", j.point.is_some()),
+        ("normal", j.normal.is_some()),
+        ("dip", j.dip.is_some()),
+        ("dip_direction", j.dip_direction.is_some()),
+        ("origin", j.origin.is_some()),
+        ("spacing", j.spacing.is_some()),
+        ("number", j.number.is_some()),
+        ("dip_deviation", j.dip_deviation.is_some()),
+        (
+            "dip_direction_deviation",
+            j.dip_direction_deviation.is_some(),
+        ),
+        ("spacing_deviation", j.spacing_deviation.is_some()),
+        ("seed", j.seed.is_some()),
+        ("center", j.center.is_some()),
+        ("radius", j.radius.is_some()),
+        ("vertices", j.vertices.is_some()),
+        ("name", false),
+    ]
+}
+
+fn orientation(prefix: &str, j: &RawJoint) -> Result<Orientation, SpecError> {
+    match (j.normal, j.dip, j.dip_direction) {
+        (Some(n), None, None) => Ok(Orientation::Normal(n)),
+        (None, Some(dip), Some(dd)) => Ok(Orientation::Attitude(Attitude::new(dip, dd))),
+        (None, Some(_), None) => Err(SpecError::new(
+            format!("{prefix}.dip_direction"),
+            Problem::Missing,
+        )),
+        (None, None, Some(_)) => Err(SpecError::new(format!("{prefix}.dip"), Problem::Missing)),
+        _ => Err(SpecError::new(prefix, Problem::Orientation)),
+    }
+}
+
+fn joint_set(prefix: &str, j: &RawJoint, given: &[(&str, bool)]) -> Result<JointSet, SpecError> {
+    let allowed = [
+        "normal",
+        "dip",
+        "dip_direction",
+        "origin",
+        "spacing",
+        "number",
+        "dip_deviation",
+        "dip_direction_deviation",
+        "spacing_deviation",
+        "seed",
+    ];
+    only(prefix, "set", given, &allowed)?;
+    let number = match j.number {
+        None => None,
+        Some(n) if n >= 1 && n <= u32::MAX as i64 => Some(n as u32),
+        Some(n) => {
+            let problem = Problem::NotPositive { value: n as f64 };
+            return Err(SpecError::new(format!("{prefix}.number"), problem));
+        }
+    };
+    Ok(JointSet {
+        orientation: orientation(prefix, j)?,
+        origin: j.origin.unwrap_or([0.0; 3]),
+        spacing: need(format!("{prefix}.spacing"), &j.spacing)?,
+        number,
+        deviation: Deviation {
+            dip: j.dip_deviation.unwrap_or(0.0),
+            dip_direction: j.dip_direction_deviation.unwrap_or(0.0),
+            spacing: j.spacing_deviation.unwrap_or(0.0),
+        },
+        seed: j.seed.unwrap_or(0) as u64,
+    })
+}
+
+fn options(o: &RawOptions) -> Result<Options, SpecError> {
+    let slivers = match o.slivers.as_deref() {
+        None | Some("keep") => SliverPolicy::Keep,
+        Some("drop") => SliverPolicy::Drop,
+        Some(other) => return Err(unknown_type("options.slivers", other, "keep, drop")),
+    };
+    let default = Tolerance::default();
+    let tolerance = match (o.gap, o.length) {
+        (None, None) => default,
+        (Some(g), None) => Tolerance::with_gap(g).map_err(tolerance_error("options.gap"))?,
+        (g, l) => Tolerance::new(g.unwrap_or(default.gap()), l.unwrap_or(default.length()))
+            .map_err(tolerance_error("options.length"))?,
+    };
+    Ok(Options {
+        tolerance,
+        min_volume: o.min_volume.unwrap_or(0.0),
+        min_thickness: o.min_thickness,
+        slivers,
+    })
+}
+
+fn tolerance_error(field: &'static str) -> impl Fn(crate::tolerance::ToleranceError) -> SpecError {
+    move |e| SpecError::new(field, Problem::Invalid(e.to_string()))
+}

@@ -1,0 +1,252 @@
+//! Output files: the JSON block file reads back losslessly, files are written atomically,
+//! VTU and CSV hold what they should.
+
+use penedge::generation::*;
+use penedge::io::{csv, json, vtu, write_atomic, IoError};
+use penedge::{BlockSystem, ConvexBlock};
+use std::path::PathBuf;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("penedge-io-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A system with every kind of joint and a non-box domain.
+fn mixed_system() -> BlockSystem {
+    let normals = [
+        [1.0, 0.0, 0.2],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.1],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+    ];
+    let domain = Domain::from_halfspaces(&normals, &[10.0, 0.0, 8.0, 0.0, 6.0, 0.0]).unwrap();
+    let mut set = JointSet::new(Orientation::dip(65.0, 120.0), 1.5);
+    set.deviation = Deviation {
+        dip: 4.0,
+        dip_direction: 8.0,
+        spacing: 0.4,
+    };
+    set.seed = 7;
+    let spec = Spec::new(domain)
+        .with(Discontinuity::set(set).named("J1"))
+        .with(Discontinuity::plane(
+            [3.0, 3.0, 3.0],
+            Orientation::dip(20.0, 300.0),
+        ))
+        .with(Discontinuity::disc(
+            [5.0, 4.0, 2.0],
+            Orientation::dip(30.0, 10.0),
+            2.5,
+        ))
+        .with(Discontinuity::polygon(vec![
+            [0.0, 0.0, 4.5],
+            [9.0, 0.0, 4.5],
+            [9.0, 8.0, 4.5],
+        ]));
+    generate(&spec).unwrap().system
+}
+
+fn same_block(a: &ConvexBlock, b: &ConvexBlock) {
+    assert_eq!(a.vertices(), b.vertices());
+    assert!(a.faces().eq(b.faces()));
+    assert_eq!(a.planes(), b.planes());
+    assert_eq!(a.face_origins(), b.face_origins());
+    assert_eq!(a.edges(), b.edges());
+    assert_eq!(a.volume().to_bits(), b.volume().to_bits());
+    assert_eq!(a.centroid(), b.centroid());
+}
+
+#[test]
+fn json_round_trip_is_lossless() {
+    let system = mixed_system();
+    assert!(system.len() > 20);
+    let path = scratch("round").join("blocks.json");
+    json::write_json(&system, &path).unwrap();
+    let back = json::read_json(&path).unwrap();
+    assert_eq!(back.len(), system.len());
+    for (a, b) in system.blocks().iter().zip(back.blocks()) {
+        same_block(a, b);
+    }
+    for (a, b) in system.domain().iter().zip(back.domain()) {
+        same_block(a, b);
+    }
+    assert_eq!(back.joints(), system.joints());
+    assert_eq!(back.sets(), system.sets());
+    assert_eq!(json::to_json_string(&back), json::to_json_string(&system));
+    std::fs::remove_dir_all(path.parent().unwrap()).unwrap();
+}
+
+#[test]
+fn bad_block_files_are_named() {
+    let system = mixed_system();
+    let text = json::to_json_string(&system);
+    let v2 = text.replacen("\"version\":1", "\"version\":2", 1);
+    assert!(
+        matches!(json::from_json_str(&v2), Err(IoError::Format { field, .. }) if field == "version")
+    );
+    let mut value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    value["blocks"][3]["vertices"][0][2] = serde_json::json!(1000.0);
+    match json::from_json_str(&value.to_string()) {
+        Err(IoError::Format { field, .. }) => assert_eq!(field, "blocks[3]"),
+        other => panic!("expected a format error, got {other:?}"),
+    }
+    let mut value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    value["blocks"][0]["origins"][0] =
+        serde_json::json!({"kind": "joint", "set": 0, "joint": 100000});
+    assert!(
+        matches!(json::from_json_str(&value.to_string()), Err(IoError::Format { field, .. }) if field == "blocks[0].origins[0]")
+    );
+    assert!(matches!(
+        json::from_json_str("{\"format\": 1"),
+        Err(IoError::Syntax { .. })
+    ));
+}
+
+#[test]
+fn writes_are_atomic() {
+    let dir = scratch("atomic");
+    let path = dir.join("table.csv");
+    std::fs::write(&path, "old").unwrap();
+    let failed = write_atomic(&path, |w| {
+        w.write_all(b"half a fi")?;
+        Err(std::io::Error::other("disk full"))
+    });
+    assert!(failed.is_err());
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
+    write_atomic(&path, |w| w.write_all(b"new")).unwrap();
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names.len(), 1, "no temporary file left: {names:?}");
+    let missing = dir.join("no/such/folder/blocks.json");
+    assert!(matches!(
+        json::write_json(&mixed_system(), &missing),
+        Err(IoError::Io { .. })
+    ));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn the_block_table_lists_every_block() {
+    let system = mixed_system();
+    let path = scratch("csv").join("blocks.csv");
+    csv::write_block_table(&system, &path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some(csv::HEADER));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), system.len());
+    for (row, b) in rows.iter().zip(system.blocks()) {
+        assert_eq!(row[1], b.volume());
+        assert_eq!([row[2], row[3], row[4]], b.centroid().to_array());
+        assert_eq!(row[5] as usize, b.n_faces());
+    }
+    std::fs::remove_dir_all(path.parent().unwrap()).unwrap();
+}
+
+fn data_array(text: &str, name: &str) -> Vec<f64> {
+    let start = text
+        .find(&format!("Name=\"{name}\""))
+        .unwrap_or_else(|| panic!("no {name}"));
+    let body = &text[start..];
+    let body = &body[body.find('>').unwrap() + 1..body.find("</DataArray>").unwrap()];
+    body.split_whitespace()
+        .map(|x| x.parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn vtu_files_hold_polyhedra_and_faces() {
+    let system = mixed_system();
+    let dir = scratch("vtu");
+    vtu::write_vtu(&system, &dir.join("blocks.vtu")).unwrap();
+    vtu::write_faces_vtu(&system, &dir.join("faces.vtu")).unwrap();
+    let blocks = std::fs::read_to_string(dir.join("blocks.vtu")).unwrap();
+    let n_points: usize = system.blocks().iter().map(|b| b.vertices().len()).sum();
+    assert!(blocks.contains(&format!(
+        "NumberOfPoints=\"{n_points}\" NumberOfCells=\"{}\"",
+        system.len()
+    )));
+    assert_eq!(data_array(&blocks, "Points").len(), 3 * n_points);
+    assert!(data_array(&blocks, "types").iter().all(|&t| t == 42.0));
+    let faces = data_array(&blocks, "faces");
+    assert_eq!(
+        *data_array(&blocks, "faceoffsets").last().unwrap() as usize,
+        faces.len()
+    );
+    assert_eq!(
+        data_array(&blocks, "volume")[5],
+        system.blocks()[5].volume()
+    );
+    let face_file = std::fs::read_to_string(dir.join("faces.vtu")).unwrap();
+    let n_faces: usize = system.blocks().iter().map(|b| b.n_faces()).sum();
+    let origin = data_array(&face_file, "origin");
+    assert_eq!(origin.len(), n_faces);
+    assert!(origin.contains(&1.0) && origin.contains(&2.0) && !origin.contains(&0.0));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn statistics_of_a_regular_system() {
+    // 4 x 4 slabs of 2.5 x 2.5 x 10: all 62.5.
+    let set = |dd: f64| {
+        let mut s = JointSet::new(Orientation::dip(90.0, dd), 2.5);
+        s.origin = [2.5, 2.5, 0.0];
+        Discontinuity::set(s)
+    };
+    let spec = Spec::new(Domain::cuboid([0.0; 3], [10.0; 3]).unwrap())
+        .with(set(90.0))
+        .with(set(0.0));
+    let stats = BlockStatistics::of(generate(&spec).unwrap().system.blocks()).unwrap();
+    assert_eq!(stats.count, 16);
+    for v in [
+        stats.v10,
+        stats.v50,
+        stats.v90,
+        stats.min_volume,
+        stats.max_volume,
+    ] {
+        assert!((v - 62.5).abs() < 1e-9);
+    }
+    let curve = distribution_curve(&[1.0, 3.0]);
+    assert_eq!((curve[0].passing, curve[1].passing), (0.25, 1.0));
+}
+
+#[test]
+fn flat_arrays_index_every_face() {
+    let system = mixed_system();
+    let a = system.arrays();
+    assert_eq!(a.vertex_offsets.len(), system.len() + 1);
+    assert_eq!(
+        *a.face_offsets.last().unwrap() as usize,
+        a.origin_kind.len()
+    );
+    assert_eq!(
+        *a.loop_offsets.last().unwrap() as usize,
+        a.face_vertices.len()
+    );
+    let b = 7;
+    let block = &system.blocks()[b];
+    let f0 = a.face_offsets[b] as usize;
+    for (f, face) in block.faces().enumerate() {
+        let (s, e) = (
+            a.loop_offsets[f0 + f] as usize,
+            a.loop_offsets[f0 + f + 1] as usize,
+        );
+        for (k, &v) in a.face_vertices[s..e].iter().enumerate() {
+            assert_eq!(
+                a.vertices[v as usize],
+                block.vertices()[face[k] as usize].to_array()
+            );
+        }
+        assert_eq!(a.origin_kind[f0 + f], block.face_origins()[f].code());
+    }
+    assert_eq!(a.volumes[b], block.volume());
+}

@@ -1,0 +1,320 @@
+//! The TOML spec: every example in `examples/` generates, the paper's examples match the
+//! Rust ones, and every bad input gets an error naming its field.
+
+use penedge::generation::{generate, GenerationError, Problem, SpecError};
+use penedge::io::spec::{parse_json, parse_toml, read_spec};
+use penedge::system::{paper_spec, PaperExample};
+use std::path::PathBuf;
+
+fn examples() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+#[test]
+fn every_example_generates() {
+    let mut seen = 0;
+    for entry in std::fs::read_dir(examples()).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "toml") || path.ends_with("three_joint_sets.toml") {
+            continue;
+        }
+        let spec = read_spec(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let out = generate(&spec).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert!(out.system.len() > 1, "{}", path.display());
+        assert!(out.report.volume_error < 1e-12 || out.report.slivers.count > 0);
+        seen += 1;
+    }
+    assert!(seen >= 12);
+}
+
+#[test]
+fn examples_give_the_documented_counts() {
+    let run = |name: &str| generate(&read_spec(&examples().join(name)).unwrap()).unwrap();
+    let disc = run("finite_disc.toml");
+    assert_eq!(
+        (disc.system.len(), disc.report.partial_cuts_skipped),
+        (5, 2)
+    );
+    let poly = run("finite_polygon.toml");
+    assert_eq!(
+        (poly.system.len(), poly.report.partial_cuts_skipped),
+        (6, 1)
+    );
+    let number = run("joint_set_number.toml");
+    assert_eq!(number.system.len(), 4);
+    let slivers = run("slivers.toml");
+    assert_eq!((slivers.system.len(), slivers.report.slivers.count), (4, 4));
+    let octahedron = run("domain_halfspaces.toml");
+    assert!((octahedron.report.block_volume - 288.0).abs() < 1e-9);
+}
+
+#[test]
+fn the_paper_example_files_match_the_built_in_examples() {
+    for (n, example) in [
+        (1, PaperExample::One),
+        (2, PaperExample::Two),
+        (3, PaperExample::Three),
+    ] {
+        let path = examples().join(format!("paper_example_{n}.toml"));
+        let from_file = generate(&read_spec(&path).unwrap()).unwrap().system;
+        let built_in = generate(&paper_spec(example)).unwrap().system;
+        assert_eq!(from_file.len(), built_in.len());
+        for (a, b) in from_file.blocks().iter().zip(built_in.blocks()) {
+            assert_eq!(a.vertices(), b.vertices());
+        }
+    }
+}
+
+const BOX: &str = "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n";
+
+/// The error of a spec with the box domain and these joint lines.
+fn error_of(joints: &str) -> SpecError {
+    let text = format!("{BOX}{joints}");
+    let spec = match parse_toml(&text) {
+        Ok(spec) => spec,
+        Err(e) => return e,
+    };
+    match generate(&spec) {
+        Err(GenerationError::Spec(e)) => e,
+        other => panic!("expected a spec error for\n{joints}\ngot {other:?}"),
+    }
+}
+
+fn assert_error(joints: &str, field: &str, problem: impl Fn(&Problem) -> bool) {
+    let e = error_of(joints);
+    assert_eq!(e.field, field, "{e}");
+    assert!(problem(&e.problem), "{e}");
+}
+
+#[test]
+fn a_dip_of_120_degrees_is_named() {
+    let e = error_of("[[joints]]\ntype = \"set\"\ndip = 120\ndip_direction = 30\nspacing = 1\n");
+    assert_eq!(
+        e.to_string(),
+        "joints[0].dip: dip must be between 0 and 90 degrees, got 120"
+    );
+    assert_error(
+        "[[joints]]\ntype = \"plane\"\npoint = [1, 1, 1]\ndip = 30\ndip_direction = 400\n",
+        "joints[0].dip_direction",
+        |p| matches!(p, Problem::DipDirection { value } if *value == 400.0),
+    );
+}
+
+#[test]
+fn zero_and_negative_spacings_are_named() {
+    let e = error_of("[[joints]]\ntype = \"set\"\ndip = 10\ndip_direction = 30\nspacing = 0\n");
+    assert_eq!(
+        e.to_string(),
+        "joints[0].spacing: must be greater than zero, got 0"
+    );
+    assert_error(
+        "[[joints]]\ntype = \"set\"\ndip = 10\ndip_direction = 30\nspacing = -2\n",
+        "joints[0].spacing",
+        |p| matches!(p, Problem::NotPositive { .. }),
+    );
+    assert_error(
+        "[[joints]]\ntype = \"set\"\ndip = 10\ndip_direction = 30\nspacing = 1\nspacing_deviation = 1\n",
+        "joints[0].spacing_deviation",
+        |p| matches!(p, Problem::DeviationTooLarge { .. }),
+    );
+    assert_error(
+        "[[joints]]\ntype = \"set\"\ndip = 10\ndip_direction = 30\nspacing = 1\nnumber = 0\n",
+        "joints[0].number",
+        |p| matches!(p, Problem::NotPositive { .. }),
+    );
+    assert_error(
+        "[[joints]]\ntype = \"set\"\ndip = 10\ndip_direction = 30\nspacing = 1e-6\n",
+        "joints[0].spacing",
+        |p| matches!(p, Problem::TooManyPlanes { .. }),
+    );
+}
+
+#[test]
+fn a_plane_that_misses_the_domain_is_named() {
+    let e = error_of("[[joints]]\ntype = \"plane\"\npoint = [0, 0, 12]\nnormal = [0, 0, 1]\n");
+    assert_eq!(
+        e.to_string(),
+        "joints[0]: the plane misses the domain (it does not cross its interior)"
+    );
+    // On a face of the domain: it does not cross the interior either.
+    assert_error(
+        "[[joints]]\ntype = \"plane\"\npoint = [10, 0, 0]\nnormal = [1, 0, 0]\n",
+        "joints[0]",
+        |p| matches!(p, Problem::MissesDomain { what: "plane" }),
+    );
+    let set = "[[joints]]\ntype = \"set\"\ndip = 0\ndip_direction = 0\nspacing = 1\nnumber = 2\norigin = [0, 0, 20]\n";
+    assert_error(set, "joints[0]", |p| {
+        matches!(p, Problem::MissesDomain { what: "joint set" })
+    });
+    let disc =
+        "[[joints]]\ntype = \"disc\"\ncenter = [20, 20, 5]\nnormal = [0, 0, 1]\nradius = 2\n";
+    assert_error(disc, "joints[0]", |p| {
+        matches!(p, Problem::MissesDomain { what: "disc" })
+    });
+}
+
+#[test]
+fn parallel_duplicate_planes_are_named() {
+    let one = "[[joints]]\ntype = \"plane\"\npoint = [5, 0, 0]\nnormal = [1, 0, 0]\n";
+    let two = "[[joints]]\ntype = \"plane\"\npoint = [5, 3, 7]\nnormal = [-2, 0, 0]\n";
+    let e = error_of(&format!("{one}{two}"));
+    assert_eq!(e.field, "joints[1]");
+    assert!(
+        e.to_string()
+            .contains("the same plane as joints[0] plane 0"),
+        "{e}"
+    );
+    // A member of a set on a single plane.
+    let set = "[[joints]]\ntype = \"set\"\ndip = 90\ndip_direction = 90\nspacing = 2.5\n";
+    let e = error_of(&format!("{set}{one}"));
+    assert_eq!(e.field, "joints[1]");
+    assert!(e.to_string().contains("joints[0] plane 1"), "{e}");
+}
+
+#[test]
+fn nan_is_named() {
+    assert_error(
+        "[[joints]]\ntype = \"set\"\ndip = nan\ndip_direction = 30\nspacing = 1\n",
+        "joints[0].dip",
+        |p| matches!(p, Problem::NotFinite { .. }),
+    );
+    assert_error(
+        "[[joints]]\ntype = \"plane\"\npoint = [1, nan, 1]\nnormal = [0, 0, 1]\n",
+        "joints[0].point",
+        |p| matches!(p, Problem::NotFinite { .. }),
+    );
+    assert_error(
+        "[[joints]]\ntype = \"disc\"\ncenter = [1, 1, 1]\nnormal = [0, 0, 1]\nradius = inf\n",
+        "joints[0].radius",
+        |p| matches!(p, Problem::NotFinite { .. }),
+    );
+    let e =
+        parse_toml("[domain]\ntype = \"box\"\nmin = [0, 0, nan]\nmax = [1, 1, 1]\n").unwrap_err();
+    assert_eq!(e.field, "domain.min");
+}
+
+#[test]
+fn shape_errors_are_named() {
+    let e = error_of(
+        "[[joints]]\ntype = \"plane\"\npoint = [1, 1, 1]\nnormal = [0, 0, 1]\nradius = 3\n",
+    );
+    assert_eq!(
+        e.to_string(),
+        "joints[0].radius: not a field of a `plane` entry"
+    );
+    assert_error(
+        "[[joints]]\ntype = \"set\"\ndip = 10\ndip_direction = 20\n",
+        "joints[0].spacing",
+        |p| matches!(p, Problem::Missing),
+    );
+    assert_error(
+        "[[joints]]\ntype = \"plane\"\npoint = [1, 1, 1]\nnormal = [0, 0, 1]\ndip = 3\n",
+        "joints[0]",
+        |p| matches!(p, Problem::Orientation),
+    );
+    assert_error(
+        "[[joints]]\ntype = \"plane\"\npoint = [1, 1, 1]\ndip = 3\n",
+        "joints[0].dip_direction",
+        |p| matches!(p, Problem::Missing),
+    );
+    assert_error("[[joints]]\ntype = \"fault\"\n", "joints[0].type", |p| {
+        matches!(p, Problem::UnknownType { .. })
+    });
+    assert_error(
+        "[[joints]]\ntype = \"plane\"\npoint = [1, 1, 1]\nnormal = [0, 0, 0]\n",
+        "joints[0].normal",
+        |p| matches!(p, Problem::ZeroNormal),
+    );
+    let e = error_of("[[joints]]\ntype = \"set\"\ndipp = 10\n");
+    assert_eq!(e.field, "spec");
+    assert!(
+        e.to_string().contains("dipp") && e.to_string().contains("line 7"),
+        "{e}"
+    );
+}
+
+#[test]
+fn bad_polygons_and_domains_are_named() {
+    let bowtie = "[[joints]]\ntype = \"polygon\"\nvertices = [[0, 0, 5], [10, 10, 5], [10, 0, 5], [0, 10, 5]]\n";
+    assert_error(bowtie, "joints[0].vertices", |p| {
+        matches!(p, Problem::BadPolygon { .. })
+    });
+    let bent = "[[joints]]\ntype = \"polygon\"\nvertices = [[0, 0, 5], [10, 0, 5], [10, 10, 6], [0, 10, 5]]\n";
+    assert_error(bent, "joints[0].vertices", |p| {
+        matches!(p, Problem::BadPolygon { .. })
+    });
+    let flat = "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 0]\n";
+    assert_eq!(parse_toml(flat).unwrap_err().field, "domain.max");
+    let open = "[domain]\ntype = \"polyhedron\"\nvertices = [[0,0,0],[1,0,0],[0,1,0],[0,0,1]]\nfaces = [[0,2,1],[0,1,3],[1,2,3]]\n";
+    let e = parse_toml(open).unwrap_err();
+    assert!(
+        e.field == "domain" && matches!(e.problem, Problem::Domain(_)),
+        "{e}"
+    );
+    let options = format!("{BOX}[options]\nslivers = \"maybe\"\n");
+    assert_eq!(parse_toml(&options).unwrap_err().field, "options.slivers");
+    let options = format!("{BOX}[options]\nmin_thickness = -1\n");
+    let e = generate(&parse_toml(&options).unwrap()).unwrap_err();
+    assert!(e.to_string().contains("options.min_thickness"), "{e}");
+}
+
+#[test]
+fn json_specs_read_like_toml() {
+    let json = r#"{"domain": {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]},
+        "joints": [{"type": "set", "dip": 90, "dip_direction": 90, "spacing": 2.5, "origin": [2.5, 0, 0]}]}"#;
+    let out = generate(&parse_json(json).unwrap()).unwrap();
+    assert_eq!(out.system.len(), 4);
+}
+
+mod no_panic {
+    use penedge::generation::*;
+    use proptest::prelude::*;
+
+    fn number() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            6 => -20.0..20.0f64,
+            1 => Just(f64::NAN),
+            1 => Just(f64::INFINITY),
+            1 => Just(1e300),
+            1 => Just(0.0),
+            1 => Just(90.0),
+        ]
+    }
+
+    fn triple() -> impl Strategy<Value = [f64; 3]> {
+        [number(), number(), number()]
+    }
+
+    fn joint() -> impl Strategy<Value = Discontinuity> {
+        prop_oneof![
+            (triple(), triple()).prop_map(|(p, n)| Discontinuity::plane(p, Orientation::Normal(n))),
+            (number(), number(), number(), number(), triple()).prop_map(|(dip, dd, s, dev, o)| {
+                let mut set = JointSet::new(Orientation::dip(dip, dd), s.abs() + 0.3);
+                set.origin = o;
+                set.deviation = Deviation {
+                    dip: dev.abs(),
+                    dip_direction: dev.abs(),
+                    spacing: 0.1,
+                };
+                Discontinuity::set(set)
+            }),
+            (triple(), number(), number(), number())
+                .prop_map(|(c, dip, dd, r)| Discontinuity::disc(c, Orientation::dip(dip, dd), r)),
+            prop::collection::vec(triple(), 0..5).prop_map(Discontinuity::polygon),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// Any spec gives blocks or an error, never a panic.
+        #[test]
+        fn arbitrary_specs_never_panic(joints in prop::collection::vec(joint(), 0..4)) {
+            let mut spec = Spec::new(Domain::cuboid([-10.0; 3], [10.0; 3]).unwrap());
+            spec.joints = joints;
+            if let Ok(out) = generate(&spec) {
+                prop_assert!(out.report.volume_error <= 1e-9);
+            }
+        }
+    }
+}
