@@ -1,0 +1,148 @@
+//! The face-face contact polygon: the convex hull of the representative points on the
+//! contact plane.
+//!
+//! The representative points are the vertices of A ∩ B (with the gap stubs collapsed), so
+//! their hull is the contact polygon. It is computed in 2D coordinates `(u, v)` of the
+//! contact plane with `u × v = n`, so counter-clockwise in the plane is counter-clockwise
+//! about the normal (Andrew's monotone chain). Points within the length threshold of each
+//! other are merged, and a point within it of the chord of its neighbours is dropped: the
+//! polygon keeps only corners.
+
+use super::{ContactPlane, ContactPoints, ContactPolygon};
+use crate::geometry::DVec3;
+
+type P2 = [f64; 2];
+
+/// The convex polygon of `points` on `plane`; a point or a segment when it collapses below
+/// the length threshold `length`.
+pub(super) fn convex_polygon(points: &[DVec3], plane: &ContactPlane, length: f64) -> ContactPoints {
+    let n = plane.normal();
+    let u = n.any_orthonormal_vector();
+    let v = n.cross(u);
+    let origin = plane.origin();
+    let mut flat: Vec<P2> = points
+        .iter()
+        .map(|&p| [u.dot(p - origin), v.dot(p - origin)])
+        .collect();
+    flat.sort_by(|p, q| p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1])));
+    let hull = simplify(hull_ccw(&flat, length), length);
+    let to_3d = |p: &P2| origin + u * p[0] + v * p[1];
+    match hull.as_slice() {
+        [] => ContactPoints::Point(origin),
+        [p] => ContactPoints::Point(to_3d(p)),
+        [p, q] => ContactPoints::Segment([to_3d(p), to_3d(q)]),
+        _ => ContactPoints::Polygon(ContactPolygon {
+            area: area(&hull),
+            vertices: hull.iter().map(to_3d).collect(),
+        }),
+    }
+}
+
+/// `(a - o) × (b - o)`: positive when `o, a, b` turn counter-clockwise.
+fn cross(o: P2, a: P2, b: P2) -> f64 {
+    (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+}
+
+fn distance(p: P2, q: P2) -> f64 {
+    (p[0] - q[0]).hypot(p[1] - q[1])
+}
+
+/// Whether `a` lies more than `tol` to the left of the line from `o` to `b`.
+fn turns_left(o: P2, a: P2, b: P2, tol: f64) -> bool {
+    cross(o, a, b) > tol * distance(o, b)
+}
+
+/// Convex hull of points sorted by `(x, y)`, counter-clockwise, dropping points within
+/// `tol` of a hull edge or of the previous hull point.
+fn hull_ccw(sorted: &[P2], tol: f64) -> Vec<P2> {
+    let mut hull: Vec<P2> = Vec::with_capacity(sorted.len() + 1);
+    for pass in [
+        &mut sorted.iter() as &mut dyn Iterator<Item = &P2>,
+        &mut sorted.iter().rev(),
+    ] {
+        let start = hull.len();
+        for &p in pass {
+            if hull.len() > start && distance(hull[hull.len() - 1], p) <= tol {
+                continue;
+            }
+            while hull.len() >= start + 2
+                && !turns_left(hull[hull.len() - 2], hull[hull.len() - 1], p, tol)
+            {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop(); // the last point of a chain starts the other one
+    }
+    if hull.is_empty() {
+        hull.extend(sorted.first()); // all points within `tol` of each other
+    }
+    hull
+}
+
+/// Drops, round the closed polygon, vertices within `tol` of the previous one or of the
+/// chord of their neighbours, until none is left to drop.
+fn simplify(mut polygon: Vec<P2>, tol: f64) -> Vec<P2> {
+    let mut i = 0;
+    let mut since_drop = 0;
+    while polygon.len() >= 3 && since_drop < polygon.len() {
+        let len = polygon.len();
+        let (prev, here, next) = (
+            polygon[(i + len - 1) % len],
+            polygon[i % len],
+            polygon[(i + 1) % len],
+        );
+        if distance(prev, here) <= tol || !turns_left(prev, here, next, tol) {
+            polygon.remove(i % len);
+            since_drop = 0;
+        } else {
+            i += 1;
+            since_drop += 1;
+        }
+        i %= polygon.len().max(1);
+    }
+    polygon
+}
+
+/// Area of a counter-clockwise polygon (shoelace, fanned from the first vertex).
+fn area(polygon: &[P2]) -> f64 {
+    let o = polygon[0];
+    let twice: f64 = polygon.windows(2).map(|w| cross(o, w[0], w[1])).sum();
+    0.5 * twice
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hull_drops_inner_duplicate_and_collinear_points() {
+        let tol = 1e-9;
+        let mut pts: Vec<P2> = vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [0.5, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0],
+            [0.5, 0.5],
+            [1.0 + 1e-12, 1.0],
+            [0.0, 0.5 + 1e-13],
+        ];
+        pts.sort_by(|p, q| p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1])));
+        let hull = simplify(hull_ccw(&pts, tol), tol);
+        assert_eq!(hull.len(), 4, "{hull:?}");
+        assert!((area(&hull) - 1.0).abs() < 1e-12);
+        for k in 0..4 {
+            assert!(cross(hull[k], hull[(k + 1) % 4], hull[(k + 2) % 4]) > 0.0);
+        }
+    }
+
+    #[test]
+    fn degenerate_hulls_are_short() {
+        let tol = 1e-9;
+        let one = simplify(hull_ccw(&[[0.0, 0.0], [1e-12, 0.0]], tol), tol);
+        assert_eq!(one.len(), 1);
+        let two = simplify(hull_ccw(&[[0.0, 0.0], [0.5, 1e-12], [1.0, 0.0]], tol), tol);
+        assert_eq!(two.len(), 2);
+    }
+}
