@@ -1,0 +1,98 @@
+//! numpy arrays in and out: array-likes of real numbers to Rust, Rust data to ndarrays.
+//!
+//! Input: anything `numpy.asarray` accepts whose dtype is integer, unsigned or float (bool,
+//! complex, strings and objects are refused, not cast), of the expected shape. NaN and
+//! infinities pass through: the core reports them with the index of the offending vertex or
+//! plane.
+
+use crate::errors::input_error;
+use numpy::ndarray::{Array1, Array2};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArrayDescrMethods, PyReadonlyArrayDyn, PyUntypedArray,
+    PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+
+/// `obj` as float64 values with the given shape (`None` = any length along that axis).
+fn float_array<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+    shape: &[Option<usize>],
+) -> PyResult<Vec<f64>> {
+    let py = obj.py();
+    let array = py
+        .import("numpy")?
+        .getattr("asarray")?
+        .call1((obj,))
+        .map_err(|e| input_error("dtype", format!("{name} must be an array of numbers: {e}")))?;
+    let untyped = array.cast::<PyUntypedArray>()?;
+    let dtype = untyped.dtype();
+    if !matches!(dtype.kind(), b'i' | b'u' | b'f') {
+        let msg = format!("{name} must hold real numbers (int or float), got dtype {dtype}");
+        return Err(input_error("dtype", msg));
+    }
+    check_shape(name, untyped.shape(), shape)?;
+    let floats = array.call_method1("astype", ("float64",))?;
+    let floats: PyReadonlyArrayDyn<'py, f64> = floats.extract()?;
+    Ok(floats.as_array().iter().copied().collect())
+}
+
+fn check_shape(name: &str, got: &[usize], want: &[Option<usize>]) -> PyResult<()> {
+    let fits =
+        got.len() == want.len() && got.iter().zip(want).all(|(g, w)| w.is_none_or(|w| w == *g));
+    if fits {
+        return Ok(());
+    }
+    let dims: Vec<String> = want
+        .iter()
+        .map(|w| w.map_or("n".to_string(), |w| w.to_string()))
+        .collect();
+    let msg = format!(
+        "{name} must have shape ({}{}), got shape {got:?}",
+        dims.join(", "),
+        if dims.len() == 1 { "," } else { "" }
+    );
+    Err(input_error("shape", msg))
+}
+
+/// An `(n, 3)` array-like as points.
+pub fn points(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<[f64; 3]>> {
+    let flat = float_array(obj, name, &[None, Some(3)])?;
+    Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+}
+
+/// A `(3,)` array-like as one point.
+pub fn point(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<[f64; 3]> {
+    let flat = float_array(obj, name, &[Some(3)])?;
+    Ok([flat[0], flat[1], flat[2]])
+}
+
+/// An `(n,)` array-like as numbers.
+pub fn numbers(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
+    float_array(obj, name, &[None])
+}
+
+/// Rows of three floats as an `(n, 3)` float64 array.
+pub fn rows3<'py>(py: Python<'py>, rows: &[[f64; 3]]) -> Bound<'py, PyArray2<f64>> {
+    Array2::from_shape_fn((rows.len(), 3), |(i, k)| rows[i][k]).into_pyarray(py)
+}
+
+/// Rows of two values (ids) as an `(n, 2)` array.
+pub fn pairs<'py, T: numpy::Element + Copy>(
+    py: Python<'py>,
+    rows: &[[T; 2]],
+) -> Bound<'py, PyArray2<T>> {
+    Array2::from_shape_fn((rows.len(), 2), |(i, k)| rows[i][k]).into_pyarray(py)
+}
+
+/// A vector as a one-dimensional array.
+pub fn vector<'py, T: numpy::Element>(py: Python<'py>, values: Vec<T>) -> Bound<'py, PyArray1<T>> {
+    Array1::from(values).into_pyarray(py)
+}
+
+/// Marks an array read-only (results that the caller should not change in place).
+pub fn read_only<'py, A>(array: Bound<'py, A>) -> PyResult<Bound<'py, A>> {
+    let flags = array.as_any().getattr("flags")?;
+    flags.setattr("writeable", false)?;
+    Ok(array)
+}

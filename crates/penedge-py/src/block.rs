@@ -1,0 +1,267 @@
+//! `Block`: a convex block (core [`ConvexBlock`]), built from numpy arrays.
+
+use crate::arrays;
+use crate::errors::{input_error, to_py_err};
+use numpy::{PyArray1, PyArray2};
+use penedge::ConvexBlock;
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+
+/// A convex polyhedral block, validated on construction and immutable.
+///
+/// Faces are lists of vertex indices, counter-clockwise seen from outside (so that the face
+/// normals point outwards). Adjacent coplanar faces (a triangulated box face, say) are merged
+/// into one polygon. Tolerances are relative to the block's size (the diagonal of its
+/// bounding box): vertices closer than 1e-9 x size are the same vertex, a vertex within
+/// 1e-9 x size of a face plane lies on it.
+///
+/// Parameters
+/// ----------
+/// vertices : array_like, shape (n, 3)
+///     Vertex coordinates (int or float; converted to float64).
+/// faces : list of list of int
+///     The vertex indices of each face, counter-clockwise seen from outside.
+///
+/// Raises
+/// ------
+/// InputError
+///     `vertices` is not an (n, 3) array of real numbers or `faces` not lists of indices.
+/// BlockError
+///     The vertices and faces do not make a closed convex polyhedron (`kind` says why:
+///     ``"non_finite_vertex"``, ``"open_surface"``, ``"wrong_orientation"``,
+///     ``"not_convex"``, ...).
+///
+/// See Also
+/// --------
+/// Block.cuboid, Block.from_planes
+///
+/// Examples
+/// --------
+/// >>> import penedge
+/// >>> tet = penedge.Block([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]],
+/// ...                     [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+/// >>> tet
+/// Block(4 vertices, 4 faces, 6 edges, volume=0.16666666666666666, centroid=[0.25, 0.25, 0.25])
+/// >>> tet.face_normals[0]
+/// array([ 0.,  0., -1.])
+#[pyclass(module = "penedge", name = "Block", frozen)]
+pub struct Block {
+    /// The core block.
+    pub inner: ConvexBlock,
+}
+
+impl Block {
+    /// Wraps a core block.
+    pub fn wrap(inner: ConvexBlock) -> Self {
+        Block { inner }
+    }
+}
+
+/// The corners of a box, checked (the core would report a swapped corner as a wrong
+/// orientation, which is true but puzzling for a box).
+pub fn cuboid(lo: &Bound<'_, PyAny>, hi: &Bound<'_, PyAny>) -> PyResult<ConvexBlock> {
+    let (lo, hi) = (arrays::point(lo, "lo")?, arrays::point(hi, "hi")?);
+    let ordered = (0..3).all(|k| lo[k].is_finite() && hi[k].is_finite() && lo[k] < hi[k]);
+    if !ordered {
+        let msg = format!(
+            "a cuboid needs finite corners with lo < hi in x, y and z, got lo={lo:?}, hi={hi:?}"
+        );
+        return Err(input_error("corners", msg));
+    }
+    ConvexBlock::cuboid(lo, hi).map_err(to_py_err)
+}
+
+fn face_lists(faces: &Bound<'_, PyAny>) -> PyResult<Vec<Vec<usize>>> {
+    faces.extract::<Vec<Vec<usize>>>().map_err(|e| {
+        let msg =
+            format!("faces must be a list of lists of vertex indices (non-negative ints): {e}");
+        input_error("faces", msg)
+    })
+}
+
+#[pymethods]
+impl Block {
+    #[new]
+    fn new(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let vertices = arrays::points(vertices, "vertices")?;
+        let faces = face_lists(faces)?;
+        ConvexBlock::new(&vertices, &faces)
+            .map(Block::wrap)
+            .map_err(to_py_err)
+    }
+
+    /// The block ``{x : normals[i] . x <= offsets[i] for all i}``.
+    ///
+    /// Normals need not be unit vectors; redundant half-spaces are allowed.
+    ///
+    /// Parameters
+    /// ----------
+    /// normals : array_like, shape (m, 3)
+    ///     Outward normals of the half-spaces.
+    /// offsets : array_like, shape (m,)
+    ///     Right-hand sides.
+    ///
+    /// Returns
+    /// -------
+    /// Block
+    ///
+    /// Raises
+    /// ------
+    /// InputError
+    ///     Wrong shapes or dtypes, or ``len(normals) != len(offsets)``.
+    /// BlockError
+    ///     A zero or NaN normal (``kind == "degenerate_plane"``), or half-spaces that bound no
+    ///     solid (``kind == "unbounded"``).
+    ///
+    /// Examples
+    /// --------
+    /// >>> import penedge
+    /// >>> tet = penedge.Block.from_planes([[-1, 0, 0], [0, -1, 0], [0, 0, -1], [1, 1, 1]],
+    /// ...                                 [0, 0, 0, 1])
+    /// >>> len(tet.vertices), len(tet.faces), round(tet.volume, 12)
+    /// (4, 4, 0.166666666667)
+    #[staticmethod]
+    fn from_planes(normals: &Bound<'_, PyAny>, offsets: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let normals = arrays::points(normals, "normals")?;
+        let offsets = arrays::numbers(offsets, "offsets")?;
+        if normals.len() != offsets.len() {
+            let msg = format!(
+                "normals and offsets must have the same length, got {} and {}",
+                normals.len(),
+                offsets.len()
+            );
+            return Err(input_error("shape", msg));
+        }
+        ConvexBlock::from_planes(&normals, &offsets)
+            .map(Block::wrap)
+            .map_err(to_py_err)
+    }
+
+    /// A rectangular box with lower corner `lo` and upper corner `hi`.
+    ///
+    /// Parameters
+    /// ----------
+    /// lo, hi : array_like, shape (3,)
+    ///     Corners, with ``lo < hi`` in every coordinate.
+    ///
+    /// Returns
+    /// -------
+    /// Block
+    ///     8 vertices, 6 faces.
+    ///
+    /// Raises
+    /// ------
+    /// InputError
+    ///     Not three finite numbers each, or ``lo >= hi`` in some coordinate.
+    ///
+    /// Examples
+    /// --------
+    /// >>> import penedge
+    /// >>> penedge.Block.cuboid([0, 0, 0], [2, 1, 1]).aabb
+    /// array([[0., 0., 0.],
+    ///        [2., 1., 1.]])
+    #[staticmethod]
+    fn cuboid(lo: &Bound<'_, PyAny>, hi: &Bound<'_, PyAny>) -> PyResult<Self> {
+        cuboid(lo, hi).map(Block::wrap)
+    }
+
+    /// Vertex coordinates, shape (n, 3) float64 (a copy).
+    #[getter]
+    fn vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let rows: Vec<[f64; 3]> = self.inner.vertices().iter().map(|v| v.to_array()).collect();
+        arrays::rows3(py, &rows)
+    }
+
+    /// Faces as lists of vertex indices, counter-clockwise seen from outside.
+    #[getter]
+    fn faces(&self) -> Vec<Vec<u32>> {
+        self.inner.faces().map(|f| f.to_vec()).collect()
+    }
+
+    /// Edges as vertex index pairs, shape (e, 2) int64; feature ``("edge", i)`` is row i.
+    #[getter]
+    fn edges<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
+        let rows: Vec<[i64; 2]> = self
+            .inner
+            .edges()
+            .iter()
+            .map(|e| e.vertices.map(i64::from))
+            .collect();
+        arrays::pairs(py, &rows)
+    }
+
+    /// The two faces along each edge, shape (e, 2) int64 (the first runs from ``edges[i, 0]``
+    /// to ``edges[i, 1]`` counter-clockwise).
+    #[getter]
+    fn edge_faces<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
+        let rows: Vec<[i64; 2]> = self
+            .inner
+            .edges()
+            .iter()
+            .map(|e| e.faces.map(i64::from))
+            .collect();
+        arrays::pairs(py, &rows)
+    }
+
+    /// Outward unit face normals, shape (f, 3) float64.
+    #[getter]
+    fn face_normals<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let rows: Vec<[f64; 3]> = self
+            .inner
+            .planes()
+            .iter()
+            .map(|p| p.normal.to_array())
+            .collect();
+        arrays::rows3(py, &rows)
+    }
+
+    /// Volume.
+    #[getter]
+    fn volume(&self) -> f64 {
+        self.inner.volume()
+    }
+
+    /// Centroid (centre of volume), shape (3,).
+    #[getter]
+    fn centroid<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        arrays::vector(py, self.inner.centroid().to_array().to_vec())
+    }
+
+    /// Axis-aligned bounding box ``[lower corner, upper corner]``, shape (2, 3).
+    #[getter]
+    fn aabb<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let b = self.inner.aabb();
+        arrays::rows3(py, &[b.min.to_array(), b.max.to_array()])
+    }
+
+    /// Characteristic length: the diagonal of the bounding box (tolerances scale with it).
+    #[getter]
+    fn size(&self) -> f64 {
+        self.inner.size()
+    }
+
+    fn __repr__(&self) -> String {
+        let b = &self.inner;
+        format!(
+            "Block({} vertices, {} faces, {} edges, volume={:?}, centroid={:?})",
+            b.vertices().len(),
+            b.n_faces(),
+            b.edges().len(),
+            b.volume(),
+            b.centroid().to_array(),
+        )
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let py = slf.py();
+        let me = slf.get();
+        let args = (me.vertices(py), me.faces());
+        PyTuple::new(
+            py,
+            [
+                py.get_type::<Block>().into_any(),
+                args.into_pyobject(py)?.into_any(),
+            ],
+        )
+    }
+}

@@ -1,0 +1,76 @@
+"""Contact detection between convex rock blocks by the penetration-edge method.
+
+penedge implements Chen, Zheng, Cheng and Ge (2004): every edge of block A is clipped
+by the face planes of block B widened by a gap, and vice versa; the surviving
+*penetration edges* tell whether the blocks touch and which of seven contact types it is
+(:data:`CONTACT_TYPES`). The engine is Rust (``penedge._core``); this package re-exports
+it, and adds a command line (``penedge example 3``) and pictures
+(:mod:`penedge.pictures`, needs matplotlib).
+
+Blocks
+    :class:`Block` -- a convex polyhedron from vertices + faces, half-spaces
+    (:meth:`Block.from_planes`) or corners (:meth:`Block.cuboid`).
+Pairs
+    :func:`detect_pair` -- the contact of two blocks, a :class:`PairContact`.
+Systems
+    :class:`BlockSystem` -- many blocks; :meth:`BlockSystem.detect` returns every
+    contact as numpy arrays (:class:`SystemContacts`). :func:`paper_example` builds the
+    paper's three examples, :func:`paper_table3` gives its printed counts.
+Errors
+    :exc:`PenedgeError` and its subclasses :exc:`InputError`, :exc:`BlockError`,
+    :exc:`ToleranceError` (all also ``ValueError``).
+
+Conventions: right-handed frame; faces counter-clockwise seen from outside, normals
+outward; tolerances (`gap`, `length`) are relative to the smaller block's size.
+
+Examples
+--------
+>>> import penedge
+>>> a = penedge.Block.cuboid([0, 0, 0], [1, 1, 1])
+>>> b = penedge.Block.cuboid([1, 1, 0], [2, 2, 1])
+>>> penedge.detect_pair(a, b).outcome
+'edge-edge-superposition'
+>>> found = penedge.paper_example(1).detect()
+>>> found.counts() == penedge.paper_table3(1)
+True
+"""
+
+from penedge._core import (
+    CONTACT_TYPES,
+    FEATURE_KINDS,
+    PENETRATING,
+    SEPARATED,
+    Block,
+    BlockError,
+    BlockSystem,
+    InputError,
+    PairContact,
+    PenedgeError,
+    SystemContacts,
+    ToleranceError,
+    __version__,
+    detect_pair,
+    paper_example,
+    paper_example_planes,
+    paper_table3,
+)
+
+__all__ = [
+    "CONTACT_TYPES",
+    "FEATURE_KINDS",
+    "PENETRATING",
+    "SEPARATED",
+    "Block",
+    "BlockError",
+    "BlockSystem",
+    "InputError",
+    "PairContact",
+    "PenedgeError",
+    "SystemContacts",
+    "ToleranceError",
+    "__version__",
+    "detect_pair",
+    "paper_example",
+    "paper_example_planes",
+    "paper_table3",
+]

@@ -1,0 +1,199 @@
+"""The command line end to end, through ``python -m penedge`` and the console script."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+COUNTS = {
+    1: ["vertex-vertex 4 4", "edge-edge-superposition 12 12", "face-face 12 12", "total 28 28"],
+    2: ["vertex-vertex 4 4", "edge-edge-superposition 12 4 *", "face-face 12 20 *", "total 28 28"],
+    3: [
+        "vertex-vertex 205 205",
+        "edge-edge-superposition 78 78",
+        "face-face 42 42",
+        "total 325 325",
+    ],
+}
+BLOCKS = {1: 8, 2: 8, 3: 26}
+
+
+def run(*args, cwd, command=None):
+    command = command or [sys.executable, "-m", "penedge"]
+    env = {**os.environ, "PYTHONWARNINGS": "error"}
+    return subprocess.run(
+        [*command, *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+        check=False,
+    )
+
+
+def squeeze(text):
+    return [" ".join(line.split()) for line in text.splitlines()]
+
+
+def console_script():
+    found = shutil.which("penedge", path=str(Path(sys.executable).parent)) or shutil.which(
+        "penedge"
+    )
+    if found is None:
+        pytest.skip("the console script `penedge` is not installed (pip install -e .)")
+    return [found]
+
+
+def assert_png(path):
+    data = path.read_bytes()
+    assert data.startswith(PNG_SIGNATURE)
+    from matplotlib.image import imread
+
+    image = imread(path)
+    assert image.shape[0] > 500
+    assert image.shape[1] > 500
+    assert image[..., :3].std() > 0.05  # not a blank picture
+
+
+@pytest.mark.parametrize("n", [1, 2, 3])
+def test_example_prints_counts_and_writes_png(n, tmp_path):
+    result = run("example", str(n), cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    lines = squeeze(result.stdout)
+    assert f"{BLOCKS[n]} blocks" in result.stdout
+    for row in COUNTS[n]:
+        assert row in lines
+    assert (n == 2) == ("docs/table3.md" in result.stdout)
+    assert f"picture: example{n}.png" in lines
+    assert_png(tmp_path / f"example{n}.png")
+    assert [p.name for p in tmp_path.iterdir()] == [f"example{n}.png"]  # no temporary left
+
+
+def test_console_script(tmp_path):
+    result = run("example", "1", "--no-picture", cwd=tmp_path, command=console_script())
+    assert result.returncode == 0, result.stderr
+    assert "total 28 28" in squeeze(result.stdout)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_never_replaces_an_existing_default_picture(tmp_path):
+    (tmp_path / "example1.png").write_bytes(b"mine")
+    (tmp_path / "example1-1.png").write_bytes(b"mine too")
+    result = run("example", "1", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "example1.png").read_bytes() == b"mine"
+    assert (tmp_path / "example1-1.png").read_bytes() == b"mine too"
+    assert_png(tmp_path / "example1-2.png")
+    assert "example1.png exists and was kept" in result.stdout
+
+
+def test_output_file_named_by_the_user_is_written(tmp_path):
+    target = tmp_path / "cube.png"
+    target.write_bytes(b"old")
+    result = run("example", "3", "-o", str(target), cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert_png(target)
+
+
+@pytest.mark.parametrize(("suffix", "start"), [(".svg", b"<?xml"), (".pdf", b"%PDF")])
+def test_other_picture_formats(tmp_path, suffix, start):
+    result = run("example", "2", "-o", f"ex{suffix}", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / f"ex{suffix}").read_bytes().startswith(start)
+
+
+def test_html_picture(tmp_path):
+    pytest.importorskip("plotly")
+    result = run("example", "1", "-o", "ex.html", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    text = (tmp_path / "ex.html").read_text(encoding="utf-8")
+    assert "<html>" in text
+    assert "Mesh3d" in text or "mesh3d" in text
+
+
+def test_json(tmp_path):
+    result = run("example", "2", "--json", "--no-picture", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    data = json.loads(result.stdout)
+    assert data["blocks"] == 8
+    assert list(data["counts"].values()) == [4, 0, 0, 12, 0, 0, 12]
+    assert list(data["paper"].values()) == [4, 0, 0, 4, 0, 0, 20]
+    assert data["differs"] == ["edge-edge-superposition", "face-face"]
+    assert data["total"] == data["paper_total"] == 28
+    assert data["picture"] is None
+
+
+def test_json_with_picture_keeps_notes_off_stdout(tmp_path):
+    (tmp_path / "example1.png").write_bytes(b"mine")
+    result = run("example", "1", "--json", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["picture"] == "example1-1.png"
+    assert "exists and was kept" in result.stderr
+
+
+def test_gap_option(tmp_path):
+    result = run("example", "1", "--gap", "1e-6", "--no-picture", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "relative gap 1e-06" in result.stdout
+
+
+@pytest.mark.parametrize("args", [["--help"], ["example", "--help"]])
+def test_help(args, tmp_path):
+    result = run(*args, cwd=tmp_path)
+    assert result.returncode == 0
+    assert "usage: penedge" in result.stdout
+    assert "example" in result.stdout
+    assert "penedge example" in result.stdout  # a worked example
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        ([], "usage: penedge"),
+        (["example"], "the following arguments are required"),
+        (["example", "4"], "invalid choice"),
+        (["example", "one"], "invalid int value"),
+        (["example", "1", "--gap", "-1"], "argument --gap"),
+        (["example", "1", "--gap", "nan"], "argument --gap"),
+        (["example", "1", "--gap", "abc"], "invalid float value"),
+        (["example", "1", "-o", "x.jpg"], "picture format"),
+        (["example", "1", "-o", "x.png", "--no-picture"], "not allowed with"),
+        (["example", "1", "--explode", "-1"], "argument --explode"),
+        (["frobnicate"], "invalid choice"),
+    ],
+)
+def test_usage_errors_exit_2_without_traceback(args, message, tmp_path):
+    result = run(*args, cwd=tmp_path)
+    assert result.returncode == 2
+    assert message in result.stderr
+    assert "Traceback" not in result.stderr
+    assert result.stdout == ""
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_runtime_error_exits_1_without_traceback(tmp_path):
+    result = run("example", "1", "-o", str(tmp_path / "missing" / "x.png"), cwd=tmp_path)
+    assert result.returncode == 1
+    assert "penedge: error:" in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def test_output_to_a_directory_is_refused(tmp_path):
+    (tmp_path / "pics.png").mkdir()
+    result = run("example", "1", "-o", "pics.png", cwd=tmp_path)
+    assert result.returncode == 2
+    assert "is a directory" in result.stderr
+
+
+def test_version(tmp_path):
+    import penedge
+
+    result = run("--version", cwd=tmp_path)
+    assert result.returncode == 0
+    assert result.stdout.strip() == f"penedge {penedge.__version__}"
