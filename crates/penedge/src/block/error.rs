@@ -137,6 +137,12 @@ pub enum BlockError {
         /// Vertex index.
         vertex: usize,
     },
+    /// A box whose lower corner is not below its upper corner on one axis (or NaN).
+    #[error("the box is empty: its lower corner is not below its upper corner along axis {axis}")]
+    EmptyBox {
+        /// 0 for x, 1 for y, 2 for z.
+        axis: usize,
+    },
     /// Half-spaces that do not bound a solid.
     #[error("the half-spaces do not bound a solid block ({reason})")]
     Unbounded {

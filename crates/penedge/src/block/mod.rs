@@ -139,7 +139,14 @@ impl ConvexBlock {
     }
 
     /// A rectangular box with the given corners.
+    ///
+    /// Each coordinate of `min` must be below the same coordinate of `max`.
     pub fn cuboid(min: [f64; 3], max: [f64; 3]) -> Result<ConvexBlock, BlockError> {
+        if let Some(axis) =
+            (0..3).find(|&k| min[k].partial_cmp(&max[k]) != Some(std::cmp::Ordering::Less))
+        {
+            return Err(BlockError::EmptyBox { axis });
+        }
         let (a, b) = (min, max);
         let v = [
             [a[0], a[1], a[2]],

@@ -321,3 +321,20 @@ mod no_panic {
         }
     }
 }
+
+#[test]
+fn cuboid_needs_lower_below_upper_corner() {
+    assert_eq!(
+        ConvexBlock::cuboid([0.0; 3], [1.0, -1.0, 1.0]).unwrap_err(),
+        BlockError::EmptyBox { axis: 1 }
+    );
+    assert_eq!(
+        ConvexBlock::cuboid([2.0, 0.0, 0.0], [1.0; 3]).unwrap_err(),
+        BlockError::EmptyBox { axis: 0 }
+    );
+    assert_eq!(
+        ConvexBlock::cuboid([0.0, 0.0, f64::NAN], [1.0; 3]).unwrap_err(),
+        BlockError::EmptyBox { axis: 2 }
+    );
+    assert!(ConvexBlock::cuboid([0.0; 3], [1.0, 1.0, 0.0]).is_err());
+}
