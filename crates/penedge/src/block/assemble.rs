@@ -111,8 +111,14 @@ impl ConvexBlock {
         if euler != 2 {
             return Err(BlockError::NotASphere { euler });
         }
-        let (volume, centroid) =
-            volume_and_centroid(&parts.vertices, &parts.face_offsets, &parts.face_vertices);
+        let (volume, centroid) = volume_and_centroid(
+            &parts.vertices,
+            parts.face_offsets.windows(2).map(|w| {
+                parts.face_vertices[w[0] as usize..w[1] as usize]
+                    .iter()
+                    .map(|&v| v as usize)
+            }),
+        );
         if volume.is_nan() || volume <= 0.0 {
             return Err(if volume < 0.0 {
                 BlockError::WrongOrientation
@@ -202,24 +208,26 @@ fn twin_edge(run: &[(u64, u32, u32)]) -> Result<Edge, BlockError> {
     }
 }
 
-/// Signed volume and centroid by the divergence theorem, in coordinates local to vertex 0.
-pub(crate) fn volume_and_centroid(
-    points: &[DVec3],
-    offsets: &[u32],
-    verts: &[u32],
-) -> (f64, DVec3) {
+/// Signed volume and centroid by the divergence theorem (faces fanned from their first
+/// vertex), in coordinates local to vertex 0.
+pub(crate) fn volume_and_centroid<F, I>(points: &[DVec3], faces: F) -> (f64, DVec3)
+where
+    F: IntoIterator<Item = I>,
+    I: IntoIterator<Item = usize>,
+{
     let origin = points[0];
     let mut volume = 0.0;
     let mut moment = DVec3::ZERO;
-    for f in 0..offsets.len() - 1 {
-        let face = &verts[offsets[f] as usize..offsets[f + 1] as usize];
-        let a = points[face[0] as usize] - origin;
-        for k in 1..face.len() - 1 {
-            let b = points[face[k] as usize] - origin;
-            let c = points[face[k + 1] as usize] - origin;
+    for face in faces {
+        let mut corners = face.into_iter().map(|v| points[v] - origin);
+        let (Some(a), Some(mut b)) = (corners.next(), corners.next()) else {
+            continue;
+        };
+        for c in corners {
             let v6 = a.dot(b.cross(c));
             volume += v6;
             moment += v6 * (a + b + c);
+            b = c;
         }
     }
     let centroid = if volume != 0.0 {

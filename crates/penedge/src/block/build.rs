@@ -7,6 +7,7 @@
 //! triangulated box face, say) are merged into one polygon first: the contact types speak of
 //! geometric faces, not of the triangles that happen to describe them.
 
+use super::assemble::volume_and_centroid;
 use super::{BlockError, ConvexBlock, Edge};
 use crate::geometry::{newell_normal, Aabb, DVec3, Plane};
 use crate::tolerance::Tolerance;
@@ -289,7 +290,7 @@ fn check_closed_solid(
     if euler != 2 {
         return Err(BlockError::NotASphere { euler });
     }
-    let (volume, _) = volume_and_centroid(points, faces);
+    let (volume, _) = volume_and_centroid(points, faces.iter().map(|f| f.iter().copied()));
     let size = Aabb::of_points(points).diagonal();
     if volume < 0.0 && volume.abs() > eps * size.powi(2) {
         return Err(BlockError::WrongOrientation);
@@ -311,7 +312,7 @@ fn build_checked(
     let planes: Vec<Plane> = (0..faces.len())
         .map(|f| face_plane(&points, &faces[f], f, eps))
         .collect::<Result<_, _>>()?;
-    let (volume, centroid) = volume_and_centroid(&points, &faces);
+    let (volume, centroid) = volume_and_centroid(&points, faces.iter().map(|f| f.iter().copied()));
     let aabb = Aabb::of_points(&points);
     check_faces_planar_convex(&points, &faces, &planes, eps)?;
     check_block_convex(&points, &planes, eps)?;
@@ -346,29 +347,6 @@ fn check_corners(n_vertices: usize, faces: &[Vec<usize>]) -> Result<(), BlockErr
         Some(vertex) => Err(BlockError::NotACorner { vertex }),
         None => Ok(()),
     }
-}
-
-/// Signed volume and centroid by the divergence theorem, in coordinates local to vertex 0.
-fn volume_and_centroid(points: &[DVec3], faces: &[Vec<usize>]) -> (f64, DVec3) {
-    let origin = points[0];
-    let mut volume = 0.0;
-    let mut moment = DVec3::ZERO;
-    for face in faces {
-        let a = points[face[0]] - origin;
-        for k in 1..face.len() - 1 {
-            let b = points[face[k]] - origin;
-            let c = points[face[k + 1]] - origin;
-            let v6 = a.dot(b.cross(c));
-            volume += v6;
-            moment += v6 * (a + b + c);
-        }
-    }
-    let centroid = if volume != 0.0 {
-        origin + moment / (4.0 * volume)
-    } else {
-        origin
-    };
-    (volume / 6.0, centroid)
 }
 
 fn check_faces_planar_convex(
