@@ -91,15 +91,13 @@ pub struct PenetrationEdge {
 
 /// Signed distances of one block's vertices to the other block's face planes, face-major:
 /// `table[f * n_vertices + v]`, with per-vertex bit masks of the faces that the vertex is
-/// outside of (`s > gap`) and not deeper than the gap behind (`s >= -gap`), when the other
-/// block has at most 64 faces. The masks reject most edges with one `and` and let the
-/// clipping visit only the faces that cut an edge.
+/// outside of (`s > gap`), when the other block has at most 64 faces. The masks reject most
+/// edges with one `and` and let the clipping visit only the faces that cut an edge.
 #[derive(Default, Clone, Debug)]
 pub(crate) struct DistanceTable {
     table: Vec<f64>,
     n_vertices: usize,
     outside: Vec<u64>,
-    shallow: Vec<u64>,
 }
 
 /// Faces beyond this count are clipped without masks.
@@ -135,23 +133,19 @@ impl DistanceTable {
         true
     }
 
-    /// Per-vertex masks of the faces a vertex is outside of (`s > gap`) and not deeper than
-    /// the gap behind (`s >= -gap`); none when the other block has more than 64 faces.
+    /// Per-vertex masks of the faces a vertex is outside of (`s > gap`); none when the other
+    /// block has more than 64 faces.
     pub(crate) fn build_masks(&mut self, n_faces: usize, gap: f64) {
         let n = self.n_vertices;
-        let masked = n_faces <= MASK_FACES;
         self.outside.clear();
-        self.shallow.clear();
-        if !masked {
+        if n_faces > MASK_FACES {
             return;
         }
         self.outside.resize(n, 0);
-        self.shallow.resize(n, 0);
-        let (outside, shallow) = (&mut self.outside[..n], &mut self.shallow[..n]);
+        let outside = &mut self.outside[..n];
         for (f, row) in self.table.chunks_exact(n).enumerate() {
             for i in 0..n {
                 outside[i] |= ((row[i] > gap) as u64) << f;
-                shallow[i] |= ((row[i] >= -gap) as u64) << f;
             }
         }
     }
@@ -163,18 +157,21 @@ impl DistanceTable {
 
     /// The parameter interval of edge `(v1, v2)` where `s <= gap` on every face
     /// (`deep == false`), or `s < -gap` (`deep == true`), with the face that cuts each end.
+    /// The masks serve the first test; the second runs only on edges that passed it, and
+    /// usually stops at the first face.
     #[inline]
     fn clip(&self, n_faces: usize, v1: u32, v2: u32, gap: f64, deep: bool) -> Option<Clipped> {
-        let (offset, strict) = if deep { (-gap, true) } else { (gap, false) };
-        if self.outside.is_empty() {
-            return self.clip_faces(0..n_faces, v1, v2, offset, strict);
+        if deep {
+            return self.clip_faces(0..n_faces, v1, v2, -gap, true);
         }
-        let masks = if deep { &self.shallow } else { &self.outside };
-        let (m1, m2) = (masks[v1 as usize], masks[v2 as usize]);
+        if self.outside.is_empty() {
+            return self.clip_faces(0..n_faces, v1, v2, gap, false);
+        }
+        let (m1, m2) = (self.outside[v1 as usize], self.outside[v2 as usize]);
         if m1 & m2 != 0 {
             return None;
         }
-        self.clip_faces(BitIter(m1 | m2), v1, v2, offset, strict)
+        self.clip_faces(BitIter(m1 | m2), v1, v2, gap, false)
     }
 
     /// Clips against the given faces only (the others keep both ends inside).
