@@ -171,7 +171,39 @@ impl DistanceTable {
         if m1 & m2 != 0 {
             return None;
         }
-        self.clip_faces(BitIter(m1 | m2), v1, v2, gap, false)
+        self.clip_crossing(BitIter(m1 | m2), v1, v2, gap)
+    }
+
+    /// Clips against faces that each have exactly one end of the edge outside (as the masks
+    /// give them): each cuts the edge once, where `t = |d1| / (|d1| + |d2|)`. The latest entry
+    /// and the earliest exit are chosen without branches (fractions compared by
+    /// cross-multiplication, one division per end), since which face cuts where is
+    /// unpredictable.
+    #[inline]
+    fn clip_crossing(&self, faces: BitIter, v1: u32, v2: u32, gap: f64) -> Option<Clipped> {
+        let (mut entry, mut exit) = (Fraction::ZERO, Fraction::ONE);
+        let (mut entry_face, mut exit_face) = (u32::MAX, u32::MAX);
+        for f in faces {
+            let d1 = self.get(f, v1) - gap;
+            let d2 = self.get(f, v2) - gap;
+            let t = Fraction {
+                num: d1.abs(),
+                den: d1.abs() + d2.abs(),
+            };
+            let entering = d1 > 0.0;
+            let take_entry = entering & t.above(entry);
+            let take_exit = !entering & exit.above(t);
+            entry = if take_entry { t } else { entry };
+            entry_face = if take_entry { f as u32 } else { entry_face };
+            exit = if take_exit { t } else { exit };
+            exit_face = if take_exit { f as u32 } else { exit_face };
+        }
+        let t = [entry.value(), exit.value()];
+        let cut = |f: u32| (f != u32::MAX).then_some(f);
+        (t[0] <= t[1]).then_some(Clipped {
+            t,
+            cut: [cut(entry_face), cut(exit_face)],
+        })
     }
 
     /// Clips against the given faces only (the others keep both ends inside).
@@ -234,6 +266,28 @@ impl Iterator for BitIter {
             self.0 &= self.0 - 1;
             i
         })
+    }
+}
+
+/// A non-negative fraction with a positive denominator.
+#[derive(Clone, Copy)]
+struct Fraction {
+    num: f64,
+    den: f64,
+}
+
+impl Fraction {
+    const ZERO: Fraction = Fraction { num: 0.0, den: 1.0 };
+    const ONE: Fraction = Fraction { num: 1.0, den: 1.0 };
+
+    #[inline]
+    fn above(self, other: Fraction) -> bool {
+        self.num * other.den > other.num * self.den
+    }
+
+    #[inline]
+    fn value(self) -> f64 {
+        self.num / self.den
     }
 }
 
