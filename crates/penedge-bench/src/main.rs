@@ -5,11 +5,24 @@
 //! parry3d-f64 on the same generated hexahedron pairs and prints Markdown tables (see
 //! docs/benchmarks.md).
 //!
+//! `cargo run --release -p penedge-bench -- geometry [--pairs N] [--reps R] [--hot H]
+//! [--seed S] [--no-detail] [--export PAIRS.json]` times the contact geometry on top of
+//! classification (penedge `detect` vs `detect_with_geometry`) beside parry3d-f64's
+//! contact manifold, and can write the pairs for `benches/python/coal_patch.py`.
+//!
+//! `cargo run --release -p penedge-bench -- generate [--spec SPEC.toml] [--runs N]
+//! [--big-runs N] [--no-big]` times block generation (about 1e5 and 1e6 blocks, each size in
+//! a child process for its peak memory).
+//!
 //! `cargo run --release -p penedge-bench -- profile --scenario NAME --family cube|rock
-//! [--pairs N] [--seconds S]` runs penedge alone on one set for a while, to be watched by a
-//! profiler (`perf record`).
+//! [--pairs N] [--seconds S] [--geometry]` runs penedge alone on one set for a while
+//! (`detect`, or `detect_with_geometry` with `--geometry`), to be watched by a profiler
+//! (`perf record`). NAME is a row of the narrow or the geometry tables.
 
+mod export;
 mod family;
+mod generation;
+mod geometry;
 mod pairs;
 mod placement;
 mod report;
@@ -71,6 +84,8 @@ struct Options {
     family: Family,
     seconds: f64,
     hot: usize,
+    export: Option<String>,
+    geometry: bool,
 }
 
 impl Default for Options {
@@ -84,6 +99,8 @@ impl Default for Options {
             family: Family::Cube,
             seconds: 10.0,
             hot: 256,
+            export: None,
+            geometry: false,
         }
     }
 }
@@ -102,6 +119,8 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--scenario" => o.scenario = value()?.clone(),
             "--family" => o.family = family(value()?)?,
             "--no-detail" => o.detail = false,
+            "--export" => o.export = Some(value()?.clone()),
+            "--geometry" => o.geometry = true,
             other => return Err(format!("unknown option {other}")),
         }
     }
@@ -238,16 +257,21 @@ fn narrow(o: &Options) {
 }
 
 fn profile(o: &Options) -> Result<(), String> {
-    let all: Vec<Scenario> = SITUATIONS.into_iter().chain(by_contact_type()).collect();
+    let all: Vec<Scenario> = SITUATIONS
+        .into_iter()
+        .chain(by_contact_type())
+        .chain(geometry::SITUATIONS)
+        .collect();
     let (row, scenario) = all
         .iter()
         .enumerate()
         .find(|(_, s)| s.name == o.scenario)
         .ok_or(format!("unknown scenario {}", o.scenario))?;
-    let row = if row < SITUATIONS.len() {
-        row
-    } else {
-        100 + row - SITUATIONS.len()
+    let (n, types) = (SITUATIONS.len(), Touch::ALL.len());
+    let row = match row {
+        r if r < n => r,
+        r if r < n + types => 100 + r - n,
+        r => geometry::FIRST_ROW + r - n - types,
     };
     let set = PairSet::generate(
         *scenario,
@@ -255,7 +279,7 @@ fn profile(o: &Options) -> Result<(), String> {
         o.pairs,
         &mut set_rng(o.seed, row, o.family),
     );
-    let n = timing::spin_penedge(&set, Duration::from_secs_f64(o.seconds));
+    let n = timing::spin_penedge(&set, Duration::from_secs_f64(o.seconds), o.geometry);
     println!("{n} pairs detected ({} {})", scenario.name, o.family.name());
     Ok(())
 }
@@ -264,8 +288,14 @@ fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("narrow") => parse(&args[1..]).map(|o| narrow(&o)),
+        Some("geometry") => parse(&args[1..]).and_then(|o| geometry::run(&o)),
+        Some("generate") => generation::run(&args[1..]),
+        Some("generate-one") => generation::run_one(&args[1..]),
         Some("profile") => parse(&args[1..]).and_then(|o| profile(&o)),
-        _ => Err("usage: penedge-bench narrow|profile [options] (see the crate docs)".to_string()),
+        _ => Err(
+            "usage: penedge-bench narrow|geometry|generate|profile [options] (see the crate docs)"
+                .to_string(),
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -6,7 +6,7 @@ use crate::rng::SplitMix64;
 use parry3d_f64::math::{Pose, Rot3, Vector};
 use parry3d_f64::query::Contact;
 use parry3d_f64::shape::{ConvexPolyhedron, Cuboid};
-use penedge::{ConvexBlock, Detector};
+use penedge::{ConvexBlock, Detector, Tolerance};
 
 /// What a set of pairs holds: how B is pushed and which touching configurations it starts
 /// from (drawn uniformly).
@@ -46,18 +46,37 @@ pub struct PairSet {
     pub blocks: Vec<(ConvexBlock, ConvexBlock)>,
     /// The same pairs for parry.
     pub parry: Vec<ParryPair>,
+    /// The tolerance penedge uses on these pairs (`scenario.push.tolerance()`).
+    pub tolerance: Tolerance,
+    /// The reference blocks of each pair in their body frames (the parry shapes' vertices
+    /// and faces), kept only when asked for (to export the pairs).
+    pub refs: Vec<(ConvexBlock, ConvexBlock)>,
 }
 
 impl PairSet {
     /// `n` pairs of `family` in `scenario`, reproducible from `rng`'s state.
     pub fn generate(scenario: Scenario, family: Family, n: usize, rng: &mut SplitMix64) -> Self {
-        let detector = Detector::default();
+        Self::generate_keeping(scenario, family, n, rng, false)
+    }
+
+    /// [`PairSet::generate`], also keeping the reference blocks when `keep_refs`.
+    pub fn generate_keeping(
+        scenario: Scenario,
+        family: Family,
+        n: usize,
+        rng: &mut SplitMix64,
+        keep_refs: bool,
+    ) -> Self {
+        let tolerance = scenario.push.tolerance();
+        let detector = Detector::new(tolerance);
         let mut set = PairSet {
             scenario,
             family,
             expected: Vec::with_capacity(n),
             blocks: Vec::with_capacity(n),
             parry: Vec::with_capacity(n),
+            tolerance,
+            refs: Vec::new(),
         };
         for i in 0..n {
             let (ref_a, ref_b) = (family.block(rng), family.block(rng));
@@ -69,6 +88,9 @@ impl PairSet {
             set.parry.push(parry_pair(&ref_a, &ref_b, &p, prediction));
             set.expected.push(p.expected);
             set.blocks.push((a, b));
+            if keep_refs {
+                set.refs.push((ref_a, ref_b));
+            }
         }
         set
     }
@@ -136,7 +158,7 @@ pub const PARRY_TOUCH: f64 = 1e-9;
 impl PairSet {
     /// Runs both engines once on every pair and counts the expected outcomes.
     pub fn verify(&self) -> Agreement {
-        let mut detector = Detector::default();
+        let mut detector = Detector::new(self.tolerance);
         let mut agree = Agreement::default();
         for ((expected, (a, b)), p) in self.expected.iter().zip(&self.blocks).zip(&self.parry) {
             agree.penedge += expected.matches(&detector.detect(a, b)) as usize;
@@ -147,7 +169,7 @@ impl PairSet {
 
     /// The pairs (index, expected, penedge's answer) where penedge disagrees.
     pub fn penedge_misses(&self) -> Vec<(usize, Expected, penedge::PairResult)> {
-        let mut detector = Detector::default();
+        let mut detector = Detector::new(self.tolerance);
         (0..self.len())
             .filter_map(|i| {
                 let (a, b) = &self.blocks[i];

@@ -9,7 +9,7 @@
 
 use crate::rng::SplitMix64;
 use glam::{DQuat, DVec3};
-use penedge::{ContactType, ConvexBlock, PairResult};
+use penedge::{ContactType, ConvexBlock, PairResult, Tolerance};
 use std::f64::consts::{PI, TAU};
 
 /// How B touches A before it is pushed.
@@ -76,7 +76,26 @@ pub enum Push {
     Touching,
     /// Into A by `PENETRATION`.
     Into,
+    /// Into A by `PENETRATION`, with a tolerance whose gap exceeds it ([`WIDE_GAP`]): still
+    /// a contact, of the type of the touching configuration.
+    IntoWithinGap,
 }
+
+impl Push {
+    /// The tolerance the pairs are meant for: penedge's default, or a relative gap of
+    /// [`WIDE_GAP`] for [`Push::IntoWithinGap`].
+    pub fn tolerance(self) -> Tolerance {
+        match self {
+            Push::IntoWithinGap => Tolerance::with_gap(WIDE_GAP).expect("a valid gap"),
+            _ => Tolerance::default(),
+        }
+    }
+}
+
+/// Relative gap of [`Push::IntoWithinGap`] pairs. Blocks are about 1 wide and a block's size
+/// (its bounding-box diagonal) is at least about 1.2, so the absolute gap is at least about
+/// 1.2e-3, above the penetration of 1e-3; the length threshold is ten times the gap.
+pub const WIDE_GAP: f64 = 1e-3;
 
 /// Smallest separation distance (blocks are about 1 wide).
 pub const SEPARATION_MIN: f64 = 1e-3;
@@ -143,6 +162,7 @@ pub fn place(
         ),
         Push::Touching => (0.0, Expected::Contact(touch.contact_type())),
         Push::Into => (-PENETRATION, Expected::Penetrating),
+        Push::IntoWithinGap => (-PENETRATION, Expected::Contact(touch.contact_type())),
     };
     Placement {
         rot_a,

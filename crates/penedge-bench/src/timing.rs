@@ -77,23 +77,40 @@ pub struct Job<'a> {
 /// machine spoils a few samples of every job rather than all samples of one.
 pub fn measure(jobs: &[Job], reps: usize) -> Vec<Medians> {
     let mut detector = Detector::default();
-    let mut samples: Vec<[Vec<f64>; 4]> = vec![Default::default(); jobs.len()];
+    let medians = median_rounds(jobs, reps, |job| round(job, &mut detector));
+    jobs.iter()
+        .zip(medians)
+        .map(|(job, [pe, pc, pi, cu])| Medians {
+            penedge: pe,
+            parry_contact: pc,
+            parry_intersection: pi,
+            parry_cuboid: (job.set.family == Family::Cube).then_some(cu),
+        })
+        .collect()
+}
+
+/// Runs `round` on every job `reps` times (after one warm-up round), job after job,
+/// repetition after repetition, and returns the median of each of its `N` timings (ns per
+/// pair) per job.
+pub fn median_rounds<const N: usize>(
+    jobs: &[Job],
+    reps: usize,
+    mut round: impl FnMut(&Job) -> [f64; N],
+) -> Vec<[f64; N]> {
+    let mut samples: Vec<[Vec<f64>; N]> = (0..jobs.len())
+        .map(|_| std::array::from_fn(|_| Vec::with_capacity(reps)))
+        .collect();
     for rep in 0..=reps {
         for (job, s) in jobs.iter().zip(&mut samples) {
-            let times = round(job, &mut detector);
+            let times = round(job);
             if rep > 0 {
                 s.iter_mut().zip(times).for_each(|(s, t)| s.push(t));
             }
         }
     }
-    jobs.iter()
-        .zip(&mut samples)
-        .map(|(job, [pe, pc, pi, cu])| Medians {
-            penedge: median(pe),
-            parry_contact: median(pc),
-            parry_intersection: median(pi),
-            parry_cuboid: (job.set.family == Family::Cube).then(|| median(cu)),
-        })
+    samples
+        .iter_mut()
+        .map(|s| std::array::from_fn(|i| median(&mut s[i])))
         .collect()
 }
 
@@ -116,7 +133,7 @@ fn round(job: &Job, detector: &mut Detector) -> [f64; 4] {
 
 /// Runs `pass` over the window (untimed first if warm) and returns ns per pair, in CPU time
 /// of this thread.
-fn timed(w: Window, mut pass: impl FnMut()) -> f64 {
+pub fn timed(w: Window, mut pass: impl FnMut()) -> f64 {
     if w.warm {
         pass();
     }
@@ -139,14 +156,20 @@ pub fn thread_cpu_ns() -> i128 {
     ts.tv_sec as i128 * 1_000_000_000 + ts.tv_nsec as i128
 }
 
-/// Runs penedge over the set again and again for about `duration` (for a profiler);
-/// returns the number of pairs detected.
-pub fn spin_penedge(set: &PairSet, duration: Duration) -> usize {
-    let mut detector = Detector::default();
+/// Runs penedge over the set again and again for about `duration` (for a profiler), with
+/// `detect_with_geometry` when `geometry`; returns the number of pairs detected.
+pub fn spin_penedge(set: &PairSet, duration: Duration, geometry: bool) -> usize {
+    let mut detector = Detector::new(set.tolerance);
     let start = Instant::now();
     let mut count = 0;
     while start.elapsed() < duration {
-        penedge_round(&mut detector, &set.blocks);
+        if geometry {
+            for (a, b) in &set.blocks {
+                black_box(detector.detect_with_geometry(black_box(a), black_box(b)));
+            }
+        } else {
+            penedge_round(&mut detector, &set.blocks);
+        }
         count += set.len();
     }
     count
@@ -180,7 +203,8 @@ fn parry_cuboid_round(pairs: &[ParryPair]) {
     }
 }
 
-fn median(samples: &mut [f64]) -> f64 {
+/// The median (NaN samples sort last; the `Cuboid` column of rock sets is all NaN).
+pub fn median(samples: &mut [f64]) -> f64 {
     samples.sort_by(f64::total_cmp);
     let m = samples.len() / 2;
     if samples.len() % 2 == 1 {
