@@ -43,8 +43,11 @@ fn cross(o: P2, a: P2, b: P2) -> f64 {
     (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 }
 
+/// Plain `sqrt(dx² + dy²)`: coordinates are local to the contact, so no overflow guard
+/// (`f64::hypot`, a slow library call) is needed.
 fn distance(p: P2, q: P2) -> f64 {
-    (p[0] - q[0]).hypot(p[1] - q[1])
+    let (dx, dy) = (p[0] - q[0], p[1] - q[1]);
+    (dx * dx + dy * dy).sqrt()
 }
 
 /// Whether `a` lies more than `tol` to the left of the line from `o` to `b`.
