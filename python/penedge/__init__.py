@@ -14,11 +14,17 @@ Pairs
     :func:`detect_pair` -- the contact of two blocks, a :class:`PairContact`.
 Systems
     :class:`BlockSystem` -- many blocks; :meth:`BlockSystem.detect` returns every
-    contact as numpy arrays (:class:`SystemContacts`). :func:`paper_example` builds the
-    paper's three examples, :func:`paper_table3` gives its printed counts.
+    contact as numpy arrays (:class:`SystemContacts`), with ``geometry=True`` also normals,
+    distances, areas and contact points. :func:`paper_example` builds the paper's three
+    examples, :func:`paper_table3` gives its printed counts.
+Generation
+    :func:`generate` -- a rock domain cut by joint planes, joint sets and finite joints
+    (a spec file, TOML text or a dict) into a :class:`BlockSystem`; its blocks as flat
+    arrays (:meth:`BlockSystem.arrays`), volume statistics, and files (JSON, VTU, CSV).
 Errors
     :exc:`PenedgeError` and its subclasses :exc:`InputError`, :exc:`BlockError`,
-    :exc:`ToleranceError` (all also ``ValueError``).
+    :exc:`ToleranceError`, :exc:`SpecError`, :exc:`FileFormatError` (all also
+    ``ValueError``); files that cannot be read or written raise ``OSError``.
 
 Conventions: right-handed frame; faces counter-clockwise seen from outside, normals
 outward; tolerances (`gap`, `length`) are relative to the smaller block's size.
@@ -41,15 +47,19 @@ from penedge._core import (
     PENETRATING,
     SEPARATED,
     Block,
+    BlockArrays,
     BlockError,
     BlockSystem,
+    FileFormatError,
     InputError,
     PairContact,
     PenedgeError,
+    SpecError,
     SystemContacts,
     ToleranceError,
     __version__,
     detect_pair,
+    generate,
     paper_example,
     paper_example_planes,
     paper_table3,
@@ -61,15 +71,19 @@ __all__ = [
     "PENETRATING",
     "SEPARATED",
     "Block",
+    "BlockArrays",
     "BlockError",
     "BlockSystem",
+    "FileFormatError",
     "InputError",
     "PairContact",
     "PenedgeError",
+    "SpecError",
     "SystemContacts",
     "ToleranceError",
     "__version__",
     "detect_pair",
+    "generate",
     "paper_example",
     "paper_example_planes",
     "paper_table3",

@@ -7,9 +7,17 @@ import pytest
 
 import penedge
 import penedge._core
-import penedge.pictures
+import penedge.pictures.blocks
+import penedge.pictures.contacts
+import penedge.pictures.volumes
 
-MODULES = [penedge, penedge._core, penedge.pictures]
+MODULES = [
+    penedge,
+    penedge._core,
+    penedge.pictures.blocks,
+    penedge.pictures.contacts,
+    penedge.pictures.volumes,
+]
 
 
 @pytest.mark.parametrize("module", MODULES, ids=lambda m: m.__name__)
@@ -20,7 +28,8 @@ def test_docstring_examples(module):
     if module is penedge._core:
         for cls in (penedge.Block, penedge.BlockSystem, penedge.PairContact):
             tests += finder.find(cls, f"penedge.{cls.__name__}")
-        for function in (penedge.detect_pair, penedge.paper_example, penedge.paper_table3):
+        functions = (penedge.detect_pair, penedge.generate, penedge.paper_example)
+        for function in (*functions, penedge.paper_table3):
             tests += finder.find(function, f"penedge.{function.__name__}")
     examples = 0
     for test in tests:

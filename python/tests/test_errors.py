@@ -15,11 +15,13 @@ V, F = CUBE.vertices, CUBE.faces
 
 def test_exception_tree():
     assert issubclass(penedge.PenedgeError, Exception)
-    for cls in (penedge.InputError, penedge.BlockError, penedge.ToleranceError):
+    classes = (penedge.InputError, penedge.BlockError, penedge.ToleranceError)
+    for cls in (*classes, penedge.SpecError, penedge.FileFormatError):
         assert issubclass(cls, penedge.PenedgeError)
         assert issubclass(cls, ValueError)
         assert cls.__module__ == "penedge"
         assert cls.__doc__
+        assert cls("message").field is None  # set when the error names a field
 
 
 BAD_VERTICES = {

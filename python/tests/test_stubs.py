@@ -54,7 +54,8 @@ def test_every_public_member_of_each_class_is_in_the_stub():
 
 def test_function_parameters_match():
     stubs = stub_names()
-    for name in ("detect_pair", "paper_example", "paper_table3", "paper_example_planes"):
+    names = ("detect_pair", "generate", "paper_example", "paper_table3", "paper_example_planes")
+    for name in names:
         runtime = list(inspect.signature(getattr(core, name)).parameters)
         assert [a.arg for a in stubs[name].args.args] == runtime, name
 

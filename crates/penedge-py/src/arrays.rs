@@ -96,3 +96,13 @@ pub fn read_only<'py, A>(array: Bound<'py, A>) -> PyResult<Bound<'py, A>> {
     flags.setattr("writeable", false)?;
     Ok(array)
 }
+
+/// Plain data (a report, statistics) as Python dicts, lists and numbers, through JSON.
+pub fn to_python<'py>(
+    py: Python<'py>,
+    value: &(impl serde::Serialize + ?Sized),
+) -> PyResult<Bound<'py, PyAny>> {
+    let text = serde_json::to_string(value)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+    py.import("json")?.getattr("loads")?.call1((text,))
+}

@@ -7,6 +7,7 @@ use crate::tolerance::tolerance;
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
 use penedge::classify::PairResult;
+use penedge::contact_geometry::ContactGeometry;
 use penedge::penetration::{EdgeEnd, PenetrationEdge, Side};
 use penedge::Detector;
 use pyo3::prelude::*;
@@ -30,9 +31,19 @@ use pyo3::prelude::*;
 ///     One record per penetration edge (see the property).
 /// penetration_points : numpy.ndarray
 ///     End points of the penetration edges, shape (k, 2, 3).
+/// normal : numpy.ndarray, shape (3,), or None
+///     Unit contact normal from `a` to `b` (None unless touching).
+/// distance : float or None
+///     Signed distance along the normal: a gap (> 0) or a depth (< 0).
+/// points : numpy.ndarray, shape (k, 3), or None
+///     Contact points: one point, the two ends of a segment (edge-face, edge-edge
+///     superposition), or a convex polygon counter-clockwise about the normal (face-face).
+/// area : float or None
+///     Area of a face-face contact; 0 for a point or a segment.
 #[pyclass(module = "penedge", name = "PairContact", frozen)]
 pub struct PairContact {
     result: PairResult,
+    geometry: Option<ContactGeometry>,
     edges: Vec<PenetrationEdge>,
     points: Vec<[[f64; 3]; 2]>,
     counts: ([[usize; 5]; 2], [usize; 2]),
@@ -77,6 +88,8 @@ pub struct PairContact {
 /// 'separated'
 /// >>> penedge.detect_pair(a, apart, gap=1e-3).outcome
 /// 'face-face'
+/// >>> c.normal, c.area, c.distance
+/// (array([1., 0., 0.]), 1.0, 0.0)
 #[pyfunction]
 #[pyo3(signature = (a, b, gap = 1e-12, length = None))]
 pub fn detect_pair(
@@ -87,7 +100,7 @@ pub fn detect_pair(
 ) -> PyResult<PairContact> {
     let (a, b) = (&a.get().inner, &b.get().inner);
     let mut detector = Detector::new(tolerance(gap, length)?);
-    let result = detector.detect(a, b);
+    let (result, geometry) = detector.detect_with_geometry(a, b);
     let edges = detector.penetration_edges().to_vec();
     let points = edges
         .iter()
@@ -98,6 +111,7 @@ pub fn detect_pair(
         .collect();
     Ok(PairContact {
         result,
+        geometry,
         edges,
         points,
         counts: detector.table1_counts(),
@@ -147,6 +161,34 @@ impl PairContact {
             PairResult::Contact(c) => Some(feature_tuple(c.feature_b)),
             _ => None,
         }
+    }
+
+    /// Unit contact normal from `a` to `b`, shape (3,); None unless touching.
+    #[getter]
+    fn normal<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        let g = self.geometry.as_ref()?;
+        Some(arrays::vector(py, g.normal().to_array().to_vec()))
+    }
+
+    /// Signed distance along the normal: gap (> 0) or depth (< 0); None unless touching.
+    #[getter]
+    fn distance(&self) -> Option<f64> {
+        self.geometry.as_ref().map(ContactGeometry::distance)
+    }
+
+    /// Contact points, shape (k, 3): one point, a segment's two ends or a polygon's
+    /// vertices (counter-clockwise about the normal); None unless touching.
+    #[getter]
+    fn points<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray2<f64>>> {
+        let g = self.geometry.as_ref()?;
+        let rows: Vec<[f64; 3]> = g.points().iter().map(|p| p.to_array()).collect();
+        Some(arrays::rows3(py, &rows))
+    }
+
+    /// Contact area (face-face; 0 for a point or a segment); None unless touching.
+    #[getter]
+    fn area(&self) -> Option<f64> {
+        self.geometry.as_ref().map(ContactGeometry::area)
     }
 
     /// The penetration edges, a structured array with one record per edge.

@@ -4,22 +4,29 @@
 //! PenedgeError(Exception)                every error raised by penedge
 //! ├── InputError(PenedgeError, ValueError)      wrong shape, dtype or value of an argument
 //! ├── BlockError(PenedgeError, ValueError)      vertices + faces or half-spaces: not a convex block
-//! └── ToleranceError(PenedgeError, ValueError)  impossible gap / length
+//! ├── ToleranceError(PenedgeError, ValueError)  impossible gap / length
+//! ├── SpecError(PenedgeError, ValueError)       a generation spec with a bad field (`field`)
+//! └── FileFormatError(PenedgeError, ValueError) a block file that is not valid (`field`)
 //! ```
 //!
 //! Each exception carries `kind`, a snake_case name of what went wrong (`"not_convex"`,
-//! `"out_of_range"`, `"shape"`, ...), so callers need not parse messages. The classes are made
+//! `"out_of_range"`, `"shape"`, ...), so callers need not parse messages; `SpecError` and
+//! `FileFormatError` also carry `field`, the path of the bad field (`joints[0].dip`), or None.
+//! A file that cannot be read or written raises the standard `OSError` subclass
+//! (`FileNotFoundError`, `PermissionError`, ...) with its `filename`. The classes are made
 //! once per process with `type(name, bases, dict)`, since PyO3's `create_exception!` takes one
 //! base only.
 
 use penedge::block::BlockError;
-use penedge::generation::GenerationError;
+use penedge::generation::{GenerationError, SpecError};
+use penedge::io::IoError;
 use penedge::system::SystemError;
 use penedge::tolerance::ToleranceError;
-use pyo3::exceptions::{PyException, PyValueError};
+use pyo3::exceptions::{PyException, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyTuple, PyType};
+use std::path::{Path, PathBuf};
 
 /// Every error the bindings raise, before conversion to a Python exception: the class, a
 /// snake_case `kind` and the message.
@@ -31,6 +38,62 @@ pub enum Error {
     Block(String, String),
     /// An impossible tolerance: `ToleranceError`.
     Tolerance(String, String),
+    /// A bad generation spec: `SpecError` (kind, field, message).
+    Spec(String, String, String),
+    /// A bad block file: `FileFormatError` (kind, field if known, message).
+    FileFormat(String, Option<String>, String),
+    /// The operating system refused to read or write a file: `OSError`.
+    Os(PathBuf, std::io::Error),
+}
+
+impl From<SpecError> for Error {
+    fn from(e: SpecError) -> Self {
+        Error::Spec(variant_name(&e.problem), e.field.clone(), e.to_string())
+    }
+}
+
+impl From<GenerationError> for Error {
+    fn from(e: GenerationError) -> Self {
+        match e {
+            GenerationError::Spec(s) => s.into(),
+            GenerationError::Cut { ref source, .. } => {
+                Error::Block(variant_name(source), e.to_string())
+            }
+        }
+    }
+}
+
+impl From<IoError> for Error {
+    fn from(e: IoError) -> Self {
+        match e {
+            IoError::Io { path, source } => Error::Os(path, source),
+            IoError::Syntax { .. } => Error::FileFormat("syntax".into(), None, e.to_string()),
+            IoError::Format { ref field, .. } => {
+                Error::FileFormat("format".into(), Some(field.clone()), e.to_string())
+            }
+            IoError::Spec(s) => s.into(),
+        }
+    }
+}
+
+impl Error {
+    /// The same error with the message prefixed by the file it is about (when the core's
+    /// message does not name it already).
+    pub fn in_file(self, path: &Path) -> Self {
+        let prefix = |m: String| {
+            let name = path.display().to_string();
+            if m.starts_with(&name) {
+                m
+            } else {
+                format!("{name}: {m}")
+            }
+        };
+        match self {
+            Error::Spec(kind, field, m) => Error::Spec(kind, field, prefix(m)),
+            Error::FileFormat(kind, field, m) => Error::FileFormat(kind, field, prefix(m)),
+            other => other,
+        }
+    }
 }
 
 impl From<BlockError> for Error {
@@ -52,12 +115,7 @@ impl From<SystemError> for Error {
             SystemError::DegeneratePlane { .. } => {
                 Error::Input("degenerate_plane".into(), e.to_string())
             }
-            SystemError::Generation(GenerationError::Cut { ref source, .. }) => {
-                Error::Block(variant_name(source), e.to_string())
-            }
-            SystemError::Generation(GenerationError::Spec(_)) => {
-                Error::Input("spec".into(), e.to_string())
-            }
+            SystemError::Generation(g) => g.into(),
         }
     }
 }
@@ -75,18 +133,43 @@ pub fn to_py_err(err: impl Into<Error>) -> PyErr {
             Ok(c) => c,
             Err(e) => return e,
         };
-        let (class, kind, message) = match &err {
-            Error::Input(kind, m) => (&classes.input, kind, m),
-            Error::Block(kind, m) => (&classes.block, kind, m),
-            Error::Tolerance(kind, m) => (&classes.tolerance, kind, m),
+        let (class, kind, field, message) = match &err {
+            Error::Input(kind, m) => (&classes.input, kind, None, m),
+            Error::Block(kind, m) => (&classes.block, kind, None, m),
+            Error::Tolerance(kind, m) => (&classes.tolerance, kind, None, m),
+            Error::Spec(kind, field, m) => (&classes.spec, kind, Some(field), m),
+            Error::FileFormat(kind, field, m) => (&classes.file_format, kind, field.as_ref(), m),
+            Error::Os(path, source) => return os_error(py, path, source).unwrap_or_else(|e| e),
         };
-        instantiate(class.bind(py), kind, message).unwrap_or_else(|e| e)
+        instantiate(class.bind(py), kind, field, message).unwrap_or_else(|e| e)
     })
 }
 
-fn instantiate(class: &Bound<'_, PyType>, kind: &str, message: &str) -> PyResult<PyErr> {
+fn instantiate(
+    class: &Bound<'_, PyType>,
+    kind: &str,
+    field: Option<&String>,
+    message: &str,
+) -> PyResult<PyErr> {
     let value = class.call1((message,))?;
     value.setattr("kind", kind)?;
+    if let Some(field) = field {
+        value.setattr("field", field)?;
+    }
+    Ok(PyErr::from_value(value))
+}
+
+/// `OSError(errno, strerror, filename)`, which Python turns into the matching subclass
+/// (`FileNotFoundError`, `IsADirectoryError`, ...); `OSError("path: message")` without errno.
+fn os_error(py: Python<'_>, path: &Path, source: &std::io::Error) -> PyResult<PyErr> {
+    let class = py.get_type::<PyOSError>();
+    let value = match source.raw_os_error() {
+        Some(errno) => {
+            let strerror = py.import("os")?.getattr("strerror")?.call1((errno,))?;
+            class.call1((errno, strerror, path.to_string_lossy()))?
+        }
+        None => class.call1((format!("{}: {source}", path.display()),))?,
+    };
     Ok(PyErr::from_value(value))
 }
 
@@ -113,6 +196,10 @@ pub struct Classes {
     pub block: Py<PyType>,
     /// `ToleranceError`.
     pub tolerance: Py<PyType>,
+    /// `SpecError`.
+    pub spec: Py<PyType>,
+    /// `FileFormatError`.
+    pub file_format: Py<PyType>,
 }
 
 static CLASSES: PyOnceLock<Classes> = PyOnceLock::new();
@@ -146,6 +233,16 @@ fn make_classes(py: Python<'_>) -> PyResult<Classes> {
             "ToleranceError",
             "An impossible tolerance: gap or length not in [0, 0.1), or length < 10 * gap.",
         )?,
+        spec: sub(
+            "SpecError",
+            "A generation spec with a bad field: `field` is its path (``joints[0].dip``), \
+             `kind` the problem (``dip``, ``not_positive``, ``missing``, ``syntax``, ...).",
+        )?,
+        file_format: sub(
+            "FileFormatError",
+            "A block file that is not valid JSON (``kind == 'syntax'``) or has a wrong field \
+             (``kind == 'format'``; `field` is its path, ``blocks[3].faces``).",
+        )?,
         base,
     })
 }
@@ -160,6 +257,7 @@ fn make_class(
     dict.set_item("__doc__", doc)?;
     dict.set_item("__module__", "penedge")?;
     dict.set_item("kind", "")?;
+    dict.set_item("field", py.None())?;
     let bases = PyTuple::new(py, bases)?;
     let class = py.get_type::<PyType>().call1((name, bases, dict))?;
     Ok(class.cast_into::<PyType>()?.unbind())
@@ -172,5 +270,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("InputError", c.input.clone_ref(m.py()))?;
     m.add("BlockError", c.block.clone_ref(m.py()))?;
     m.add("ToleranceError", c.tolerance.clone_ref(m.py()))?;
+    m.add("SpecError", c.spec.clone_ref(m.py()))?;
+    m.add("FileFormatError", c.file_format.clone_ref(m.py()))?;
     Ok(())
 }

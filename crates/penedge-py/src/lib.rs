@@ -1,9 +1,9 @@
 //! Python bindings of penedge: the module `penedge._core`.
 //!
 //! Conversions only; every computation is in the core crate. The files mirror the core
-//! modules: [`block`], [`tolerance`], [`classify`], [`contact`], [`system`], plus
-//! [`arrays`] (numpy in and out) and [`errors`] (the exception tree and the one conversion
-//! from core errors). The doc comments are the Python docstrings (numpydoc).
+//! modules: [`block`], [`tolerance`], [`classify`], [`contact`], [`system`], [`generation`],
+//! [`io`], plus [`arrays`] (numpy in and out) and [`errors`] (the exception tree and the one
+//! conversion from core errors). The doc comments are the Python docstrings (numpydoc).
 
 #![warn(missing_docs)]
 
@@ -12,6 +12,8 @@ pub mod block;
 pub mod classify;
 pub mod contact;
 pub mod errors;
+pub mod generation;
+pub mod io;
 pub mod system;
 pub mod tolerance;
 
@@ -29,8 +31,10 @@ mod _core {
     #[pymodule_export]
     use crate::contact::{detect_pair, PairContact};
     #[pymodule_export]
+    use crate::generation::generate;
+    #[pymodule_export]
     use crate::system::{
-        paper_example, paper_example_planes, paper_table3, BlockSystem, SystemContacts,
+        paper_example, paper_example_planes, paper_table3, BlockArrays, BlockSystem, SystemContacts,
     };
 
     #[pymodule_init]

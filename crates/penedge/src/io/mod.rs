@@ -8,6 +8,7 @@
 pub mod csv;
 pub mod json;
 pub mod spec;
+pub mod vtp;
 pub mod vtu;
 
 use crate::generation::SpecError;

@@ -3,9 +3,11 @@
 
 mod detect;
 mod examples;
+mod geometry;
 
 pub use detect::{count_types, PairContact, SystemContacts};
 pub use examples::{paper_example, paper_spec, paper_table3, PaperExample};
+pub use geometry::ContactGeometries;
 
 use crate::block::{BlockError, ConvexBlock};
 use crate::generation::{upward, Domain, GenerationError, JointRecord, JointShape};

@@ -1,0 +1,220 @@
+//! `generate`: a generation spec (a file, TOML text or a dict) to a block system and its
+//! report (core `generation` and `io::spec`).
+
+use crate::arrays;
+use crate::errors::{to_py_err, Error};
+use crate::system::BlockSystem;
+use penedge::generation::{generate_with_progress, Generated, GenerationError, Progress, Spec};
+use penedge::io::spec::{parse_toml, read_spec};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyMapping, PyString, PyTuple};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// The shortest time between two calls of the progress callback.
+const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
+
+/// Cuts a rock domain into convex blocks by the joints of a spec (see ``docs/generation.md``).
+///
+/// The work is done in Rust without the GIL: planes expanded from the joint sets descend a
+/// cutting tree; finite joints split only the blocks they cross completely; slivers are
+/// kept or dropped, and counted either way.
+///
+/// Parameters
+/// ----------
+/// spec : str, os.PathLike or dict
+///     A spec file (TOML, or JSON when the name ends in ``.json``); a str holding a newline
+///     is TOML text; a dict is the spec's structure (``{"domain": {...}, "joints": [...],
+///     "options": {...}}``; lists, numpy arrays, numbers and strings; a None value counts as
+///     missing).
+/// progress : callable, optional
+///     Called as ``progress(planes_done, planes_total, blocks)`` at most ten times a second
+///     and once at the end. If it raises, it is not called again and its exception is raised
+///     when the run ends.
+///
+/// Returns
+/// -------
+/// system : BlockSystem
+///     The blocks, with the domain, joint table and face origins.
+/// report : dict
+///     ``blocks``, ``joint_planes``, ``splits``, ``partial_cuts_skipped`` (finite joints that
+///     end inside a block, which is left whole), ``partial_cuts_by_entry``,
+///     ``set_planes_outside``, ``retried_cuts``, ``domain_volume``, ``block_volume``,
+///     ``volume_error`` and ``slivers`` (``policy``, ``min_volume``, ``min_thickness``,
+///     ``count``, ``volume``, ``kept_ids``).
+///
+/// Raises
+/// ------
+/// SpecError
+///     A bad field: ``field`` names it (``joints[0].dip``), ``kind`` says what is wrong.
+/// BlockError
+///     A joint cannot cut a block consistently (the message names the joint).
+/// OSError
+///     The spec file cannot be read.
+///
+/// Examples
+/// --------
+/// >>> import penedge
+/// >>> system, report = penedge.generate({
+/// ...     "domain": {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]},
+/// ...     "joints": [{"type": "set", "dip": 0, "dip_direction": 0, "spacing": 2.5}],
+/// ... })
+/// >>> len(system), report["joint_planes"], report["volume_error"] < 1e-12
+/// (4, 3, True)
+/// >>> try:
+/// ...     penedge.generate({"domain": {"type": "box", "min": [0, 0, 0], "max": [1, 1, 1]},
+/// ...                       "joints": [{"type": "plane", "point": [0, 0, 0.5],
+/// ...                                   "dip": 120, "dip_direction": 0}]})
+/// ... except penedge.SpecError as e:
+/// ...     print(e.field, "-", e)
+/// joints[0].dip - joints[0].dip: dip must be between 0 and 90 degrees, got 120
+#[pyfunction]
+#[pyo3(signature = (spec, progress = None))]
+pub fn generate<'py>(
+    py: Python<'py>,
+    spec: &Bound<'py, PyAny>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<(BlockSystem, Bound<'py, PyAny>)> {
+    let (spec, file) = read(py, spec)?;
+    let in_file = |e: Error| match &file {
+        Some(path) => e.in_file(path),
+        None => e,
+    };
+    let Generated { system, report } = run(py, &spec, progress).map_err(|e| match e {
+        Failure::Generation(e) => to_py_err(in_file(e.into())),
+        Failure::Progress(e) => e,
+    })?;
+    Ok((BlockSystem::wrap(system), arrays::to_python(py, &report)?))
+}
+
+/// The spec, parsed (its values are checked by the core as it runs), and its file.
+fn read(py: Python<'_>, spec: &Bound<'_, PyAny>) -> PyResult<(Spec, Option<PathBuf>)> {
+    if let Ok(text) = spec.cast::<PyString>() {
+        let text = text.to_str()?;
+        if text.contains('\n') {
+            return Ok((parse_toml(text).map_err(to_py_err)?, None));
+        }
+    }
+    if spec.is_instance_of::<PyDict>() || spec.is_instance_of::<PyMapping>() {
+        let text = toml_text(spec)?;
+        return Ok((parse_toml(&text).map_err(to_py_err)?, None));
+    }
+    let path: PathBuf = spec.extract().map_err(|_| {
+        let kind = spec.get_type().name().map_or("?".into(), |n| n.to_string());
+        crate::errors::input_error(
+            "spec",
+            format!("spec must be a path, TOML text or a dict, got {kind}"),
+        )
+    })?;
+    let spec = py
+        .detach(|| read_spec(&path))
+        .map_err(|e| to_py_err(Error::from(e).in_file(&path)))?;
+    Ok((spec, Some(path)))
+}
+
+/// Why a run stopped: the core's error, or the progress callback's exception.
+enum Failure {
+    Generation(GenerationError),
+    Progress(PyErr),
+}
+
+/// Runs the generation without the GIL, calling `progress` now and then.
+fn run(py: Python<'_>, spec: &Spec, progress: Option<Py<PyAny>>) -> Result<Generated, Failure> {
+    let mut failure: Option<PyErr> = None;
+    let result = py.detach(|| {
+        let mut last = Instant::now();
+        let mut report = |p: Progress| {
+            let Some(callback) = &progress else { return };
+            let done = p.planes_done == p.planes_total;
+            if failure.is_some() || (!done && last.elapsed() < PROGRESS_INTERVAL) {
+                return;
+            }
+            last = Instant::now();
+            Python::attach(|py| {
+                let args = (p.planes_done, p.planes_total, p.blocks);
+                let call = py.check_signals().and_then(|()| callback.call1(py, args));
+                failure = call.err();
+            });
+        };
+        generate_with_progress(spec, &mut report)
+    });
+    match failure {
+        Some(e) => Err(Failure::Progress(e)),
+        None => result.map_err(Failure::Generation),
+    }
+}
+
+/// A spec given as a dict, written as TOML text.
+fn toml_text(spec: &Bound<'_, PyAny>) -> PyResult<String> {
+    let value = toml_value(spec, "spec")?.unwrap_or(toml::Value::Table(toml::Table::new()));
+    let toml::Value::Table(table) = value else {
+        unreachable!("a mapping becomes a table")
+    };
+    toml::to_string(&table).map_err(|e| spec_error("spec", e.to_string()))
+}
+
+fn spec_error(field: &str, message: String) -> PyErr {
+    let message = format!("{field}: {message}");
+    to_py_err(Error::Spec("invalid".into(), field.into(), message))
+}
+
+/// A Python value as a TOML value (None: left out).
+fn toml_value(obj: &Bound<'_, PyAny>, field: &str) -> PyResult<Option<toml::Value>> {
+    use toml::Value;
+    if obj.is_none() {
+        return Ok(None);
+    }
+    let value = if obj.is_instance_of::<PyBool>() {
+        Value::Boolean(obj.extract()?)
+    } else if obj.is_instance_of::<PyInt>() {
+        let n: i64 = obj
+            .extract()
+            .map_err(|_| spec_error(field, format!("the integer {obj} is too large")))?;
+        Value::Integer(n)
+    } else if obj.is_instance_of::<PyFloat>() {
+        Value::Float(obj.extract()?)
+    } else if let Ok(s) = obj.cast::<PyString>() {
+        Value::String(s.to_str()?.to_string())
+    } else if let Ok(mapping) = obj.cast::<PyMapping>() {
+        Value::Table(toml_table(mapping, field)?)
+    } else if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() {
+        Value::Array(toml_array(obj, field)?)
+    } else if obj.hasattr("tolist")? {
+        // numpy arrays and scalars
+        return toml_value(&obj.call_method0("tolist")?, field);
+    } else {
+        let kind = obj.get_type().name()?;
+        let msg = format!("must be a number, string, list or table, got {kind}");
+        return Err(spec_error(field, msg));
+    };
+    Ok(Some(value))
+}
+
+fn toml_table(mapping: &Bound<'_, PyMapping>, field: &str) -> PyResult<toml::Table> {
+    let mut table = toml::Table::new();
+    for item in mapping.items()?.iter() {
+        let (key, value): (Bound<'_, PyAny>, Bound<'_, PyAny>) = item.extract()?;
+        let key = key.str()?.to_string();
+        let path = if field == "spec" {
+            key.clone()
+        } else {
+            format!("{field}.{key}")
+        };
+        if let Some(v) = toml_value(&value, &path)? {
+            table.insert(key, v);
+        }
+    }
+    Ok(table)
+}
+
+fn toml_array(list: &Bound<'_, PyAny>, field: &str) -> PyResult<Vec<toml::Value>> {
+    let mut out = Vec::new();
+    for (i, item) in list.try_iter()?.enumerate() {
+        let path = format!("{field}[{i}]");
+        match toml_value(&item?, &path)? {
+            Some(v) => out.push(v),
+            None => return Err(spec_error(&path, "None in a list".into())),
+        }
+    }
+    Ok(out)
+}

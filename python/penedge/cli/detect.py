@@ -1,0 +1,130 @@
+"""``penedge detect BLOCKS``: every contact of a block file, with its geometry."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+import penedge
+from penedge.cli.common import PROG, UsageError, check_distinct, output_file, plural
+
+EPILOG = """\
+examples:
+  penedge generate spec.toml -o blocks.json
+  penedge detect blocks.json                       the table of contact counts only
+  penedge detect blocks.json -o contacts.csv --vtp contacts.vtp
+  penedge detect blocks.json --gap 1e-6 --json     with a relative gap, counts as JSON
+
+contacts.csv has one row per contact: block_a, block_b, type, type_code (1..7),
+normal_x, normal_y, normal_z (unit, from block_a to block_b), distance (gap > 0,
+depth < 0), area (face-face), n_points. contacts.vtp (ParaView) holds the contact
+points, segments and polygons with the same data. A file named here is replaced if
+it exists, at once; the input is never overwritten."""
+
+
+def add_parser(commands: Any) -> argparse.ArgumentParser:
+    """Adds ``detect`` to the subcommands."""
+    detect = commands.add_parser(
+        "detect",
+        help="find every contact of a block file (block file -> contacts)",
+        description="Read a block file (from `penedge generate`), find every contact with its\n"
+        "type, normal, distance, area and contact points, print the number of contacts\n"
+        "of each type and write them.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    detect.set_defaults(subparser=detect, run=run_detect)
+    detect.add_argument("blocks", metavar="BLOCKS", help="the block file (.json)")
+    detect.add_argument(
+        "-o", "--output", metavar="FILE", help="the contacts table (.csv), one row per contact"
+    )
+    detect.add_argument(
+        "--vtp", metavar="FILE", help="the contacts for ParaView (.vtp): points, lines, polygons"
+    )
+    detect.add_argument(
+        "--gap",
+        type=float,
+        default=1e-12,
+        metavar="G",
+        help="relative gap: blocks closer than G x block size touch (default 1e-12, rounding only)",
+    )
+    detect.add_argument("--json", action="store_true", help="print the summary as JSON")
+    detect.add_argument("-q", "--quiet", action="store_true", help="print no summary")
+    return detect
+
+
+def run_detect(args: argparse.Namespace) -> int:
+    """``penedge detect BLOCKS``."""
+    blocks = Path(args.blocks)
+    csv = output_file(args.output, "-o/--output", (".csv",))
+    vtp = output_file(args.vtp, "--vtp", (".vtp",))
+    check_distinct({"BLOCKS": blocks}, {"-o/--output": csv, "--vtp": vtp})
+    system = penedge.BlockSystem.read_json(blocks)
+    try:
+        found = system.detect(gap=args.gap, geometry=True)
+    except penedge.ToleranceError as e:
+        raise UsageError(f"argument --gap: {e}") from None
+    written = []
+    for path, write in ((csv, found.write_csv), (vtp, found.write_vtp)):
+        if path is not None:
+            write(path)
+            written.append(str(path))
+    summary = summarize(blocks, system, found, args.gap, written)
+    if summary["penetrating"]:
+        print(f"{PROG}: warning: {penetration_note(found)}", file=sys.stderr)
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    elif not args.quiet:
+        print(format_summary(summary))
+    return 0
+
+
+def summarize(
+    blocks: Path, system: Any, found: Any, gap: float, written: list[str]
+) -> dict[str, Any]:
+    """The result as plain data (what ``--json`` prints)."""
+    face_face = found.types == penedge.CONTACT_TYPES.index("face-face") + 1
+    return {
+        "blocks_file": str(blocks),
+        "blocks": len(system),
+        "gap": gap,
+        "contacts": len(found),
+        "counts": found.counts(),
+        "face_face_area": float(found.areas[face_face].sum()),
+        "penetrating": len(found.penetrating),
+        "written": written,
+    }
+
+
+def penetration_note(found: Any) -> str:
+    """Which pairs overlap deeper than the gap (the first few)."""
+    pairs = [f"{a}-{b}" for a, b in found.penetrating[:5].tolist()]
+    more = ", ..." if len(found.penetrating) > 5 else ""
+    n = len(found.penetrating)
+    return (
+        f"{plural(n, 'pair')} of blocks overlap deeper than the gap "
+        f"({', '.join(pairs)}{more}); they are not contacts"
+    )
+
+
+def format_summary(summary: dict[str, Any]) -> str:
+    """The table of counts per contact type."""
+    lines = [
+        f"{summary['blocks_file']}: {plural(summary['blocks'], 'block')}, "
+        f"{plural(summary['contacts'], 'contact')} (relative gap {summary['gap']:g})",
+        "",
+        f"{'code':>4}  {'contact type':<25}{'count':>8}",
+    ]
+    for code, (name, count) in enumerate(summary["counts"].items(), start=1):
+        lines.append(f"{code:>4}  {name:<25}{count:>8}")
+    lines.append(f"{'':>4}  {'total':<25}{summary['contacts']:>8}")
+    lines.append("")
+    lines.append(f"face-face contact area: {summary['face_face_area']:.6g}")
+    if summary["penetrating"]:
+        lines.append(f"penetrating pairs: {summary['penetrating']} (not counted above)")
+    if summary["written"]:
+        lines.append(f"written: {', '.join(summary['written'])}")
+    return "\n".join(lines)

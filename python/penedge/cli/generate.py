@@ -1,0 +1,202 @@
+"""``penedge generate SPEC``: cut a rock domain into blocks and write them."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+from typing import IO, Any
+
+import penedge
+from penedge.cli.common import (
+    PROG,
+    CommandError,
+    check_distinct,
+    output_file,
+    plural,
+    require_matplotlib,
+    write_via_temp,
+)
+from penedge.cli.progress import ProgressBar
+
+EPILOG = """\
+examples:
+  penedge generate examples/three_joint_sets.toml -o blocks.json
+  penedge generate spec.toml -o blocks.json --vtu blocks.vtu --csv blocks.csv \\
+                   --stats-png volumes.png
+  penedge generate spec.toml                   check the spec, print the summary, write nothing
+  penedge detect blocks.json -o contacts.csv   then the contacts of the blocks
+
+The spec (TOML, or JSON when SPEC ends in .json) is described in docs/generation.md;
+examples/ has one spec for each feature. A file named here is replaced if it exists, at
+once (a reader never sees half a file); an input is never overwritten. A progress bar
+shows on a terminal when the run takes more than a second."""
+
+# option -> (destination, suffixes, what it holds)
+OUTPUTS = {
+    "-o/--output": ("output", (".json",), "the block file (JSON, read by `penedge detect`)"),
+    "--vtu": ("vtu", (".vtu",), "the blocks for ParaView (one polyhedron cell per block)"),
+    "--faces-vtu": (
+        "faces_vtu",
+        (".vtu",),
+        "the block faces for ParaView, with their origin (boundary or joint set)",
+    ),
+    "--csv": ("csv", (".csv",), "the block table: id, volume, centroid, faces, free faces"),
+    "--stats-png": (
+        "stats_png",
+        (".png",),
+        "the block volume distribution (cumulative volume fraction, V10/V50/V90)",
+    ),
+}
+
+
+def add_parser(commands: Any) -> argparse.ArgumentParser:
+    """Adds ``generate`` to the subcommands."""
+    generate = commands.add_parser(
+        "generate",
+        help="cut a rock domain into blocks (spec file -> block file)",
+        description="Cut the domain of a spec into convex blocks by its joint planes, joint\n"
+        "sets and finite joints, print a summary (block count, V10/V50/V90, skipped\n"
+        "partial cuts, slivers) and write the blocks.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    generate.set_defaults(subparser=generate, run=run_generate)
+    generate.add_argument("spec", metavar="SPEC", help="the spec file (.toml or .json)")
+    for option, (dest, _, what) in OUTPUTS.items():
+        flags = option.split("/")
+        generate.add_argument(*flags, dest=dest, metavar="FILE", help=what)
+    generate.add_argument("--json", action="store_true", help="print the summary as JSON on stdout")
+    generate.add_argument(
+        "-q", "--quiet", action="store_true", help="no progress bar and no summary"
+    )
+    return generate
+
+
+def run_generate(args: argparse.Namespace) -> int:
+    """``penedge generate SPEC``."""
+    spec = Path(args.spec)
+    outputs = {
+        option: output_file(getattr(args, dest), option, suffixes)
+        for option, (dest, suffixes, _) in OUTPUTS.items()
+    }
+    check_distinct({"SPEC": spec}, outputs)
+    if outputs["--stats-png"] is not None:
+        require_matplotlib("--stats-png")
+    show_bar = not args.quiet and not args.json and sys.stderr.isatty()
+    bar = ProgressBar(sys.stderr, f"{PROG} generate") if show_bar else None
+    start = time.perf_counter()
+    try:
+        system, report = penedge.generate(spec, progress=bar)
+    finally:
+        if bar is not None:
+            bar.close()
+    seconds = time.perf_counter() - start
+    png = outputs["--stats-png"]
+    if png is not None and len(system) == 0:
+        raise CommandError(f"cannot draw {png}: no blocks left (every block was a sliver)")
+    written = write_outputs(system, outputs)
+    summary = summarize(spec, system, report, seconds, written)
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    elif not args.quiet:
+        print(format_summary(summary, system))
+    return 0
+
+
+def write_outputs(system: Any, outputs: dict[str, Path | None]) -> list[str]:
+    """Writes every output asked for (each replaced atomically); returns their names."""
+    writers = {
+        "-o/--output": system.write_json,
+        "--vtu": system.write_vtu,
+        "--faces-vtu": system.write_faces_vtu,
+        "--csv": system.write_csv,
+        "--stats-png": lambda path: write_stats_png(system, path),
+    }
+    written = []
+    for option, path in outputs.items():
+        if path is not None:
+            writers[option](path)
+            written.append(str(path))
+    return written
+
+
+def write_stats_png(system: Any, path: Path) -> None:
+    """The volume distribution picture, through a temporary file."""
+    from penedge import pictures
+
+    def write(handle: IO[bytes]) -> None:
+        pictures.save_volume_distribution(system, handle, format="png")
+
+    write_via_temp(path, True, write)
+
+
+def summarize(
+    spec: Path, system: Any, report: dict[str, Any], seconds: float, written: list[str]
+) -> dict[str, Any]:
+    """The result of a run as plain data (what ``--json`` prints)."""
+    return {
+        "spec": str(spec),
+        "blocks": len(system),
+        "seconds": seconds,
+        "statistics": system.statistics(),
+        "report": report,
+        "sets": system.sets,
+        "written": written,
+    }
+
+
+def format_summary(summary: dict[str, Any], system: Any) -> str:
+    """The human-readable summary of a run."""
+    report, stats = summary["report"], summary["statistics"]
+    lines = [
+        f"{PROG} generate {summary['spec']}: {plural(summary['blocks'], 'block')} "
+        f"in {summary['seconds']:.2f} s",
+        row("joint planes", f"{report['joint_planes']} ({plural(report['splits'], 'split')})"),
+    ]
+    if stats is not None:
+        lines.append(
+            row(
+                "block volume",
+                f"V10 {stats['v10']:.4g}, V50 {stats['v50']:.4g}, V90 {stats['v90']:.4g} "
+                f"(min {stats['min_volume']:.4g}, max {stats['max_volume']:.4g})",
+            )
+        )
+    lines.append(row("partial cuts skipped", partial_cuts(report, summary["sets"])))
+    lines.append(row("slivers", slivers(report["slivers"])))
+    if report["set_planes_outside"]:
+        lines.append(row("set planes outside", f"{report['set_planes_outside']} (left out)"))
+    if report["retried_cuts"]:
+        lines.append(row("cuts retried", f"{report['retried_cuts']} (exact signs)"))
+    lines.append(row("volume error", f"{report['volume_error']:.1e} (blocks vs domain)"))
+    if summary["written"]:
+        lines.append(row("written", ", ".join(summary["written"])))
+    return "\n".join(lines)
+
+
+def row(label: str, value: str) -> str:
+    """One aligned line of the summary."""
+    return f"  {label:<22}{value}"
+
+
+def partial_cuts(report: dict[str, Any], sets: list[dict[str, str]]) -> str:
+    """``2 (lens 2)``: finite joints that ended inside a block, by spec entry."""
+    total = report["partial_cuts_skipped"]
+    by_entry = [
+        f"{sets[i]['name']} {n}" for i, n in enumerate(report["partial_cuts_by_entry"]) if n
+    ]
+    return f"{total} ({', '.join(by_entry)})" if by_entry else str(total)
+
+
+def slivers(s: dict[str, Any]) -> str:
+    """What happened to the blocks below the minimum thickness or volume."""
+    limits = f"thinner than {s['min_thickness']:.3g} or smaller than {s['min_volume']:.3g}"
+    if s["count"] == 0:
+        return f"none ({limits})"
+    if s["policy"] == "drop":
+        return f"{s['count']} dropped, volume {s['volume']:.3g} ({limits})"
+    ids = ", ".join(str(i) for i in s["kept_ids"][:8])
+    more = ", ..." if len(s["kept_ids"]) > 8 else ""
+    return f"{s['count']} kept: ids {ids}{more} ({limits})"

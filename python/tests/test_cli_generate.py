@@ -1,0 +1,311 @@
+"""``penedge generate`` and ``penedge detect`` end to end: files, summaries, exit codes,
+outputs that must not be overwritten, --quiet, the progress bar."""
+
+import csv
+import functools
+import io
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import penedge
+from penedge import cli
+from penedge.cli import generate as generate_command
+from penedge.cli.progress import ProgressBar
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+BAD_SPEC = """\
+[domain]
+type = "box"
+min = [0, 0, 0]
+max = [10, 10, 10]
+
+[[joints]]
+type = "plane"
+point = [5, 5, 5]
+dip = 120
+dip_direction = 0
+"""
+
+
+def run(*args, cwd):
+    env = {**os.environ, "PYTHONWARNINGS": "error"}
+    return subprocess.run(
+        [sys.executable, "-m", "penedge", *map(str, args)],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+        check=False,
+    )
+
+
+def squeeze(text):
+    return [" ".join(line.split()) for line in text.splitlines()]
+
+
+def test_generate_then_detect(tmp_path):
+    spec = EXAMPLES / "paper_example_3.toml"
+    made = run(
+        "generate",
+        spec,
+        "-o",
+        "blocks.json",
+        "--vtu",
+        "blocks.vtu",
+        "--csv",
+        "blocks.csv",
+        "--faces-vtu",
+        "faces.vtu",
+        cwd=tmp_path,
+    )
+    assert made.returncode == 0, made.stderr
+    assert made.stderr == ""
+    lines = squeeze(made.stdout)
+    assert lines[0].startswith(f"penedge generate {spec}: 26 blocks in")
+    assert "block volume V10 20.83, V50 41.67, V90 125 (min 20.83, max 125)" in lines
+    assert "partial cuts skipped 0" in lines
+    assert "written blocks.json, blocks.vtu, faces.vtu, blocks.csv" in lines
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "blocks.csv",
+        "blocks.json",
+        "blocks.vtu",
+        "faces.vtu",
+    ]
+    assert len(penedge.BlockSystem.read_json(tmp_path / "blocks.json")) == 26
+
+    found = run(
+        "detect", "blocks.json", "-o", "contacts.csv", "--vtp", "contacts.vtp", cwd=tmp_path
+    )
+    assert found.returncode == 0, found.stderr
+    lines = squeeze(found.stdout)
+    assert lines[0] == "blocks.json: 26 blocks, 325 contacts (relative gap 1e-12)"
+    for row in (
+        "1 vertex-vertex 205",
+        "4 edge-edge-superposition 78",
+        "7 face-face 42",
+        "total 325",
+        "face-face contact area: 724.264",
+    ):
+        assert row in lines
+    with (tmp_path / "contacts.csv").open(newline="", encoding="utf-8") as f:
+        assert len(list(csv.DictReader(f))) == 325
+    assert (tmp_path / "contacts.vtp").read_text(encoding="utf-8").startswith("<?xml")
+
+
+def test_json_summaries(tmp_path):
+    made = run("generate", EXAMPLES / "finite_disc.toml", "--json", cwd=tmp_path)
+    assert made.returncode == 0, made.stderr
+    summary = json.loads(made.stdout)
+    assert summary["blocks"] == 5
+    assert summary["report"]["partial_cuts_by_entry"] == [0, 2]
+    assert summary["statistics"]["count"] == 5
+    assert summary["written"] == []
+    assert list(tmp_path.iterdir()) == []  # nothing asked, nothing written
+    penedge.paper_example(1).write_json(tmp_path / "ex1.json")
+    found = run("detect", "ex1.json", "--json", "--gap", "1e-6", cwd=tmp_path)
+    summary = json.loads(found.stdout)
+    assert summary["contacts"] == 28
+    assert summary["gap"] == 1e-6
+    assert summary["counts"]["face-face"] == 12
+    assert summary["face_face_area"] == pytest.approx(300)
+
+
+def test_summary_names_partial_cuts_and_slivers(tmp_path):
+    disc = squeeze(run("generate", EXAMPLES / "finite_disc.toml", cwd=tmp_path).stdout)
+    assert "partial cuts skipped 2 (lens 2)" in disc
+    slivers = squeeze(run("generate", EXAMPLES / "slivers.toml", cwd=tmp_path).stdout)
+    assert any(line.startswith("slivers 4 dropped, volume 0.1") for line in slivers)
+
+
+def test_quiet_prints_nothing(tmp_path):
+    made = run("generate", EXAMPLES / "joint_set_fill.toml", "-o", "b.json", "-q", cwd=tmp_path)
+    assert (made.returncode, made.stdout, made.stderr) == (0, "", "")
+    found = run("detect", "b.json", "-o", "c.csv", "--quiet", cwd=tmp_path)
+    assert (found.returncode, found.stdout, found.stderr) == (0, "", "")
+    assert (tmp_path / "c.csv").exists()
+
+
+def test_a_named_output_is_replaced(tmp_path):
+    (tmp_path / "blocks.json").write_text("old", encoding="utf-8")
+    made = run("generate", EXAMPLES / "plane_dip.toml", "-o", "blocks.json", cwd=tmp_path)
+    assert made.returncode == 0, made.stderr
+    assert len(penedge.BlockSystem.read_json(tmp_path / "blocks.json")) == 2
+    assert [p.name for p in tmp_path.iterdir()] == ["blocks.json"]  # no temporary left
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["generate", "spec.json", "-o", "spec.json"], "is also the input SPEC; refusing"),
+        (
+            ["generate", "spec.json", "--vtu", "a.vtu", "--faces-vtu", "a.vtu"],
+            "is also given to --vtu; refusing",
+        ),
+        (["detect", "blocks.json", "-o", "c.csv", "--vtp", "c.csv"], "should end in .vtp"),
+        (["generate", "spec.json", "-o", "blocks.csv"], "should end in .json"),
+        (["generate", "spec.json", "--stats-png", "v.svg"], "should end in .png"),
+        (["detect", "blocks.json", "-o", "contacts.json"], "should end in .csv"),
+        (["detect", "blocks.json", "-o", "folder.csv"], "is a directory"),
+        (["detect", "blocks.json", "--gap", "0.5"], "argument --gap"),
+        (["generate"], "the following arguments are required: SPEC"),
+        (["detect"], "the following arguments are required: BLOCKS"),
+    ],
+)
+def test_usage_errors_exit_2_and_touch_nothing(args, message, tmp_path):
+    spec = tmp_path / "spec.json"
+    spec.write_text('{"domain": {"type": "box", "min": [0, 0, 0], "max": [1, 1, 1]}}')
+    penedge.paper_example(1).write_json(tmp_path / "blocks.json")
+    (tmp_path / "folder.csv").mkdir()
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir() if p.is_file()}
+    result = run(*args, cwd=tmp_path)
+    assert result.returncode == 2, result.stderr
+    assert message in result.stderr
+    assert "Traceback" not in result.stderr
+    after = {p.name: p.read_bytes() for p in tmp_path.iterdir() if p.is_file()}
+    assert after == before
+
+
+def test_an_input_named_through_another_path_is_not_overwritten(tmp_path):
+    (tmp_path / "sub").mkdir()
+    penedge.paper_example(1).write_json(tmp_path / "blocks.json")
+    before = (tmp_path / "blocks.json").read_bytes()
+    result = run(
+        "generate",
+        EXAMPLES / "plane_dip.toml",
+        "-o",
+        "sub/../blocks.json",
+        "--vtu",
+        "x.vtu",
+        cwd=tmp_path,
+    )
+    assert result.returncode == 0  # an output, not an input: replaced as asked
+    (tmp_path / "spec.toml").write_text((EXAMPLES / "plane_dip.toml").read_text())
+    (tmp_path / "link.json").symlink_to(tmp_path / "spec.toml")
+    result = run("generate", "spec.toml", "-o", "link.json", cwd=tmp_path)
+    assert result.returncode == 2
+    assert "refusing to overwrite" in result.stderr
+    assert before != (tmp_path / "blocks.json").read_bytes()
+
+
+@pytest.mark.parametrize(
+    ("setup", "args", "message"),
+    [
+        (
+            "bad",
+            ["generate", "bad.toml", "-o", "out.json"],
+            "penedge: error: bad.toml: joints[0].dip: dip must be between 0 and 90 degrees",
+        ),
+        (None, ["generate", "none.toml"], "penedge: error: none.toml: No such file or directory"),
+        (None, ["detect", "none.json"], "penedge: error: none.json: No such file or directory"),
+        ("bad", ["detect", "bad.toml"], "penedge: error: bad.toml: expected value"),
+        (
+            None,
+            ["generate", str(EXAMPLES / "plane_dip.toml"), "-o", "no/dir/b.json"],
+            "penedge: error: cannot write no/dir/b.json: no directory 'no/dir'",
+        ),
+    ],
+)
+def test_runtime_errors_exit_1_without_traceback(setup, args, message, tmp_path):
+    if setup == "bad":
+        (tmp_path / "bad.toml").write_text(BAD_SPEC, encoding="utf-8")
+    result = run(*args, cwd=tmp_path)
+    assert result.returncode == 1
+    assert result.stderr.splitlines()[0].startswith(message), result.stderr
+    assert "Traceback" not in result.stderr
+    assert result.stdout == ""
+    assert not (tmp_path / "out.json").exists()
+
+
+def test_penetrating_pairs_are_a_warning(tmp_path):
+    system = penedge.BlockSystem(
+        [penedge.Block.cuboid([0, 0, 0], [1, 1, 1]), penedge.Block.cuboid([0.5, 0, 0], [2, 1, 1])]
+    )
+    system.write_json(tmp_path / "overlap.json")
+    result = run("detect", "overlap.json", "-o", "c.csv", cwd=tmp_path)
+    assert result.returncode == 0
+    assert "penedge: warning: 1 pair of blocks overlap deeper than the gap (0-1)" in result.stderr
+    assert "penetrating pairs: 1" in result.stdout
+
+
+def test_stats_png(tmp_path):
+    pytest.importorskip("matplotlib")
+    from matplotlib.image import imread
+
+    result = run(
+        "generate", EXAMPLES / "joint_set_random.toml", "--stats-png", "v.png", cwd=tmp_path
+    )
+    assert result.returncode == 0, result.stderr
+    image = imread(tmp_path / "v.png")
+    assert image.shape[0] > 500
+    assert image.shape[1] > 800
+    assert image[..., :3].std() > 0.05
+    assert [p.name for p in tmp_path.iterdir()] == ["v.png"]
+
+
+def test_example_with_contacts(tmp_path):
+    pytest.importorskip("matplotlib")
+    result = run("example", "1", "--contacts", "-o", "ex.png", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "ex.png").read_bytes().startswith(b"\x89PNG")
+    refused = run("example", "1", "--contacts", "--no-picture", cwd=tmp_path)
+    assert refused.returncode == 2
+    assert "argument --contacts" in refused.stderr
+
+
+class FakeClock:
+    def __init__(self):
+        self.now = 0.0
+
+    def __call__(self):
+        return self.now
+
+
+def test_progress_bar_waits_then_draws_in_place():
+    stream, clock = io.StringIO(), FakeClock()
+    bar = ProgressBar(stream, "gen", delay=1.0, clock=clock, width=10)
+    bar(1, 4, 2)
+    assert stream.getvalue() == ""  # a short run prints nothing
+    clock.now = 1.5
+    bar(2, 4, 3)
+    clock.now = 2.5
+    bar(4, 4, 5)
+    bar.close()
+    assert stream.getvalue() == (
+        "\rgen [#####.....]  50%  2/4 planes, 3 blocks, 2 s"
+        "\rgen [##########] 100%  4/4 planes, 5 blocks, 2 s\n"
+    )
+
+
+def test_progress_bar_shows_on_a_terminal(monkeypatch, capsys):
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    terminal = Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    monkeypatch.setattr(generate_command, "ProgressBar", functools.partial(ProgressBar, delay=0.0))
+    assert cli.main(["generate", str(EXAMPLES / "joint_set_random.toml")]) == 0
+    assert "] 100%  15/15 planes, 18 blocks" in terminal.getvalue()
+    assert terminal.getvalue().endswith("\n")
+    assert "18 blocks" in capsys.readouterr().out
+    terminal.truncate(0)
+    assert cli.main(["generate", str(EXAMPLES / "joint_set_random.toml"), "-q"]) == 0
+    assert terminal.getvalue() == ""
+
+
+def test_no_block_left_is_an_error_before_anything_is_written(tmp_path):
+    (tmp_path / "all.toml").write_text(
+        '[domain]\ntype = "box"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n\n'
+        '[options]\nmin_volume = 5\nslivers = "drop"\n',
+        encoding="utf-8",
+    )
+    result = run("generate", "all.toml", "-o", "b.json", "--stats-png", "v.png", cwd=tmp_path)
+    assert result.returncode == 1
+    assert "no blocks left" in result.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["all.toml"]

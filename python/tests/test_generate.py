@@ -1,0 +1,316 @@
+"""Block generation from Python: every example spec, every way to give a spec, bad specs,
+the report, statistics, flat arrays and progress."""
+
+import json
+import math
+import pickle
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import penedge
+from penedge.pictures import passing_volume
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+SPECS = sorted(EXAMPLES.glob("*.toml"))
+BOX = {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]}
+
+
+def spec_dict(name):
+    with (EXAMPLES / name).open("rb") as f:
+        return tomllib.load(f)
+
+
+def same_blocks(s, t):
+    a, b = s.arrays(), t.arrays()
+    for name in ("vertices", "face_offsets", "face_vertices", "face_normals", "volumes"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+
+
+def test_the_examples_folder_has_specs():
+    assert len(SPECS) >= 14
+
+
+@pytest.mark.parametrize("path", SPECS, ids=lambda p: p.stem)
+def test_every_example_spec_generates(path):
+    system, report = penedge.generate(path)
+    assert len(system) == report["blocks"] > 1
+    assert report["volume_error"] < 1e-9
+    kept_and_dropped = report["block_volume"]
+    if report["slivers"]["policy"] == "drop":
+        kept_and_dropped += report["slivers"]["volume"]
+    assert kept_and_dropped == pytest.approx(report["domain_volume"], rel=1e-9)
+    assert system.volumes.sum() == pytest.approx(report["block_volume"], rel=1e-9)
+    assert len(system.sets) == len(spec_dict(path.name).get("joints", []))
+    assert len(system.domain) == 1
+    stats = system.statistics()
+    assert stats["count"] == len(system)
+    assert stats["min_volume"] <= stats["v10"] <= stats["v50"] <= stats["v90"]
+
+
+@pytest.mark.parametrize("n", [1, 2, 3])
+def test_paper_examples_from_their_specs(n):
+    system, _ = penedge.generate(EXAMPLES / f"paper_example_{n}.toml")
+    assert system.detect().counts() == penedge.paper_example(n).detect().counts()
+
+
+def test_a_spec_as_path_text_dict_or_json_gives_the_same_blocks(tmp_path):
+    path = EXAMPLES / "joint_set_random.toml"
+    reference, _ = penedge.generate(path)
+    as_json = tmp_path / "spec.json"
+    as_json.write_text(json.dumps(spec_dict(path.name)), encoding="utf-8")
+    for spec in (str(path), path.read_text(encoding="utf-8"), spec_dict(path.name), as_json):
+        system, _ = penedge.generate(spec)
+        same_blocks(system, reference)
+
+
+def test_a_dict_may_hold_numpy_values_and_none():
+    spec = {
+        "domain": {"type": "box", "min": np.zeros(3), "max": np.array([10, 10, 10])},
+        "joints": [
+            {
+                "type": "set",
+                "dip": np.float64(0),
+                "dip_direction": 0,
+                "spacing": 2.5,
+                "number": np.int64(2),
+                "origin": (0, 0, 2.5),
+                "name": None,
+            },
+        ],
+    }
+    system, report = penedge.generate(spec)
+    assert len(system) == 3
+    assert report["joint_planes"] == 2
+    assert system.sets == [{"name": "joints[0]", "kind": "set"}]
+
+
+def test_report_counts_partial_cuts_by_entry():
+    system, report = penedge.generate(EXAMPLES / "finite_disc.toml")
+    assert report["partial_cuts_skipped"] == 2
+    assert report["partial_cuts_by_entry"] == [0, 2]
+    assert [s["name"] for s in system.sets] == ["vertical", "lens"]
+
+
+def test_report_counts_dropped_slivers():
+    _, report = penedge.generate(EXAMPLES / "slivers.toml")
+    slivers = report["slivers"]
+    assert slivers["policy"] == "drop"
+    assert slivers["count"] == 4
+    assert slivers["volume"] == pytest.approx(4 * 2.5 * 10 * 0.001, rel=1e-6)
+    assert slivers["kept_ids"] == []
+
+
+def one_plane(**joint):
+    return {"domain": dict(BOX), "joints": [{"type": "plane", "point": [5, 5, 5], **joint}]}
+
+
+def one_set(**joint):
+    return {
+        "domain": dict(BOX),
+        "joints": [{"type": "set", "dip": 0, "dip_direction": 0, "spacing": 2.5, **joint}],
+    }
+
+
+# spec -> (field, kind, part of the message)
+BAD_SPECS = {
+    "dip 120": (one_plane(dip=120, dip_direction=0), "joints[0].dip", "dip", "got 120"),
+    "zero spacing": (one_set(spacing=0), "joints[0].spacing", "not_positive", "got 0"),
+    "plane misses": (
+        {
+            "domain": BOX,
+            "joints": [{"type": "plane", "point": [0, 0, 20], "dip": 0, "dip_direction": 0}],
+        },
+        "joints[0]",
+        "misses_domain",
+        "misses the domain",
+    ),
+    "duplicate plane": (
+        {"domain": BOX, "joints": [one_plane(dip=0, dip_direction=0)["joints"][0]] * 2},
+        "joints[1]",
+        "duplicate",
+        "same plane as joints[0]",
+    ),
+    "NaN in a dict": (
+        one_plane(dip=math.nan, dip_direction=0),
+        "joints[0].dip",
+        "not_finite",
+        "NaN",
+    ),
+    "radius on a plane": (
+        one_plane(dip=0, dip_direction=0, radius=2),
+        "joints[0].radius",
+        "not_allowed",
+        "not a field of a `plane` entry",
+    ),
+    "deviation too large": (
+        one_set(spacing_deviation=2.5),
+        "joints[0].spacing_deviation",
+        "deviation_too_large",
+        "smaller than the spacing",
+    ),
+    "bow-tie polygon": (
+        {
+            "domain": BOX,
+            "joints": [
+                {"type": "polygon", "vertices": [[0, 0, 5], [10, 10, 5], [10, 0, 5], [0, 10, 5]]}
+            ],
+        },
+        "joints[0].vertices",
+        "bad_polygon",
+        "not a flat convex polygon",
+    ),
+    "max below min": (
+        {"domain": {"type": "box", "min": [0, 0, 0], "max": [10, 0, 10]}},
+        "domain.max",
+        "invalid",
+        "greater than",
+    ),
+    "spacing far too small": (
+        one_set(spacing=1e-6),
+        "joints[0].spacing",
+        "too_many_planes",
+        "more than the limit",
+    ),
+    "missing spacing": (
+        {"domain": BOX, "joints": [{"type": "set", "dip": 0, "dip_direction": 0}]},
+        "joints[0].spacing",
+        "missing",
+        "missing",
+    ),
+    "unknown type": (
+        {"domain": BOX, "joints": [{"type": "fault"}]},
+        "joints[0].type",
+        "unknown_type",
+        "unknown type `fault`",
+    ),
+    "typo": (one_set(dipp=3), "spec", "syntax", "unknown field `dipp`"),
+    "both orientations": (
+        one_plane(dip=0, dip_direction=0, normal=[0, 0, 1]),
+        "joints[0]",
+        "orientation",
+        "either `normal` or both",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(BAD_SPECS))
+def test_bad_specs_name_the_field(name):
+    spec, field, kind, message = BAD_SPECS[name]
+    with pytest.raises(penedge.SpecError) as info:
+        penedge.generate(spec)
+    error = info.value
+    assert isinstance(error, ValueError)
+    assert error.field.startswith(field), error.field
+    assert error.kind == kind, (error.kind, str(error))
+    assert message in str(error)
+    assert str(error).startswith(error.field)
+
+
+def test_nan_in_toml_text_names_the_field():
+    text = '[domain]\ntype = "box"\nmin = [0, 0, 0]\nmax = [1, 1, nan]\n'
+    with pytest.raises(penedge.SpecError) as info:
+        penedge.generate(text)
+    assert info.value.field == "domain.max"
+
+
+def test_a_bad_spec_file_is_named_in_the_message(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(
+        '[domain]\ntype = "box"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n\n'
+        '[[joints]]\ntype = "plane"\npoint = [0, 0, 0.5]\ndip = 120\ndip_direction = 0\n',
+        encoding="utf-8",
+    )
+    with pytest.raises(penedge.SpecError, match=r"bad\.toml: joints\[0\]\.dip: dip must be"):
+        penedge.generate(path)
+
+
+def test_a_missing_spec_file_raises_file_not_found(tmp_path):
+    with pytest.raises(FileNotFoundError) as info:
+        penedge.generate(tmp_path / "nowhere.toml")
+    assert info.value.filename == str(tmp_path / "nowhere.toml")
+
+
+@pytest.mark.parametrize("spec", [42, None, [1, 2], {"domain": {"type": "box", "min": object()}}])
+def test_a_spec_of_another_type_is_refused(spec):
+    with pytest.raises(penedge.PenedgeError) as info:
+        penedge.generate(spec)
+    assert isinstance(info.value, penedge.InputError | penedge.SpecError)
+
+
+def test_a_cut_error_is_a_block_error_not_a_crash():
+    assert issubclass(penedge.SpecError, penedge.PenedgeError)
+    assert issubclass(penedge.FileFormatError, ValueError)
+
+
+def test_progress_is_called_and_ends_with_every_plane():
+    calls = []
+    system, report = penedge.generate(
+        EXAMPLES / "joint_set_random.toml", progress=lambda *a: calls.append(a)
+    )
+    assert calls, "the last plane is always reported"
+    assert calls[-1] == (report["joint_planes"], report["joint_planes"], len(system))
+    assert len(calls) <= report["joint_planes"]
+
+
+def test_an_exception_in_progress_is_raised_after_the_run():
+    def fail(done, total, blocks):
+        raise RuntimeError(f"stop at {done}")
+
+    with pytest.raises(RuntimeError, match="stop at"):
+        penedge.generate(EXAMPLES / "joint_set_random.toml", progress=fail)
+
+
+def test_statistics_and_volume_curve():
+    system, _ = penedge.generate(EXAMPLES / "joint_set_random.toml")
+    stats, volumes = system.statistics(), np.sort(system.volumes)
+    for x in (10, 50, 90):
+        assert stats[f"v{x}"] == passing_volume(volumes, x)
+    assert stats["total_volume"] == pytest.approx(volumes.sum())
+    curve_v, passing = system.volume_curve()
+    assert np.array_equal(curve_v, volumes)
+    assert np.all(np.diff(passing) >= 0)
+    assert passing[-1] == pytest.approx(1)
+    assert penedge.BlockSystem([]).statistics() is None
+
+
+def test_flat_arrays_rebuild_the_blocks():
+    system, _ = penedge.generate(EXAMPLES / "finite_polygon.toml")
+    a = system.arrays()
+    assert len(a.vertex_offsets) == len(a.face_offsets) == len(system) + 1
+    assert len(a.loop_offsets) == len(a.face_block) + 1 == a.face_offsets[-1] + 1
+    for i, block in enumerate(system.blocks):
+        v0, v1 = a.vertex_offsets[i : i + 2]
+        assert np.array_equal(a.vertices[v0:v1], block.vertices)
+        f0, f1 = a.face_offsets[i : i + 2]
+        assert (a.face_block[f0:f1] == i).all()
+        loops = [
+            a.face_vertices[a.loop_offsets[f] : a.loop_offsets[f + 1]] - v0 for f in range(f0, f1)
+        ]
+        assert [loop.tolist() for loop in loops] == block.faces
+        assert np.array_equal(a.face_normals[f0:f1], block.face_normals)
+    assert np.array_equal(a.volumes, system.volumes)
+    assert np.array_equal(a.centroids, system.centroids)
+    with pytest.raises(ValueError, match="read-only"):
+        a.volumes[0] = 1
+
+
+def test_face_origins_tell_free_faces_from_joint_faces():
+    system, _ = penedge.generate(EXAMPLES / "joint_set_number.toml")
+    a = system.arrays()
+    boundary, joint = a.face_origin_kind == 1, a.face_origin_kind == 2
+    assert (boundary | joint).all()
+    assert (a.face_origin_set[joint] == 0).all()  # the one spec entry
+    assert set(a.face_origin_index[joint].tolist()) <= set(range(len(system) - 1))
+    # the free faces of a box lie in its six planes, with axis normals
+    assert np.allclose(np.abs(a.face_normals[boundary]).max(axis=1), 1)
+
+
+def test_pickle_keeps_the_provenance():
+    system, _ = penedge.generate(EXAMPLES / "finite_disc.toml")
+    again = pickle.loads(pickle.dumps(system))
+    assert again.sets == system.sets
+    same_blocks(again, system)
+    assert np.array_equal(again.arrays().face_origin_index, system.arrays().face_origin_index)
