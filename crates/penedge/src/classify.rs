@@ -158,6 +158,45 @@ impl PairResult {
     }
 }
 
+/// Calls `visit` with the representative points of one penetration edge (see the module
+/// docs), one at a time, so that no pair of points is built and read back. An original
+/// vertex comes back once per edge at it: `seen` marks the owner's vertices already
+/// visited (the first 64), which are skipped.
+#[inline]
+fn visit_representatives(
+    pe: &PenetrationEdge,
+    owner: &ConvexBlock,
+    seen: &mut u64,
+    mut visit: impl FnMut(DVec3),
+) {
+    let vertices = owner.vertices();
+    let [v1, v2] = owner.edges()[pe.edge as usize].vertices;
+    let (p, q) = (vertices[v1 as usize], vertices[v2 as usize]);
+    let at = |k: usize| match pe.ends[k] {
+        EdgeEnd::Vertex(v) => vertices[v as usize],
+        EdgeEnd::Cut(_) => p + (q - p) * pe.t[k],
+    };
+    let mut end = |k: usize| {
+        if let EdgeEnd::Vertex(v) = pe.ends[k] {
+            let bit = 1u64.checked_shl(v).unwrap_or(0);
+            if *seen & bit != 0 {
+                return;
+            }
+            *seen |= bit;
+        }
+        visit(at(k))
+    };
+    match (pe.kind, pe.ends) {
+        (PenetrationEdgeType::T3, [EdgeEnd::Vertex(_), _]) => end(0),
+        (PenetrationEdgeType::T3, _) => end(1),
+        (PenetrationEdgeType::T5, _) => visit((at(0) + at(1)) * 0.5),
+        _ => {
+            end(0);
+            end(1);
+        }
+    }
+}
+
 /// Collects the representative points of the penetration edges (see the module docs).
 pub(crate) fn representative_points(
     a: &ConvexBlock,
@@ -166,35 +205,39 @@ pub(crate) fn representative_points(
     out: &mut Vec<DVec3>,
 ) {
     out.clear();
-    // Original vertices come back once per edge at them: keep each point once.
-    let mut push = |p: DVec3| {
-        if !out.contains(&p) {
-            out.push(p)
-        }
-    };
+    let mut seen = [0u64; 2];
     for pe in edges {
-        let owner = if pe.side == Side::A { a } else { b };
-        let [p, q] = pe.points(owner);
-        match (pe.kind, pe.ends) {
-            (PenetrationEdgeType::T3, [EdgeEnd::Vertex(_), _]) => push(p),
-            (PenetrationEdgeType::T3, _) => push(q),
-            (PenetrationEdgeType::T5, _) => push((p + q) * 0.5),
-            _ => {
-                push(p);
-                push(q);
+        let (owner, seen) = side(pe, [a, b], &mut seen);
+        // Keep each point once (a cut can fall on a vertex, or two cuts together).
+        visit_representatives(pe, owner, seen, |p| {
+            if !out.contains(&p) {
+                out.push(p)
             }
-        }
+        });
     }
 }
 
-/// Classifies a touching pair from its representative points (non-empty); `length` is the
-/// absolute length threshold.
+/// The block that owns a penetration edge, and its entry of `seen`.
+#[inline]
+fn side<'a, 's>(
+    pe: &PenetrationEdge,
+    blocks: [&'a ConvexBlock; 2],
+    seen: &'s mut [u64; 2],
+) -> (&'a ConvexBlock, &'s mut u64) {
+    let s = (pe.side == Side::B) as usize;
+    (blocks[s], &mut seen[s])
+}
+
+/// Classifies a touching pair from its penetration edges (non-empty); `length` is the
+/// absolute length threshold, `points` receives the representative points.
 pub(crate) fn classify(
     a: &ConvexBlock,
     b: &ConvexBlock,
-    points: &[DVec3],
+    edges: &[PenetrationEdge],
     length: f64,
+    points: &mut Vec<DVec3>,
 ) -> PairResult {
+    representative_points(a, b, edges, points);
     let (Some(fa), Some(fb)) = (feature_of(a, points, length), feature_of(b, points, length))
     else {
         return PairResult::Penetrating;

@@ -1,7 +1,7 @@
 //! The pair query: penetration edges, then the contact decision and type.
 
 use crate::block::ConvexBlock;
-use crate::classify::{classify, representative_points, PairResult};
+use crate::classify::{classify, PairResult};
 use crate::geometry::DVec3;
 use crate::penetration::{clip_edges, DistanceTable, PenetrationEdge, Side};
 use crate::tolerance::{Thresholds, Tolerance};
@@ -37,7 +37,7 @@ impl Detector {
     /// Absolute thresholds for a pair: the policy at the smaller block's size, with the
     /// rounding floor of the pair's largest coordinate.
     pub fn thresholds(&self, a: &ConvexBlock, b: &ConvexBlock) -> Thresholds {
-        let magnitude = a.aabb().magnitude().max(b.aabb().magnitude());
+        let magnitude = a.magnitude().max(b.magnitude());
         self.tolerance.at_scale(a.size().min(b.size()), magnitude)
     }
 
@@ -62,8 +62,7 @@ impl Detector {
         if deep_a || deep_b {
             return PairResult::Penetrating;
         }
-        representative_points(a, b, &self.edges, &mut self.points);
-        classify(a, b, &self.points, th.length)
+        classify(a, b, &self.edges, th.length, &mut self.points)
     }
 
     /// Penetration edges of the pair last given to [`Detector::detect`] (empty when it was

@@ -12,7 +12,7 @@
 //! with every vertex of the other block beyond the offset separates the pair, which ends the
 //! query early.
 
-use crate::block::ConvexBlock;
+use crate::block::{ConvexBlock, Quad};
 use crate::tolerance::Thresholds;
 
 /// Which block of the pair.
@@ -54,17 +54,11 @@ impl PenetrationEdgeType {
     /// Two original vertices always make a type 1: a block has no edge shorter than the
     /// length threshold (its vertices would be repeated).
     pub fn of(ends: [EdgeEnd; 2], has_length: bool) -> Self {
-        let originals = ends
-            .iter()
-            .filter(|e| matches!(e, EdgeEnd::Vertex(_)))
-            .count();
-        match (originals, has_length) {
-            (2, _) => PenetrationEdgeType::T1,
-            (1, true) => PenetrationEdgeType::T2,
-            (1, false) => PenetrationEdgeType::T3,
-            (_, true) => PenetrationEdgeType::T4,
-            (_, false) => PenetrationEdgeType::T5,
-        }
+        use PenetrationEdgeType::*;
+        // A table lookup: which type comes out is unpredictable, a branch would often miss.
+        const BY_ORIGINALS: [[PenetrationEdgeType; 2]; 3] = [[T5, T4], [T3, T2], [T1, T1]];
+        let original = |e: EdgeEnd| matches!(e, EdgeEnd::Vertex(_)) as usize;
+        BY_ORIGINALS[original(ends[0]) + original(ends[1])][has_length as usize]
     }
 
     /// Whether the piece has length (types 1, 2 and 4).
@@ -90,14 +84,18 @@ pub struct PenetrationEdge {
 }
 
 /// Signed distances of one block's vertices to the other block's face planes, face-major:
-/// `table[f * n_vertices + v]`, with per-vertex bit masks of the faces that the vertex is
-/// outside of (`s > gap`), when the other block has at most 64 faces. The masks reject most
-/// edges with one `and` and let the clipping visit only the faces that cut an edge.
+/// `table[f * stride + v]` (`stride` the vertex count rounded up to 4), with per-vertex bit
+/// masks of the faces that the vertex is outside of (`s > gap`) and of the faces it is not
+/// deep inside of (`s >= -gap`), when the other block has at most 64 faces. The masks
+/// reject most edges with one `and` (for the clipping and for the deeper-than-the-gap test)
+/// and let both visit only the faces that cut an edge.
 #[derive(Default, Clone, Debug)]
 pub(crate) struct DistanceTable {
     table: Vec<f64>,
-    n_vertices: usize,
+    stride: usize,
     outside: Vec<u64>,
+    shallow: Vec<u64>,
+    masked: bool,
 }
 
 /// Faces beyond this count are clipped without masks.
@@ -105,26 +103,25 @@ const MASK_FACES: usize = 64;
 
 impl DistanceTable {
     /// Fills the table with the distances of `of`'s vertices to `to`'s planes; returns
-    /// `false` as soon as one plane has every vertex farther than `gap` (separation).
-    /// The masks are left for [`DistanceTable::build_masks`], once neither table separates.
+    /// `false` as soon as one plane has every vertex farther than `gap` (separation). The
+    /// masks are left for [`DistanceTable::build_masks`], once neither table separates.
     pub(crate) fn fill(&mut self, of: &ConvexBlock, to: &ConvexBlock, gap: f64) -> bool {
-        let n = of.vertices().len();
-        self.n_vertices = n;
+        let local = of.local();
         // Coordinates local to one vertex: `n · (v - o) - n · (p - o)` keeps the accuracy of
         // `n · (v - p)` (differences of nearby coordinates) with one dot product per vertex.
-        let local = of.local();
         let origin = local.origin;
-        self.table.resize(to.n_faces() * n, 0.0);
-        let [xs, ys, zs] = &local.xyz;
-        let (xs, ys, zs) = (&xs[..n], &ys[..n], &zs[..n]);
-        for (plane, row) in to.planes().iter().zip(self.table.chunks_exact_mut(n)) {
-            let normal = plane.normal;
-            let offset = normal.dot(plane.point - origin);
-            // Structure of arrays, so that the loop vectorises.
+        let stride = 4 * local.quads.len();
+        self.stride = stride;
+        self.table.resize(to.n_faces() * stride, 0.0);
+        for (plane, row) in to.planes().iter().zip(self.table.chunks_exact_mut(stride)) {
+            let n = plane.normal;
+            let plane = [n.x, n.y, n.z, n.dot(plane.point - origin)];
             let mut separating = true;
-            for i in 0..n {
-                row[i] = normal.x * xs[i] + normal.y * ys[i] + normal.z * zs[i] - offset;
-                separating &= row[i] > gap;
+            for (quad, out) in local.quads.iter().zip(row.chunks_exact_mut(4)) {
+                let s = distances(quad, &plane);
+                out.copy_from_slice(&s);
+                // `&`, not `all`: no branch per vertex.
+                separating &= s.iter().fold(true, |all, &s| all & (s > gap));
             }
             if separating {
                 return false;
@@ -133,38 +130,47 @@ impl DistanceTable {
         true
     }
 
-    /// Per-vertex masks of the faces a vertex is outside of (`s > gap`); none when the other
-    /// block has more than 64 faces.
+    /// Per-vertex masks of the faces a vertex is outside of (`s > gap`) and of those it is
+    /// not deeper than the gap inside of (`s >= -gap`); none when the other block has more
+    /// than 64 faces. Four vertices at a time, with the masks in registers, so that the
+    /// comparisons vectorise.
     pub(crate) fn build_masks(&mut self, n_faces: usize, gap: f64) {
-        let n = self.n_vertices;
-        self.outside.clear();
-        if n_faces > MASK_FACES {
+        self.masked = n_faces <= MASK_FACES;
+        if !self.masked {
             return;
         }
-        self.outside.resize(n, 0);
-        let outside = &mut self.outside[..n];
-        for (f, row) in self.table.chunks_exact(n).enumerate() {
-            for i in 0..n {
-                outside[i] |= ((row[i] > gap) as u64) << f;
+        let stride = self.stride;
+        self.outside.resize(stride, 0);
+        self.shallow.resize(stride, 0);
+        let masks = self
+            .outside
+            .chunks_exact_mut(4)
+            .zip(self.shallow.chunks_exact_mut(4));
+        for (c, (outside, shallow)) in masks.enumerate() {
+            let (mut out, mut sh) = ([0u64; 4], [0u64; 4]);
+            for (f, row) in self.table.chunks_exact(stride).enumerate() {
+                let s: &[f64; 4] = row[4 * c..][..4].try_into().unwrap();
+                let bit = 1u64 << f;
+                for k in 0..4 {
+                    out[k] |= bit & all_ones(gap < s[k]);
+                    sh[k] |= bit & all_ones(s[k] >= -gap);
+                }
             }
+            outside.copy_from_slice(&out);
+            shallow.copy_from_slice(&sh);
         }
     }
 
     #[inline]
     fn get(&self, face: usize, vertex: u32) -> f64 {
-        self.table[face * self.n_vertices + vertex as usize]
+        self.table[face * self.stride + vertex as usize]
     }
 
-    /// The parameter interval of edge `(v1, v2)` where `s <= gap` on every face
-    /// (`deep == false`), or `s < -gap` (`deep == true`), with the face that cuts each end.
-    /// The masks serve the first test; the second runs only on edges that passed it, and
-    /// usually stops at the first face.
+    /// The parameter interval of edge `(v1, v2)` where `s <= gap` on every face, with the
+    /// face that cuts each end.
     #[inline]
-    fn clip(&self, n_faces: usize, v1: u32, v2: u32, gap: f64, deep: bool) -> Option<Clipped> {
-        if deep {
-            return self.clip_faces(0..n_faces, v1, v2, -gap, true);
-        }
-        if self.outside.is_empty() {
+    fn clip(&self, n_faces: usize, v1: u32, v2: u32, gap: f64) -> Option<Clipped> {
+        if !self.masked {
             return self.clip_faces(0..n_faces, v1, v2, gap, false);
         }
         let (m1, m2) = (self.outside[v1 as usize], self.outside[v2 as usize]);
@@ -172,6 +178,22 @@ impl DistanceTable {
             return None;
         }
         self.clip_crossing(BitIter(m1 | m2), v1, v2, gap)
+    }
+
+    /// Whether part of edge `(v1, v2)` has `s < -gap` on every face (deeper than the gap
+    /// inside the other block). Faces with both ends strictly deeper constrain nothing, so
+    /// with masks only the others are visited, and a face with both ends not deeper (the
+    /// usual case for touching blocks) answers at once.
+    #[inline]
+    fn deep(&self, n_faces: usize, v1: u32, v2: u32, gap: f64) -> bool {
+        if !self.masked {
+            return self.clip_faces(0..n_faces, v1, v2, -gap, true).is_some();
+        }
+        let (m1, m2) = (self.shallow[v1 as usize], self.shallow[v2 as usize]);
+        m1 & m2 == 0
+            && self
+                .clip_faces(BitIter(m1 | m2), v1, v2, -gap, true)
+                .is_some()
     }
 
     /// Clips against faces that each have exactly one end of the edge outside (as the masks
@@ -254,6 +276,19 @@ impl DistanceTable {
     }
 }
 
+/// All ones for `true`, zero for `false`: the form of a vector comparison's result, so
+/// that the mask updates vectorise.
+#[inline]
+fn all_ones(b: bool) -> u64 {
+    (b as u64).wrapping_neg()
+}
+
+/// Signed distances of four vertices to a plane `[normal, offset]`.
+#[inline]
+fn distances(quad: &Quad, &[nx, ny, nz, offset]: &[f64; 4]) -> [f64; 4] {
+    std::array::from_fn(|k| nx * quad.x[k] + ny * quad.y[k] + nz * quad.z[k] - offset)
+}
+
 /// The indices of the set bits of a mask, lowest first.
 struct BitIter(u64);
 
@@ -312,24 +347,31 @@ pub(crate) fn clip_edges(
     let mut deep = false;
     for (e, edge) in of.edges().iter().enumerate() {
         let [v1, v2] = edge.vertices;
-        let Some(c) = table.clip(n_faces, v1, v2, th.gap, false) else {
+        let Some(c) = table.clip(n_faces, v1, v2, th.gap) else {
             continue;
         };
-        deep = deep || table.clip(n_faces, v1, v2, th.gap, true).is_some();
-        let end = |k: usize, v: u32| c.cut[k].map_or(EdgeEnd::Vertex(v), EdgeEnd::Cut);
-        let ends = [end(0, v1), end(1, v2)];
-        let edge_vector = of.vertices()[v2 as usize] - of.vertices()[v1 as usize];
-        let piece = c.t[1] - c.t[0];
-        let has_length = piece * piece * edge_vector.length_squared() > th.length * th.length;
-        out.push(PenetrationEdge {
-            side,
-            edge: e as u32,
-            t: c.t,
-            ends,
-            kind: PenetrationEdgeType::of(ends, has_length),
-        });
+        deep = deep || table.deep(n_faces, v1, v2, th.gap);
+        out.push(piece(of, side, e, c, th));
     }
     deep
+}
+
+/// The penetration edge of `of`'s edge `e` from its clipped interval.
+#[inline]
+fn piece(of: &ConvexBlock, side: Side, e: usize, c: Clipped, th: Thresholds) -> PenetrationEdge {
+    let [v1, v2] = of.edges()[e].vertices;
+    let end = |k: usize, v: u32| c.cut[k].map_or(EdgeEnd::Vertex(v), EdgeEnd::Cut);
+    let ends = [end(0, v1), end(1, v2)];
+    let edge_vector = of.vertices()[v2 as usize] - of.vertices()[v1 as usize];
+    let piece = c.t[1] - c.t[0];
+    let has_length = piece * piece * edge_vector.length_squared() > th.length * th.length;
+    PenetrationEdge {
+        side,
+        edge: e as u32,
+        t: c.t,
+        ends,
+        kind: PenetrationEdgeType::of(ends, has_length),
+    }
 }
 
 impl PenetrationEdge {

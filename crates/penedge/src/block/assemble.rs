@@ -7,8 +7,8 @@
 //! half-edges (a closed, manifold, consistently oriented surface), checks the Euler
 //! characteristic and a positive volume, and derives edges, volume, centroid and box.
 
-use super::{BlockError, ConvexBlock, Edge, FaceOrigin, LocalCoordinates};
-use crate::geometry::{Aabb, DVec3, Plane};
+use super::{BlockError, Bounds, ConvexBlock, Edge, FaceOrigin, LocalCoordinates};
+use crate::geometry::{DVec3, Plane};
 
 /// Vertices and face loops (flat, with offsets), one plane and one origin per face.
 #[derive(Clone, Debug, Default)]
@@ -127,7 +127,7 @@ impl ConvexBlock {
             });
         }
         Ok(ConvexBlock {
-            aabb: Aabb::of_points(&parts.vertices),
+            bounds: Bounds::of(&parts.vertices),
             local: LocalCoordinates::of(&parts.vertices),
             vertices: parts.vertices,
             face_offsets: parts.face_offsets,

@@ -313,7 +313,7 @@ fn build_checked(
         .map(|f| face_plane(&points, &faces[f], f, eps))
         .collect::<Result<_, _>>()?;
     let (volume, centroid) = volume_and_centroid(&points, faces.iter().map(|f| f.iter().copied()));
-    let aabb = Aabb::of_points(&points);
+    let bounds = super::Bounds::of(&points);
     check_faces_planar_convex(&points, &faces, &planes, eps)?;
     check_block_convex(&points, &planes, eps)?;
     let face_offsets = std::iter::once(0)
@@ -333,7 +333,7 @@ fn build_checked(
         edges,
         volume,
         centroid,
-        aabb,
+        bounds,
     })
 }
 

@@ -42,26 +42,63 @@ pub struct ConvexBlock {
     edges: Vec<Edge>,
     volume: f64,
     centroid: DVec3,
-    aabb: Aabb,
+    bounds: Bounds,
     local: LocalCoordinates,
 }
 
-/// Vertex coordinates relative to vertex 0, as three arrays (structure of arrays), so that
-/// the distances of all vertices to a plane are one vectorisable loop.
+/// The bounding box with the two numbers that every pair query derives from it (the size
+/// takes a square root), computed once.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Bounds {
+    aabb: Aabb,
+    size: f64,
+    magnitude: f64,
+}
+
+impl Bounds {
+    pub(crate) fn of(vertices: &[DVec3]) -> Self {
+        let aabb = Aabb::of_points(vertices);
+        Bounds {
+            aabb,
+            size: aabb.diagonal(),
+            magnitude: aabb.magnitude(),
+        }
+    }
+}
+
+/// Vertex coordinates relative to vertex 0, in groups of four (each a structure of
+/// arrays, the last group padded by repeating the last vertex), so that the distances of
+/// all vertices to a plane are a few fixed-width loops that vectorise without run-time
+/// length or aliasing checks. A repeated vertex changes neither a minimum nor a maximum.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct LocalCoordinates {
     pub(crate) origin: DVec3,
-    pub(crate) xyz: [Vec<f64>; 3],
+    pub(crate) quads: Vec<Quad>,
+}
+
+/// Four vertices, one array per axis.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Quad {
+    pub(crate) x: [f64; 4],
+    pub(crate) y: [f64; 4],
+    pub(crate) z: [f64; 4],
 }
 
 impl LocalCoordinates {
     pub(crate) fn of(vertices: &[DVec3]) -> Self {
         let origin = vertices[0];
-        let axis = |k: usize| vertices.iter().map(|&v| (v - origin)[k]).collect();
-        LocalCoordinates {
-            origin,
-            xyz: [axis(0), axis(1), axis(2)],
-        }
+        let last = vertices.len() - 1;
+        let quads = (0..vertices.len().div_ceil(4))
+            .map(|c| {
+                let mut q = Quad::default();
+                for k in 0..4 {
+                    let v = vertices[(4 * c + k).min(last)] - origin;
+                    (q.x[k], q.y[k], q.z[k]) = (v.x, v.y, v.z);
+                }
+                q
+            })
+            .collect();
+        LocalCoordinates { origin, quads }
     }
 }
 
@@ -130,12 +167,17 @@ impl ConvexBlock {
 
     /// Axis-aligned bounding box.
     pub fn aabb(&self) -> Aabb {
-        self.aabb
+        self.bounds.aabb
     }
 
     /// Characteristic length: the diagonal of the bounding box. Tolerances scale with it.
     pub fn size(&self) -> f64 {
-        self.aabb.diagonal()
+        self.bounds.size
+    }
+
+    /// The largest absolute coordinate of the bounding box ([`Aabb::magnitude`]).
+    pub(crate) fn magnitude(&self) -> f64 {
+        self.bounds.magnitude
     }
 
     /// A rectangular box with the given corners.
@@ -183,7 +225,7 @@ impl ConvexBlock {
             })
             .collect();
         ConvexBlock {
-            aabb: Aabb::of_points(&vertices),
+            bounds: Bounds::of(&vertices),
             local: LocalCoordinates::of(&vertices),
             vertices,
             face_offsets: self.face_offsets.clone(),
