@@ -72,6 +72,24 @@ pub fn numbers(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
     float_array(obj, name, &[None])
 }
 
+/// Plane normals `(m, 3)` and offsets `(m,)` of the same length.
+pub fn planes(
+    normals: &Bound<'_, PyAny>,
+    offsets: &Bound<'_, PyAny>,
+) -> PyResult<(Vec<[f64; 3]>, Vec<f64>)> {
+    let normals = points(normals, "normals")?;
+    let offsets = numbers(offsets, "offsets")?;
+    if normals.len() != offsets.len() {
+        let msg = format!(
+            "normals and offsets must have the same length, got {} and {}",
+            normals.len(),
+            offsets.len()
+        );
+        return Err(input_error("shape", msg));
+    }
+    Ok((normals, offsets))
+}
+
 /// Rows of three floats as an `(n, 3)` float64 array.
 pub fn rows3<'py>(py: Python<'py>, rows: &[[f64; 3]]) -> Bound<'py, PyArray2<f64>> {
     Array2::from_shape_fn((rows.len(), 3), |(i, k)| rows[i][k]).into_pyarray(py)

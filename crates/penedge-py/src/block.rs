@@ -122,16 +122,7 @@ impl Block {
     /// (4, 4, 0.166666666667)
     #[staticmethod]
     fn from_planes(normals: &Bound<'_, PyAny>, offsets: &Bound<'_, PyAny>) -> PyResult<Self> {
-        let normals = arrays::points(normals, "normals")?;
-        let offsets = arrays::numbers(offsets, "offsets")?;
-        if normals.len() != offsets.len() {
-            let msg = format!(
-                "normals and offsets must have the same length, got {} and {}",
-                normals.len(),
-                offsets.len()
-            );
-            return Err(input_error("shape", msg));
-        }
+        let (normals, offsets) = arrays::planes(normals, offsets)?;
         ConvexBlock::from_planes(&normals, &offsets)
             .map(Block::wrap)
             .map_err(to_py_err)

@@ -12,7 +12,7 @@ pub use examples::{paper_example, paper_example_planes, paper_table3};
 
 use crate::arrays;
 use crate::block::{cuboid, Block};
-use crate::errors::{input_error, to_py_err};
+use crate::errors::to_py_err;
 use crate::tolerance::tolerance;
 use penedge::system;
 use pyo3::exceptions::PyIndexError;
@@ -100,16 +100,7 @@ impl BlockSystem {
         offsets: &Bound<'_, PyAny>,
     ) -> PyResult<Self> {
         let domain = cuboid(lo, hi)?;
-        let normals = arrays::points(normals, "normals")?;
-        let offsets = arrays::numbers(offsets, "offsets")?;
-        if normals.len() != offsets.len() {
-            let msg = format!(
-                "normals and offsets must have the same length, got {} and {}",
-                normals.len(),
-                offsets.len()
-            );
-            return Err(input_error("shape", msg));
-        }
+        let (normals, offsets) = arrays::planes(normals, offsets)?;
         let tol = penedge::Tolerance::default();
         system::BlockSystem::from_domain_cut(domain, &normals, &offsets, &tol)
             .map(|inner| BlockSystem { inner })
