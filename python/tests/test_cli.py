@@ -1,13 +1,13 @@
 """The command line end to end, through ``python -m penedge`` and the console script."""
 
 import json
-import os
 import shutil
-import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+
+from cli_run import run, squeeze
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 COUNTS = {
@@ -21,24 +21,6 @@ COUNTS = {
     ],
 }
 BLOCKS = {1: 8, 2: 8, 3: 26}
-
-
-def run(*args, cwd, command=None):
-    command = command or [sys.executable, "-m", "penedge"]
-    env = {**os.environ, "PYTHONWARNINGS": "error"}
-    return subprocess.run(
-        [*command, *args],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        env=env,
-        timeout=120,
-        check=False,
-    )
-
-
-def squeeze(text):
-    return [" ".join(line.split()) for line in text.splitlines()]
 
 
 def console_script():

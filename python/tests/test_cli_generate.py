@@ -5,8 +5,6 @@ import csv
 import functools
 import io
 import json
-import os
-import subprocess
 import sys
 from pathlib import Path
 
@@ -16,6 +14,8 @@ import penedge
 from penedge import cli
 from penedge.cli import generate as generate_command
 from penedge.cli.progress import ProgressBar
+
+from cli_run import run, squeeze
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 BAD_SPEC = """\
@@ -30,23 +30,6 @@ point = [5, 5, 5]
 dip = 120
 dip_direction = 0
 """
-
-
-def run(*args, cwd):
-    env = {**os.environ, "PYTHONWARNINGS": "error"}
-    return subprocess.run(
-        [sys.executable, "-m", "penedge", *map(str, args)],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        env=env,
-        timeout=300,
-        check=False,
-    )
-
-
-def squeeze(text):
-    return [" ".join(line.split()) for line in text.splitlines()]
 
 
 def test_generate_then_detect(tmp_path):
