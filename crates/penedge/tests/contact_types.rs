@@ -234,3 +234,57 @@ proptest! {
         prop_assert_eq!(ab.name(), ba.name());
     }
 }
+
+/// A prism on a regular `n`-gon of circumradius 1, z from -1 to 0, from half-spaces.
+fn prism(n: usize) -> ConvexBlock {
+    let mut normals: Vec<[f64; 3]> = (0..n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            [a.cos(), a.sin(), 0.0]
+        })
+        .collect();
+    let apothem = (std::f64::consts::PI / n as f64).cos();
+    let mut offsets = vec![apothem; n];
+    normals.extend([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]]);
+    offsets.extend([0.0, 1.0]);
+    ConvexBlock::from_planes(&normals, &offsets).unwrap()
+}
+
+/// Blocks with more than 64 faces are clipped without the per-vertex face masks: the same
+/// answers as with them.
+#[test]
+fn blocks_with_many_faces_use_the_unmasked_path_with_the_same_answers() {
+    let mut det = Detector::new(Tolerance::default());
+    for n in [30, 70] {
+        let base = prism(n);
+        assert_eq!(base.n_faces(), n + 2);
+        let on_top = ConvexBlock::cuboid([-0.2, -0.2, 0.0], [0.2, 0.2, 0.4]).unwrap();
+        let corner = tetra([
+            [0.0, 0.0, 0.0],
+            [-0.3, -0.3, 0.5],
+            [0.3, -0.3, 0.5],
+            [0.0, 0.4, 0.5],
+        ]);
+        let cases = [
+            (on_top.clone(), Some(ContactType::FaceFace)),
+            (corner, Some(ContactType::VertexFace)),
+            (
+                on_top.transformed(DQuat::IDENTITY, DVec3::Z * 1e-6, 1.0),
+                None,
+            ),
+        ];
+        for (b, kind) in cases {
+            let (ab, ba) = both_orders(&mut det, &base, &b);
+            assert_eq!(
+                (ab.contact_type(), ba.contact_type()),
+                (kind, kind),
+                "{n} faces"
+            );
+        }
+        let pushed = on_top.transformed(DQuat::IDENTITY, -DVec3::Z * 1e-6, 1.0);
+        assert_eq!(
+            both_orders(&mut det, &base, &pushed),
+            (PairResult::Penetrating, PairResult::Penetrating)
+        );
+    }
+}
