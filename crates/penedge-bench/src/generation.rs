@@ -241,7 +241,7 @@ fn thread_sys_s() -> f64 {
 }
 
 /// The peak resident set size of this process so far (`VmHWM`, KiB).
-fn vm_hwm_kib() -> Result<u64, String> {
+pub(crate) fn vm_hwm_kib() -> Result<u64, String> {
     let status = std::fs::read_to_string("/proc/self/status").map_err(|e| e.to_string())?;
     status
         .lines()

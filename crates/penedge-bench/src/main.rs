@@ -14,6 +14,11 @@
 //! [--big-runs N] [--no-big]` times block generation (about 1e5 and 1e6 blocks, each size in
 //! a child process for its peak memory).
 //!
+//! `cargo run --release -p penedge-bench -- system [--grid N] [--runs R] [--threads T]
+//! [--no-parry] [--no-jointed] [--broad N]` times whole systems: all contacts of an `N^3`
+//! grid of unit cubes beside parry3d-f64 (BVH + `contact`), a jointed rock mass of about
+//! 10^5 blocks, and the broad-phase methods (see `system.rs`).
+//!
 //! `cargo run --release -p penedge-bench -- profile --scenario NAME --family cube|rock
 //! [--pairs N] [--seconds S] [--geometry]` runs penedge alone on one set for a while
 //! (`detect`, or `detect_with_geometry` with `--geometry`), to be watched by a profiler
@@ -27,6 +32,7 @@ mod pairs;
 mod placement;
 mod report;
 mod rng;
+mod system;
 mod timing;
 
 use family::Family;
@@ -291,9 +297,10 @@ fn main() -> ExitCode {
         Some("geometry") => parse(&args[1..]).and_then(|o| geometry::run(&o)),
         Some("generate") => generation::run(&args[1..]),
         Some("generate-one") => generation::run_one(&args[1..]),
+        Some("system") => system::run(&args[1..]),
         Some("profile") => parse(&args[1..]).and_then(|o| profile(&o)),
         _ => Err(
-            "usage: penedge-bench narrow|geometry|generate|profile [options] (see the crate docs)"
+            "usage: penedge-bench narrow|geometry|generate|system|profile [options] (see the crate docs)"
                 .to_string(),
         ),
     };

@@ -53,5 +53,9 @@ fn add_constants(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("FEATURE_KINDS", PyTuple::new(py, FEATURE_KINDS)?)?;
     m.add("SEPARATED", SEPARATED)?;
     m.add("PENETRATING", PENETRATING)?;
+    // One named code per type (VERTEX_VERTEX = 1 ... FACE_FACE = 7), as in `types` arrays.
+    for (code, name) in (1i8..).zip(contact_type_names()) {
+        m.add(name.to_uppercase().replace('-', "_"), code)?;
+    }
     Ok(())
 }

@@ -12,12 +12,16 @@ pub use examples::{paper_example, paper_example_planes, paper_table3};
 
 use crate::arrays;
 use crate::block::{cuboid, Block};
-use crate::errors::to_py_err;
+use crate::errors::{input_error, to_py_err};
 use crate::tolerance::tolerance;
-use penedge::system;
+use penedge::system::{self, Cancelled, DetectProgress};
 use pyo3::exceptions::PyIndexError;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
+use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
 
 /// A system of convex blocks; a block's id is its index.
 ///
@@ -129,6 +133,13 @@ impl BlockSystem {
     /// geometry : bool, default False
     ///     Also compute each contact's normal, signed distance, area and contact points
     ///     (about 50 % more time).
+    /// progress : callable, optional
+    ///     Called as ``progress(pairs_done, pairs_total)`` at most ten times a second while
+    ///     the narrow phase runs (the candidate pairs are known by then), and once at the
+    ///     end. An exception it raises stops the detection and propagates.
+    /// threads : int, optional
+    ///     Number of threads (default: all cores, or ``RAYON_NUM_THREADS``). The result is
+    ///     the same for any number.
     ///
     /// Returns
     /// -------
@@ -141,6 +152,11 @@ impl BlockSystem {
     /// ------
     /// ToleranceError
     ///     Impossible `gap` or `length`.
+    /// InputError
+    ///     `threads` below 1.
+    /// KeyboardInterrupt
+    ///     Ctrl-C: the detection runs without the GIL and stops within a fraction of a
+    ///     second.
     ///
     /// Examples
     /// --------
@@ -151,23 +167,40 @@ impl BlockSystem {
     /// (array([[1., 0., 0.]]), array([1.]), array([0, 4]))
     /// >>> found.points_of(0).tolist()
     /// [[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [1.0, 1.0, 1.0], [1.0, 0.0, 1.0]]
-    #[pyo3(signature = (gap = 1e-12, length = None, geometry = false))]
+    #[pyo3(signature = (gap = 1e-12, length = None, geometry = false, progress = None, threads = None))]
     fn detect(
         &self,
         py: Python<'_>,
         gap: f64,
         length: Option<f64>,
         geometry: bool,
+        progress: Option<Py<PyAny>>,
+        threads: Option<i64>,
     ) -> PyResult<SystemContacts> {
         let tol = tolerance(gap, length)?;
+        let pool = thread_pool(threads)?;
         let inner = &self.inner;
-        let (found, g) = if geometry {
-            let (found, g) = py.detach(|| inner.detect_with_geometry(&tol));
-            (found, Some(g))
-        } else {
-            (py.detach(|| inner.detect(&tol)), None)
+        let run = |report: &mut (dyn FnMut(DetectProgress) -> ControlFlow<()> + Send)| {
+            let mut run = || {
+                if geometry {
+                    inner
+                        .detect_with_geometry_and_progress(&tol, report)
+                        .map(|(found, g)| (found, Some(g)))
+                } else {
+                    inner.detect_with_progress(&tol, report).map(|f| (f, None))
+                }
+            };
+            match &pool {
+                Some(pool) => pool.install(run),
+                None => run(),
+            }
         };
-        SystemContacts::from_core(py, found, g)
+        let (result, failure) = watched(py, progress.as_ref(), run);
+        match (result, failure) {
+            (Ok((found, g)), None) => SystemContacts::from_core(py, found, g),
+            (_, Some(e)) => Err(e),
+            (Err(Cancelled), None) => unreachable!("only a failed callback cancels"),
+        }
     }
 
     fn __len__(&self) -> usize {
@@ -195,4 +228,98 @@ impl BlockSystem {
         let from_json = py.get_type::<BlockSystem>().getattr("from_json")?;
         PyTuple::new(py, [from_json, (text,).into_pyobject(py)?.into_any()])
     }
+}
+
+/// The shortest time between two progress reports (and Ctrl-C checks).
+const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
+
+/// A pool of `threads` threads, or none for rayon's global pool.
+fn thread_pool(threads: Option<i64>) -> PyResult<Option<rayon::ThreadPool>> {
+    let Some(n) = threads else { return Ok(None) };
+    if n < 1 {
+        return Err(input_error(
+            "threads",
+            format!("threads must be at least 1, got {n}"),
+        ));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n as usize)
+        .build()
+        .map(Some)
+        .map_err(|e| input_error("threads", format!("cannot start {n} threads: {e}")))
+}
+
+/// Runs `job` on a worker thread without the GIL while this (the calling) thread waits for
+/// it, waking every [`PROGRESS_INTERVAL`] to check for Ctrl-C (signals reach Python on the
+/// main thread only) and to call `progress(pairs_done, pairs_total)`. A signal or an
+/// exception of the callback cancels the job at its next report and is returned.
+fn watched<T: Send>(
+    py: Python<'_>,
+    progress: Option<&Py<PyAny>>,
+    job: impl FnOnce(&mut (dyn FnMut(DetectProgress) -> ControlFlow<()> + Send)) -> T + Send,
+) -> (T, Option<PyErr>) {
+    let cancel = AtomicBool::new(false);
+    let mut failure = None;
+    let mut latest = None;
+    let result = py.detach(|| {
+        let (tx, rx) = mpsc::channel::<DetectProgress>();
+        let cancel = &cancel;
+        std::thread::scope(|scope| {
+            let worker = scope.spawn(move || {
+                let mut report = |p: DetectProgress| {
+                    // The watcher may be gone only once the job is cancelled.
+                    let _ = tx.send(p);
+                    if cancel.load(Ordering::Relaxed) {
+                        ControlFlow::Break(())
+                    } else {
+                        ControlFlow::Continue(())
+                    }
+                };
+                let out = job(&mut report);
+                drop(tx);
+                out
+            });
+            let mut last = Instant::now();
+            loop {
+                let finished = match rx.recv_timeout(PROGRESS_INTERVAL) {
+                    Ok(p) => {
+                        latest = Some(p);
+                        false
+                    }
+                    Err(mpsc::RecvTimeoutError::Timeout) => false,
+                    Err(mpsc::RecvTimeoutError::Disconnected) => true,
+                };
+                if finished || failure.is_some() || last.elapsed() < PROGRESS_INTERVAL {
+                    if finished {
+                        break;
+                    }
+                    continue;
+                }
+                last = Instant::now();
+                let call = Python::attach(|py| {
+                    py.check_signals()?;
+                    match (progress, latest) {
+                        (Some(callback), Some(p)) => {
+                            callback.call1(py, (p.pairs_done, p.pairs_total)).map(drop)
+                        }
+                        _ => Ok(()),
+                    }
+                });
+                if let Err(e) = call {
+                    failure = Some(e);
+                    cancel.store(true, Ordering::Relaxed);
+                }
+            }
+            worker
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+        })
+    });
+    if let (None, Some(callback), Some(p)) = (&failure, progress, latest) {
+        // The final report (done == total), after the run.
+        if let Err(e) = callback.call1(py, (p.pairs_done, p.pairs_total)) {
+            failure = Some(e);
+        }
+    }
+    (result, failure)
 }

@@ -1,14 +1,16 @@
 //! All contacts of a block system.
 //!
-//! Candidate pairs come from a sweep over the blocks' bounding boxes (widened by the gap)
-//! sorted along x; the narrow phase runs in parallel over blocks with rayon, and the result is
+//! Candidate pairs come from the broad phase ([`super::BroadPhase`]); the narrow phase runs in parallel over blocks with rayon, and the result is
 //! sorted by block pair, so it is the same for any number of threads.
 
-use super::BlockSystem;
+use super::{BlockSystem, BroadPhase, WideBoxes};
+use crate::block::ConvexBlock;
 use crate::classify::{Contact, PairResult};
 use crate::contact::Detector;
 use crate::tolerance::Tolerance;
 use rayon::prelude::*;
+use std::ops::ControlFlow;
+use thiserror::Error;
 
 /// A contact between blocks `pair[0] < pair[1]`, features in the same order.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -29,52 +31,115 @@ pub struct SystemContacts {
 }
 
 impl BlockSystem {
-    /// Candidate pairs `(i, j)`, `i < j`, whose bounding boxes widened by the gap overlap.
+    /// Candidate pairs `(i, j)`, `i < j`, sorted, whose bounding boxes widened by their
+    /// gaps overlap, by the default broad phase ([`BroadPhase::Grid`]).
     pub fn candidate_pairs(&self, tol: &Tolerance) -> Vec<[u32; 2]> {
-        let blocks = self.blocks();
-        let margin = |i: usize| tol.for_box(&blocks[i].aabb()).gap;
-        let mut order: Vec<usize> = (0..blocks.len()).collect();
-        order.sort_by(|&i, &j| blocks[i].aabb().min.x.total_cmp(&blocks[j].aabb().min.x));
-        let mut pairs = Vec::new();
-        for (k, &i) in order.iter().enumerate() {
-            let bi = blocks[i].aabb();
-            for &j in &order[k + 1..] {
-                let bj = blocks[j].aabb();
-                let m = margin(i).max(margin(j));
-                if bj.min.x > bi.max.x + 2.0 * m {
-                    break;
-                }
-                if bi.overlaps(&bj, m) {
-                    pairs.push([i.min(j) as u32, i.max(j) as u32]);
-                }
-            }
-        }
-        pairs.sort_unstable();
-        pairs
+        self.candidate_pairs_by(tol, BroadPhase::default())
+    }
+
+    /// Candidate pairs by the given broad-phase method (all methods give the same pairs).
+    pub fn candidate_pairs_by(&self, tol: &Tolerance, method: BroadPhase) -> Vec<[u32; 2]> {
+        self.wide_boxes(tol).pairs(method)
+    }
+
+    /// Each block's bounding box widened by its own gap.
+    pub fn wide_boxes(&self, tol: &Tolerance) -> WideBoxes {
+        WideBoxes::new(self.blocks().iter().map(|b| {
+            let aabb = b.aabb();
+            (aabb, tol.for_box(&aabb).gap)
+        }))
     }
 
     /// Detects and classifies every contact of the system.
     pub fn detect(&self, tol: &Tolerance) -> SystemContacts {
+        match self.detect_with_progress(tol, &mut |_| ControlFlow::Continue(())) {
+            Ok(found) => found,
+            Err(Cancelled) => unreachable!("never cancelled"),
+        }
+    }
+
+    /// [`BlockSystem::detect`], calling `progress` after each slice of candidate pairs
+    /// (about 65,000 pairs, a few milliseconds); `ControlFlow::Break` stops the run.
+    pub fn detect_with_progress(
+        &self,
+        tol: &Tolerance,
+        progress: &mut dyn FnMut(DetectProgress) -> ControlFlow<()>,
+    ) -> Result<SystemContacts, Cancelled> {
         let pairs = self.candidate_pairs(tol);
-        let blocks = self.blocks();
-        let results: Vec<([u32; 2], PairResult)> = pairs
-            .par_iter()
-            .map_init(
-                || Detector::new(*tol),
-                |det, &[i, j]| ([i, j], det.detect(&blocks[i as usize], &blocks[j as usize])),
-            )
-            .filter(|(_, r)| !matches!(r, PairResult::Separated))
-            .collect();
         let mut out = SystemContacts::default();
-        for (pair, result) in results {
-            match result {
+        out.contacts.reserve(pairs.len());
+        narrow_phase(
+            self,
+            &pairs,
+            tol,
+            progress,
+            |det, a, b| det.detect(a, b),
+            |pair, result| match result {
                 PairResult::Contact(contact) => out.contacts.push(PairContact { pair, contact }),
                 PairResult::Penetrating => out.penetrating.push(pair),
                 PairResult::Separated => {}
-            }
-        }
-        out
+            },
+        )?;
+        out.contacts.shrink_to_fit();
+        Ok(out)
     }
+}
+
+/// How far a system detection has come.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DetectProgress {
+    /// Candidate pairs done.
+    pub pairs_done: usize,
+    /// Candidate pairs in all (the broad phase is done before the first report).
+    pub pairs_total: usize,
+}
+
+/// A detection stopped by its progress callback.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Error)]
+#[error("detection cancelled")]
+pub struct Cancelled;
+
+/// Candidate pairs per slice of the narrow phase: each slice runs in parallel, its outcomes
+/// are kept in pair order, and progress is reported between slices. Small enough that the
+/// per-slice buffer stays in the caches (and a cancellation is quick), large enough that
+/// the threads rarely wait for each other.
+const SLICE: usize = 1 << 16;
+
+/// Runs `query` on every candidate pair, in parallel within each slice of [`SLICE`] pairs,
+/// and hands the outcomes to `keep` in pair order: the memory beyond the output is one
+/// slice's outcomes, and the output is the same for any number of threads.
+pub(super) fn narrow_phase<T: Send>(
+    system: &BlockSystem,
+    pairs: &[[u32; 2]],
+    tol: &Tolerance,
+    progress: &mut dyn FnMut(DetectProgress) -> ControlFlow<()>,
+    query: impl Fn(&mut Detector, &ConvexBlock, &ConvexBlock) -> T + Sync,
+    mut keep: impl FnMut([u32; 2], T),
+) -> Result<(), Cancelled> {
+    let blocks = system.blocks();
+    let mut outcomes = Vec::with_capacity(SLICE.min(pairs.len()));
+    for (k, slice) in pairs.chunks(SLICE).enumerate() {
+        slice
+            .par_iter()
+            .map_init(
+                || Detector::new(*tol),
+                |det, &[i, j]| query(det, &blocks[i as usize], &blocks[j as usize]),
+            )
+            .collect_into_vec(&mut outcomes);
+        for (&pair, outcome) in slice.iter().zip(outcomes.drain(..)) {
+            keep(pair, outcome);
+        }
+        let done = (k * SLICE + slice.len()).min(pairs.len());
+        if progress(DetectProgress {
+            pairs_done: done,
+            pairs_total: pairs.len(),
+        })
+        .is_break()
+        {
+            return Err(Cancelled);
+        }
+    }
+    Ok(())
 }
 
 /// Number of contacts of each type, in the order of [`crate::ContactType::ALL`].

@@ -2,18 +2,17 @@
 //! contact points, as flat arrays aligned with [`SystemContacts::contacts`].
 //!
 //! The pairs are the same candidate pairs as [`BlockSystem::detect`]; each pair goes through
-//! [`Detector::detect_with_geometry`] in parallel (rayon), and the result keeps the pairs'
+//! [`crate::Detector::detect_with_geometry`] in parallel (rayon), and the result keeps the pairs'
 //! sorted order, so it is the same for any number of threads and `contacts` equals what
 //! [`BlockSystem::detect`] returns. Conventions (normal from the smaller block id to the
 //! larger, distance positive for a gap) are those of [`crate::contact_geometry`].
 
-use super::detect::{PairContact, SystemContacts};
+use super::detect::{narrow_phase, Cancelled, DetectProgress, PairContact, SystemContacts};
 use super::BlockSystem;
 use crate::classify::PairResult;
-use crate::contact::Detector;
 use crate::contact_geometry::ContactGeometry;
 use crate::tolerance::Tolerance;
-use rayon::prelude::*;
+use std::ops::ControlFlow;
 
 /// The geometry of `n` contacts as flat arrays; row `i` belongs to contact `i` of the
 /// [`SystemContacts`] it came with.
@@ -73,12 +72,9 @@ impl ContactGeometries {
     }
 }
 
-/// What one candidate pair gave: nothing (separated), a penetration, or a contact.
-type PairOutcome = ([u32; 2], PairResult, Option<ContactGeometry>);
-
 impl BlockSystem {
     /// Detects and classifies every contact ([`BlockSystem::detect`]) and computes its
-    /// geometry ([`Detector::detect_with_geometry`]); row `i` of the geometry belongs to
+    /// geometry ([`crate::Detector::detect_with_geometry`]); row `i` of the geometry belongs to
     /// `contacts[i]`.
     ///
     /// ```
@@ -91,46 +87,47 @@ impl BlockSystem {
     /// assert!((area - 300.0).abs() < 1e-9); // the planes x, y, z = 5 across a 10 m cube
     /// ```
     pub fn detect_with_geometry(&self, tol: &Tolerance) -> (SystemContacts, ContactGeometries) {
-        let pairs = self.candidate_pairs(tol);
-        let blocks = self.blocks();
-        let outcomes: Vec<PairOutcome> = pairs
-            .par_iter()
-            .map_init(
-                || Detector::new(*tol),
-                |det, &[i, j]| {
-                    let (result, g) =
-                        det.detect_with_geometry(&blocks[i as usize], &blocks[j as usize]);
-                    ([i, j], result, g)
-                },
-            )
-            .filter(|(_, r, _)| !matches!(r, PairResult::Separated))
-            .collect();
-        assemble(outcomes)
-    }
-}
-
-/// The contacts and their geometry, in the order of the (sorted) pairs.
-fn assemble(outcomes: Vec<PairOutcome>) -> (SystemContacts, ContactGeometries) {
-    let mut found = SystemContacts::default();
-    let mut geometry = ContactGeometries::with_capacity(outcomes.len());
-    for (pair, result, g) in outcomes {
-        match (result, g) {
-            (PairResult::Contact(contact), Some(g)) => {
-                found.contacts.push(PairContact { pair, contact });
-                geometry.push(&g);
-            }
-            (PairResult::Penetrating, _) => found.penetrating.push(pair),
-            (PairResult::Contact(_), None) => unreachable!("a contact always has a geometry"),
-            (PairResult::Separated, _) => {}
+        match self.detect_with_geometry_and_progress(tol, &mut |_| ControlFlow::Continue(())) {
+            Ok(found) => found,
+            Err(Cancelled) => unreachable!("never cancelled"),
         }
     }
-    (found, geometry)
+
+    /// [`BlockSystem::detect_with_geometry`] with progress reports and cancellation, as
+    /// [`BlockSystem::detect_with_progress`].
+    pub fn detect_with_geometry_and_progress(
+        &self,
+        tol: &Tolerance,
+        progress: &mut dyn FnMut(DetectProgress) -> ControlFlow<()>,
+    ) -> Result<(SystemContacts, ContactGeometries), Cancelled> {
+        let pairs = self.candidate_pairs(tol);
+        let mut found = SystemContacts::default();
+        let mut geometry = ContactGeometries::with_capacity(0);
+        narrow_phase(
+            self,
+            &pairs,
+            tol,
+            progress,
+            |det, a, b| det.detect_with_geometry(a, b),
+            |pair, outcome| match outcome {
+                (PairResult::Contact(contact), Some(g)) => {
+                    found.contacts.push(PairContact { pair, contact });
+                    geometry.push(&g);
+                }
+                (PairResult::Penetrating, _) => found.penetrating.push(pair),
+                (PairResult::Contact(_), None) => unreachable!("a contact always has a geometry"),
+                (PairResult::Separated, _) => {}
+            },
+        )?;
+        Ok((found, geometry))
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::classify::ContactType;
+    use crate::contact::Detector;
     use crate::system::{paper_example, PaperExample};
     use crate::ConvexBlock;
 

@@ -1,11 +1,13 @@
 //! Block systems: a set of blocks with ids, built by cutting a domain with planes (see
 //! [`crate::generation`]), and the detection of every contact in it.
 
+mod broad_phase;
 mod detect;
 mod examples;
 mod geometry;
 
-pub use detect::{count_types, PairContact, SystemContacts};
+pub use broad_phase::{BroadPhase, WideBoxes};
+pub use detect::{count_types, Cancelled, DetectProgress, PairContact, SystemContacts};
 pub use examples::{paper_example, paper_spec, paper_table3, PaperExample};
 pub use geometry::ContactGeometries;
 

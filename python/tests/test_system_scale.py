@@ -1,0 +1,142 @@
+"""Whole-system detection as DEM codes call it: arrays that match the pair query, threads,
+progress reports, and stopping a long run (exception in the callback, Ctrl-C)."""
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+import penedge
+
+SPEC = {
+    "domain": {"type": "box", "min": [0, 0, 0], "max": [6, 6, 6]},
+    "joints": [
+        {"type": "set", "dip": 30, "dip_direction": 40, "spacing": 1.1},
+        {"type": "set", "dip": 70, "dip_direction": 150, "spacing": 1.3},
+        {"type": "set", "dip": 85, "dip_direction": 280, "spacing": 1.7},
+    ],
+}
+
+
+@pytest.fixture(scope="module")
+def jointed():
+    system, _report = penedge.generate(SPEC)
+    return system
+
+
+def test_named_type_constants_are_the_codes_of_the_types_array():
+    names = [name.upper().replace("-", "_") for name in penedge.CONTACT_TYPES]
+    assert [getattr(penedge._core, n) for n in names] == list(range(1, 8))
+    found = penedge.paper_example(3).detect()
+    assert int(np.sum(found.types == penedge._core.FACE_FACE)) == 42
+    assert int(np.sum(found.types == penedge._core.VERTEX_VERTEX)) == 205
+
+
+def test_system_arrays_match_the_pair_query_on_every_pair(jointed):
+    """Brute force over all pairs with the pair query: the system's arrays list exactly the
+    touching pairs, with the same types, and the penetrating ones."""
+    blocks = [jointed[i] for i in range(len(jointed))]
+    assert len(blocks) > 60
+    found = jointed.detect()
+    touching, types, penetrating = [], [], []
+    for i in range(len(blocks)):
+        for j in range(i + 1, len(blocks)):
+            r = penedge.detect_pair(blocks[i], blocks[j])
+            if r.touching:
+                touching.append((i, j))
+                types.append(r.type_code)
+            elif r.type_code == penedge.PENETRATING:
+                penetrating.append((i, j))
+    assert found.pairs.shape == (len(touching), 2)
+    assert found.pairs.tolist() == [list(p) for p in touching]
+    assert found.types.tolist() == types
+    assert found.penetrating.tolist() == [list(p) for p in penetrating]
+    assert found.pairs.dtype == np.int64 and found.types.dtype == np.int8
+
+
+@pytest.mark.parametrize("geometry", [False, True])
+def test_any_number_of_threads_gives_the_same_arrays(jointed, geometry):
+    runs = [jointed.detect(geometry=geometry, threads=t) for t in (1, 2, 3)]
+    for other in runs[1:]:
+        for name in ("pairs", "types", "feature_kinds", "feature_ids", "penetrating"):
+            assert np.array_equal(getattr(runs[0], name), getattr(other, name)), name
+        if geometry:
+            for name in ("normals", "distances", "areas", "point_offsets", "points"):
+                assert np.array_equal(getattr(runs[0], name), getattr(other, name)), name
+
+
+@pytest.mark.parametrize("threads", [0, -2])
+def test_impossible_thread_counts_are_input_errors(jointed, threads):
+    with pytest.raises(penedge.InputError, match="threads must be at least 1"):
+        jointed.detect(threads=threads)
+
+
+def test_progress_reports_reach_the_total(jointed):
+    calls = []
+    jointed.detect(progress=lambda done, total: calls.append((done, total)))
+    assert calls, "no progress report"
+    done, total = calls[-1]
+    assert done == total > 0
+    assert all(t == total for _, t in calls)
+    assert [d for d, _ in calls] == sorted(d for d, _ in calls)
+
+
+def test_an_exception_in_the_progress_callback_stops_the_run(jointed):
+    class Stop(Exception):
+        pass
+
+    def stop(done, total):
+        raise Stop(f"{done}/{total}")
+
+    for geometry in (False, True):
+        with pytest.raises(Stop):
+            jointed.detect(geometry=geometry, progress=stop)
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
+def test_ctrl_c_stops_a_long_detection_cleanly():
+    """A child detects the contacts of a 40^3 grid (seconds on one thread); SIGINT half a
+    second in makes it raise KeyboardInterrupt within half a second, not after the run."""
+    script = textwrap.dedent(
+        """
+        import sys, time
+        import penedge
+        n = 40
+        system = penedge.BlockSystem.from_box_cut(
+            [0, 0, 0], [n, n, n],
+            [[1, 0, 0]] * (n - 1) + [[0, 1, 0]] * (n - 1) + [[0, 0, 1]] * (n - 1),
+            list(range(1, n)) * 3,
+        )
+        print("ready", flush=True)
+        try:
+            system.detect(geometry=True, threads=1)
+        except KeyboardInterrupt:
+            print("interrupted", time.monotonic(), flush=True)
+            sys.exit(0)
+        print("completed", flush=True)
+        sys.exit(1)
+        """
+    )
+    child = subprocess.Popen(
+        [sys.executable, "-c", script],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+    )
+    try:
+        assert child.stdout.readline().strip() == "ready"
+        time.sleep(0.5)  # well inside the detection (800,000 pairs)
+        child.send_signal(signal.SIGINT)
+        sent = time.monotonic()
+        out, err = child.communicate(timeout=30)
+    finally:
+        child.kill()
+    assert child.returncode == 0, out + err
+    stopped = float(out.split()[-1])
+    assert stopped - sent < 0.5, f"took {stopped - sent:.2f} s to stop"
