@@ -1,7 +1,7 @@
 //! The `system` subcommand: every contact of a whole block system (issue 4).
 //!
 //! `cargo run --release -p penedge-bench -- system [--grid N] [--runs R] [--threads T]
-//! [--no-parry] [--no-jointed] [--broad N]`
+//! [--no-parry] [--no-jointed] [--broad N] [--incremental M]`
 //!
 //! 1. **Grid**: an `N x N x N` grid of unit cubes (default 100: 10^6 blocks, 12,731,796
 //!    touching pairs). penedge `BlockSystem::detect` (broad phase + narrow phase + sorted
@@ -13,18 +13,23 @@
 //!    block, prediction = penedge's gap): the ratio of the two.
 //! 2. **Jointed rock mass**: `examples/three_joint_sets.toml` (about 10^5 blocks): time,
 //!    candidate pairs, contacts and contacts per second.
-//! 3. **Broad phase methods** on an `N^3` grid (default 40) and on the jointed mass: the
+//! 3. **Incremental updates** on an `M^3` grid (`--incremental M`, default 50): a
+//!    `ContactTracker` (skin 0.05) after a first small random motion of every block (up to
+//!    1e-3 in each coordinate and 1e-3 rad) and then after four more steps of 1e-6, each
+//!    beside a full `BlockSystem::detect` of the moved blocks.
+//! 4. **Broad phase methods** on an `N^3` grid (default 40) and on the jointed mass: the
 //!    grid, sort-and-sweep (and brute force where it is small enough).
 
 use crate::generation::vm_hwm_kib;
 use crate::timing::median;
 use parry3d_f64::bounding_volume::Aabb as ParryAabb;
-use parry3d_f64::math::{Pose, Vector};
+use parry3d_f64::math::{Pose as ParryPose, Vector};
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d_f64::query::contact;
 use parry3d_f64::shape::ConvexPolyhedron;
+use penedge::block::Pose;
 use penedge::generation::generate;
-use penedge::system::{count_types, BlockSystem, BroadPhase};
+use penedge::system::{count_types, BlockSystem, BroadPhase, ContactTracker};
 use penedge::{ContactType, ConvexBlock, Tolerance};
 use rayon::prelude::*;
 use std::path::Path;
@@ -37,6 +42,7 @@ struct SystemOptions {
     parry: bool,
     jointed: bool,
     broad: usize,
+    incremental: usize,
 }
 
 fn parse(args: &[String]) -> Result<SystemOptions, String> {
@@ -47,6 +53,7 @@ fn parse(args: &[String]) -> Result<SystemOptions, String> {
         parry: true,
         jointed: true,
         broad: 40,
+        incremental: 50,
     };
     let mut it = args.iter();
     while let Some(flag) = it.next() {
@@ -56,6 +63,7 @@ fn parse(args: &[String]) -> Result<SystemOptions, String> {
             "--runs" => o.runs = crate::number(value()?)?,
             "--threads" => o.threads = crate::number(value()?)?,
             "--broad" => o.broad = crate::number(value()?)?,
+            "--incremental" => o.incremental = crate::number(value()?)?,
             "--no-parry" => o.parry = false,
             "--no-jointed" => o.jointed = false,
             other => return Err(format!("unknown option {other}")),
@@ -84,6 +92,9 @@ pub fn run(args: &[String]) -> Result<(), String> {
     pool.install(|| grid(&o))?;
     if o.jointed {
         pool.install(|| jointed(&o))?;
+    }
+    if o.incremental > 0 {
+        pool.install(|| incremental(&o))?;
     }
     if o.broad > 0 {
         pool.install(|| broad_phases(&o))?;
@@ -221,12 +232,12 @@ fn parry_grid(system: &BlockSystem, tol: &Tolerance) -> (f64, usize) {
     let found: usize = (0..blocks.len())
         .into_par_iter()
         .map(|i| {
-            let pose_i = Pose::from_translation(vector(blocks[i].centroid()));
+            let pose_i = ParryPose::from_translation(vector(blocks[i].centroid()));
             bvh.intersect_aabb(&leaves[i])
                 .filter(|&j| j as usize > i)
                 .filter(|&j| {
                     let j = j as usize;
-                    let pose_j = Pose::from_translation(vector(blocks[j].centroid()));
+                    let pose_j = ParryPose::from_translation(vector(blocks[j].centroid()));
                     let gap = tol.for_box(&blocks[i].aabb()).gap;
                     touches(&pose_i, &shape, &pose_j, gap)
                 })
@@ -237,7 +248,7 @@ fn parry_grid(system: &BlockSystem, tol: &Tolerance) -> (f64, usize) {
     (start.elapsed().as_secs_f64(), found)
 }
 
-fn touches(pose_a: &Pose, shape: &ConvexPolyhedron, pose_b: &Pose, gap: f64) -> bool {
+fn touches(pose_a: &ParryPose, shape: &ConvexPolyhedron, pose_b: &ParryPose, gap: f64) -> bool {
     matches!(contact(pose_a, shape, pose_b, shape, gap), Ok(Some(c)) if c.dist <= gap)
 }
 
@@ -319,5 +330,77 @@ fn broad_phases(o: &SystemOptions) -> Result<(), String> {
             );
         }
     }
+    Ok(())
+}
+
+/// A small random rigid step composed onto `pose`: a rotation by up to `angle` about the
+/// block's centroid `centre` (reference coordinates), then a shift of up to `shift` along
+/// each axis.
+fn step(
+    pose: &Pose,
+    centre: glam::DVec3,
+    rng: &mut crate::rng::SplitMix64,
+    shift: f64,
+    angle: f64,
+) -> Pose {
+    let c = pose.apply(centre);
+    let axis = rng.direction();
+    let rotation = glam::DQuat::from_axis_angle(axis, angle * rng.range(-1.0, 1.0));
+    let shift = glam::DVec3::new(
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+    ) * shift;
+    Pose {
+        rotation: (rotation * pose.rotation).normalize(),
+        translation: rotation * (pose.translation - c) + c + shift,
+    }
+}
+
+fn incremental(o: &SystemOptions) -> Result<(), String> {
+    let n = o.incremental;
+    let tol = Tolerance::default();
+    let system = cube_grid(n);
+    let skin = 0.05;
+    let mut tracker = ContactTracker::new(&system, tol, skin).map_err(|e| e.to_string())?;
+    let mut rng = crate::rng::SplitMix64::new(4);
+    let mut poses = vec![Pose::IDENTITY; system.len()];
+    println!(
+        "### Incremental updates: {n}^3 grid of unit cubes, skin {skin}\n\n\
+         Each step moves every block by a random rigid step; `ContactTracker::update` (placing \
+         the blocks included) beside `BlockSystem::detect` on the same moved blocks (their \
+         placing not timed).\n"
+    );
+    println!(
+        "| step | motion | broad phase rebuilt | candidate pairs | certified | queried | contacts | penetrating | update s | full detect s | full / update |"
+    );
+    println!("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for k in 1..=5 {
+        let (shift, angle) = if k == 1 { (1e-3, 1e-3) } else { (1e-6, 1e-6) };
+        for (pose, block) in poses.iter_mut().zip(system.blocks()) {
+            *pose = step(pose, block.centroid(), &mut rng, shift, angle);
+        }
+        let start = Instant::now();
+        let report = tracker.update(&poses).map_err(|e| e.to_string())?;
+        let update_s = start.elapsed().as_secs_f64();
+        let moved = tracker.system().clone();
+        let (full_s, full) = timed(o.runs, || moved.detect(&tol));
+        if &full != tracker.contacts() {
+            return Err(format!(
+                "step {k}: the tracker disagrees with a full detection"
+            ));
+        }
+        println!(
+            "| {k} | {shift:.0e}, {angle:.0e} rad | {} | {} | {} | {} | {} | {} | {update_s:.3} | {full_s:.3} | **{:.1}x** |",
+            if report.rebuilt { "yes" } else { "no" },
+            report.candidate_pairs,
+            report.certified,
+            report.queried,
+            full.contacts.len(),
+            full.penetrating.len(),
+            full_s / update_s
+        );
+    }
+    println!();
     Ok(())
 }

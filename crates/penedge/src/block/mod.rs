@@ -10,11 +10,13 @@ mod build;
 mod error;
 mod halfspace;
 mod origin;
+mod pose;
 mod stored;
 pub(crate) use assemble::BlockParts;
 
 pub use error::BlockError;
 pub use origin::FaceOrigin;
+pub use pose::Pose;
 
 use crate::geometry::{Aabb, DVec3, Plane};
 use glam::DQuat;

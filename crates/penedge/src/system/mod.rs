@@ -5,11 +5,13 @@ mod broad_phase;
 mod detect;
 mod examples;
 mod geometry;
+mod tracker;
 
 pub use broad_phase::{BroadPhase, WideBoxes};
 pub use detect::{count_types, Cancelled, DetectProgress, PairContact, SystemContacts};
 pub use examples::{paper_example, paper_spec, paper_table3, PaperExample};
 pub use geometry::ContactGeometries;
+pub use tracker::{ContactTracker, TrackerError, UpdateReport};
 
 use crate::block::{BlockError, ConvexBlock};
 use crate::generation::{upward, Domain, GenerationError, JointRecord, JointShape};

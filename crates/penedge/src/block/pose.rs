@@ -1,0 +1,145 @@
+//! Rigid placements of a block: a block at a new pose, computed into an existing block
+//! without allocating (the time-stepping path of [`crate::system::ContactTracker`]).
+
+use super::{Bounds, ConvexBlock, LocalCoordinates, Quad};
+use crate::geometry::{DVec3, Plane};
+use glam::DQuat;
+
+/// A rigid placement: a rotation about the origin, then a translation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    /// Unit quaternion.
+    pub rotation: DQuat,
+    /// Translation.
+    pub translation: DVec3,
+}
+
+impl Default for Pose {
+    fn default() -> Self {
+        Pose::IDENTITY
+    }
+}
+
+impl Pose {
+    /// No motion.
+    pub const IDENTITY: Pose = Pose {
+        rotation: DQuat::IDENTITY,
+        translation: DVec3::ZERO,
+    };
+
+    /// A pose from a rotation (normalised here) and a translation; `None` when either has a
+    /// NaN or infinite component or the rotation is zero.
+    pub fn new(rotation: DQuat, translation: DVec3) -> Option<Pose> {
+        let len = rotation.length();
+        (rotation.is_finite() && translation.is_finite() && len > 0.0).then(|| Pose {
+            rotation: rotation / len,
+            translation,
+        })
+    }
+
+    /// The image of point `p`.
+    #[inline]
+    pub fn apply(&self, p: DVec3) -> DVec3 {
+        self.rotation * p + self.translation
+    }
+
+    /// An upper bound of how far any point within `radius` of `centre` moves from pose
+    /// `self` to pose `to`: the centre's displacement plus `2 sin(θ / 2) radius`, `θ` the
+    /// angle of the relative rotation.
+    pub fn displacement_bound(&self, to: &Pose, centre: DVec3, radius: f64) -> f64 {
+        let shift = to.apply(centre).distance(self.apply(centre));
+        // The relative rotation's vector part has length sin(θ / 2): a point at distance r
+        // from the axis moves along a chord of 2 sin(θ / 2) r.
+        let relative = to.rotation * self.rotation.conjugate();
+        let sin_half = relative.xyz().length().min(1.0);
+        // Rounding of the rotated coordinates: a few units in the last place of each.
+        let rounding = 8.0 * f64::EPSILON * (to.apply(centre).abs().max_element() + radius);
+        shift + 2.0 * sin_half * radius + rounding
+    }
+}
+
+impl ConvexBlock {
+    /// Overwrites this block with `reference` placed at `pose`, reusing this block's buffers
+    /// (no allocation once both have the same topology, the usual case in time stepping).
+    /// Topology, face origins and volume are copied from `reference`.
+    pub fn place_from(&mut self, reference: &ConvexBlock, pose: &Pose) {
+        self.vertices.clear();
+        self.vertices
+            .extend(reference.vertices.iter().map(|&p| pose.apply(p)));
+        self.planes.clear();
+        self.planes.extend(reference.planes.iter().map(|pl| Plane {
+            normal: (pose.rotation * pl.normal).normalize(),
+            point: pose.apply(pl.point),
+        }));
+        if self.face_offsets != reference.face_offsets
+            || self.face_vertices != reference.face_vertices
+            || self.edges != reference.edges
+        {
+            self.face_offsets.clone_from(&reference.face_offsets);
+            self.face_vertices.clone_from(&reference.face_vertices);
+            self.edges.clone_from(&reference.edges);
+        }
+        self.origins.clone_from(&reference.origins);
+        self.volume = reference.volume;
+        self.centroid = pose.apply(reference.centroid);
+        self.bounds = Bounds::of(&self.vertices);
+        self.local.fill(&self.vertices);
+    }
+}
+
+impl LocalCoordinates {
+    /// Recomputes the coordinates of `vertices` into the existing buffers.
+    fn fill(&mut self, vertices: &[DVec3]) {
+        self.origin = vertices[0];
+        let last = vertices.len() - 1;
+        self.quads
+            .resize(vertices.len().div_ceil(4), Quad::default());
+        for (c, q) in self.quads.iter_mut().enumerate() {
+            for k in 0..4 {
+                let v = vertices[(4 * c + k).min(last)] - self.origin;
+                (q.x[k], q.y[k], q.z[k]) = (v.x, v.y, v.z);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn placing_matches_transformed_and_the_bound_holds() {
+        let reference = ConvexBlock::cuboid([0.0, 0.0, 0.0], [1.0, 2.0, 3.0]).unwrap();
+        let pose = Pose::new(
+            DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -0.2, 1.1),
+            DVec3::new(5.0, -1.0, 2.0),
+        )
+        .unwrap();
+        let mut placed = reference.clone();
+        placed.place_from(&reference, &pose);
+        let expected = reference.transformed(pose.rotation, pose.translation, 1.0);
+        assert_eq!(placed.vertices(), expected.vertices());
+        assert_eq!(placed.planes(), expected.planes());
+        assert_eq!(placed.aabb(), expected.aabb());
+        assert_eq!(placed.centroid(), expected.centroid());
+        let (c, r) = (reference.centroid(), 14f64.sqrt() / 2.0);
+        let bound = Pose::IDENTITY.displacement_bound(&pose, c, r);
+        let moved = reference
+            .vertices()
+            .iter()
+            .map(|&v| pose.apply(v).distance(v))
+            .fold(0.0, f64::max);
+        assert!(moved <= bound * (1.0 + 1e-12), "{moved} > {bound}");
+        assert!(
+            bound < moved * 1.5 + 1.0,
+            "bound too loose: {bound} vs {moved}"
+        );
+    }
+
+    #[test]
+    fn poses_with_nan_or_a_zero_rotation_are_refused() {
+        assert!(Pose::new(DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0), DVec3::ZERO).is_none());
+        assert!(Pose::new(DQuat::IDENTITY, DVec3::new(f64::NAN, 0.0, 0.0)).is_none());
+        assert!(Pose::new(DQuat::from_xyzw(0.0, 0.0, 0.0, 2.0), DVec3::ZERO).is_some());
+    }
+}

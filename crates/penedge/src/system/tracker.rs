@@ -1,0 +1,470 @@
+//! Contact detection over time steps, as DEM and DDA codes call it: the blocks move rigidly,
+//! and each step asks for the contacts at the new poses.
+//!
+//! Two things carry over from step to step:
+//!
+//! - **The broad phase, with a skin.** Candidate pairs are found once with every box widened
+//!   by its gap plus half the skin. While no block has moved more than half the skin since,
+//!   every pair within its gap is still among them (each box moved at most that much), so
+//!   the broad phase is skipped; a block moving farther triggers a rebuild.
+//! - **Certificates for pairs that are clearly apart or clearly overlapping.** A separated
+//!   pair keeps a face plane with every vertex of the other block at least `s` beyond it; a
+//!   penetrating pair keeps a vertex at least `D` inside the other block. Each
+//!   block accumulates an upper bound of how far any of its points has travelled
+//!   ([`Pose::displacement_bound`], step after step); while the two blocks have together
+//!   travelled less than `s - gap` (or `D - gap`), the plane still separates them by more
+//!   than the gap (or the vertex is still deeper than the gap: the edges through it reach
+//!   deeper than the gap) and the pair's answer is known
+//!   without a query. Every other pair, touching ones included, is queried anew.
+//!
+//! The contacts of each step are exactly those of [`BlockSystem::detect`] on the blocks at
+//! their new poses (the tests check it step by step).
+
+use super::detect::{PairContact, SystemContacts};
+use super::{BlockSystem, BroadPhase, WideBoxes};
+use crate::block::{ConvexBlock, Pose};
+use crate::classify::PairResult;
+use crate::contact::Detector;
+use crate::geometry::DVec3;
+use crate::tolerance::{Tolerance, ROUNDING_FLOOR};
+use rayon::prelude::*;
+use thiserror::Error;
+
+/// Why a tracker cannot be made or updated.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum TrackerError {
+    /// The skin is negative, NaN or infinite.
+    #[error("the skin must be a finite length of at least 0, got {0}")]
+    Skin(f64),
+    /// Not one pose per block.
+    #[error("{given} poses given for {blocks} blocks")]
+    PoseCount {
+        /// Poses given.
+        given: usize,
+        /// Blocks.
+        blocks: usize,
+    },
+    /// A pose with a NaN or infinite component or a zero rotation.
+    #[error("pose {0} has a NaN or infinite component or a zero rotation")]
+    Pose(usize),
+}
+
+/// What an update did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct UpdateReport {
+    /// Whether the broad phase ran again (a block moved more than half the skin).
+    pub rebuilt: bool,
+    /// Candidate pairs.
+    pub candidate_pairs: usize,
+    /// Pairs answered by their certificate, without a query.
+    pub certified: usize,
+    /// Pairs queried.
+    pub queried: usize,
+}
+
+/// A pair's proof that its answer has not changed: valid while the two blocks have
+/// travelled together less than `margin` beyond the gap since `travel` was recorded.
+#[derive(Clone, Copy, Debug, Default)]
+struct Certificate {
+    /// Separation (or depth) at the time; 0 for none.
+    margin: f64,
+    /// Each block's accumulated travel at the time.
+    travel: [f64; 2],
+    /// The pair's absolute gap at the time.
+    gap: f64,
+    /// Whether it certifies a penetration (else a separation).
+    penetrating: bool,
+}
+
+/// The contacts of a block system whose blocks move rigidly, updated step by step.
+///
+/// ```
+/// use penedge::block::Pose;
+/// use penedge::system::{paper_example, ContactTracker, PaperExample};
+/// use penedge::Tolerance;
+/// let system = paper_example(PaperExample::One).unwrap();
+/// let mut tracker = ContactTracker::new(&system, Tolerance::default(), 0.1).unwrap();
+/// assert_eq!(tracker.contacts().contacts.len(), 28);
+/// // Lift block 0 by 1 mm: it leaves its neighbours.
+/// let mut poses = vec![Pose::IDENTITY; system.len()];
+/// poses[0].translation.z = -1e-3;
+/// let report = tracker.update(&poses).unwrap();
+/// assert!(!report.rebuilt);
+/// assert!(tracker.contacts().contacts.len() < 28);
+/// ```
+#[derive(Clone, Debug)]
+pub struct ContactTracker {
+    tol: Tolerance,
+    skin: f64,
+    reference: Vec<ConvexBlock>,
+    current: BlockSystem,
+    centre: Vec<DVec3>,
+    radius: Vec<f64>,
+    poses: Vec<Pose>,
+    built_at: Vec<Pose>,
+    travel: Vec<f64>,
+    pairs: Vec<[u32; 2]>,
+    certificates: Vec<Certificate>,
+    contacts: SystemContacts,
+}
+
+impl ContactTracker {
+    /// A tracker of `system`'s blocks, their current placement being the identity pose;
+    /// `skin` (a length, ≥ 0) widens the broad phase's boxes so that it can be reused.
+    /// Detects the contacts at once.
+    pub fn new(system: &BlockSystem, tol: Tolerance, skin: f64) -> Result<Self, TrackerError> {
+        if !(skin.is_finite() && skin >= 0.0) {
+            return Err(TrackerError::Skin(skin));
+        }
+        let reference = system.blocks().to_vec();
+        let centre: Vec<DVec3> = reference.iter().map(ConvexBlock::centroid).collect();
+        let radius = reference
+            .iter()
+            .zip(&centre)
+            .map(|(b, c)| {
+                b.vertices()
+                    .iter()
+                    .map(|v| v.distance(*c))
+                    .fold(0.0, f64::max)
+            })
+            .collect();
+        let n = reference.len();
+        let mut tracker = ContactTracker {
+            tol,
+            skin,
+            current: BlockSystem::new(reference.clone()),
+            reference,
+            centre,
+            radius,
+            poses: vec![Pose::IDENTITY; n],
+            built_at: vec![Pose::IDENTITY; n],
+            travel: vec![0.0; n],
+            pairs: Vec::new(),
+            certificates: Vec::new(),
+            contacts: SystemContacts::default(),
+        };
+        tracker.rebuild();
+        tracker.narrow_phase();
+        Ok(tracker)
+    }
+
+    /// The contacts at the current poses.
+    pub fn contacts(&self) -> &SystemContacts {
+        &self.contacts
+    }
+
+    /// The blocks at their current poses.
+    pub fn system(&self) -> &BlockSystem {
+        &self.current
+    }
+
+    /// The current poses (relative to the blocks given to [`ContactTracker::new`]).
+    pub fn poses(&self) -> &[Pose] {
+        &self.poses
+    }
+
+    /// Moves every block to its new pose (relative to the blocks given to
+    /// [`ContactTracker::new`]) and updates the contacts.
+    pub fn update(&mut self, poses: &[Pose]) -> Result<UpdateReport, TrackerError> {
+        if poses.len() != self.reference.len() {
+            return Err(TrackerError::PoseCount {
+                given: poses.len(),
+                blocks: self.reference.len(),
+            });
+        }
+        if let Some(i) = poses
+            .iter()
+            .position(|p| Pose::new(p.rotation, p.translation).is_none())
+        {
+            return Err(TrackerError::Pose(i));
+        }
+        let farthest = self.move_blocks(poses);
+        let rebuilt = farthest > 0.5 * self.skin;
+        if rebuilt {
+            self.rebuild();
+        }
+        let (certified, queried) = self.narrow_phase();
+        Ok(UpdateReport {
+            rebuilt,
+            candidate_pairs: self.pairs.len(),
+            certified,
+            queried,
+        })
+    }
+
+    /// Places the blocks, adds each one's travel; returns the largest distance a block has
+    /// moved since the broad phase was built.
+    fn move_blocks(&mut self, poses: &[Pose]) -> f64 {
+        let new: Vec<Pose> = poses
+            .iter()
+            .map(|p| Pose::new(p.rotation, p.translation).expect("checked"))
+            .collect();
+        let (reference, centre, radius) = (&self.reference, &self.centre, &self.radius);
+        self.current
+            .blocks
+            .par_iter_mut()
+            .zip(&mut self.travel)
+            .zip(&mut self.poses)
+            .zip(&self.built_at)
+            .zip(&new)
+            .enumerate()
+            .map(|(i, ((((block, travel), pose), built), new))| {
+                *travel += pose.displacement_bound(new, centre[i], radius[i]);
+                *pose = *new;
+                block.place_from(&reference[i], new);
+                built.displacement_bound(new, centre[i], radius[i])
+            })
+            .reduce(|| 0.0, f64::max)
+    }
+
+    fn rebuild(&mut self) {
+        let half_skin = 0.5 * self.skin;
+        let boxes = WideBoxes::new(self.current.blocks().iter().map(|b| {
+            let aabb = b.aabb();
+            (aabb, self.tol.for_box(&aabb).gap + half_skin)
+        }));
+        self.pairs = boxes.pairs(BroadPhase::default());
+        self.certificates = vec![Certificate::default(); self.pairs.len()];
+        self.built_at.clone_from(&self.poses);
+    }
+
+    /// Answers every candidate pair (by certificate or query); returns (certified, queried).
+    fn narrow_phase(&mut self) -> (usize, usize) {
+        let blocks = self.current.blocks();
+        let travel = &self.travel;
+        let tol = self.tol;
+        let outcomes: Vec<(PairResult, bool)> = self
+            .pairs
+            .par_iter()
+            .zip(&mut self.certificates)
+            .map_init(
+                || Detector::new(tol),
+                |det, (&[i, j], cert)| {
+                    let moved =
+                        travel[i as usize] - cert.travel[0] + travel[j as usize] - cert.travel[1];
+                    // The gap grows with the coordinates' magnitude (its rounding floor),
+                    // which grows by at most the distance moved: no block data is read.
+                    if cert.margin - moved > cert.gap + ROUNDING_FLOOR * moved {
+                        let known = if cert.penetrating {
+                            PairResult::Penetrating
+                        } else {
+                            PairResult::Separated
+                        };
+                        return (known, true);
+                    }
+                    let (a, b) = (&blocks[i as usize], &blocks[j as usize]);
+                    let result = det.detect(a, b);
+                    let (margin, penetrating) = match result {
+                        PairResult::Separated => (separation(a, b), false),
+                        PairResult::Penetrating => (depth(a, b).max(depth(b, a)), true),
+                        PairResult::Contact(_) => (0.0, false),
+                    };
+                    *cert = Certificate {
+                        margin,
+                        travel: [travel[i as usize], travel[j as usize]],
+                        gap: det.thresholds(a, b).gap,
+                        penetrating,
+                    };
+                    (result, false)
+                },
+            )
+            .collect();
+        let mut found = SystemContacts::default();
+        let mut certified = 0;
+        for (&pair, (result, known)) in self.pairs.iter().zip(outcomes) {
+            certified += known as usize;
+            match result {
+                PairResult::Contact(contact) => found.contacts.push(PairContact { pair, contact }),
+                PairResult::Penetrating => found.penetrating.push(pair),
+                PairResult::Separated => {}
+            }
+        }
+        self.contacts = found;
+        (certified, self.pairs.len() - certified)
+    }
+}
+
+/// The largest separation by a face plane of either block: every vertex of the other block
+/// is at least this far beyond it (negative when no plane separates).
+fn separation(a: &ConvexBlock, b: &ConvexBlock) -> f64 {
+    let by = |x: &ConvexBlock, y: &ConvexBlock| {
+        x.planes()
+            .iter()
+            .map(|p| {
+                y.vertices()
+                    .iter()
+                    .map(|&v| p.distance(v))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    by(a, b).max(by(b, a))
+}
+
+/// The depth of the deepest vertex of `a` inside `b`: the largest, over `a`'s vertices,
+/// of `min_f -(n_f · (v - q_f))` (negative when no vertex is inside). A lower bound of the
+/// deepest point of the pair (edges crossing without a vertex inside give none, and such
+/// pairs are simply queried again).
+fn depth(a: &ConvexBlock, b: &ConvexBlock) -> f64 {
+    a.vertices()
+        .iter()
+        .map(|&v| {
+            b.planes()
+                .iter()
+                .map(|pl| -pl.distance(v))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DQuat;
+
+    /// A deterministic generator (SplitMix64).
+    struct Rng(u64);
+
+    impl Rng {
+        fn unit(&mut self) -> f64 {
+            self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        }
+
+        fn signed(&mut self) -> f64 {
+            2.0 * self.unit() - 1.0
+        }
+
+        fn small_pose(&mut self, shift: f64, angle: f64) -> Pose {
+            let axis = DVec3::new(self.signed(), self.signed(), self.signed()).normalize();
+            Pose {
+                rotation: DQuat::from_axis_angle(axis, angle * self.signed()),
+                translation: DVec3::new(self.signed(), self.signed(), self.signed()) * shift,
+            }
+        }
+    }
+
+    fn grid(n: usize) -> BlockSystem {
+        BlockSystem::new(
+            (0..n * n * n)
+                .map(|k| {
+                    let p = [(k % n) as f64, (k / n % n) as f64, (k / (n * n)) as f64];
+                    ConvexBlock::cuboid(p, p.map(|c| c + 1.0)).unwrap()
+                })
+                .collect(),
+        )
+    }
+
+    /// Each step's contacts equal a full detection on the moved blocks.
+    fn check_steps(system: &BlockSystem, skin: f64, steps: &[(f64, f64)]) -> Vec<UpdateReport> {
+        let tol = Tolerance::default();
+        let mut tracker = ContactTracker::new(system, tol, skin).unwrap();
+        assert_eq!(tracker.contacts(), &system.detect(&tol));
+        let mut rng = Rng(7);
+        let mut poses = vec![Pose::IDENTITY; system.len()];
+        let mut reports = Vec::new();
+        for &(shift, angle) in steps {
+            for (pose, block) in poses.iter_mut().zip(system.blocks()) {
+                // A small rotation about the block's centroid, then a small shift.
+                let step = rng.small_pose(shift, angle);
+                let c = pose.apply(block.centroid());
+                *pose = Pose {
+                    rotation: (step.rotation * pose.rotation).normalize(),
+                    translation: step.rotation * (pose.translation - c) + c + step.translation,
+                };
+            }
+            let report = tracker.update(&poses).unwrap();
+            let moved = BlockSystem::new(
+                system
+                    .blocks()
+                    .iter()
+                    .zip(&poses)
+                    .map(|(b, p)| b.transformed(p.rotation, p.translation, 1.0))
+                    .collect(),
+            );
+            assert_eq!(tracker.contacts(), &moved.detect(&tol), "{report:?}");
+            reports.push(report);
+        }
+        reports
+    }
+
+    #[test]
+    fn every_step_agrees_with_a_full_detection() {
+        let steps = [
+            (1e-3, 1e-3),
+            (1e-5, 1e-5),
+            (1e-5, 1e-5),
+            (0.2, 0.05),
+            (1e-6, 0.0),
+        ];
+        let reports = check_steps(&grid(4), 0.1, &steps);
+        // Small steps reuse the broad phase; the large one (0.2 > half the skin) rebuilds.
+        let rebuilt: Vec<bool> = reports.iter().map(|r| r.rebuilt).collect();
+        assert_eq!(rebuilt, [false, false, false, true, false]);
+        // After the first motion most pairs are clearly apart or overlapping: the next
+        // small steps certify many of them.
+        assert!(
+            reports[1].certified > reports[1].candidate_pairs / 3,
+            "{reports:?}"
+        );
+        assert_eq!(reports[0].certified, 0);
+    }
+
+    #[test]
+    fn a_zero_skin_rebuilds_every_step_and_stays_exact() {
+        // Even a step without motion: the travel bound counts the rounding of the poses.
+        let reports = check_steps(&grid(3), 0.0, &[(1e-4, 0.0), (0.0, 0.0)]);
+        assert!(reports.iter().all(|r| r.rebuilt), "{reports:?}");
+    }
+
+    #[test]
+    fn a_jointed_system_moving_step_by_step() {
+        let system = crate::system::paper_example(crate::system::PaperExample::Three).unwrap();
+        check_steps(&system, 0.5, &[(1e-3, 1e-4), (1e-4, 1e-4), (1e-2, 1e-3)]);
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        let system = grid(2);
+        let tol = Tolerance::default();
+        for skin in [-1.0, f64::NAN, f64::INFINITY] {
+            assert!(matches!(
+                ContactTracker::new(&system, tol, skin),
+                Err(TrackerError::Skin(_))
+            ));
+        }
+        let mut tracker = ContactTracker::new(&system, tol, 0.1).unwrap();
+        assert_eq!(
+            tracker.update(&[Pose::IDENTITY; 3]),
+            Err(TrackerError::PoseCount {
+                given: 3,
+                blocks: 8
+            })
+        );
+        let mut poses = vec![Pose::IDENTITY; 8];
+        poses[5].translation.y = f64::NAN;
+        assert_eq!(tracker.update(&poses), Err(TrackerError::Pose(5)));
+        poses[5] = Pose {
+            rotation: DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0),
+            translation: DVec3::ZERO,
+        };
+        assert_eq!(tracker.update(&poses), Err(TrackerError::Pose(5)));
+        // A failed update changes nothing.
+        assert_eq!(tracker.contacts(), &system.detect(&tol));
+    }
+
+    #[test]
+    fn depth_and_separation_witnesses() {
+        let a = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+        let b = ConvexBlock::cuboid([0.75, 0.25, 0.25], [2.0, 0.75, 0.75]).unwrap();
+        // b's end face at x = 0.75 is 0.25 inside a (its vertices 0.25 from faces y, z).
+        assert!((depth(&b, &a) - 0.25).abs() < 1e-12);
+        assert!(depth(&a, &b) < 0.0);
+        let c = ConvexBlock::cuboid([1.5, 0.0, 0.0], [2.5, 1.0, 1.0]).unwrap();
+        assert!((separation(&a, &c) - 0.5).abs() < 1e-12);
+        assert!(depth(&c, &a) < 0.0);
+    }
+}
