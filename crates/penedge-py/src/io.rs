@@ -1,14 +1,19 @@
 //! Files (core `io`): the block file (JSON), ParaView files (VTU blocks and faces, VTP
-//! contacts) and tables (CSV of blocks, CSV of contacts).
+//! contacts, PVD time series: [`TimeSeries`], [`write_pvd`]) and tables (CSV of blocks, CSV
+//! of contacts).
 //!
 //! Every file is written atomically by the core (a temporary file in the same folder, then
 //! renamed over the target), without the GIL. A file that cannot be read or written raises
 //! the matching `OSError`; a block file that is not valid raises `FileFormatError`.
 
-use crate::errors::{to_py_err, Error};
+use crate::arrays;
+use crate::errors::{input_error, to_py_err, Error};
 use crate::system::{BlockSystem, SystemContacts};
+use numpy::PyArray1;
+use penedge::io::pvd::{self, PvdEntry, SeriesError};
 use penedge::io::{self, csv, json, vtp, vtu, IoError};
 use penedge::system::{ContactGeometries, SystemContacts as CoreContacts};
+use pyo3::exceptions::PyFileExistsError;
 use pyo3::prelude::*;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -65,7 +70,12 @@ impl BlockSystem {
 
     /// The system of a JSON block file's text (as :meth:`read_json`).
     #[staticmethod]
-    fn from_json(py: Python<'_>, text: &str) -> PyResult<BlockSystem> {
+    fn from_json(py: Python<'_>, text: &Bound<'_, PyAny>) -> PyResult<BlockSystem> {
+        let text = text
+            .cast::<pyo3::types::PyString>()
+            .map_err(|e| pyo3::exceptions::PyTypeError::new_err(format!("text: {e}")))?
+            .to_str()
+            .map_err(|e| input_error("text", format!("text is not valid Unicode: {e}")))?;
         py.detach(|| json::from_json_str(text))
             .map(BlockSystem::wrap)
             .map_err(to_py_err)
@@ -154,4 +164,240 @@ pub fn write_contacts_csv_to(
         )?;
     }
     Ok(())
+}
+
+/// The Python exception of a time-series error: `InputError` (kind ``time``, ``file_name``
+/// or ``mismatch``), `OSError` or `FileFormatError`.
+fn series_error(e: SeriesError) -> PyErr {
+    match e {
+        SeriesError::Time(m) => input_error("time", m),
+        SeriesError::FileName(m) => input_error("file_name", m),
+        SeriesError::Mismatch(m) => input_error("mismatch", m),
+        SeriesError::Io(e) => to_py_err(e),
+    }
+}
+
+/// The Python exception of a series that cannot be started or resumed: a folder that holds
+/// a series already is a `FileExistsError` (errno ``EEXIST``, with the core's message).
+fn open_error(py: Python<'_>, e: IoError) -> PyErr {
+    if let IoError::Io { path, source } = &e {
+        if source.kind() == std::io::ErrorKind::AlreadyExists && source.raw_os_error().is_none() {
+            let errno = py
+                .import("errno")
+                .and_then(|m| m.getattr("EEXIST"))
+                .and_then(|v| v.extract::<i32>());
+            return match errno {
+                Ok(errno) => PyFileExistsError::new_err((
+                    errno,
+                    source.to_string(),
+                    path.to_string_lossy().into_owned(),
+                )),
+                Err(err) => err,
+            };
+        }
+    }
+    to_py_err(Error::from(e))
+}
+
+/// Writes a ParaView collection (PVD) that lists one dataset file per time step,
+/// atomically.
+///
+/// ParaView opens the ``.pvd`` as one source with a time slider. For blocks and contacts
+/// written step after step, :class:`TimeSeries` writes the files and the index together.
+///
+/// Parameters
+/// ----------
+/// path : str or os.PathLike
+///     The ``.pvd`` file.
+/// datasets : sequence of (float, str or os.PathLike)
+///     ``(time, file)`` of each step: times finite and strictly increasing, files relative
+///     to the folder of `path` (as ParaView reads them) or absolute.
+///
+/// Raises
+/// ------
+/// InputError
+///     A time that is not finite or not after the one before (``kind == "time"``), or an
+///     empty file name (``"file_name"``); nothing is written.
+/// OSError
+///     The file cannot be written.
+///
+/// Examples
+/// --------
+/// >>> import pathlib, shutil, tempfile
+/// >>> import penedge
+/// >>> folder = pathlib.Path(tempfile.mkdtemp())
+/// >>> system = penedge.paper_example(1)
+/// >>> for step in (0, 1):  # a simulation would move the blocks in between
+/// ...     system.write_vtu(folder / f"step{step}.vtu")
+/// >>> penedge.write_pvd(folder / "steps.pvd", [(0.0, "step0.vtu"), (0.5, "step1.vtu")])
+/// >>> print((folder / "steps.pvd").read_text().splitlines()[3])
+/// <DataSet timestep="0.0" group="" part="0" file="step0.vtu"/>
+/// >>> shutil.rmtree(folder)
+#[pyfunction]
+pub fn write_pvd(py: Python<'_>, path: PathBuf, datasets: Vec<(f64, PathBuf)>) -> PyResult<()> {
+    let mut entries = Vec::with_capacity(datasets.len());
+    for (k, (time, file)) in datasets.into_iter().enumerate() {
+        let file = file.into_os_string().into_string().map_err(|f| {
+            input_error(
+                "file_name",
+                format!("dataset {k}: the file name {f:?} is not valid UTF-8"),
+            )
+        })?;
+        entries.push(PvdEntry { time, file });
+    }
+    py.detach(|| pvd::write_pvd(&path, &entries))
+        .map_err(series_error)
+}
+
+/// Blocks and contacts step after step, as a ParaView time series in one folder.
+///
+/// Each :meth:`write_step` writes the blocks as ``blocks_NNNNNN.vtu`` (as
+/// :meth:`BlockSystem.write_vtu`) and, when given, the contacts as ``contacts_NNNNNN.vtp``
+/// (as :meth:`SystemContacts.write_vtp`), then rewrites the two indexes ``blocks.pvd`` and
+/// ``contacts.pvd``. Open them in ParaView (File > Open) to play the steps with the time
+/// slider.
+///
+/// Every file is written atomically, and a step's files before the indexes that list them:
+/// ParaView, with the series open while a simulation runs, sees complete steps only; a run
+/// that stops leaves a series that ``TimeSeries(folder, resume=True)`` continues.
+///
+/// Parameters
+/// ----------
+/// folder : str or os.PathLike
+///     Made if missing (with its parents).
+/// resume : bool, default False
+///     Continue the series already in `folder` after its last step (the files of a step
+///     that never reached the index are replaced). Without `resume`, a folder that holds a
+///     series is refused.
+///
+/// Raises
+/// ------
+/// FileExistsError
+///     `folder` already holds a series and `resume` is False.
+/// FileNotFoundError
+///     `resume` and there is no ``blocks.pvd`` in `folder`.
+/// FileFormatError
+///     `resume` and an index is not a collection, or its times do not increase.
+///
+/// Examples
+/// --------
+/// >>> import pathlib, shutil, tempfile
+/// >>> import penedge
+/// >>> folder = pathlib.Path(tempfile.mkdtemp())
+/// >>> series = penedge.TimeSeries(folder / "series")
+/// >>> system = penedge.paper_example(1)
+/// >>> for time in (0.0, 0.1, 0.2):  # a simulation would move the blocks in between
+/// ...     step = series.write_step(time, system, system.detect(geometry=True))
+/// >>> step, len(series), series.times
+/// (2, 3, array([0. , 0.1, 0.2]))
+/// >>> sorted(p.name for p in series.folder.iterdir())[:4]
+/// ['blocks.pvd', 'blocks_000000.vtu', 'blocks_000001.vtu', 'blocks_000002.vtu']
+/// >>> penedge.TimeSeries(folder / "series", resume=True).write_step(0.3, system)
+/// 3
+/// >>> shutil.rmtree(folder)
+#[pyclass(module = "penedge", name = "TimeSeries")]
+pub struct TimeSeries {
+    inner: pvd::TimeSeries,
+}
+
+#[pymethods]
+impl TimeSeries {
+    #[new]
+    #[pyo3(signature = (folder, resume = false))]
+    fn new(py: Python<'_>, folder: PathBuf, resume: bool) -> PyResult<Self> {
+        let made = py.detach(|| {
+            if resume {
+                pvd::TimeSeries::open(&folder)
+            } else {
+                pvd::TimeSeries::create(&folder)
+            }
+        });
+        made.map(|inner| TimeSeries { inner })
+            .map_err(|e| open_error(py, e))
+    }
+
+    /// Writes one step: the blocks, and the contacts when given; returns the step number
+    /// (0, 1, 2, ...: the ``NNNNNN`` of the file names).
+    ///
+    /// Parameters
+    /// ----------
+    /// time : float
+    ///     Finite, after the previous step's time.
+    /// system : BlockSystem
+    /// contacts : SystemContacts, optional
+    ///     The contacts of `system`, found with ``detect(geometry=True)``. Steps without
+    ///     contacts are left out of ``contacts.pvd``.
+    ///
+    /// Returns
+    /// -------
+    /// int
+    ///
+    /// Raises
+    /// ------
+    /// InputError
+    ///     A time that is not finite or not after the last step (``kind == "time"``),
+    ///     contacts found without ``geometry=True`` (``"no_geometry"``) or naming a block
+    ///     `system` does not have (``"mismatch"``); nothing is written.
+    /// OSError
+    ///     A file cannot be written (the step is not added to the series).
+    #[pyo3(signature = (time, system, contacts = None))]
+    fn write_step(
+        &mut self,
+        py: Python<'_>,
+        time: f64,
+        system: PyRef<'_, BlockSystem>,
+        contacts: Option<PyRef<'_, SystemContacts>>,
+    ) -> PyResult<usize> {
+        let contacts = match &contacts {
+            Some(c) => Some((&c.found, c.geometry()?)),
+            None => None,
+        };
+        let (inner, system) = (&mut self.inner, &system.inner);
+        py.detach(|| inner.write_step(time, system, contacts))
+            .map_err(series_error)
+    }
+
+    /// The series' folder.
+    #[getter]
+    fn folder(&self) -> PathBuf {
+        self.inner.folder().to_path_buf()
+    }
+
+    /// The index of the block files, ``folder / "blocks.pvd"``.
+    #[getter]
+    fn blocks_index(&self) -> PathBuf {
+        self.inner.blocks_index()
+    }
+
+    /// The index of the contact files, ``folder / "contacts.pvd"``.
+    #[getter]
+    fn contacts_index(&self) -> PathBuf {
+        self.inner.contacts_index()
+    }
+
+    /// The time of each step (float64, increasing).
+    #[getter]
+    fn times<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let times = self.inner.blocks().iter().map(|e| e.time).collect();
+        arrays::read_only(arrays::vector(py, times))
+    }
+
+    /// The time of each step written with contacts (float64, increasing).
+    #[getter]
+    fn contact_times<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let times = self.inner.contacts().iter().map(|e| e.time).collect();
+        arrays::read_only(arrays::vector(py, times))
+    }
+
+    fn __len__(&self) -> usize {
+        self.inner.len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "TimeSeries({:?}, {} steps)",
+            self.inner.folder().display().to_string(),
+            self.inner.len()
+        )
+    }
 }

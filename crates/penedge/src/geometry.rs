@@ -76,3 +76,19 @@ pub fn newell_normal(points: impl Iterator<Item = DVec3> + Clone) -> DVec3 {
     }
     n
 }
+
+/// A number as people write it in messages: plain (`120`, `0.5`, `NaN`) unless very large or
+/// very small, then in exponent form (`1e300`, not 301 digits).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Short(pub(crate) f64);
+
+impl std::fmt::Display for Short {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || !a.is_finite() || (1e-5..1e16).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}

@@ -3,13 +3,17 @@
 //! Every threshold is a fraction of a length scale, so that results do not change when a
 //! whole system is scaled. For a pair of blocks the scale is the smaller of the two blocks'
 //! characteristic lengths ([`crate::ConvexBlock::size`], the diagonal of its bounding box);
-//! for a single block it is that block's size. Two numbers, both relative:
+//! for a single block it is that block's size; for generation, the domain's. Two numbers,
+//! both relative (the full rules, and where each is applied: `docs/tolerance.md`):
 //!
-//! * `gap`: blocks whose distance is at most `gap * scale` are in contact, and a penetration
-//!   of at most `gap * scale` still counts as touching (the paper's widening of each block by
-//!   the gap). A penetration edge that goes deeper than that into the other block makes the
-//!   pair *penetrating*. The default (`1e-12`) only absorbs floating-point rounding: exactly
-//!   touching blocks touch. DEM and DDA users set the gap they allow.
+//! * `gap`: a face plane with all of the other block more than `gap * scale` outside it
+//!   separates the pair; otherwise the blocks touch when an edge of one meets the other with
+//!   its face planes moved out by `gap * scale` (the paper's widening: along a face normal the
+//!   blocks touch up to that distance, at edges and corners a little farther). A penetration
+//!   of at most `gap * scale` still counts as touching; a penetration edge that goes deeper
+//!   into the other block makes the pair *penetrating*. The default (`1e-12`) only absorbs
+//!   floating-point rounding: exactly touching blocks touch. DEM and DDA users set the gap
+//!   they allow.
 //! * `length`: the length below which a penetration edge "has no length" (paper Table 1),
 //!   and the distance within which a point counts as lying on a plane or two points as one.
 //!   It must be at least `10 * gap`: a penetration edge born of the gap widening is about
@@ -36,7 +40,7 @@ pub struct Tolerance {
 pub enum ToleranceError {
     /// A threshold is NaN, infinite, negative or not small (the gap below 0.01, the length
     /// below 0.1, both relative to the block size).
-    #[error("tolerance `{name}` must be a finite number in [0, {max}) (relative to block size), got {value}")]
+    #[error("tolerance `{name}` must be a finite number in [0, {max}) (relative to block size), got {}", crate::geometry::Short(*value))]
     OutOfRange {
         /// Which threshold.
         name: &'static str,

@@ -33,6 +33,7 @@ impl ConvexBlock {
     ) -> Result<ConvexBlock, BlockError> {
         let faces: Vec<Vec<usize>> = faces.iter().map(|f| f.as_ref().to_vec()).collect();
         let points = check_points(vertices)?;
+        check_range(&points)?;
         let eps = tol.for_box(&Aabb::of_points(&points)).length;
         check_face_lists(&faces, points.len())?;
         check_repeated_vertices(&points, eps)?;
@@ -55,6 +56,31 @@ pub(super) fn check_points(vertices: &[[f64; 3]]) -> Result<Vec<DVec3>, BlockErr
             }
         })
         .collect()
+}
+
+/// Coordinates within [`super::MAX_COORDINATE`] and a size of at least [`super::MIN_SIZE`]
+/// (a size of zero is left to the repeated-vertex check, which names the vertices).
+pub(super) fn check_range(points: &[DVec3]) -> Result<(), BlockError> {
+    if points.is_empty() {
+        return Ok(()); // too small, which the shape check says
+    }
+    let aabb = Aabb::of_points(points);
+    let magnitude = aabb.magnitude();
+    // The diagonal underflows to 0 below about 1e-154; the longest side does not.
+    let size = aabb.diagonal().max((aabb.max - aabb.min).max_element());
+    if magnitude > super::MAX_COORDINATE {
+        return Err(BlockError::OutOfRange {
+            what: "largest coordinate",
+            value: magnitude,
+        });
+    }
+    if size > 0.0 && size < super::MIN_SIZE {
+        return Err(BlockError::OutOfRange {
+            what: "size",
+            value: size,
+        });
+    }
+    Ok(())
 }
 
 pub(super) fn check_face_lists(faces: &[Vec<usize>], n_vertices: usize) -> Result<(), BlockError> {

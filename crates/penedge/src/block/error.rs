@@ -23,6 +23,24 @@ pub enum BlockError {
         /// Vertex index.
         vertex: usize,
     },
+    /// A coordinate too large, or a block too small, for double precision to compute its
+    /// volume, centroid and planes (see [`crate::block::MAX_COORDINATE`] and
+    /// [`crate::block::MIN_SIZE`]).
+    #[error("the block's {what} is {value:e}, outside what double precision handles (coordinates up to 1e50 in magnitude, blocks at least 1e-50 across)")]
+    OutOfRange {
+        /// `"largest coordinate"` or `"size"`.
+        what: &'static str,
+        /// The value found.
+        value: f64,
+    },
+    /// More half-spaces than [`crate::block::MAX_HALFSPACES`].
+    #[error("a block from half-spaces takes at most {limit} of them, got {count}")]
+    TooManyPlanes {
+        /// Half-spaces given.
+        count: usize,
+        /// The limit.
+        limit: usize,
+    },
     /// A face refers to a vertex that does not exist.
     #[error("face {face} refers to vertex {vertex}, but there are only {count} vertices")]
     VertexIndexOutOfRange {

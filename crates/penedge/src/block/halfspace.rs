@@ -12,6 +12,7 @@ impl ConvexBlock {
     /// The block `{x : normals[i] · x <= offsets[i] for all i}`, with the default tolerance.
     ///
     /// Normals need not be unit vectors. Redundant half-spaces are allowed (they carry no face).
+    /// At most [`super::MAX_HALFSPACES`] half-spaces.
     pub fn from_planes(normals: &[[f64; 3]], offsets: &[f64]) -> Result<ConvexBlock, BlockError> {
         ConvexBlock::from_planes_with_tolerance(normals, offsets, &Tolerance::default())
     }
@@ -22,6 +23,12 @@ impl ConvexBlock {
         offsets: &[f64],
         tol: &Tolerance,
     ) -> Result<ConvexBlock, BlockError> {
+        if normals.len() > super::MAX_HALFSPACES {
+            return Err(BlockError::TooManyPlanes {
+                count: normals.len(),
+                limit: super::MAX_HALFSPACES,
+            });
+        }
         let planes = unit_planes(normals, offsets)?;
         if planes.len() < 4 {
             return Err(BlockError::Unbounded {
@@ -29,15 +36,25 @@ impl ConvexBlock {
             });
         }
         let candidates = triple_points(&planes);
-        let rough = 1e-9
-            * candidates
-                .iter()
-                .map(|p| p.abs().max_element())
-                .fold(1.0, f64::max);
-        let feasible: Vec<DVec3> = candidates
-            .into_iter()
-            .filter(|&p| planes.iter().all(|pl| pl.distance(p) <= rough))
-            .collect();
+        // Feasible corners, within the policy's length threshold of every half-space. The
+        // threshold needs the block's size, known only from the corners: a first pass at the
+        // magnitude of the planes' offsets (the coordinates' magnitude, never polluted by the
+        // far corner of three nearly dependent planes) gives the box, the second the
+        // threshold at the block's own scale, the one the block is validated with.
+        let magnitude = planes
+            .iter()
+            .map(|p| p.normal.dot(p.point).abs())
+            .fold(0.0, f64::max);
+        let rough = tol.at_scale(magnitude, magnitude).length;
+        let within = |points: &[DVec3], eps: f64| -> Vec<DVec3> {
+            let inside = |p: &&DVec3| planes.iter().all(|pl| pl.distance(**p) <= eps);
+            points.iter().filter(inside).copied().collect()
+        };
+        let near = within(&candidates, rough);
+        let feasible = match near.len() {
+            0..=3 => near,
+            _ => within(&near, tol.for_box(&Aabb::of_points(&near)).length),
+        };
         if feasible.len() < 4 {
             return Err(BlockError::Unbounded {
                 reason: "the half-spaces meet in fewer than 4 corners",
@@ -69,15 +86,18 @@ fn unit_planes(normals: &[[f64; 3]], offsets: &[f64]) -> Result<Vec<Plane>, Bloc
         .zip(offsets)
         .enumerate()
         .map(|(i, (n, &d))| {
+            // Divided by its largest component first, so that the length neither overflows
+            // (a normal of 1e200) nor underflows (1e-200): only the direction counts.
             let n = DVec3::from_array(*n);
-            let len = n.length();
-            if !(len > 0.0 && len.is_finite() && d.is_finite()) {
+            let big = n.abs().max_element();
+            let len = (n / big).length();
+            if !(n.is_finite() && big > 0.0 && d.is_finite()) {
                 return Err(BlockError::DegeneratePlane { plane: i });
             }
-            let normal = n / len;
+            let normal = n / big / len;
             Ok(Plane {
                 normal,
-                point: normal * (d / len),
+                point: normal * (d / big / len),
             })
         })
         .collect()

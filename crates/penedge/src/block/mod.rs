@@ -18,6 +18,16 @@ pub use error::BlockError;
 pub use origin::FaceOrigin;
 pub use pose::Pose;
 
+/// The largest coordinate magnitude of a block: beyond it, products of four lengths (the
+/// volume's moments) would overflow `f64`.
+pub const MAX_COORDINATE: f64 = 1e50;
+/// The smallest size (bounding-box diagonal) of a block: below it, squared lengths would
+/// underflow `f64`.
+pub const MIN_SIZE: f64 = 1e-50;
+/// The most half-spaces [`ConvexBlock::from_planes`] takes: its work grows with the fourth
+/// power of their number in the worst case (many planes through one corner).
+pub const MAX_HALFSPACES: usize = 128;
+
 use crate::geometry::{Aabb, DVec3, Plane};
 use glam::DQuat;
 

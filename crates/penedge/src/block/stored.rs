@@ -1,8 +1,8 @@
 //! Building a [`ConvexBlock`] from everything a block file stores, without recomputing it.
 
-use super::build::{check_face_lists, check_points};
+use super::build::{check_face_lists, check_points, check_range};
 use super::{BlockError, BlockParts, ConvexBlock, FaceOrigin};
-use crate::geometry::Plane;
+use crate::geometry::{Aabb, Plane};
 use crate::tolerance::Tolerance;
 
 impl ConvexBlock {
@@ -20,7 +20,25 @@ impl ConvexBlock {
         origins: &[FaceOrigin],
         tol: &Tolerance,
     ) -> Result<ConvexBlock, BlockError> {
+        ConvexBlock::from_parts_in(vertices, faces, planes, origins, tol, None)
+    }
+
+    /// [`ConvexBlock::from_parts`] for a block of a system whose bounding box is `system`:
+    /// the length threshold is taken at the scale of the system's box (with the block's)
+    /// rather than at the block's own. The blocks of a generated system (and the pieces of
+    /// [`crate::cutting::split_block`]) were cut with the threshold at the domain's scale
+    /// (the parent block's): a vertex within it of a cutting plane goes on the cap as it is,
+    /// which can be farther from the cap's plane than a small piece's own threshold.
+    pub fn from_parts_in<F: AsRef<[u32]>>(
+        vertices: &[[f64; 3]],
+        faces: &[F],
+        planes: &[Plane],
+        origins: &[FaceOrigin],
+        tol: &Tolerance,
+        system: Option<&Aabb>,
+    ) -> Result<ConvexBlock, BlockError> {
         let points = check_points(vertices)?;
+        check_range(&points)?;
         let lists: Vec<Vec<usize>> = faces
             .iter()
             .map(|f| f.as_ref().iter().map(|&v| v as usize).collect())
@@ -48,7 +66,12 @@ impl ConvexBlock {
         }
         check_corners(&parts)?;
         let block = ConvexBlock::assemble(parts)?;
-        check_on_planes(&block, tol.for_box(&block.aabb()).length)?;
+        let mut scale = block.aabb();
+        if let Some(system) = system {
+            scale.min = scale.min.min(system.min);
+            scale.max = scale.max.max(system.max);
+        }
+        check_on_planes(&block, tol.for_box(&scale).length)?;
         Ok(block)
     }
 }

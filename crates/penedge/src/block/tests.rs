@@ -122,6 +122,34 @@ fn from_planes_rejects_unbounded_and_degenerate_sets() {
     assert!(ConvexBlock::from_planes(&empty, &[0.0, -1.0, 1.0, 1.0, 1.0, 1.0]).is_err());
 }
 
+/// Three planes whose normals are nearly coplanar (z <= 0.5 tilted by 2.5e-12, and the
+/// octahedron's faces (1, 1, 1) and (-1, -1, 1)) meet at a point 1e11 away; that spurious
+/// corner must not loosen the feasibility test of the others (it once set the rounding
+/// allowance to 1e-9 of its magnitude, 100 m, and let infeasible corners in).
+#[test]
+fn a_far_corner_of_nearly_dependent_planes_is_ignored() {
+    let mut normals: Vec<[f64; 3]> = Vec::new();
+    for x in [-1.0, 1.0] {
+        for y in [-1.0, 1.0] {
+            for z in [-1.0, 1.0] {
+                normals.push([x, y, z]);
+            }
+        }
+    }
+    let offsets = [0.5, 0.5, 1.0, 0.5, 0.5, 0.5, 0.5, 0.75, 0.5, 0.5];
+    let offsets: Vec<f64> = offsets
+        .iter()
+        .enumerate()
+        .map(|(i, d)| if i < 8 { d * 3f64.sqrt() } else { *d })
+        .collect();
+    let exact = [normals.clone(), vec![[0.0, 0.0, 1.0], [0.0, -1.0, 0.0]]].concat();
+    let tilted = [normals, vec![[0.0, 2.48482792e-12, 1.0], [0.0, -1.0, 0.0]]].concat();
+    let a = ConvexBlock::from_planes(&exact, &offsets).unwrap();
+    let b = ConvexBlock::from_planes(&tilted, &offsets).unwrap();
+    assert_eq!(a.vertices().len(), b.vertices().len());
+    assert!((a.volume() - b.volume()).abs() < 1e-9);
+}
+
 #[test]
 fn bad_input_is_named() {
     let v = cube_vertices();

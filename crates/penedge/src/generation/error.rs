@@ -1,6 +1,7 @@
 //! Errors of block generation: a bad spec names the field and the problem.
 
 use crate::block::BlockError;
+use crate::geometry::Short;
 use thiserror::Error;
 
 /// A problem with one field of a generation spec, e.g. `joints[2].dip: dip must be between 0
@@ -28,37 +29,41 @@ impl SpecError {
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum Problem {
     /// NaN or infinite.
-    #[error("must be a finite number, got {value}")]
+    #[error("must be a finite number, got {}", Short(*value))]
     NotFinite {
         /// The value given.
         value: f64,
     },
     /// A dip outside [0, 90].
-    #[error("dip must be between 0 and 90 degrees, got {value}")]
+    #[error("dip must be between 0 and 90 degrees, got {}", Short(*value))]
     Dip {
         /// The value given.
         value: f64,
     },
     /// A dip direction outside [0, 360].
-    #[error("dip direction must be between 0 and 360 degrees, got {value}")]
+    #[error("dip direction must be between 0 and 360 degrees, got {}", Short(*value))]
     DipDirection {
         /// The value given.
         value: f64,
     },
     /// Zero or negative where a positive number is needed (spacing, radius, number).
-    #[error("must be greater than zero, got {value}")]
+    #[error("must be greater than zero, got {}", Short(*value))]
     NotPositive {
         /// The value given.
         value: f64,
     },
     /// A negative deviation, volume or thickness.
-    #[error("must not be negative, got {value}")]
+    #[error("must not be negative, got {}", Short(*value))]
     Negative {
         /// The value given.
         value: f64,
     },
     /// A random spacing deviation that could make a spacing of zero or less.
-    #[error("the spacing deviation ({deviation}) must be smaller than the spacing ({spacing})")]
+    #[error(
+        "the spacing deviation ({}) must be smaller than the spacing ({})",
+        Short(*deviation),
+        Short(*spacing)
+    )]
     DeviationTooLarge {
         /// The deviation given.
         deviation: f64,

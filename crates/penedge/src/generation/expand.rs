@@ -67,7 +67,8 @@ fn expand(
     match &entry.kind {
         JointKind::Set(js) => expand_set(&prefix, i as u32, js, domain, plan)?,
         single => {
-            let rel = 1e-9_f64.max(plan.eps / domain.size());
+            // The policy's length threshold, relative (the domain's, with its rounding floor).
+            let rel = plan.eps / domain.size();
             let (plane, shape) = single_joint(&prefix, single, rel)?;
             let record = JointRecord {
                 set: i as u32,

@@ -112,6 +112,12 @@ pub fn generate_with_progress(
     Ok(Generated { system, report })
 }
 
+/// The number of joint planes a spec makes (checked and expanded, nothing cut): to bound
+/// the work before [`generate`] (the fuzz targets do).
+pub(crate) fn planned_planes(spec: &Spec) -> Result<usize, SpecError> {
+    Ok(expand::plan(spec)?.records.len())
+}
+
 /// Cuts the domain by infinite planes (no checks, no slivers: for
 /// [`BlockSystem::from_domain_cut`]); the faces get origin `Joint { set, joint: i }`.
 pub(crate) fn cut_domain(

@@ -6,7 +6,7 @@
 use super::{read_text, write_atomic, IoError};
 use crate::block::{ConvexBlock, FaceOrigin};
 use crate::generation::{JointRecord, JointShape, SetRecord};
-use crate::geometry::{DVec3, Plane};
+use crate::geometry::{Aabb, DVec3, Plane};
 use crate::system::BlockSystem;
 use crate::tolerance::Tolerance;
 use serde::{Deserialize, Serialize};
@@ -106,9 +106,15 @@ pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
             ),
         ));
     }
-    let domain = blocks_of("domain", &file.domain)?;
-    let blocks = blocks_of("blocks", &file.blocks)?;
-    let joints = file.joints.into_iter().map(record_of).collect::<Vec<_>>();
+    let system = system_box(file.domain.iter().chain(&file.blocks));
+    let domain = blocks_of("domain", &file.domain, system.as_ref())?;
+    let blocks = blocks_of("blocks", &file.blocks, system.as_ref())?;
+    let joints = file
+        .joints
+        .into_iter()
+        .enumerate()
+        .map(|(i, j)| record_of(i, j, file.sets.len()))
+        .collect::<Result<Vec<_>, _>>()?;
     check_origins(&blocks, domain.len(), joints.len(), file.sets.len())?;
     Ok(BlockSystem::with_provenance(
         blocks, domain, joints, file.sets,
@@ -179,7 +185,23 @@ fn block_file((id, b): (usize, &ConvexBlock)) -> BlockFile {
     }
 }
 
-fn blocks_of(field: &str, files: &[BlockFile]) -> Result<Vec<ConvexBlock>, IoError> {
+/// The bounding box of the finite vertices of every block and domain part: the scale of the
+/// length threshold with which the blocks are checked, as they were cut
+/// ([`ConvexBlock::from_parts_in`]).
+fn system_box<'a>(blocks: impl Iterator<Item = &'a BlockFile>) -> Option<Aabb> {
+    let points: Vec<DVec3> = blocks
+        .flat_map(|b| &b.vertices)
+        .map(|v| DVec3::from_array(*v))
+        .filter(|p| p.is_finite())
+        .collect();
+    (!points.is_empty()).then(|| Aabb::of_points(&points))
+}
+
+fn blocks_of(
+    field: &str,
+    files: &[BlockFile],
+    system: Option<&Aabb>,
+) -> Result<Vec<ConvexBlock>, IoError> {
     let tol = Tolerance::default();
     files
         .iter()
@@ -197,7 +219,7 @@ fn blocks_of(field: &str, files: &[BlockFile]) -> Result<Vec<ConvexBlock>, IoErr
                     point: DVec3::new(p[3], p[4], p[5]),
                 })
                 .collect();
-            ConvexBlock::from_parts(&f.vertices, &f.faces, &planes, &f.origins, &tol)
+            ConvexBlock::from_parts_in(&f.vertices, &f.faces, &planes, &f.origins, &tol, system)
                 .map_err(|e| format_error(format!("{field}[{i}]"), e.to_string()))
         })
         .collect()
@@ -226,23 +248,60 @@ fn joint_file((id, r): (usize, &JointRecord)) -> JointFile {
     }
 }
 
-fn record_of(f: JointFile) -> JointRecord {
-    JointRecord {
+/// A joint of the file, checked: ids in order, a spec entry that exists, a finite unit
+/// normal, finite points, a positive finite radius, a polygon of 3 vertices or more.
+fn record_of(i: usize, f: JointFile, sets: usize) -> Result<JointRecord, IoError> {
+    let field = |name: &str| format!("joints[{i}].{name}");
+    if f.id as usize != i {
+        let msg = format!("ids must run 0, 1, 2, ... in order; found {}", f.id);
+        return Err(format_error(field("id"), msg));
+    }
+    if f.set as usize >= sets {
+        let msg = format!("refers to spec entry {}, but the file has {sets}", f.set);
+        return Err(format_error(field("set"), msg));
+    }
+    let normal = DVec3::from_array(f.normal);
+    if !(normal.is_finite() && (normal.length() - 1.0).abs() <= 1e-9) {
+        let msg = format!("must be a finite unit vector, got {:?}", f.normal);
+        return Err(format_error(field("normal"), msg));
+    }
+    let finite = |name: &str, p: &[f64; 3]| {
+        if p.iter().all(|c| c.is_finite()) {
+            Ok(DVec3::from_array(*p))
+        } else {
+            let msg = format!("must have finite coordinates, got {p:?}");
+            Err(format_error(field(name), msg))
+        }
+    };
+    let point = finite("point", &f.point)?;
+    let shape = match f.shape {
+        ShapeFile::Infinite => JointShape::Infinite,
+        ShapeFile::Disc { center, radius } => {
+            if !(radius.is_finite() && radius > 0.0) {
+                let msg = format!("must be a finite number greater than zero, got {radius}");
+                return Err(format_error(field("shape.radius"), msg));
+            }
+            JointShape::Disc {
+                center: finite("shape.center", &center)?,
+                radius,
+            }
+        }
+        ShapeFile::Polygon { vertices } => {
+            if vertices.len() < 3 {
+                let msg = format!("a polygon needs 3 vertices or more, got {}", vertices.len());
+                return Err(format_error(field("shape.vertices"), msg));
+            }
+            let vertices = vertices
+                .iter()
+                .map(|v| finite("shape.vertices", v))
+                .collect::<Result<_, _>>()?;
+            JointShape::Polygon { vertices }
+        }
+    };
+    Ok(JointRecord {
         set: f.set,
         member: f.member,
-        plane: Plane {
-            normal: DVec3::from_array(f.normal),
-            point: DVec3::from_array(f.point),
-        },
-        shape: match f.shape {
-            ShapeFile::Infinite => JointShape::Infinite,
-            ShapeFile::Disc { center, radius } => JointShape::Disc {
-                center: DVec3::from_array(center),
-                radius,
-            },
-            ShapeFile::Polygon { vertices } => JointShape::Polygon {
-                vertices: vertices.into_iter().map(DVec3::from_array).collect(),
-            },
-        },
-    }
+        plane: Plane { normal, point },
+        shape,
+    })
 }

@@ -1,5 +1,13 @@
 //! File formats: the generation spec (TOML or JSON), the block system (JSON, versioned),
-//! ParaView files (VTU) and the block table (CSV).
+//! ParaView files (blocks as VTU, contacts as VTP, time series as PVD) and the block
+//! table (CSV).
+//!
+//! * [`spec`]: the generation spec;
+//! * [`json`]: the block file (lossless);
+//! * [`vtu`]: blocks as polyhedron cells, faces as polygon cells;
+//! * [`vtp`]: contacts as vertex, line and polygon cells;
+//! * [`pvd`]: PVD collections and [`pvd::TimeSeries`], blocks and contacts step after step;
+//! * [`csv`]: the block table.
 //!
 //! Every file is written atomically: to a temporary file in the same folder, flushed to
 //! disk, then renamed over the target, so a reader never sees a half-written file and a
@@ -7,6 +15,7 @@
 
 pub mod csv;
 pub mod json;
+pub mod pvd;
 pub mod spec;
 pub mod vtp;
 pub mod vtu;
@@ -99,7 +108,37 @@ fn write_then_rename(
     fs::rename(tmp, path)
 }
 
+/// The most bytes read from a path that is not a regular file (256 MiB).
+pub const MAX_STREAM_BYTES: u64 = 256 << 20;
+
 /// Reads a whole text file.
+///
+/// A path that is not a regular file (a pipe, a device such as `/dev/zero`) is read up to
+/// [`MAX_STREAM_BYTES`], so that an endless stream is an error, not a hang.
 pub(crate) fn read_text(path: &Path) -> Result<String, IoError> {
-    fs::read_to_string(path).map_err(|source| IoError::io(path, source))
+    use std::io::Read;
+    let failed = |source| IoError::io(path, source);
+    let file = File::open(path).map_err(failed)?;
+    let regular = file.metadata().map_err(failed)?.is_file();
+    let limit = if regular { u64::MAX } else { MAX_STREAM_BYTES };
+    let mut bytes = Vec::new();
+    file.take(limit.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(failed)?;
+    if bytes.len() as u64 > limit {
+        return Err(IoError::Syntax {
+            path: path.to_path_buf(),
+            message: format!(
+                "not a regular file, and longer than {} MiB: an endless stream?",
+                MAX_STREAM_BYTES >> 20
+            ),
+        });
+    }
+    String::from_utf8(bytes).map_err(|e| IoError::Syntax {
+        path: path.to_path_buf(),
+        message: format!(
+            "not UTF-8 text (byte {} is not valid UTF-8; a binary file?)",
+            e.utf8_error().valid_up_to()
+        ),
+    })
 }

@@ -82,20 +82,46 @@ struct RawOptions {
 
 /// Parses a TOML spec.
 pub fn parse_toml(text: &str) -> Result<Spec, SpecError> {
-    let raw: RawSpec =
-        toml::from_str(text).map_err(|e| syntax(e.to_string().trim_end().to_string()))?;
+    let raw: RawSpec = toml::from_str(text).map_err(|e| syntax(toml_message(text, &e)))?;
     convert(raw)
+}
+
+/// A TOML error on one line: `line L, column C: what` (the parser's own text quotes the
+/// whole source line, which can be megabytes long).
+fn toml_message(text: &str, e: &toml::de::Error) -> String {
+    let what = one_line(e.message());
+    match e.span() {
+        Some(span) => {
+            let before = &text[..span.start.min(text.len())];
+            let line = before.matches('\n').count() + 1;
+            let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+            format!("line {line}, column {column}: {what}")
+        }
+        None => what,
+    }
+}
+
+/// A message on one line of at most 300 characters.
+fn one_line(message: &str) -> String {
+    let joined = message.split_whitespace().collect::<Vec<_>>().join(" ");
+    match joined.char_indices().nth(300) {
+        Some((cut, _)) => format!("{}...", &joined[..cut]),
+        None => joined,
+    }
 }
 
 /// Parses a JSON spec (the same structure as the TOML file).
 pub fn parse_json(text: &str) -> Result<Spec, SpecError> {
-    let raw: RawSpec = serde_json::from_str(text).map_err(|e| syntax(e.to_string()))?;
+    let raw: RawSpec = serde_json::from_str(text).map_err(|e| syntax(one_line(&e.to_string())))?;
     convert(raw)
 }
 
 /// Reads a spec file: JSON if its name ends in `.json`, TOML otherwise.
 pub fn read_spec(path: &Path) -> Result<Spec, IoError> {
-    let text = read_text(path)?;
+    let text = read_text(path).map_err(|e| match e {
+        IoError::Syntax { message, .. } => IoError::Spec(syntax(message)),
+        other => other,
+    })?;
     let is_json = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));

@@ -237,7 +237,10 @@ impl<'a> Choice<'a> {
 }
 
 /// Keeps the candidate with the larger score; exact ties go to the larger sign-free key.
+/// Scores are compared as numbers (`-0 == 0`: adding `0.0` makes a zero positive), since the
+/// sign of a zero score can differ between (A, B) and (B, A).
 fn keep_better(best: &mut Option<(f64, DVec3)>, candidate: (f64, DVec3)) {
+    let candidate = (candidate.0 + 0.0, candidate.1);
     let better = match best {
         None => true,
         Some((score, n)) => candidate
@@ -261,7 +264,10 @@ fn sign_free(n: DVec3) -> DVec3 {
     }
 }
 
+/// Compares keys component by component as numbers (`-0 == 0`: negating a candidate turns
+/// its zeros' signs, which must not break the tie differently for (B, A)).
 fn compare_keys(p: DVec3, q: DVec3) -> std::cmp::Ordering {
+    let (p, q) = (p + DVec3::ZERO, q + DVec3::ZERO);
     p.x.total_cmp(&q.x)
         .then(p.y.total_cmp(&q.y))
         .then(p.z.total_cmp(&q.z))

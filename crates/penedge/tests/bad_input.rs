@@ -1,0 +1,519 @@
+//! Bad input at every Rust entry point gives an error naming the problem: never a panic, an
+//! overflow, a hang or a half-written file (issue #6). Complements `src/block/tests.rs` (the
+//! block checks one by one), `generation_spec.rs` and `generation_io.rs`.
+
+use penedge::block::{BlockError, MAX_HALFSPACES};
+use penedge::generation::{generate, Problem, SpecError};
+use penedge::io::{self, csv, json, spec, vtp, vtu, IoError};
+use penedge::{BlockSystem, ConvexBlock, Detector, Tolerance};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+fn cube_mesh(scale: f64, offset: f64) -> (Vec<[f64; 3]>, Vec<Vec<usize>>) {
+    let cube = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    let vertices = cube
+        .vertices()
+        .iter()
+        .map(|v| (*v * scale + offset).to_array())
+        .collect();
+    let faces = cube
+        .faces()
+        .map(|f| f.iter().map(|&v| v as usize).collect())
+        .collect();
+    (vertices, faces)
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("penedge-bad-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn names_in(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+// -- blocks ---------------------------------------------------------------------------------
+
+#[test]
+fn coordinates_beyond_double_range_are_refused_by_name() {
+    // 1e100: the volume (1e300) fits but its moments (1e400) do not, and the centroid came out
+    // infinite; 1e103: the volume itself overflowed; 1e-200: the diagonal underflowed to 0
+    // and the cube read as "vertices 0 and 3 at the same position".
+    for (scale, offset, what) in [
+        (1e100, 0.0, "largest coordinate"),
+        (1e103, 0.0, "largest coordinate"),
+        (1e300, 0.0, "largest coordinate"),
+        (1.0, 1e51, "largest coordinate"),
+        (1e-51, 0.0, "size"),
+        (1e-200, 0.0, "size"),
+    ] {
+        let (v, f) = cube_mesh(scale, offset);
+        match ConvexBlock::new(&v, &f) {
+            Err(BlockError::OutOfRange { what: w, value }) => {
+                assert_eq!(w, what, "scale {scale:e}");
+                assert!(value.is_finite() && value > 0.0);
+            }
+            other => panic!("scale {scale:e}, offset {offset:e}: {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn no_vertices_at_all_is_too_small_not_out_of_range() {
+    let none: [[f64; 3]; 0] = [];
+    let e = ConvexBlock::new(&none, &[[0usize, 1, 2]]).unwrap_err();
+    assert_eq!(
+        e,
+        BlockError::TooSmall {
+            vertices: 0,
+            faces: 1
+        }
+    );
+}
+
+#[test]
+fn blocks_at_the_ends_of_the_range_are_finite() {
+    for (scale, offset) in [(4e49, 0.0), (1e-49, 0.0), (1e-49, 1e-40), (1.0, 5e5)] {
+        let (v, f) = cube_mesh(scale, offset);
+        let b = ConvexBlock::new(&v, &f).unwrap();
+        assert!(b.volume().is_finite() && b.volume() > 0.0, "{scale:e}");
+        assert!(b.centroid().is_finite(), "{scale:e}: {}", b.centroid());
+        let back = json::from_json_str(&json::to_json_string(&BlockSystem::new(vec![b]))).unwrap();
+        assert_eq!(back.len(), 1);
+    }
+}
+
+#[test]
+fn a_stored_block_out_of_range_is_refused_too() {
+    let cube = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    let text = json::to_json_string(&BlockSystem::new(vec![cube]));
+    let huge = text.replacen("[0.0,0.0,0.0]", "[-1e60,0.0,0.0]", 1);
+    assert_ne!(huge, text);
+    match json::from_json_str(&huge) {
+        Err(IoError::Format { field, message }) => {
+            assert_eq!(field, "blocks[0]");
+            assert!(message.contains("largest coordinate is 1e60"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn half_spaces_beyond_the_limit_are_refused_at_once() {
+    let m = 10 * MAX_HALFSPACES;
+    let normals: Vec<[f64; 3]> = (0..m)
+        .map(|k| {
+            let a = k as f64 * std::f64::consts::TAU / m as f64;
+            [a.cos(), a.sin(), 1.0]
+        })
+        .collect();
+    let start = Instant::now();
+    let e = ConvexBlock::from_planes(&normals, &vec![1.0; m]).unwrap_err();
+    assert!(start.elapsed() < Duration::from_millis(100));
+    assert_eq!(
+        e,
+        BlockError::TooManyPlanes {
+            count: m,
+            limit: MAX_HALFSPACES
+        }
+    );
+}
+
+#[test]
+fn a_cone_of_as_many_half_spaces_as_allowed_is_built_in_reasonable_time() {
+    // Every triple of side planes meets at the apex: the worst case of the corner search.
+    let sides = MAX_HALFSPACES - 1;
+    let mut normals = vec![[0.0, 0.0, -1.0]];
+    let mut offsets = vec![0.0];
+    for k in 0..sides {
+        let a = k as f64 * std::f64::consts::TAU / sides as f64;
+        normals.push([a.cos(), a.sin(), 1.0]);
+        offsets.push(1.0);
+    }
+    let block = ConvexBlock::from_planes(&normals, &offsets).unwrap();
+    assert_eq!(block.vertices().len(), sides + 1);
+    assert_eq!(block.n_faces(), sides + 1);
+}
+
+#[test]
+fn half_space_normals_of_any_finite_length_count_by_direction() {
+    let base = [
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+    ];
+    for big in [1e200, 1e-200, 1e300, f64::MIN_POSITIVE] {
+        let mut normals = base;
+        normals[0] = [big, 0.0, 0.0];
+        // n · x <= d with n = (big, 0, 0) and d = big: x <= 1.
+        let b = ConvexBlock::from_planes(&normals, &[big, 0.0, 1.0, 0.0, 1.0, 0.0])
+            .unwrap_or_else(|e| panic!("{big:e}: {e}"));
+        assert!((b.volume() - 1.0).abs() < 1e-12, "{big:e}");
+    }
+    for bad in [
+        [0.0; 3],
+        [0.0, f64::NAN, 0.0],
+        [1.0, f64::NAN, 0.0],
+        [0.0, -1.0, f64::INFINITY],
+    ] {
+        let mut normals = base;
+        normals[3] = bad;
+        let e = ConvexBlock::from_planes(&normals, &[1.0, 0.0, 1.0, 0.0, 1.0, 0.0]);
+        assert_eq!(
+            e.unwrap_err(),
+            BlockError::DegeneratePlane { plane: 3 },
+            "{bad:?}"
+        );
+    }
+}
+
+// -- detection ------------------------------------------------------------------------------
+
+#[test]
+fn an_empty_system_detects_and_writes_nothing() {
+    let empty = BlockSystem::new(Vec::new());
+    let tol = Tolerance::default();
+    let (found, geometry) = empty.detect_with_geometry(&tol);
+    assert!(found.contacts.is_empty() && found.penetrating.is_empty());
+    assert_eq!(geometry.len(), 0);
+    let mut out = Vec::new();
+    vtu::write_blocks_to(&empty, &mut out).unwrap();
+    vtu::write_faces_to(&empty, &mut out).unwrap();
+    csv::write_block_table_to(&empty, &mut out).unwrap();
+    vtp::write_contacts_vtp_to(&found, &geometry, &mut out).unwrap();
+    let back = json::from_json_str(&json::to_json_string(&empty)).unwrap();
+    assert!(back.is_empty());
+}
+
+#[test]
+fn blocks_far_from_the_origin_are_detected_with_finite_geometry() {
+    // Mine-grid and far-away coordinates, down to the scale where the rounding floor decides.
+    for offset in [5e5, 4e6, 1e9, 1e12] {
+        let a = ConvexBlock::cuboid([offset; 3], [offset + 10.0; 3]).unwrap();
+        let b = ConvexBlock::cuboid(
+            [offset + 10.0, offset, offset],
+            [offset + 20.0, offset + 10.0, offset + 10.0],
+        )
+        .unwrap();
+        let (result, geometry) = Detector::new(Tolerance::default()).detect_with_geometry(&a, &b);
+        assert_eq!(result.name(), "face-face", "offset {offset:e}");
+        let g = geometry.unwrap();
+        assert!(g.normal().is_finite() && g.distance().is_finite() && g.area().is_finite());
+        assert!(
+            (g.area() - 100.0).abs() < 1e-6,
+            "offset {offset:e}: {}",
+            g.area()
+        );
+    }
+}
+
+#[test]
+#[ignore = "open: BlockSystem::from_domain_cut (src/system/mod.rs) takes `n.length()` of the \
+            plane normal, which overflows for a normal of 1e200 and underflows for 1e-200, and \
+            so refuses a valid plane as degenerate (ConvexBlock::from_planes scales first)"]
+fn domain_cut_planes_count_by_direction() {
+    let cube = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    for big in [1e200, 1e-200] {
+        let cut = BlockSystem::from_domain_cut(
+            cube.clone(),
+            &[[big, 0.0, 0.0]],
+            &[0.5 * big],
+            &Tolerance::default(),
+        );
+        assert_eq!(cut.map(|s| s.len()).ok(), Some(2), "{big:e}");
+    }
+}
+
+// -- block files ----------------------------------------------------------------------------
+
+fn small_file() -> String {
+    let a = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    let b = ConvexBlock::cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0]).unwrap();
+    json::to_json_string(&BlockSystem::new(vec![a, b]))
+}
+
+#[test]
+fn every_truncation_of_a_block_file_is_a_syntax_error() {
+    let text = small_file();
+    for end in 0..text.len() {
+        match json::from_json_str(&text[..end]) {
+            Err(IoError::Syntax { message, .. }) => assert!(message.contains("line 1 column")),
+            other => panic!("{end} bytes: {other:?}"),
+        }
+    }
+    assert_eq!(json::from_json_str(&text).unwrap().len(), 2);
+}
+
+/// A generated system's file with `edit` applied to its JSON value.
+fn edited(edit: impl FnOnce(&mut serde_json::Value)) -> String {
+    let spec = spec::parse_toml(
+        "[domain]\ntype = 'box'\nmin = [0, 0, 0]\nmax = [2, 2, 2]\n\
+         [[joints]]\ntype = 'plane'\npoint = [1, 1, 1]\nnormal = [1, 0, 0]\n\
+         [[joints]]\ntype = 'disc'\ncenter = [0.5, 1, 1]\nnormal = [0, 0, 1]\nradius = 3\n",
+    )
+    .unwrap();
+    let system = generate(&spec).unwrap().system;
+    let mut value: serde_json::Value =
+        serde_json::from_str(&json::to_json_string(&system)).unwrap();
+    edit(&mut value);
+    value.to_string()
+}
+
+#[test]
+fn joints_of_a_block_file_are_checked() {
+    use serde_json::json;
+    let cases: [(&str, serde_json::Value, &str, &str); 7] = [
+        (
+            "/joints/0/normal",
+            json!([0.0, 0.0, 0.0]),
+            "joints[0].normal",
+            "unit",
+        ),
+        (
+            "/joints/0/normal",
+            json!([0.0, 0.0, 3.0]),
+            "joints[0].normal",
+            "unit",
+        ),
+        ("/joints/0/point", json!([0.0, 0.0, 1e300]), "", ""),
+        ("/joints/0/set", json!(7), "joints[0].set", "spec entry 7"),
+        ("/joints/1/id", json!(0), "joints[1].id", "in order"),
+        (
+            "/joints/1/shape/radius",
+            json!(0.0),
+            "joints[1].shape.radius",
+            "greater than zero",
+        ),
+        (
+            "/joints/1/shape",
+            json!({"kind": "polygon", "vertices": [[0, 0, 0], [1, 0, 0]]}),
+            "joints[1].shape.vertices",
+            "3 vertices",
+        ),
+    ];
+    for (pointer, new, want_field, want) in cases {
+        let text = edited(|v| *v.pointer_mut(pointer).unwrap() = new.clone());
+        match json::from_json_str(&text) {
+            Err(IoError::Format { field, message }) => {
+                assert_eq!(field, want_field, "{pointer}");
+                assert!(message.contains(want), "{pointer}: {message}");
+            }
+            // A finite point far away is a valid (if odd) joint.
+            Ok(system) if want_field.is_empty() => {
+                let again = json::to_json_string(&system);
+                assert!(json::from_json_str(&again).is_ok());
+            }
+            other => panic!("{pointer}: {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn a_file_that_reads_always_writes_again() {
+    // The bug: a joint with a zero normal was read, and writing the system back panicked
+    // ("joint normals are unit vectors") in `JointRecord::attitude`.
+    let text = edited(|v| v["joints"][0]["normal"] = serde_json::json!([0.0, 0.0, 0.0]));
+    assert!(json::from_json_str(&text).is_err());
+    let text = edited(|_| {});
+    let system = json::from_json_str(&text).unwrap();
+    let value = |t: &str| serde_json::from_str::<serde_json::Value>(t).unwrap();
+    assert_eq!(value(&json::to_json_string(&system)), value(&text));
+}
+
+#[test]
+fn a_binary_file_is_a_syntax_error_naming_the_file() {
+    let dir = scratch("binary");
+    let path = dir.join("blocks.json");
+    std::fs::write(&path, b"{\"format\": \xff\xfe}").unwrap();
+    match json::read_json(&path) {
+        Err(IoError::Syntax { path: p, message }) => {
+            assert_eq!(p, path);
+            assert!(message.contains("not UTF-8"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let spec_path = dir.join("spec.toml");
+    std::fs::write(&spec_path, b"[domain]\ntype = \xff").unwrap();
+    match spec::read_spec(&spec_path) {
+        Err(IoError::Spec(e)) => {
+            assert_eq!(e.field, "spec");
+            assert!(matches!(e.problem, Problem::Syntax(ref m) if m.contains("not UTF-8")));
+        }
+        other => panic!("{other:?}"),
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[cfg(unix)]
+#[test]
+fn an_endless_stream_is_an_error_not_a_hang() {
+    let zero = std::path::Path::new("/dev/zero");
+    if !zero.exists() {
+        return;
+    }
+    let start = Instant::now();
+    match json::read_json(zero) {
+        Err(IoError::Syntax { message, .. }) => assert!(message.contains("endless"), "{message}"),
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(spec::read_spec(zero), Err(IoError::Spec(_))));
+    assert!(start.elapsed() < Duration::from_secs(60));
+}
+
+#[cfg(unix)]
+#[test]
+fn a_spec_from_a_pipe_is_read() {
+    let dir = scratch("fifo");
+    let fifo = dir.join("spec.toml");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        return; // no mkfifo here
+    }
+    let writer = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::write(fifo, BOX).unwrap())
+    };
+    let spec = spec::read_spec(&fifo).unwrap();
+    writer.join().unwrap();
+    assert_eq!(generate(&spec).unwrap().system.len(), 1);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+// -- writing --------------------------------------------------------------------------------
+
+#[test]
+fn a_write_that_fails_half_way_keeps_the_old_file_and_leaves_no_temporary() {
+    let dir = scratch("atomic");
+    let path = dir.join("blocks.json");
+    std::fs::write(&path, "old").unwrap();
+    let result = io::write_atomic(&path, |w| {
+        w.write_all(b"{\"format\": \"penedge-blocks\", \"blo")?;
+        Err(std::io::Error::other("disk full, say"))
+    });
+    assert!(matches!(result, Err(IoError::Io { .. })));
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
+    assert_eq!(names_in(&dir), ["blocks.json"]);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn writing_over_a_folder_or_under_a_file_fails_cleanly() {
+    let dir = scratch("targets");
+    std::fs::create_dir(dir.join("folder")).unwrap();
+    std::fs::write(dir.join("file"), "x").unwrap();
+    let system = BlockSystem::new(vec![ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap()]);
+    for path in [dir.join("folder"), dir.join("file").join("x.json")] {
+        assert!(matches!(
+            json::write_json(&system, &path),
+            Err(IoError::Io { .. })
+        ));
+        assert!(matches!(
+            vtu::write_vtu(&system, &path),
+            Err(IoError::Io { .. })
+        ));
+    }
+    assert_eq!(names_in(&dir), ["file", "folder"]);
+    assert!(names_in(&dir.join("folder")).is_empty());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+// -- generation specs -----------------------------------------------------------------------
+
+fn spec_error(text: &str) -> SpecError {
+    match spec::parse_toml(text) {
+        Err(e) => e,
+        Ok(spec) => match generate(&spec) {
+            Err(penedge::generation::GenerationError::Spec(e)) => e,
+            other => panic!("{text}: {other:?}"),
+        },
+    }
+}
+
+const BOX: &str = "[domain]\ntype = 'box'\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n";
+
+#[test]
+fn toml_errors_are_one_short_line_with_line_and_column() {
+    let long = format!(
+        "{BOX}[[joints]]\ntype = 'set'\ndip = [{}\n",
+        "1, ".repeat(200_000)
+    );
+    for (text, starts) in [
+        (
+            format!("{BOX}[[joints]]\ndipp = 3\n"),
+            "line 6, column 1: unknown field `dipp`",
+        ),
+        (long, "line 7, column "),
+        (format!("{BOX}max = 2\n"), "line 5, column 1: duplicate key"),
+        ("a = ".to_string() + &"[".repeat(100_000), "line 1, column "),
+    ] {
+        let e = spec_error(&text);
+        assert_eq!(e.field, "spec");
+        let message = e.to_string();
+        assert!(message.starts_with(&format!("spec: {starts}")), "{message}");
+        assert!(!message.contains('\n') && message.len() < 400, "{message}");
+    }
+}
+
+#[test]
+fn numbers_in_messages_are_short() {
+    let huge =
+        format!("{BOX}[[joints]]\ntype = 'set'\ndip = 1e300\ndip_direction = 0\nspacing = 1\n");
+    let e = spec_error(&huge);
+    assert_eq!(e.field, "joints[0].dip");
+    assert!(e.to_string().ends_with("got 1e300"), "{e}");
+    let tiny =
+        format!("{BOX}[[joints]]\ntype = 'set'\ndip = -1e-300\ndip_direction = 0\nspacing = 1\n");
+    assert!(spec_error(&tiny).to_string().ends_with("got -1e-300"));
+    let plain =
+        format!("{BOX}[[joints]]\ntype = 'set'\ndip = 120\ndip_direction = 0\nspacing = 1\n");
+    assert!(spec_error(&plain).to_string().ends_with("got 120"));
+    let e = Tolerance::new(1e308, 0.1).unwrap_err().to_string();
+    assert!(e.ends_with("got 1e308"), "{e}");
+}
+
+#[test]
+fn specs_that_would_take_forever_fail_fast() {
+    let m = 1000;
+    let normals: Vec<String> = (0..m)
+        .map(|k| {
+            let a = k as f64 * std::f64::consts::TAU / m as f64;
+            format!("[{}, {}, 1]", a.cos(), a.sin())
+        })
+        .collect();
+    let cases = [
+        format!(
+            "[domain]\ntype = 'halfspaces'\nnormals = [[0, 0, -1], {}]\noffsets = [0{}]\n",
+            normals.join(", "),
+            ", 1".repeat(m)
+        ),
+        format!("{BOX}[[joints]]\ntype = 'set'\ndip = 0\ndip_direction = 0\nspacing = 1e-300\n"),
+        format!(
+            "{BOX}[[joints]]\ntype = 'set'\ndip = 0\ndip_direction = 0\nspacing = 1e-3\n\
+             origin = [0, 0, 1e300]\n"
+        ),
+        format!("{BOX}[[joints]]\ntype = 'set'\ndip = 0\ndip_direction = 0\nspacing = 1\nnumber = 4294967295\n"),
+        "[domain]\ntype = 'box'\nmin = [0, 0, 0]\nmax = [1e300, 1, 1]\n".to_string(),
+    ];
+    for (i, text) in cases.iter().enumerate() {
+        let start = Instant::now();
+        let e = spec_error(text);
+        assert!(start.elapsed() < Duration::from_secs(5), "case {i}: {e}");
+        let message = e.to_string();
+        assert!(
+            message.contains("at most 128")
+                || message.contains("more than the limit")
+                || message.contains("largest coordinate is 1e300"),
+            "case {i}: {message}"
+        );
+    }
+}

@@ -1,0 +1,159 @@
+//! The same contacts (pairs, types and features) after moving the whole system: a random
+//! rotation, a translation to mine-grid coordinates (x ≈ 5e5, y ≈ 4e6, z ≈ 1e3), scalings by
+//! 1e-3 and 1e3, and all of them together; and the same answer for (B, A) as for (A, B) on
+//! every candidate pair. On the paper's three examples and on random jointed systems (a few
+//! hundred blocks each).
+
+mod support;
+
+use glam::DQuat;
+use penedge::generation::rng::SplitMix64;
+use penedge::geometry::DVec3;
+use penedge::system::count_types;
+use penedge::system::{paper_example, PaperExample};
+use penedge::{BlockSystem, Detector, PairResult, Tolerance};
+use support::{
+    answer, differences, jointed, pairs_of_every_type, rebuilt, rotation, sheared, transformed,
+};
+
+/// A map of every vertex.
+type Frame = Box<dyn Fn(DVec3) -> DVec3>;
+
+const MINE_GRID: DVec3 = DVec3::new(5e5, 4e6, 1e3);
+
+/// The motions applied to a system, with a label.
+fn motions(seed: u64) -> Vec<(String, DQuat, DVec3, f64)> {
+    let mut r = SplitMix64::new(seed);
+    let q = rotation(&mut r);
+    let id = DQuat::IDENTITY;
+    vec![
+        ("rotation".into(), q, DVec3::ZERO, 1.0),
+        ("mine grid".into(), id, MINE_GRID, 1.0),
+        ("scale 1e-3".into(), id, DVec3::ZERO, 1e-3),
+        ("scale 1e3".into(), id, DVec3::ZERO, 1e3),
+        ("all".into(), rotation(&mut r), MINE_GRID, 1e3),
+        ("rotated, small, far".into(), q, MINE_GRID * 1e-3, 1e-3),
+    ]
+}
+
+/// The contacts of `sys` and of every moved copy are the same.
+fn check_motions(sys: &BlockSystem, label: &str, seed: u64) {
+    let tol = Tolerance::default();
+    let expected = answer(&sys.detect(&tol));
+    assert!(!expected.0.is_empty());
+    for (what, q, t, s) in motions(seed) {
+        let got = answer(&transformed(sys, q, t, s).detect(&tol));
+        assert!(
+            got == expected,
+            "{label}, {what}: {}",
+            differences(&expected, &got)
+        );
+    }
+}
+
+/// Every candidate pair answers the same in both orders, features swapped.
+fn check_swap(sys: &BlockSystem, label: &str) {
+    let mut det = Detector::new(Tolerance::default());
+    let blocks = sys.blocks();
+    let mut checked = 0;
+    for [i, j] in sys.candidate_pairs(&Tolerance::default()) {
+        let (a, b) = (&blocks[i as usize], &blocks[j as usize]);
+        let ab = det.detect(a, b);
+        let ba = match det.detect(b, a) {
+            PairResult::Contact(mut c) => {
+                std::mem::swap(&mut c.feature_a, &mut c.feature_b);
+                PairResult::Contact(c)
+            }
+            other => other,
+        };
+        assert_eq!(ab, ba, "{label}: pair {i}, {j}");
+        checked += 1;
+    }
+    assert!(checked > 0);
+}
+
+#[test]
+fn paper_examples_are_invariant() {
+    for (n, example) in [PaperExample::One, PaperExample::Two, PaperExample::Three]
+        .into_iter()
+        .enumerate()
+    {
+        let sys = paper_example(example).unwrap();
+        check_motions(&sys, &format!("example {}", n + 1), n as u64);
+        check_swap(&sys, &format!("example {}", n + 1));
+        for (what, q, t, s) in motions(n as u64) {
+            check_swap(
+                &transformed(&sys, q, t, s),
+                &format!("example {}, {what}", n + 1),
+            );
+        }
+    }
+}
+
+#[test]
+fn random_jointed_systems_are_invariant() {
+    for seed in 0..3 {
+        let sys = jointed(seed);
+        assert!(sys.len() >= 150, "seed {seed}: {} blocks", sys.len());
+        check_motions(&sys, &format!("seed {seed}"), 100 + seed);
+        check_swap(&sys, &format!("seed {seed}"));
+    }
+}
+
+#[test]
+fn sheared_jointed_systems_are_invariant() {
+    for seed in 0..2 {
+        let sys = sheared(seed);
+        check_motions(&sys, &format!("sheared, seed {seed}"), 200 + seed);
+        check_swap(&sys, &format!("sheared, seed {seed}"));
+    }
+}
+
+#[test]
+fn pairs_of_every_type_are_invariant() {
+    let sys = pairs_of_every_type();
+    let found = sys.detect(&Tolerance::default());
+    assert_eq!(count_types(&found.contacts), [6; 7]);
+    check_motions(&sys, "pairs", 300);
+    check_swap(&sys, "pairs");
+}
+
+#[test]
+fn moved_systems_answer_the_same_in_both_orders() {
+    let sys = jointed(7);
+    for (what, q, t, s) in motions(7) {
+        check_swap(&transformed(&sys, q, t, s), &format!("seed 7, {what}"));
+    }
+}
+
+/// Blocks given by their vertices in the new frame (planes fitted again from rounded
+/// coordinates, as when a project's blocks are read in mine-grid coordinates) give the same
+/// contacts as well.
+#[test]
+fn blocks_rebuilt_in_the_moved_frame_are_invariant() {
+    let tol = Tolerance::default();
+    for (label, sys) in [
+        ("example 3", paper_example(PaperExample::Three).unwrap()),
+        ("seed 3", jointed(3)),
+    ] {
+        let expected = answer(&sys.detect(&tol));
+        let mut r = SplitMix64::new(11);
+        let q = rotation(&mut r);
+        let frames: [(&str, Frame); 3] = [
+            ("mine grid", Box::new(|p| p + MINE_GRID)),
+            ("rotated", Box::new(move |p| q * p)),
+            (
+                "rotated, mine grid, scale 1e-3",
+                Box::new(move |p| q * p * 1e-3 + MINE_GRID),
+            ),
+        ];
+        for (what, f) in frames {
+            let got = answer(&rebuilt(&sys, f).detect(&tol));
+            assert!(
+                got == expected,
+                "{label}, {what}: {}",
+                differences(&expected, &got)
+            );
+        }
+    }
+}

@@ -1,0 +1,186 @@
+//! Shared by the invariance, determinism and reference tests: random jointed systems, rigid
+//! motions and scalings of whole systems, and contact lists in a comparable form.
+#![allow(dead_code)] // each test file uses part of it
+
+pub mod reference;
+
+use penedge::generation::rng::SplitMix64;
+use penedge::generation::{
+    generate, Deviation, Discontinuity, Domain, JointSet, Orientation, Spec,
+};
+use penedge::geometry::DVec3;
+use penedge::system::SystemContacts;
+use penedge::{BlockSystem, ConvexBlock};
+use reference::{grazing, touch, touching};
+
+/// A 10 m box cut by two or three joint sets with random orientations, spacings and
+/// deviations (a few hundred blocks), seeded. Systems with two random sets get a third,
+/// horizontal one (layers).
+pub fn jointed(seed: u64) -> BlockSystem {
+    let mut r = SplitMix64::new(seed);
+    let sets = 2 + r.next_u64() % 2;
+    generate(&spec(&mut r, seed, sets))
+        .unwrap_or_else(|e| panic!("seed {seed}: {e}"))
+        .system
+}
+
+fn spec(r: &mut SplitMix64, seed: u64, sets: u64) -> Spec {
+    let mut spec = Spec::new(Domain::cuboid([0.0; 3], [10.0; 3]).unwrap());
+    for s in 0..sets {
+        let orientation = Orientation::dip(90.0 * r.unit(), 360.0 * r.unit());
+        // Two sets: about 10 x 10 x (3 to 5) blocks; three sets: about 7^3.
+        let spacing = if sets == 2 { 1.0 } else { 1.4 } + 0.4 * r.unit();
+        let mut js = JointSet::new(orientation, spacing);
+        js.origin = [10.0 * r.unit(), 10.0 * r.unit(), 10.0 * r.unit()];
+        js.deviation = Deviation {
+            dip: 4.0 * r.unit(),
+            dip_direction: 8.0 * r.unit(),
+            spacing: 0.3 * spacing * r.unit(),
+        };
+        js.seed = seed * 10 + s;
+        spec = spec.with(Discontinuity::set(js));
+    }
+    if sets == 2 {
+        let mut layers = JointSet::new(Orientation::dip(0.0, 0.0), 2.5 + r.unit());
+        layers.origin = [0.0, 0.0, 10.0 * r.unit()];
+        spec = spec.with(Discontinuity::set(layers));
+    }
+    spec
+}
+
+/// A jointed system of two random sets and horizontal layers, each layer then slid by a
+/// random horizontal offset (a few decimetres) on the one below: across the layer joints,
+/// faces overlap in part, edges in part, and no vertex meets a vertex where it was cut.
+pub fn sheared(seed: u64) -> BlockSystem {
+    let mut r = SplitMix64::new(seed);
+    let sys = generate(&spec(&mut r, seed, 2))
+        .unwrap_or_else(|e| panic!("seed {seed}: {e}"))
+        .system;
+    let layers = sys.sets().len() as u32 - 1;
+    let mut cuts: Vec<f64> = sys
+        .joints()
+        .iter()
+        .filter(|j| j.set == layers)
+        .map(|j| j.plane.point.z)
+        .collect();
+    cuts.sort_by(f64::total_cmp);
+    let mut offsets = vec![DVec3::ZERO];
+    for _ in &cuts {
+        let last = *offsets.last().unwrap();
+        offsets.push(last + DVec3::new(r.symmetric(0.7), r.symmetric(0.7), 0.0));
+    }
+    let blocks = sys
+        .blocks()
+        .iter()
+        .map(|b| {
+            let layer = cuts.iter().filter(|&&z| z < b.centroid().z).count();
+            b.transformed(glam::DQuat::IDENTITY, offsets[layer], 1.0)
+        })
+        .collect();
+    BlockSystem::new(blocks)
+}
+
+/// Random touching pairs of all seven types (constructed as in `reference.rs`), in a row ten
+/// metres apart: jointed systems have vertex-vertex, edge-edge superposition and face-face
+/// contacts only.
+pub fn pairs_of_every_type() -> BlockSystem {
+    let mut r = SplitMix64::new(17);
+    let mut blocks = Vec::new();
+    for k in 0..42 {
+        let target = k % 7;
+        let (a, b) = loop {
+            let Some((a, b, _)) = touching(&mut r, target) else {
+                continue;
+            };
+            // Clear cases only: no distance near the reference's thresholds, no grazing edge.
+            match touch(&a, &b) {
+                Ok(t) if !grazing(&a, &b, &t, 1e-2) => break (a, b),
+                _ => continue,
+            }
+        };
+        let shift = DVec3::X * 10.0 * k as f64;
+        for p in [a, b] {
+            blocks.push(p.block().transformed(glam::DQuat::IDENTITY, shift, 1.0));
+        }
+    }
+    BlockSystem::new(blocks)
+}
+
+/// A random rotation (uniform enough: a normalised random quaternion).
+pub fn rotation(r: &mut SplitMix64) -> glam::DQuat {
+    loop {
+        let q = glam::DQuat::from_xyzw(
+            r.symmetric(1.0),
+            r.symmetric(1.0),
+            r.symmetric(1.0),
+            r.symmetric(1.0),
+        );
+        if q.length() > 0.2 {
+            return q.normalize();
+        }
+    }
+}
+
+/// The system with every block rotated about the origin, scaled and translated
+/// ([`ConvexBlock::transformed`]: ids, topology and feature numbering kept).
+pub fn transformed(sys: &BlockSystem, q: glam::DQuat, t: DVec3, s: f64) -> BlockSystem {
+    BlockSystem::new(
+        sys.blocks()
+            .iter()
+            .map(|b| b.transformed(q, t, s))
+            .collect(),
+    )
+}
+
+/// The system with every block rebuilt from its transformed vertices (planes fitted again),
+/// as blocks read from a project in those coordinates would be.
+pub fn rebuilt(sys: &BlockSystem, f: impl Fn(DVec3) -> DVec3) -> BlockSystem {
+    BlockSystem::new(sys.blocks().iter().map(|b| rebuilt_block(b, &f)).collect())
+}
+
+/// One block rebuilt from its vertices mapped by `f`.
+pub fn rebuilt_block(b: &ConvexBlock, f: impl Fn(DVec3) -> DVec3) -> ConvexBlock {
+    let v: Vec<[f64; 3]> = b.vertices().iter().map(|&p| f(p).to_array()).collect();
+    let faces: Vec<Vec<usize>> = b
+        .faces()
+        .map(|f| f.iter().map(|&i| i as usize).collect())
+        .collect();
+    ConvexBlock::new(&v, &faces).unwrap()
+}
+
+/// `(pair, type code, feature of the smaller id, feature of the larger)` per contact, and the
+/// penetrating pairs: the whole answer as plain data, for comparisons and messages.
+pub type Answer = (Vec<([u32; 2], u8, String)>, Vec<[u32; 2]>);
+
+pub fn answer(found: &SystemContacts) -> Answer {
+    let contacts = found
+        .contacts
+        .iter()
+        .map(|c| {
+            let features = format!("{:?} {:?}", c.contact.feature_a, c.contact.feature_b);
+            (c.pair, c.contact.kind.code(), features)
+        })
+        .collect();
+    (contacts, found.penetrating.clone())
+}
+
+/// The differences between two answers, for a readable failure message (at most 10 lines).
+pub fn differences(expected: &Answer, got: &Answer) -> String {
+    let mut out = Vec::new();
+    for c in &expected.0 {
+        if !got.0.contains(c) {
+            out.push(format!("lost {c:?}"));
+        }
+    }
+    for c in &got.0 {
+        if !expected.0.contains(c) {
+            out.push(format!("new {c:?}"));
+        }
+    }
+    if expected.1 != got.1 {
+        out.push(format!("penetrating {:?} -> {:?}", expected.1, got.1));
+    }
+    let n = out.len();
+    out.truncate(10);
+    format!("{n} differences: {}", out.join("; "))
+}
