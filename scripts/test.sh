@@ -6,11 +6,13 @@ cd "$(dirname "$0")/.."
 
 echo "== install (pip builds the Rust extension with maturin)"
 python3 -m pip install --quiet --disable-pip-version-check -e '.[test]'
+bash scripts/install-browser.sh   # Debian's chromium + chromium-driver, for test_browser.py
 
 echo "== rust: format, lint, tests"
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --quiet -- -D warnings
 cargo test --workspace --quiet
+RUSTDOCFLAGS='-D warnings' cargo doc -p penedge --no-deps --quiet
 
 echo "== python: lint, tests"
 python3 -m ruff check python tools

@@ -26,3 +26,31 @@ def run(*args, cwd, command=None, timeout=300):
 def squeeze(text):
     """The lines of `text` with runs of spaces collapsed (tables compare as words)."""
     return [" ".join(line.split()) for line in text.splitlines()]
+
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def assert_png(path):
+    """`path` is a PNG picture of more than 500 x 500 pixels that is not blank."""
+    data = path.read_bytes()
+    assert data.startswith(PNG_SIGNATURE)
+    from matplotlib.image import imread
+
+    image = imread(path)
+    assert image.shape[0] > 500
+    assert image.shape[1] > 500
+    assert image[..., :3].std() > 0.05  # not a blank picture
+
+
+def table_counts(lines):
+    """{type name: count} from the rows ``code type count`` of a printed table of contacts
+    per type (lines as given by :func:`squeeze`)."""
+    import penedge
+
+    counts = {}
+    for line in lines:
+        words = line.split()
+        if len(words) == 3 and words[0].isdigit() and words[1] in penedge.CONTACT_TYPES:
+            counts[words[1]] = int(words[2])
+    return counts

@@ -1,15 +1,15 @@
 """The command line end to end, through ``python -m penedge`` and the console script."""
 
 import json
+import re
 import shutil
 import sys
 from pathlib import Path
 
 import pytest
 
-from cli_run import run, squeeze
+from cli_run import assert_png, run, squeeze
 
-PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 COUNTS = {
     1: ["vertex-vertex 4 4", "edge-edge-superposition 12 12", "face-face 12 12", "total 28 28"],
     2: ["vertex-vertex 4 4", "edge-edge-superposition 12 4 *", "face-face 12 20 *", "total 28 28"],
@@ -30,17 +30,6 @@ def console_script():
     if found is None:
         pytest.skip("the console script `penedge` is not installed (pip install -e .)")
     return [found]
-
-
-def assert_png(path):
-    data = path.read_bytes()
-    assert data.startswith(PNG_SIGNATURE)
-    from matplotlib.image import imread
-
-    image = imread(path)
-    assert image.shape[0] > 500
-    assert image.shape[1] > 500
-    assert image[..., :3].std() > 0.05  # not a blank picture
 
 
 @pytest.mark.parametrize("n", [1, 2, 3])
@@ -72,7 +61,9 @@ def test_never_replaces_an_existing_default_picture(tmp_path):
     assert (tmp_path / "example1.png").read_bytes() == b"mine"
     assert (tmp_path / "example1-1.png").read_bytes() == b"mine too"
     assert_png(tmp_path / "example1-2.png")
-    assert "example1.png exists and was kept" in result.stdout
+    assert "note: example1.png exists and was kept; wrote example1-2.png instead" in squeeze(
+        result.stdout
+    )
 
 
 def test_output_file_named_by_the_user_is_written(tmp_path):
@@ -90,13 +81,60 @@ def test_other_picture_formats(tmp_path, suffix, start):
     assert (tmp_path / f"ex{suffix}").read_bytes().startswith(start)
 
 
-def test_html_picture(tmp_path):
+def test_html_view(tmp_path):
     pytest.importorskip("plotly")
-    result = run("example", "1", "-o", "ex.html", cwd=tmp_path)
+    result = run("example", "1", "--html", "ex.html", "--no-picture", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
+    assert "interactive view: ex.html" in squeeze(result.stdout)
     text = (tmp_path / "ex.html").read_text(encoding="utf-8")
     assert "<html>" in text
-    assert "Mesh3d" in text or "mesh3d" in text
+    assert text.count('"hovertemplate":"block %{customdata[0]}') == 8  # a mesh per block
+    assert not re.search(r"<script[^>]+src=", text)  # self-contained: plotly.js inline
+    assert [p.name for p in tmp_path.iterdir()] == ["ex.html"]
+
+
+def test_html_view_at_the_default_name_never_replaces_a_file(tmp_path):
+    pytest.importorskip("plotly")
+    (tmp_path / "example3.html").write_text("mine", encoding="utf-8")
+    result = run("example", "3", "--contacts", "--html", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    lines = squeeze(result.stdout)
+    assert "picture: example3.png" in lines
+    assert "interactive view: example3-1.html" in lines
+    assert "note: example3.html exists and was kept; wrote example3-1.html instead" in lines
+    assert (tmp_path / "example3.html").read_text(encoding="utf-8") == "mine"
+    text = (tmp_path / "example3-1.html").read_text(encoding="utf-8")
+    assert '"name":"face-face (42)"' in text
+    assert_png(tmp_path / "example3.png")
+
+
+def test_force_replaces_files_at_default_names(tmp_path):
+    (tmp_path / "example1.png").write_bytes(b"mine")
+    result = run("example", "1", "--force", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "picture: example1.png" in squeeze(result.stdout)
+    assert_png(tmp_path / "example1.png")
+    assert [p.name for p in tmp_path.iterdir()] == ["example1.png"]
+
+
+def test_quiet_prints_nothing_and_still_writes(tmp_path):
+    (tmp_path / "example2.png").write_bytes(b"mine")
+    result = run("example", "2", "-q", cwd=tmp_path)
+    assert (result.returncode, result.stdout, result.stderr) == (0, "", "")
+    assert (tmp_path / "example2.png").read_bytes() == b"mine"
+    assert_png(tmp_path / "example2-1.png")
+
+
+def test_colour_by_volume(tmp_path):
+    result = run("example", "3", "--colour-by", "volume", "-o", "v.png", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert_png(tmp_path / "v.png")
+    same = run("example", "3", "--color-by", "volume", "-o", "w.png", cwd=tmp_path)
+    assert same.returncode == 0, same.stderr
+    assert (tmp_path / "v.png").read_bytes() == (tmp_path / "w.png").read_bytes()
+    blocks = run("example", "3", "-o", "b.png", cwd=tmp_path)
+    assert blocks.returncode == 0, blocks.stderr
+    assert (tmp_path / "b.png").read_bytes() != (tmp_path / "v.png").read_bytes()
 
 
 def test_json(tmp_path):
@@ -125,15 +163,6 @@ def test_gap_option(tmp_path):
     assert "relative gap 1e-06" in result.stdout
 
 
-@pytest.mark.parametrize("args", [["--help"], ["example", "--help"]])
-def test_help(args, tmp_path):
-    result = run(*args, cwd=tmp_path)
-    assert result.returncode == 0
-    assert "usage: penedge" in result.stdout
-    assert "example" in result.stdout
-    assert "penedge example" in result.stdout  # a worked example
-
-
 @pytest.mark.parametrize(
     ("args", "message"),
     [
@@ -145,8 +174,15 @@ def test_help(args, tmp_path):
         (["example", "1", "--gap", "nan"], "argument --gap"),
         (["example", "1", "--gap", "abc"], "invalid float value"),
         (["example", "1", "-o", "x.jpg"], "picture format"),
+        (["example", "1", "-o", "x.html"], "use --html for the interactive view"),
+        (["example", "1", "--html", "x.png"], "should end in .html"),
+        (["example", "1", "--no-picture", "--contacts"], "argument --contacts"),
+        (["example", "1", "--colour-by", "size"], "invalid choice"),
+        (["example", "1", "--max-blocks", "-3"], "argument --max-blocks"),
+        (["example", "1", "-o", "same.png", "--html", "same.png"], "should end in .html"),
         (["example", "1", "-o", "x.png", "--no-picture"], "not allowed with"),
         (["example", "1", "--explode", "-1"], "argument --explode"),
+        (["example", "1", "--explode", "inf"], "argument --explode"),
         (["frobnicate"], "invalid choice"),
     ],
 )

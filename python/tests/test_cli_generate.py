@@ -3,9 +3,11 @@ outputs that must not be overwritten, --quiet, the progress bar."""
 
 import csv
 import functools
+import inspect
 import io
 import json
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -13,9 +15,10 @@ import pytest
 import penedge
 from penedge import cli
 from penedge.cli import generate as generate_command
+from penedge.cli import progress
 from penedge.cli.progress import ProgressBar
 
-from cli_run import run, squeeze
+from cli_run import run, squeeze, table_counts
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 BAD_SPEC = """\
@@ -251,7 +254,7 @@ class FakeClock:
 
 def test_progress_bar_waits_then_draws_in_place():
     stream, clock = io.StringIO(), FakeClock()
-    bar = ProgressBar(stream, "gen", delay=1.0, clock=clock, width=10)
+    bar = ProgressBar(stream, "gen", unit="planes", delay=1.0, clock=clock, width=10)
     bar(1, 4, 2)
     assert stream.getvalue() == ""  # a short run prints nothing
     clock.now = 1.5
@@ -292,3 +295,123 @@ def test_no_block_left_is_an_error_before_anything_is_written(tmp_path):
     assert result.returncode == 1
     assert "no blocks left" in result.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["all.toml"]
+
+
+def test_progress_bar_counts_without_a_unit_and_wipes_longer_lines():
+    stream, clock = io.StringIO(), FakeClock()
+    bar = ProgressBar(stream, "d", delay=0.0, clock=clock, width=4)
+    bar(10, 100, 12345)
+    bar(2, 4)
+    bar.close()
+    first = "\rd [....]  10%  10/100, 12345 blocks, 0 s"
+    second = "\rd [##..]  50%  2/4, 0 s"
+    assert stream.getvalue() == first + second + " " * (len(first) - len(second)) + "\n"
+
+
+def test_activity_shows_elapsed_time_only_for_long_steps():
+    slow = io.StringIO()
+    with progress.Activity(slow, "drawing x.png", delay=0.0, interval=0.01):
+        time.sleep(0.1)
+    assert slow.getvalue().startswith("\rdrawing x.png ... 0 s")
+    assert slow.getvalue().endswith("\n")
+    quick = io.StringIO()
+    with progress.Activity(quick, "drawing x.png", delay=5.0):
+        pass
+    assert quick.getvalue() == ""
+
+
+class FakeSystem:
+    """A system whose detect takes, or not, a progress callback."""
+
+    def __init__(self, takes_progress):
+        self.calls = []
+        if takes_progress:
+            self.detect = self.detect_with_progress
+
+    def detect(self, gap=1e-12, geometry=False):
+        self.calls.append((gap, geometry))
+        return "found"
+
+    def detect_with_progress(self, gap=1e-12, geometry=False, progress=None):
+        self.calls.append((gap, geometry))
+        for done in range(5):
+            if progress is not None:
+                progress(done + 1, 5)
+        return "found"
+
+
+@pytest.mark.parametrize("takes_progress", [True, False])
+def test_detection_shows_a_bar_when_the_bindings_take_a_callback(takes_progress, monkeypatch):
+    terminal = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    monkeypatch.setattr(progress, "ProgressBar", functools.partial(ProgressBar, delay=0.0))
+    monkeypatch.setattr(
+        progress, "Activity", functools.partial(progress.Activity, delay=0.0, interval=0.01)
+    )
+    system = FakeSystem(takes_progress)
+    assert progress.accepts_progress(system.detect) == takes_progress
+    assert progress.detect(system, True, "penedge detect", gap=1e-6, geometry=True) == "found"
+    assert system.calls == [(1e-6, True)]
+    if takes_progress:
+        assert "\rpenedge detect [" in terminal.getvalue()
+        assert "] 100%  5/5, " in terminal.getvalue()
+    else:
+        assert terminal.getvalue().startswith("\rpenedge detect ... 0 s")
+    terminal.truncate(0)
+    terminal.seek(0)
+    assert progress.detect(system, False, "penedge detect") == "found"
+    assert terminal.getvalue() == ""
+
+
+def test_the_real_bindings_are_asked_whether_they_take_a_callback():
+    system = penedge.paper_example(1)
+    takes = progress.accepts_progress(system.detect)
+    assert takes == ("progress" in inspect.signature(system.detect).parameters)
+    assert progress.accepts_progress(len) is False  # no keyword progress
+
+
+def test_wanted_only_on_a_terminal_and_not_quiet():
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    assert progress.wanted(False, Terminal())
+    assert not progress.wanted(True, Terminal())
+    assert not progress.wanted(False, io.StringIO())
+
+
+def test_detect_progress_on_a_terminal(monkeypatch, capsys, tmp_path):
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    penedge.paper_example(3).write_json(tmp_path / "b.json")
+    terminal = Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    monkeypatch.setattr(progress, "ProgressBar", functools.partial(ProgressBar, delay=0.0))
+    monkeypatch.setattr(
+        progress, "Activity", functools.partial(progress.Activity, delay=0.0, interval=0.01)
+    )
+    assert cli.main(["detect", str(tmp_path / "b.json")]) == 0
+    assert "\rpenedge detect" in terminal.getvalue()
+    assert terminal.getvalue().endswith("\n")
+    assert "total 325" in squeeze(capsys.readouterr().out)
+    terminal.truncate(0)
+    terminal.seek(0)
+    assert cli.main(["detect", str(tmp_path / "b.json"), "--quiet"]) == 0
+    assert terminal.getvalue() == ""
+    assert capsys.readouterr().out == ""
+
+
+@pytest.mark.parametrize("spec", ["joint_set_random.toml", "finite_polygon.toml"])
+def test_the_summary_table_is_the_apis_count(spec, tmp_path):
+    made = run("generate", EXAMPLES / spec, "-o", "b.json", "-q", cwd=tmp_path)
+    assert made.returncode == 0, made.stderr
+    system = penedge.BlockSystem.read_json(tmp_path / "b.json")
+    expected = system.detect().counts()
+    found = run("detect", "b.json", cwd=tmp_path)
+    assert found.returncode == 0, found.stderr
+    lines = squeeze(found.stdout)
+    assert table_counts(lines) == expected
+    assert f"total {sum(expected.values())}" in lines
+    assert sum(n > 0 for n in expected.values()) >= 2  # a table with several types

@@ -1,12 +1,14 @@
 """Pictures: the exploded view (matplotlib, headless) and the HTML view (plotly)."""
 
 import io
+import re
 
 import numpy as np
 import pytest
 
 import penedge
 from penedge import pictures
+from penedge.pictures.scene import build_scene, shown_note, volume_scale
 
 import shapes
 
@@ -67,7 +69,8 @@ def test_write_html(tmp_path):
     pictures.write_html(penedge.paper_example(1), path, title="Example 1", include_plotlyjs="cdn")
     text = path.read_text(encoding="utf-8")
     assert "Example 1" in text
-    assert text.count('"name":"block ') == 8
+    assert text.count('"hovertemplate":"block %{customdata[0]}') == 8
+    assert f'id="{pictures.HTML_DIV_ID}"' in text
 
 
 def test_contact_shapes_group_the_contacts_and_follow_the_blocks():
@@ -155,3 +158,201 @@ def test_save_volume_distribution_png():
     figure = pictures.save_volume_distribution(penedge.paper_example(2), buffer, format="png")
     assert buffer.getvalue().startswith(b"\x89PNG\r\n\x1a\n")
     assert figure.axes[0].get_title() == "Block volume distribution: 8 blocks"
+
+
+def grid(n):
+    """A cube of side n cut into n^3 unit cubes."""
+    normals = [[1, 0, 0]] * (n - 1) + [[0, 1, 0]] * (n - 1) + [[0, 0, 1]] * (n - 1)
+    offsets = list(range(1, n)) * 3
+    return penedge.BlockSystem.from_box_cut([0, 0, 0], [n, n, n], normals, offsets)
+
+
+def test_scene_triangles_edges_and_polygons_of_a_cube():
+    scene = build_scene([shapes.cube()], explode=0.5)
+    faces = np.arange(scene.n_faces)
+    tris, tri_face = scene.triangles(faces)
+    assert tris.shape == (12, 3)
+    assert np.bincount(tri_face).tolist() == [2] * 6
+    assert len(scene.edges(faces)) == 12
+    normals = scene.face_normals[tri_face]
+    a, b, c = (scene.vertices[tris[:, k]] for k in range(3))
+    assert np.allclose(np.cross(b - a, c - a), normals)  # counter-clockwise from outside
+    polygons = scene.polygons()
+    assert [p.shape for p in polygons] == [(4, 3)] * 6
+
+
+def test_scene_explodes_as_exploded_faces():
+    system = penedge.paper_example(3)
+    scene = build_scene(system, explode=0.7)
+    parts = pictures.exploded_faces(system, explode=0.7)
+    assert np.allclose(scene.offsets, [offset for _, _, offset in parts])
+    by_block = [p for p, b in zip(scene.polygons(), scene.face_block, strict=True) if b == 5]
+    assert all(np.allclose(p, q) for p, q in zip(by_block, parts[5][0], strict=True))
+
+
+def test_a_large_system_keeps_the_blocks_on_the_outside_first():
+    system = grid(5)  # 125 cubes, 27 inside
+    scene = build_scene(system, max_blocks=100)
+    assert (scene.n_blocks, scene.n_shown) == (125, 98 + 2)
+    centre = np.asarray(system.centroids)
+    inside = (np.abs(centre - 2.5) < 1.5).all(axis=1)
+    assert inside.sum() == 27
+    assert scene.shown[~inside].all()  # the 98 outer cubes, then 2 of the (equal) inner
+    assert set(np.unique(scene.face_block)) == set(np.flatnonzero(scene.shown))
+    assert shown_note(scene).startswith("showing 100 of 125 blocks")
+    assert shown_note(build_scene(system)) is None
+    with pytest.raises(ValueError, match="at least 1"):
+        build_scene(system, max_blocks=0)
+
+
+def test_volume_scale_leaves_slivers_at_its_bottom():
+    lo, hi, log = volume_scale(np.concatenate([np.full(100, 10.0), [1e-9, 1e-6]]))
+    assert (lo, hi, log) == (pytest.approx(0.1), 10.0, True)  # V10 / 100
+    lo, hi, log = volume_scale(np.array([1.0, 50.0, 100.0]))
+    assert (lo, hi, log) == (1.0, 100.0, True)
+    assert volume_scale(np.array([2.0, 3.0])) == (2.0, 3.0, False)
+    assert volume_scale(np.full(3, 125.0)) == (pytest.approx(112.5), pytest.approx(137.5), False)
+
+
+def test_colour_by_volume_has_a_colour_bar_and_yellow_large_blocks():
+    system = penedge.paper_example(3)
+    ax = pictures.plot_system(system, color_by="volume")
+    bars = [a for a in ax.figure.axes if a is not ax]
+    assert len(bars) == 1
+    assert bars[0].get_ylabel().startswith("block volume")
+    volumes = system.volumes
+    brightness = [c.get_facecolor()[:, :3].mean() for c in ax.collections]
+    largest, smallest = int(np.argmax(volumes)), int(np.argmin(volumes))
+    assert brightness[largest] > brightness[smallest] + 0.2  # viridis: yellow over purple
+    by_block = pictures.plot_system(system)
+    assert len(by_block.figure.axes) == 1  # no colour bar
+    with pytest.raises(ValueError, match="color_by"):
+        pictures.plot_system(system, color_by="size")
+
+
+def test_many_blocks_share_one_collection_and_a_cut_down_system_says_so():
+    system = grid(12)  # 1728 blocks
+    ax = pictures.plot_system(system, max_blocks=1600)
+    assert len(ax.collections) == 1
+    faces = len(ax.collections[0].get_facecolor())
+    assert faces == 1600 * 3  # the +x, -y and +z faces of each cube face the viewer
+    notes = [t.get_text() for t in ax.texts]
+    assert notes == [
+        "showing 1600 of 1728 blocks: those on the outside of the rock mass first, then the largest"
+    ]
+
+
+def test_html_figure_has_a_mesh_and_edges_per_block_with_hover():
+    pytest.importorskip("plotly")
+    system = penedge.paper_example(1)
+    fig = pictures.html_figure(system, explode=0.5)
+    meshes = [t for t in fig.data if t.type == "mesh3d"]
+    edges = [t for t in fig.data if t.type == "scatter3d"]
+    assert [t.name for t in meshes] == [f"block {i}" for i in range(8)]
+    assert [t.legendgroup for t in edges] == [f"block {i}" for i in range(8)]
+    assert not any(t.showlegend for t in edges)
+    parts = pictures.exploded_faces(system, explode=0.5)
+    for i, mesh in enumerate(meshes):
+        xyz = np.column_stack([mesh.x, mesh.y, mesh.z])
+        corners = np.unique(np.vstack(parts[i][0]), axis=0)
+        assert np.allclose(np.unique(xyz, axis=0), corners)
+        assert len(mesh.i) == 12  # six squares, two triangles each
+        assert np.asarray(mesh.customdata).tolist() == [[i, 125.0]] * 8
+        assert (
+            mesh.hovertemplate
+            == "block %{customdata[0]}<br>volume %{customdata[1]:.4g}<extra></extra>"
+        )
+    segments = np.column_stack([edges[0].x, edges[0].y, edges[0].z])
+    assert len(segments) == 12 * 3  # 12 edges, each two points and a break
+    assert np.isnan(segments[2::3]).all()
+
+
+def test_html_figure_draws_each_contact_type_in_its_own_legend():
+    pytest.importorskip("plotly")
+    system = penedge.paper_example(3)
+    found = system.detect(geometry=True)
+    fig = pictures.html_figure(system, contacts=found)
+    contact = [t for t in fig.data if t.legend == "legend2"]
+    shown = [t.name for t in contact if t.showlegend]
+    assert shown == ["vertex-vertex (205)", "edge-edge-superposition (78)", "face-face (42)"]
+    by_name = {t.name: t for t in contact}
+    dots = by_name["vertex-vertex (205)"]
+    assert (dots.type, dots.mode, len(dots.x)) == ("scatter3d", "markers", 205)
+    lines = by_name["edge-edge-superposition (78)"]
+    assert (lines.type, lines.mode, len(lines.x)) == ("scatter3d", "lines", 78 * 3)
+    polygons = by_name["face-face (42)"]
+    assert polygons.type == "mesh3d"
+    pairs = {tuple(p) for p in found.pairs[found.types == 7].tolist()}
+    assert {tuple(int(v) for v in row) for row in np.asarray(polygons.customdata)} == pairs
+    assert polygons.hovertemplate.startswith("face-face<br>blocks %{customdata[0]} and")
+    blocks = [t for t in fig.data if t.type == "mesh3d" and t.legend != "legend2"]
+    assert {t.opacity for t in blocks} == {0.3}  # translucent over the contacts
+
+
+def test_html_figure_groups_many_blocks():
+    pytest.importorskip("plotly")
+    system = grid(4)  # 64 blocks
+    fig = pictures.html_figure(system)
+    meshes = [t for t in fig.data if t.type == "mesh3d"]
+    assert len(meshes) == 20
+    assert meshes[0].name == "blocks 0 to 3"
+    ids = np.concatenate([np.unique(np.asarray(m.customdata)[:, 0]) for m in meshes])
+    assert sorted(ids.astype(int).tolist()) == list(range(64))
+    assert len(np.unique(meshes[0].intensity)) == 4  # each block its colour
+    by_volume = pictures.html_figure(penedge.paper_example(3).blocks * 2, color_by="volume")
+    names = [t.name for t in by_volume.data if t.type == "mesh3d"]
+    assert names[0].startswith("volume 20.8 to ")
+    assert sum(int(re.search(r"\((\d+)\)$", n).group(1)) for n in names) == 52
+    assert by_volume.layout.coloraxis.colorbar.title.text == "block volume"
+    assert {t.coloraxis for t in by_volume.data if t.type == "mesh3d"} == {"coloraxis"}
+
+
+def test_html_stays_small_for_thousands_of_blocks(tmp_path):
+    pytest.importorskip("plotly")
+    system = grid(20)  # 8000 blocks
+    path = tmp_path / "big.html"
+    pictures.write_html(system, path, include_plotlyjs=False)
+    size = path.stat().st_size
+    assert size < 8000 * 600  # bytes per block: binary arrays, no edges above 5000 blocks
+    text = path.read_text(encoding="utf-8")
+    assert '"bdata"' in text
+    cut = tmp_path / "cut.html"
+    pictures.write_html(system, cut, include_plotlyjs=False, max_blocks=1000)
+    assert "showing 1000 of 8000 blocks" in cut.read_text(encoding="utf-8")
+
+
+def test_write_html_embeds_plotly_js(tmp_path):
+    pytest.importorskip("plotly")
+    path = tmp_path / "ex.html"
+    pictures.write_html(penedge.paper_example(1), path)
+    text = path.read_text(encoding="utf-8")
+    assert not re.search(r"<script[^>]+src=", text)
+    assert len(text) > 1_000_000  # plotly.js itself
+
+
+def test_too_many_contacts_are_cut_down_to_those_nearest_the_viewer():
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    system = grid(6)  # 216 cubes
+    found = system.detect(geometry=True)
+    assert len(found) > 1000
+    ax = pictures.plot_system(system)
+    blocks = len(ax.collections)
+    pictures.plot_contacts(found, ax=ax, max_contacts=100)
+    FigureCanvasAgg(ax.figure).draw()
+    drawn = 0
+    for c in ax.collections[blocks:]:
+        if hasattr(c, "get_segments"):
+            drawn += len(c.get_segments())
+        elif type(c).__name__ == "Path3DCollection":
+            drawn += len(c.get_offsets())
+        else:
+            drawn += len(c.get_paths())
+    assert drawn == 100
+    notes = [t.get_text() for t in ax.texts]
+    assert notes == [f"showing 100 of {len(found)} contacts: those nearest the viewer"]
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    counts = found.counts()
+    assert legend == [f"{name} ({n})" for name, n in counts.items() if n]  # all, not the drawn
+    every = pictures.plot_system(system, contacts=found)
+    assert [t.get_text() for t in every.texts] == []  # under 3000: every contact

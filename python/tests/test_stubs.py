@@ -1,8 +1,14 @@
-"""The type stubs _core.pyi agree with the compiled module."""
+"""The type stubs _core.pyi agree with the compiled module: mypy's stubtest (names,
+signatures, properties, final classes, types of constants), and independent checks of
+names and parameters by the standard library."""
 
 import ast
 import inspect
+import subprocess
+import sys
 from pathlib import Path
+
+import pytest
 
 import penedge
 import penedge._core as core
@@ -54,7 +60,14 @@ def test_every_public_member_of_each_class_is_in_the_stub():
 
 def test_function_parameters_match():
     stubs = stub_names()
-    names = ("detect_pair", "generate", "paper_example", "paper_table3", "paper_example_planes")
+    names = (
+        "detect_pair",
+        "generate",
+        "paper_example",
+        "paper_table3",
+        "paper_example_planes",
+        "write_pvd",
+    )
     for name in names:
         runtime = list(inspect.signature(getattr(core, name)).parameters)
         assert [a.arg for a in stubs[name].args.args] == runtime, name
@@ -63,3 +76,17 @@ def test_function_parameters_match():
 def test_package_exports_everything_public():
     assert sorted(penedge.__all__) == sorted(public(dir(core)))
     assert (Path(penedge.__file__).parent / "py.typed").exists()
+
+
+def test_mypy_stubtest_passes(tmp_path):
+    pytest.importorskip("mypy.stubtest")
+    # In a scratch folder: mypy leaves its cache in the working directory.
+    out = subprocess.run(
+        [sys.executable, "-m", "mypy.stubtest", "--concise", "penedge._core"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        check=False,
+        timeout=300,
+    )
+    assert out.returncode == 0, out.stdout + out.stderr

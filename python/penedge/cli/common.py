@@ -1,14 +1,17 @@
-"""What the subcommands share: the errors that set the exit status, and output files.
+"""What the subcommands share: the errors that set the exit status, the options every
+subcommand spells the same way, and output files.
 
 Output files follow one rule: a file the user named on the command line is replaced
 atomically (written to a temporary file beside it, then renamed over it); a file the user
-did not name is never replaced (the next free name ``stem-1``, ``stem-2``, ... is taken).
-Named outputs are checked before any work is done: the right suffix, not a directory, an
-existing folder, not an input of the command and not named twice.
+did not name (a default name such as ``example3.png``) is never replaced: the next free
+name ``stem-1``, ``stem-2``, ... is taken, unless ``--force`` is given. Named outputs are
+checked before any work is done: the right suffix, not a directory, an existing folder,
+not an input of the command and not named twice.
 """
 
 from __future__ import annotations
 
+import argparse
 import os
 import tempfile
 from collections.abc import Callable, Mapping
@@ -16,6 +19,12 @@ from pathlib import Path
 from typing import IO
 
 PROG = "penedge"
+
+#: Static picture formats, by file suffix (the interactive view is ``--html``).
+PICTURE_FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
+
+#: Marks ``--html`` given without a file name: a default name is used.
+DEFAULT_NAME = "<default>"
 
 
 class UsageError(Exception):
@@ -48,6 +57,132 @@ def output_file(value: str | None, option: str, suffixes: tuple[str, ...]) -> Pa
     if not folder.is_dir():
         raise CommandError(f"cannot write {value}: no directory '{folder}'")
     return path
+
+
+def non_negative_float(text: str) -> float:
+    """An argparse type: a finite float >= 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"invalid number: '{text}'") from None
+    if not (value >= 0 and value != float("inf")):
+        raise argparse.ArgumentTypeError(f"must be a number >= 0, got {text}")
+    return value
+
+
+def block_limit(text: str) -> int | None:
+    """An argparse type: a whole number >= 0, 0 meaning no limit (None)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"invalid whole number: '{text}'") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0 (0: every block), got {text}")
+    return value or None
+
+
+def add_gap(parser: argparse.ArgumentParser) -> None:
+    """``--gap G``: the relative gap of the detection."""
+    parser.add_argument(
+        "--gap",
+        type=float,
+        default=1e-12,
+        metavar="G",
+        help="relative gap: blocks closer than G x block size touch (default 1e-12, rounding only)",
+    )
+
+
+def add_picture_options(parser: argparse.ArgumentParser) -> None:
+    """``--colour-by``, ``--explode``, ``--max-blocks``: how blocks are drawn."""
+    from penedge.pictures.scene import DEFAULT_MAX_BLOCKS
+
+    parser.add_argument(
+        "--colour-by",
+        "--color-by",
+        dest="colour_by",
+        choices=("block", "volume"),
+        default="block",
+        help="colour each block its own colour (default), or by its volume with a colour bar",
+    )
+    parser.add_argument(
+        "--explode",
+        type=non_negative_float,
+        default=0.5,
+        metavar="F",
+        help="move each block outward by F x its distance from the centre, so that inner "
+        "blocks show (default 0.5; 0: as they lie)",
+    )
+    parser.add_argument(
+        "--max-blocks",
+        type=block_limit,
+        default=DEFAULT_MAX_BLOCKS,
+        metavar="N",
+        help=f"draw at most N blocks, those on the outside of the rock mass first "
+        f"(default {DEFAULT_MAX_BLOCKS}; 0: every block)",
+    )
+
+
+def add_output_flags(parser: argparse.ArgumentParser, force: bool) -> None:
+    """``--json`` and ``-q/--quiet`` (and ``--force`` where there are default names)."""
+    if force:
+        parser.add_argument(
+            "--force",
+            action="store_true",
+            help="replace an existing file at a default output name (by default a free "
+            "name such as stem-1.png is taken; a file named on the command line is "
+            "always replaced)",
+        )
+    parser.add_argument(
+        "--json", action="store_true", help="print the result as JSON on stdout (no progress)"
+    )
+    parser.add_argument(
+        "-q", "--quiet", action="store_true", help="print nothing (no progress, no summary)"
+    )
+
+
+def picture_file(value: str | None, option: str) -> Path | None:
+    """A static picture the user named (.png, .svg or .pdf), checked."""
+    if value is not None and Path(value).suffix.lower() == ".html":
+        raise UsageError(
+            f"argument {option}: '{value}' is an HTML file; use --html for the interactive view"
+        )
+    if value is not None and Path(value).suffix.lower() not in PICTURE_FORMATS:
+        known = ", ".join(PICTURE_FORMATS)
+        raise UsageError(
+            f"argument {option}: cannot tell the picture format of '{value}' "
+            f"(use a file name ending in {known})"
+        )
+    return output_file(value, option, tuple(PICTURE_FORMATS))
+
+
+class Target:
+    """Where an output goes: a path, and whether it may replace an existing file there
+    (the user named it, or ``--force``)."""
+
+    def __init__(self, path: Path, replace: bool) -> None:
+        self.path = path
+        self.replace = replace
+
+    def write(self, write: Callable[[IO[bytes]], None]) -> Path:
+        """Writes through a temporary file; returns the path written (another name when
+        the path was taken and may not be replaced)."""
+        return write_via_temp(self.path, self.replace, write)
+
+
+def target(named: Path | None, default: Path, force: bool) -> Target:
+    """The user's path (replaced if it exists), else the default one (replaced only with
+    `force`)."""
+    if named is not None:
+        return Target(named, True)
+    return Target(default, force)
+
+
+def require(module: str, option: str, extra: str) -> None:
+    """Fails early (before a long run) when an output needs an optional package."""
+    try:
+        __import__(module)
+    except ImportError:
+        raise CommandError(f"{option} needs {module}: pip install 'penedge[{extra}]'") from None
 
 
 def check_distinct(inputs: Mapping[str, Path], outputs: Mapping[str, Path | None]) -> None:
@@ -125,10 +260,7 @@ def publish(tmp: Path, path: Path, replace: bool) -> Path:
 
 def require_matplotlib(option: str) -> None:
     """Fails early (before a long run) when a picture is asked for without matplotlib."""
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        raise CommandError(f"{option} needs matplotlib: pip install 'penedge[plot]'") from None
+    require("matplotlib", option, "plot")
 
 
 def plural(n: int, word: str) -> str:

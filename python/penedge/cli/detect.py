@@ -9,11 +9,34 @@ from pathlib import Path
 from typing import Any
 
 import penedge
-from penedge.cli.common import PROG, UsageError, check_distinct, output_file, plural
+from penedge.cli import progress
+from penedge.cli.common import (
+    PROG,
+    UsageError,
+    add_gap,
+    add_output_flags,
+    check_distinct,
+    output_file,
+    plural,
+)
 
 EPILOG = """\
-examples:
-  penedge generate spec.toml -o blocks.json
+worked example:
+  $ penedge generate examples/paper_example_3.toml -o blocks.json -q
+  $ penedge detect blocks.json -o contacts.csv
+  blocks.json: 26 blocks, 325 contacts (relative gap 1e-12)
+
+  code  contact type                count
+     1  vertex-vertex                 205
+     2  vertex-edge                     0
+     ...
+     7  face-face                      42
+        total                         325
+
+  face-face contact area: 724.264
+  written: contacts.csv
+
+more:
   penedge detect blocks.json                       the table of contact counts only
   penedge detect blocks.json -o contacts.csv --vtp contacts.vtp
   penedge detect blocks.json --gap 1e-6 --json     with a relative gap, counts as JSON
@@ -22,7 +45,9 @@ contacts.csv has one row per contact: block_a, block_b, type, type_code (1..7),
 normal_x, normal_y, normal_z (unit, from block_a to block_b), distance (gap > 0,
 depth < 0), area (face-face), n_points. contacts.vtp (ParaView) holds the contact
 points, segments and polygons with the same data. A file named here is replaced if
-it exists, at once; the input is never overwritten."""
+it exists, at once; the input is never overwritten. A progress bar shows on a
+terminal when the detection takes more than a second. Draw the contacts with
+`penedge show blocks.json --contacts --html`."""
 
 
 def add_parser(commands: Any) -> argparse.ArgumentParser:
@@ -44,15 +69,8 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
     detect.add_argument(
         "--vtp", metavar="FILE", help="the contacts for ParaView (.vtp): points, lines, polygons"
     )
-    detect.add_argument(
-        "--gap",
-        type=float,
-        default=1e-12,
-        metavar="G",
-        help="relative gap: blocks closer than G x block size touch (default 1e-12, rounding only)",
-    )
-    detect.add_argument("--json", action="store_true", help="print the summary as JSON")
-    detect.add_argument("-q", "--quiet", action="store_true", help="print no summary")
+    add_gap(detect)
+    add_output_flags(detect, force=False)
     return detect
 
 
@@ -62,9 +80,11 @@ def run_detect(args: argparse.Namespace) -> int:
     csv = output_file(args.output, "-o/--output", (".csv",))
     vtp = output_file(args.vtp, "--vtp", (".vtp",))
     check_distinct({"BLOCKS": blocks}, {"-o/--output": csv, "--vtp": vtp})
-    system = penedge.BlockSystem.read_json(blocks)
+    show = progress.wanted(args.quiet or args.json)
+    with progress.activity(show, f"{PROG} detect: reading {blocks}"):
+        system = penedge.BlockSystem.read_json(blocks)
     try:
-        found = system.detect(gap=args.gap, geometry=True)
+        found = progress.detect(system, show, f"{PROG} detect", gap=args.gap, geometry=True)
     except penedge.ToleranceError as e:
         raise UsageError(f"argument --gap: {e}") from None
     written = []
@@ -116,11 +136,8 @@ def format_summary(summary: dict[str, Any]) -> str:
         f"{summary['blocks_file']}: {plural(summary['blocks'], 'block')}, "
         f"{plural(summary['contacts'], 'contact')} (relative gap {summary['gap']:g})",
         "",
-        f"{'code':>4}  {'contact type':<25}{'count':>8}",
+        *counts_table(summary["counts"]),
     ]
-    for code, (name, count) in enumerate(summary["counts"].items(), start=1):
-        lines.append(f"{code:>4}  {name:<25}{count:>8}")
-    lines.append(f"{'':>4}  {'total':<25}{summary['contacts']:>8}")
     lines.append("")
     lines.append(f"face-face contact area: {summary['face_face_area']:.6g}")
     if summary["penetrating"]:
@@ -128,3 +145,12 @@ def format_summary(summary: dict[str, Any]) -> str:
     if summary["written"]:
         lines.append(f"written: {', '.join(summary['written'])}")
     return "\n".join(lines)
+
+
+def counts_table(counts: dict[str, int]) -> list[str]:
+    """The lines of the table of contacts per type: code, type, count, and the total."""
+    lines = [f"{'code':>4}  {'contact type':<25}{'count':>8}"]
+    for code, (name, count) in enumerate(counts.items(), start=1):
+        lines.append(f"{code:>4}  {name:<25}{count:>8}")
+    lines.append(f"{'':>4}  {'total':<25}{sum(counts.values()):>8}")
+    return lines

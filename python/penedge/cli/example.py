@@ -1,40 +1,76 @@
-"""``penedge example N``: one of the paper's examples, its Table 3 and a picture."""
+"""``penedge example N``: one of the paper's examples, its Table 3, a picture and an
+interactive view."""
 
 from __future__ import annotations
 
 import argparse
-import io
 import json
 import sys
+import textwrap
 from pathlib import Path
-from typing import IO, Any
+from typing import Any
 
 import penedge
-from penedge.cli.common import PROG, CommandError, UsageError, write_via_temp
+from penedge.cli import draw, progress
+from penedge.cli.common import (
+    DEFAULT_NAME,
+    PROG,
+    UsageError,
+    add_gap,
+    add_output_flags,
+    add_picture_options,
+    check_distinct,
+    output_file,
+    picture_file,
+    require,
+    target,
+)
 
 TABLE3_NOTE = "docs/table3.md"
-PICTURE_FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf", ".html": "html"}
 
 EPILOG = """\
-examples:
-  penedge example 3                  table and picture example3.png (or example3-1.png ...
-                                     if that file exists: an existing file is never replaced)
-  penedge example 3 --contacts       the picture gets a second panel: the contacts,
+worked example:
+  $ penedge example 3 --html
+  penedge example 3: a 10 m cube cut by x = 5, y = 5, z = 5, x + y = 10, y + z = 10, x + z = 10
+  26 blocks, 325 contacts (relative gap 1e-12)
+
+  contact type               penedge  paper
+  vertex-vertex                  205    205
+  ...
+  face-face                       42     42
+  total                          325    325
+  picture: example3.png
+  interactive view: example3.html
+
+  example3.png shows the 26 blocks in an exploded perspective view; open
+  example3.html in a web browser to turn and zoom it (it needs no network).
+
+more:
+  penedge example 3 --contacts       a second panel (and the HTML view) with the contacts,
                                      coloured by type
-  penedge example 2 -o ex2.svg       picture as SVG (.png, .svg, .pdf, or .html with plotly)
-  penedge example 1 --no-picture     table only
+  penedge example 3 --colour-by volume
+                                     blocks coloured by volume, with a colour bar
+  penedge example 2 -o ex2.svg       the picture as SVG (.png, .svg or .pdf)
+  penedge example 1 --no-picture     the table only
   penedge example 3 --gap 1e-6       with a relative gap of 1e-6 x block size
-  penedge example 3 --json           counts as JSON on stdout"""
+  penedge example 3 --json           the counts as JSON on stdout
+
+Default names (example3.png, example3.html) never replace an existing file: the next
+free name (example3-1.png, ...) is taken, unless --force. A file named with -o or
+--html is replaced."""
 
 
 def add_parser(commands: Any) -> argparse.ArgumentParser:
     """Adds ``example`` to the subcommands."""
     example = commands.add_parser(
         "example",
-        help="run one of the paper's examples (Table 3 and a picture)",
-        description="Cut a 10 m cube as in the paper's Example N, detect every contact, print "
-        "the count of each contact type beside the paper's Table 3, and draw the blocks in an "
-        "exploded perspective view.",
+        help="run one of the paper's examples (Table 3, a picture, an HTML view)",
+        description=textwrap.fill(
+            "Cut a 10 m cube as in the paper's Example N, detect every contact, print "
+            "the count of each contact type beside the paper's Table 3, and draw the blocks in an "
+            "exploded perspective view (PNG) and, with --html, an interactive view.",
+            88,
+        ),
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -52,65 +88,82 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         "-o",
         "--output",
         metavar="FILE",
-        help="picture file (.png, .svg, .pdf or .html); replaced if it "
-        "exists. Default: exampleN.png in the current directory, never "
-        "replacing an existing file",
+        help="the picture (.png, .svg or .pdf); default exampleN.png",
     )
-    pictures.add_argument("--no-picture", action="store_true", help="do not draw a picture")
+    pictures.add_argument("--no-picture", action="store_true", help="draw no picture")
+    example.add_argument(
+        "--html",
+        nargs="?",
+        const=DEFAULT_NAME,
+        metavar="FILE",
+        help="also write the interactive view (.html, self-contained); without FILE: exampleN.html",
+    )
     example.add_argument(
         "--contacts",
         action="store_true",
-        help="draw the contacts (points, segments, polygons coloured by type) in a second "
-        "panel of the picture (.png, .svg or .pdf)",
+        help="draw the contacts too (points, segments, polygons coloured by type)",
     )
-    example.add_argument(
-        "--gap",
-        type=float,
-        default=1e-12,
-        metavar="G",
-        help="relative gap: blocks closer than G x block size touch (default 1e-12, rounding only)",
-    )
-    example.add_argument(
-        "--explode",
-        type=float,
-        default=0.5,
-        metavar="F",
-        help="move each block outward by F x its distance from the centre "
-        "in the picture (default 0.5)",
-    )
-    example.add_argument(
-        "--json", action="store_true", help="print the result as JSON (notes go to stderr)"
-    )
+    add_gap(example)
+    add_picture_options(example)
+    add_output_flags(example, force=True)
     return example
 
 
 def run_example(args: argparse.Namespace) -> int:
     """``penedge example N``."""
-    if not args.explode >= 0:
-        raise UsageError(f"argument --explode: must be >= 0, got {args.explode}")
-    target = None if args.no_picture else picture_target(args.output, args.number)
-    if args.contacts and (target is None or target[0].suffix.lower() == ".html"):
-        raise UsageError("argument --contacts: needs a .png, .svg or .pdf picture")
-    system = penedge.paper_example(args.number)
+    n = args.number
+    picture = None
+    if not args.no_picture:
+        named = picture_file(args.output, "-o/--output")
+        picture = target(named, Path(f"example{n}.png"), args.force)
+    html = None
+    if args.html is not None:
+        named = None if args.html == DEFAULT_NAME else output_file(args.html, "--html", (".html",))
+        html = target(named, Path(f"example{n}.html"), args.force)
+    if args.contacts and picture is None and html is None:
+        raise UsageError("argument --contacts: needs the picture or --html to draw them in")
+    check_distinct({}, {"-o/--output": picture and picture.path, "--html": html and html.path})
+    if picture is not None:
+        require("matplotlib", "the picture", "plot")
+    if html is not None:
+        require("plotly", "--html", "html")
+    show = progress.wanted(args.quiet or args.json)
+    system = penedge.paper_example(n)
     try:
-        found = system.detect(gap=args.gap, geometry=args.contacts)
+        found = progress.detect(
+            system, show, f"{PROG} example {n}", gap=args.gap, geometry=args.contacts
+        )
     except penedge.ToleranceError as e:
         raise UsageError(f"argument --gap: {e}") from None
-    result = summarize(args.number, system, found, args.gap)
+    result = summarize(n, system, found, args.gap)
+    title = f"penedge example {n}: {result['blocks']} blocks, {result['total']} contacts"
+    options = {
+        "title": title,
+        "explode": args.explode,
+        "colour_by": args.colour_by,
+        "max_blocks": args.max_blocks,
+        "contacts": found if args.contacts else None,
+    }
     notes = []
-    if target is not None:
-        path, user_named = target
-        contacts = found if args.contacts else None
-        written = write_picture(system, result, path, user_named, args.explode, contacts)
-        result["picture"] = str(written)
-        if written != path:
-            notes.append(f"{path} exists and was kept; the picture went to {written}")
+    for key, where, writer in (
+        ("picture", picture, draw.write_picture),
+        ("html", html, draw.write_html),
+    ):
+        if where is None:
+            continue
+        with progress.activity(show, f"{PROG} example {n}: drawing {where.path}"):
+            written = writer(system, where, **options)
+        result[key] = str(written)
+        if written != where.path:
+            notes.append(f"{where.path} exists and was kept; wrote {written} instead")
     if args.json:
         print(json.dumps(result, indent=2))
         for note in notes:
             print(f"{PROG}: note: {note}", file=sys.stderr)
-    else:
-        print(format_report(result, notes))
+    elif not args.quiet:
+        print(format_report(result))
+        for note in notes:
+            print(f"note: {note}")
     return 0
 
 
@@ -145,10 +198,11 @@ def summarize(number: int, system: Any, found: Any, gap: float) -> dict[str, Any
         "differs": [name for name in counts if counts[name] != paper[name]],
         "penetrating": len(found.penetrating),
         "picture": None,
+        "html": None,
     }
 
 
-def format_report(result: dict[str, Any], notes: list[str]) -> str:
+def format_report(result: dict[str, Any]) -> str:
     """The human-readable report of an example."""
     lines = [
         f"penedge example {result['example']}: a 10 m cube cut by {', '.join(result['planes'])}",
@@ -171,82 +225,6 @@ def format_report(result: dict[str, Any], notes: list[str]) -> str:
         ]
     if result["picture"] is not None:
         lines.append(f"picture: {result['picture']}")
-    lines += [f"note: {note}" for note in notes]
+    if result["html"] is not None:
+        lines.append(f"interactive view: {result['html']}")
     return "\n".join(lines)
-
-
-def picture_target(output: str | None, number: int) -> tuple[Path, bool]:
-    """The picture's path and whether the user named it (then it may be replaced)."""
-    if output is None:
-        return Path(f"example{number}.png"), False
-    path = Path(output)
-    if path.suffix.lower() not in PICTURE_FORMATS:
-        known = ", ".join(PICTURE_FORMATS)
-        raise UsageError(
-            f"argument -o/--output: cannot tell the picture format of "
-            f"'{output}' (use a file name ending in {known})"
-        )
-    if path.is_dir():
-        raise UsageError(f"argument -o/--output: '{output}' is a directory")
-    return path, True
-
-
-def write_picture(
-    system: Any,
-    result: dict[str, Any],
-    path: Path,
-    replace: bool,
-    explode: float,
-    contacts: Any = None,
-) -> Path:
-    """Draws the system into a temporary file beside `path`, then moves it into place.
-
-    A file the user did not name is never replaced: the next free name ``stem-1``,
-    ``stem-2``, ... is taken instead. Returns the path written.
-    """
-    fmt = PICTURE_FORMATS[path.suffix.lower()]
-    title = (
-        f"penedge example {result['example']}: {result['blocks']} blocks, "
-        f"{result['total']} contacts"
-    )
-    caption = f"exploded view: each block moved out by {explode:g} × its distance from the centre"
-
-    def write(handle: IO[bytes]) -> None:
-        draw(system, handle, fmt, title, caption, explode, contacts)
-
-    return write_via_temp(path, replace, write)
-
-
-def draw(
-    system: Any,
-    handle: IO[bytes],
-    fmt: str,
-    title: str,
-    caption: str,
-    explode: float,
-    contacts: Any = None,
-) -> None:
-    """Writes the picture in format `fmt` to an open binary file."""
-    try:
-        from penedge import pictures
-
-        if fmt == "html":
-            text = io.StringIO()
-            pictures.write_html(system, text, title=f"{title} ({caption})", explode=explode)
-            handle.write(text.getvalue().encode("utf-8"))
-        else:
-            pictures.save_picture(
-                system,
-                handle,
-                title=title,
-                subtitle=caption,
-                format=fmt,
-                explode=explode,
-                contacts=contacts,
-            )
-    except ImportError as e:
-        extra = "html" if fmt == "html" else "plot"
-        raise CommandError(
-            f"the picture needs {e.name or 'an optional package'}: "
-            f"pip install 'penedge[{extra}]' (or use --no-picture)"
-        ) from None

@@ -2,9 +2,12 @@
 block volume distribution.
 
 * :func:`plot_system`, :func:`save_picture` (:mod:`penedge.pictures.blocks`): an exploded
-  perspective view like the paper's Figures 9-12; with ``contacts=`` the contacts are drawn
-  too (:func:`plot_contacts`, :mod:`penedge.pictures.contacts`);
-* :func:`write_html`: the same view, interactive (plotly);
+  perspective view like the paper's Figures 9-12, blocks coloured each its own colour or by
+  volume (``color_by="volume"``, with a colour bar); with ``contacts=`` the contacts are
+  drawn too, coloured by type (:func:`plot_contacts`, :mod:`penedge.pictures.contacts`);
+* :func:`write_html` (:mod:`penedge.pictures.html`): the same view, interactive, as one
+  self-contained HTML file (plotly): rotate, zoom, hide or show groups of blocks and
+  contact types, hover for block ids and contact types;
 * :func:`plot_volume_distribution`, :func:`save_volume_distribution`
   (:mod:`penedge.pictures.volumes`): the cumulative volume curve with V10, V50, V90.
 
@@ -13,14 +16,10 @@ matplotlib (``pip install 'penedge[plot]'``) is needed for the pictures, plotly
 functions, so ``import penedge.pictures`` is cheap.
 """
 
-from penedge.pictures.blocks import (
-    block_colors,
-    exploded_faces,
-    plot_system,
-    save_picture,
-    write_html,
-)
+from penedge.pictures.blocks import exploded_faces, plot_system, save_picture
 from penedge.pictures.contacts import CONTACT_COLORS, contact_shapes, plot_contacts
+from penedge.pictures.html import HTML_DIV_ID, html_figure, write_html
+from penedge.pictures.scene import COLOR_BY, DEFAULT_MAX_BLOCKS, block_colors
 from penedge.pictures.volumes import (
     passing_volume,
     plot_volume_distribution,
@@ -28,10 +27,14 @@ from penedge.pictures.volumes import (
 )
 
 __all__ = [
+    "COLOR_BY",
     "CONTACT_COLORS",
+    "DEFAULT_MAX_BLOCKS",
+    "HTML_DIV_ID",
     "block_colors",
     "contact_shapes",
     "exploded_faces",
+    "html_figure",
     "passing_volume",
     "plot_contacts",
     "plot_system",

@@ -2,17 +2,27 @@
 
 Each block is moved outward from the system's centroid by ``explode`` times its own
 centroid's distance from it, so that inner blocks show; faces are filled with one colour
-per block, shaded by their orientation, and edges are drawn. Given contacts, the blocks
-are drawn faintly and the contacts over them (:mod:`penedge.pictures.contacts`).
+per block (or a colour for the block's volume, with a colour bar), shaded by their
+orientation, and edges are drawn. Given contacts, the blocks are drawn faintly and the
+contacts over them (:mod:`penedge.pictures.contacts`).
 """
 
 from __future__ import annotations
 
-import colorsys
 from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+from penedge.pictures.scene import (
+    COLOR_BY,
+    DEFAULT_MAX_BLOCKS,
+    VOLUME_COLORMAP,
+    block_colors,
+    build_scene,
+    shown_note,
+    volume_scale,
+)
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -20,34 +30,13 @@ if TYPE_CHECKING:
 
     from penedge._core import Block, BlockSystem, SystemContacts
 
-__all__ = ["block_colors", "exploded_faces", "plot_system", "save_picture", "write_html"]
+__all__ = ["block_colors", "exploded_faces", "plot_system", "save_picture"]
 
 _GHOST_ALPHA = 0.1  # face opacity of the blocks under the contacts
+_ONE_COLLECTION_ABOVE = 1500  # blocks: above, all faces go into one collection
 
 # Light from the viewer's upper left (matplotlib's default view: elev 22, azim -58).
 _LIGHT = np.array([-0.35, -0.75, 0.85]) / np.linalg.norm([-0.35, -0.75, 0.85])
-_GOLDEN_ANGLE = 0.381966  # fraction of a turn between successive block hues
-
-
-def block_colors(n: int) -> np.ndarray:
-    """Distinct colours for `n` blocks.
-
-    Parameters
-    ----------
-    n : int
-        Number of blocks.
-
-    Returns
-    -------
-    numpy.ndarray, shape (n, 3)
-        RGB in [0, 1]; hues a golden angle apart, so neighbours in id order differ.
-    """
-    rows = []
-    for i in range(n):
-        hue = (0.58 + i * _GOLDEN_ANGLE) % 1.0
-        saturation = 0.50 if i % 2 else 0.62
-        rows.append(colorsys.hsv_to_rgb(hue, saturation, 0.95))
-    return np.array(rows, dtype=float).reshape(n, 3)
 
 
 def _blocks(system: BlockSystem | Iterable[Block]) -> list[Block]:
@@ -88,25 +77,50 @@ def exploded_faces(
     return out
 
 
-def _shaded(color: np.ndarray, normals: np.ndarray, alpha: float) -> np.ndarray:
-    light = np.clip(normals @ _LIGHT, 0.0, 1.0)
-    rgb = np.clip(color[None, :] * (0.55 + 0.45 * light[:, None]), 0.0, 1.0)
-    return np.column_stack([rgb, np.full(len(normals), alpha)])
-
-
 def _view_direction(elev: float, azim: float) -> np.ndarray:
     """Unit vector from the scene towards the viewer (matplotlib's elev / azim)."""
     e, a = np.radians(elev), np.radians(azim)
     return np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
 
 
-def _set_equal_limits(ax: Any, points: np.ndarray) -> None:
-    lo, hi = points.min(axis=0), points.max(axis=0)
-    centre, half = (lo + hi) / 2, (hi - lo).max() / 2 * 1.02
+def _set_equal_limits(ax: Any, lo: np.ndarray, hi: np.ndarray) -> None:
+    centre, half = (lo + hi) / 2, max((hi - lo).max() / 2 * 1.02, 1e-300)
     ax.set_xlim(centre[0] - half, centre[0] + half)
     ax.set_ylim(centre[1] - half, centre[1] + half)
     ax.set_zlim(centre[2] - half, centre[2] + half)
     ax.set_box_aspect((1, 1, 1))
+
+
+def volume_norm(volumes: np.ndarray) -> Any:
+    """The matplotlib norm of the volume colour scale (logarithmic when the volumes span
+    more than a factor of 10)."""
+    from matplotlib.colors import LogNorm, Normalize
+
+    lo, hi, log = volume_scale(volumes)
+    return LogNorm(lo, hi) if log else Normalize(lo, hi)
+
+
+def _base_colors(
+    volumes: np.ndarray, color_by: str, colors: Sequence[Any] | None
+) -> tuple[np.ndarray, Any]:
+    """RGB per block, and the norm of the volume scale (None unless coloured by volume)."""
+    if colors is not None:
+        from matplotlib.colors import to_rgb
+
+        rgb = np.array([to_rgb(c) for c in colors], dtype=float).reshape(-1, 3)
+        if len(rgb) != len(volumes):
+            raise ValueError(f"colors: {len(rgb)} colours for {len(volumes)} blocks")
+        return rgb, None
+    if color_by == "block":
+        return block_colors(len(volumes)), None
+    if color_by == "volume":
+        import matplotlib
+
+        norm = volume_norm(volumes)
+        cmap = matplotlib.colormaps[VOLUME_COLORMAP]
+        clipped = np.clip(volumes, norm.vmin, norm.vmax)
+        return np.asarray(cmap(norm(clipped)))[:, :3].reshape(-1, 3), norm
+    raise ValueError(f"color_by must be one of {', '.join(COLOR_BY)}, got {color_by!r}")
 
 
 def plot_system(
@@ -118,7 +132,10 @@ def plot_system(
     title: str | None = None,
     labels: bool = False,
     colors: Sequence[Any] | None = None,
+    color_by: str = "block",
+    colorbar: bool = True,
     contacts: SystemContacts | None = None,
+    max_blocks: int | None = DEFAULT_MAX_BLOCKS,
     elev: float = 24.0,
     azim: float = -56.0,
 ) -> Axes:
@@ -130,7 +147,7 @@ def plot_system(
     ax : mpl_toolkits.mplot3d.axes3d.Axes3D, optional
         Axes to draw into; default a new figure (not registered with pyplot).
     explode : float, default 0.5
-        Outward displacement factor (see :func:`exploded_faces`).
+        Each block moves by ``explode * (its centroid - the system centroid)``.
     alpha : float, default 0.92
         Face opacity (faces turned away from the viewer are not drawn).
     title : str, optional
@@ -138,60 +155,94 @@ def plot_system(
     labels : bool, default False
         Write each block's id at its (moved) centroid.
     colors : sequence of colours, optional
-        One matplotlib colour per block; default :func:`block_colors`.
+        One matplotlib colour per block (overrides `color_by`).
+    color_by : {"block", "volume"}, default "block"
+        Each block its own colour, or a colour for its volume (viridis, logarithmic when
+        the volumes span more than a factor of 10) with a colour bar.
+    colorbar : bool, default True
+        Draw the colour bar of ``color_by="volume"``.
     contacts : SystemContacts, optional
         Contacts of `system` found with ``detect(geometry=True)``: drawn coloured by type
         (:func:`penedge.pictures.plot_contacts`) over faint blocks, with a legend.
+    max_blocks : int or None, default 20000
+        Draw at most this many blocks: those on the outside of the rock mass first, then
+        the largest (a note under the picture says so). None: every block.
     elev, azim : float
         View angles in degrees.
 
     Returns
     -------
     Axes3D
-        The axes drawn into (``ax.figure`` is the figure).
+        The axes drawn into (``ax.figure`` is the figure). The faces of each block are
+        one ``Poly3DCollection`` (above 1500 blocks, the faces of all blocks are one).
 
     Examples
     --------
     >>> import penedge
     >>> from penedge.pictures import plot_system
     >>> ax = plot_system(penedge.paper_example(1), title="Example 1")
-    >>> len(ax.collections)  # one per block
-    8
+    >>> len(ax.collections), len(ax.collections[0].get_facecolor())  # 8 cubes, 3 faces seen
+    (8, 3)
     """
-    from matplotlib.colors import to_rgb
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     if ax is None:
         from matplotlib.figure import Figure
 
         ax = Figure(figsize=(7.0, 7.0), layout="constrained").add_subplot(projection="3d")
-    parts = exploded_faces(system, explode)
-    palette = block_colors(len(parts)) if colors is None else [to_rgb(c) for c in colors]
-    view = _view_direction(elev, azim)
+    scene = build_scene(system, explode, max_blocks)
+    base, norm = _base_colors(scene.volumes, color_by, colors)
     ghost = contacts is not None
-    for (faces, normals, _), color in zip(parts, palette, strict=True):
-        front = [k for k in range(len(faces)) if ghost or normals[k] @ view > -0.1]
-        shaded = _shaded(np.asarray(color, dtype=float), normals[front], alpha)
-        if ghost:
-            shaded[:, 3] = _GHOST_ALPHA
-        ax.add_collection3d(
-            Poly3DCollection(
-                [faces[k] for k in front],
-                facecolors=shaded,
-                edgecolors=(0.35, 0.35, 0.35, 0.35) if ghost else (0.1, 0.1, 0.1, 0.95),
-                linewidths=0.5 if ghost else 0.8,
-                zorder=1,
+    if ghost:
+        faces = np.arange(scene.n_faces)
+    else:
+        view = _view_direction(elev, azim)
+        faces = np.flatnonzero(scene.face_normals @ view > -0.1)
+    if len(faces):
+        light = np.clip(scene.face_normals[faces] @ _LIGHT, 0.0, 1.0)
+        rgb = np.clip(base[scene.face_block[faces]] * (0.55 + 0.45 * light[:, None]), 0, 1)
+        face_alpha = _GHOST_ALPHA if ghost else alpha
+        width = _edge_width(scene.n_shown)
+        facecolors = np.column_stack([rgb, np.full(len(faces), face_alpha)])
+        # matplotlib sorts collections by depth, and the faces inside each: one collection
+        # per block paints exploded blocks in the right order; one for all is much faster.
+        if scene.n_shown <= _ONE_COLLECTION_ABOVE:
+            block = scene.face_block[faces]
+            cuts = np.flatnonzero(np.diff(block)) + 1
+            parts = zip(np.split(faces, cuts), np.split(facecolors, cuts), strict=True)
+        else:
+            parts = zip([faces], [facecolors], strict=True)
+        for part, colors in parts:
+            ax.add_collection3d(
+                Poly3DCollection(
+                    scene.polygons(part),
+                    facecolors=colors,
+                    edgecolors=(0.35, 0.35, 0.35, 0.35) if ghost else (0.1, 0.1, 0.1, 0.95),
+                    linewidths=min(width, 0.5) if ghost else width,
+                    zorder=1,
+                )
             )
-        )
-    if parts:
-        _set_equal_limits(ax, np.vstack([np.vstack(faces) for faces, _, _ in parts]))
+    if scene.n_faces:
+        _set_equal_limits(ax, *scene.bounds())
     if labels:
-        _label_blocks(ax, system, parts)
+        for i in np.flatnonzero(scene.shown):
+            x, y, z = scene.centroids[i]
+            ax.text(x, y, z, str(i), fontsize=7, ha="center", va="center", color="0.1", zorder=10)
     if ghost:
         from penedge.pictures.contacts import plot_contacts
 
-        offsets = np.array([offset for _, _, offset in parts]).reshape(-1, 3)
-        plot_contacts(contacts, ax=ax, block_offsets=offsets)
+        plot_contacts(
+            contacts,
+            ax=ax,
+            block_offsets=scene.offsets,
+            shown_blocks=scene.shown,
+            view=_view_direction(elev, azim),
+        )
+    if norm is not None and colorbar:
+        _volume_colorbar(ax, norm, bool(scene.volumes.min(initial=np.inf) < norm.vmin))
+    note = shown_note(scene)
+    if note:
+        ax.text2D(0.5, 0.0, note, transform=ax.transAxes, ha="center", va="bottom", fontsize=8)
     ax.set_proj_type("persp", focal_length=2.0)
     ax.view_init(elev=elev, azim=azim)
     ax.set_axis_off()
@@ -200,15 +251,30 @@ def plot_system(
     return ax
 
 
-def _label_blocks(ax: Any, system: Any, parts: list) -> None:
-    for i, (block, (_, _, offset)) in enumerate(zip(_blocks(system), parts, strict=True)):
-        x, y, z = block.centroid + offset
-        ax.text(x, y, z, str(i), fontsize=7, ha="center", va="center", color="0.1", zorder=10)
+def _edge_width(n_blocks: int) -> float:
+    """Thinner edges for many blocks, so that the faces still show."""
+    return 0.8 if n_blocks <= 200 else max(0.15, 0.8 * float(np.sqrt(200 / n_blocks)))
+
+
+def _volume_colorbar(ax: Any, norm: Any, below: bool) -> None:
+    """The colour bar of the volumes; a triangle at the bottom when smaller blocks (slivers)
+    share its lowest colour."""
+    import matplotlib
+    from matplotlib.cm import ScalarMappable
+
+    mappable = ScalarMappable(norm=norm, cmap=matplotlib.colormaps[VOLUME_COLORMAP])
+    bar = ax.figure.colorbar(
+        mappable, ax=ax, shrink=0.55, pad=0.0, aspect=25, extend="min" if below else "neither"
+    )
+    label = "block volume (length unit cubed)"
+    if below:
+        label += "\nsmaller blocks in the lowest colour"
+    bar.set_label(label, fontsize=10)
 
 
 def save_picture(
     system: BlockSystem | Iterable[Block],
-    path: str,
+    path: Any,
     *,
     title: str | None = None,
     subtitle: str | None = None,
@@ -239,7 +305,7 @@ def save_picture(
         Contacts found with ``detect(geometry=True)``: a second panel draws them, coloured
         by type, over faint blocks.
     **kwargs
-        Passed to :func:`plot_system`.
+        Passed to :func:`plot_system` (``color_by="volume"``, ``max_blocks``, ...).
 
     Returns
     -------
@@ -249,14 +315,17 @@ def save_picture(
     from matplotlib.figure import Figure
 
     panels = 1 if contacts is None else 2
-    fig = Figure(figsize=(7.0 * panels, 7.0), layout="constrained")
+    wide = 1.0 if kwargs.get("color_by", "block") == "volume" else 0.0
+    fig = Figure(figsize=(7.0 * panels + wide, 7.0), layout="constrained")
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(1, panels, 1, projection="3d")
     plot_system(system, ax=ax, explode=explode, **kwargs)
     if contacts is not None:
         ax.set_title("blocks", fontsize=11, pad=0)
         right = fig.add_subplot(1, panels, 2, projection="3d")
-        plot_system(system, ax=right, explode=explode, contacts=contacts, **kwargs)
+        plot_system(
+            system, ax=right, explode=explode, contacts=contacts, **{**kwargs, "colorbar": False}
+        )
         right.set_title("contacts, coloured by type", fontsize=11, pad=0)
     if title:
         if contacts is None:
@@ -267,84 +336,3 @@ def save_picture(
         fig.text(0.5, 0.015, subtitle, ha="center", va="bottom", fontsize=9, color="0.35")
     fig.savefig(path, dpi=dpi, format=format, facecolor="white")
     return fig
-
-
-def write_html(
-    system: BlockSystem | Iterable[Block],
-    path: str,
-    *,
-    title: str | None = None,
-    explode: float = 0.5,
-    include_plotlyjs: bool | str = True,
-) -> None:
-    """Write an interactive exploded view (plotly) to an HTML file.
-
-    Parameters
-    ----------
-    system : BlockSystem or iterable of Block
-    path : str or path-like
-    title : str, optional
-    explode : float, default 0.5
-    include_plotlyjs : bool or str, default True
-        True embeds plotly.js (a self-contained file of a few MB); ``"cdn"`` links it.
-    """
-    import plotly.graph_objects as go
-
-    parts = exploded_faces(system, explode)
-    traces = []
-    for i, ((faces, _, _), color) in enumerate(zip(parts, block_colors(len(parts)), strict=True)):
-        traces.append(_mesh_trace(faces, color, f"block {i}"))
-        traces.append(_edge_trace(faces))
-    fig = go.Figure(traces)
-    fig.update_layout(
-        title=title,
-        showlegend=False,
-        scene={"aspectmode": "data"},
-        margin={"l": 0, "r": 0, "t": 40 if title else 0, "b": 0},
-    )
-    fig.write_html(path, include_plotlyjs=include_plotlyjs)
-
-
-def _mesh_trace(faces: list[np.ndarray], color: np.ndarray, name: str) -> Any:
-    import plotly.graph_objects as go
-
-    points, triangles = [], []
-    for face in faces:
-        start = sum(len(f) for f in points)
-        points.append(face)
-        triangles.extend((start, start + k, start + k + 1) for k in range(1, len(face) - 1))
-    xyz = np.vstack(points)
-    i, j, k = np.array(triangles).T
-    rgb = "rgb({:.0f},{:.0f},{:.0f})".format(*(255 * np.asarray(color)))
-    return go.Mesh3d(
-        x=xyz[:, 0],
-        y=xyz[:, 1],
-        z=xyz[:, 2],
-        i=i,
-        j=j,
-        k=k,
-        color=rgb,
-        opacity=0.9,
-        flatshading=True,
-        name=name,
-        hoverinfo="name",
-    )
-
-
-def _edge_trace(faces: list[np.ndarray]) -> Any:
-    import plotly.graph_objects as go
-
-    xs, ys, zs = [], [], []
-    for face in faces:
-        loop = np.vstack([face, face[:1]])
-        xs.extend([*loop[:, 0], None])
-        ys.extend([*loop[:, 1], None])
-        zs.extend([*loop[:, 2], None])
-    return go.Scatter3d(
-        x=xs,
-        y=ys,
-        z=zs,
-        mode="lines",
-        hoverinfo="skip",
-        line={"color": "rgb(30,30,30)", "width": 2},
-    )

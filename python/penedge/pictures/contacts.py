@@ -11,7 +11,10 @@ if TYPE_CHECKING:
 
     from penedge._core import SystemContacts
 
-__all__ = ["CONTACT_COLORS", "contact_shapes", "plot_contacts"]
+__all__ = ["CONTACT_COLORS", "DEFAULT_MAX_CONTACTS", "contact_shapes", "plot_contacts"]
+
+#: The most contacts :func:`plot_contacts` draws by default.
+DEFAULT_MAX_CONTACTS = 3000
 
 #: Colour of each contact type, by type code 1..7 (``CONTACT_COLORS[code]``).
 CONTACT_COLORS = {
@@ -82,7 +85,10 @@ def plot_contacts(
     *,
     ax: Axes,
     block_offsets: np.ndarray | None = None,
+    shown_blocks: np.ndarray | None = None,
     legend: bool = True,
+    max_contacts: int | None = DEFAULT_MAX_CONTACTS,
+    view: np.ndarray | None = None,
 ) -> Axes:
     """Draw contacts into a 3D axes, coloured by type: polygons filled, segments as thick
     lines, points as dots; drawn over what the axes already holds.
@@ -94,21 +100,46 @@ def plot_contacts(
     ax : Axes3D
     block_offsets : numpy.ndarray, shape (n_blocks, 3), optional
         Displacements of the blocks (see :func:`contact_shapes`).
+    shown_blocks : numpy.ndarray, shape (n_blocks,), bool, optional
+        Draw only the contacts between these blocks (default: every contact).
     legend : bool, default True
         A legend of the types present, with their counts.
+    max_contacts : int or None, default 3000
+        Draw at most this many contacts (more make a solid mass): those nearest the
+        corner of the system that faces the viewer, with a note saying so. None: all.
+    view : numpy.ndarray, shape (3,), optional
+        The direction towards the viewer (default: matplotlib's, from the axes).
 
     Returns
     -------
     Axes3D
     """
+    from matplotlib.colors import to_rgba
     from matplotlib.lines import Line2D
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
     points, segments, polygons, kinds = contact_shapes(contacts, block_offsets)
     types = np.asarray(contacts.types)
+    drawn = np.ones(len(types), dtype=bool)
+    if shown_blocks is not None and len(types):
+        drawn = np.asarray(shown_blocks, dtype=bool)[contacts.pairs].all(axis=1)
+    total = int(drawn.sum())
+    counted = types[drawn]
+    if max_contacts is not None and total > max_contacts:
+        drawn &= _nearest(contacts, block_offsets, drawn, max_contacts, ax, view)
+        ax.text2D(
+            0.5,
+            0.03,
+            f"showing {max_contacts} of {total} contacts: those nearest the viewer",
+            transform=ax.transAxes,
+            ha="center",
+            va="bottom",
+            fontsize=8,
+        )
+    many = drawn.sum() > 2000
     ax.computed_zorder = False  # draw the contacts over the blocks
     for code, color in CONTACT_COLORS.items():
-        of_type = types == code
+        of_type = (types == code) & drawn
         if not of_type.any():
             continue
         polys = [p for p, keep in zip(polygons, of_type[kinds == 3], strict=True) if keep]
@@ -116,30 +147,59 @@ def plot_contacts(
             ax.add_collection3d(
                 Poly3DCollection(
                     polys,
-                    facecolors=color,
-                    edgecolors="0.15",
-                    alpha=0.6,
-                    linewidths=0.6,
+                    facecolors=to_rgba(color, 0.35),
+                    edgecolors=to_rgba(_darker(color), 0.9),
+                    linewidths=0.4 if many else 1.0,
                     zorder=2,
                 )
             )
         lines = segments[of_type[kinds == 2]]
         if len(lines):
-            ax.add_collection3d(Line3DCollection(lines, colors=color, linewidths=3, zorder=3))
+            width = 1.2 if many else 2.5
+            ax.add_collection3d(Line3DCollection(lines, colors=color, linewidths=width, zorder=3))
         dots = points[of_type[kinds == 1]]
         if len(dots):
             ax.scatter(
                 *dots.T,
                 color=color,
-                s=28,
+                s=6 if many else 18,
                 depthshade=False,
                 zorder=4,
                 edgecolors="0.15",
-                linewidths=0.5,
+                linewidths=0 if many else 0.5,
             )
     if legend:
-        _legend(ax, types, Line2D)
+        _legend(ax, counted, Line2D)
     return ax
+
+
+def _nearest(
+    contacts: Any,
+    block_offsets: np.ndarray | None,
+    drawn: np.ndarray,
+    count: int,
+    ax: Any,
+    view: np.ndarray | None,
+) -> np.ndarray:
+    """The `count` drawn contacts nearest the corner of their box that faces the viewer."""
+    if view is None:
+        e, a = np.radians(ax.elev), np.radians(ax.azim)
+        view = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+    anchors = np.asarray(contacts.points, dtype=float)[contacts.point_offsets[:-1]]
+    if block_offsets is not None:
+        anchors = anchors + block_offsets[contacts.pairs].mean(axis=1)
+    lo, hi = anchors[drawn].min(axis=0), anchors[drawn].max(axis=0)
+    corner = (lo + hi) / 2 + (hi - lo) / 2 * np.sign(view)
+    distance = np.where(drawn, np.linalg.norm(anchors - corner, axis=1), np.inf)
+    keep = np.zeros(len(drawn), dtype=bool)
+    keep[np.argsort(distance, kind="stable")[:count]] = True
+    return keep
+
+
+def _darker(color: str) -> tuple[float, float, float]:
+    from matplotlib.colors import to_rgb
+
+    return tuple(0.6 * c for c in to_rgb(color))  # type: ignore[return-value]
 
 
 def _legend(ax: Any, types: np.ndarray, line: Any) -> None:

@@ -1,0 +1,272 @@
+"""What the pictures draw, as flat numpy arrays: the blocks moved apart for an exploded
+view, the faces chosen when a system is too large to draw whole, and block colours.
+
+Everything is built from :meth:`penedge.BlockSystem.arrays` without a Python object per
+block, so that systems of 10^5 blocks are prepared in well under a second.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from penedge._core import Block, BlockSystem
+
+__all__ = [
+    "COLOR_BY",
+    "DEFAULT_MAX_BLOCKS",
+    "Scene",
+    "block_colors",
+    "volume_scale",
+]
+
+#: How blocks can be coloured: each its own colour, or by volume on a colour scale.
+COLOR_BY = ("block", "volume")
+
+#: The most blocks a picture draws; beyond, the blocks on the outside of the rock mass
+#: (with a face on the domain's boundary) are drawn first, then the largest.
+DEFAULT_MAX_BLOCKS = 20_000
+
+_GOLDEN_ANGLE = 0.381966  # fraction of a turn between successive block hues
+VOLUME_COLORMAP = "viridis"
+_VOLUME_DECADES = 100.0  # the volume colour scale starts at most this factor below V10
+
+
+def block_colors(n: int) -> np.ndarray:
+    """Distinct colours for `n` blocks.
+
+    Parameters
+    ----------
+    n : int
+        Number of blocks.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 3)
+        RGB in [0, 1]; hues a golden angle apart, so neighbours in id order differ.
+    """
+    i = np.arange(n)
+    hue = (0.58 + i * _GOLDEN_ANGLE) % 1.0
+    saturation = np.where(i % 2 == 1, 0.50, 0.62)
+    return _hsv_to_rgb(hue, saturation, 0.95)
+
+
+def _hsv_to_rgb(h: np.ndarray, s: np.ndarray, v: float) -> np.ndarray:
+    """colorsys.hsv_to_rgb on arrays."""
+    sector = np.floor(h * 6.0)
+    f = h * 6.0 - sector
+    p, q, t = v * (1 - s), v * (1 - s * f), v * (1 - s * (1 - f))
+    vv = np.full_like(h, v)
+    table = np.stack(
+        [
+            np.column_stack([vv, t, p]),
+            np.column_stack([q, vv, p]),
+            np.column_stack([p, vv, t]),
+            np.column_stack([p, q, vv]),
+            np.column_stack([t, p, vv]),
+            np.column_stack([vv, p, q]),
+        ]
+    )
+    return table[sector.astype(int) % 6, np.arange(len(h))].reshape(len(h), 3)
+
+
+def volume_scale(volumes: np.ndarray) -> tuple[float, float, bool]:
+    """The range of the volume colour scale, and whether it is logarithmic (when the
+    volumes span more than a factor of 10).
+
+    The scale starts at most a factor of 100 below V10 (the volume below which blocks hold
+    10 % of the rock): slivers much smaller than that all get its lowest colour, instead of
+    squeezing the colours of the blocks that make up the rock into one end of the scale.
+    """
+    v = np.asarray(volumes, dtype=float)
+    positive = np.sort(v[v > 0])
+    if len(positive) == 0:
+        return 0.0, 1.0, False
+    passing = np.cumsum(positive) / positive.sum()
+    v10 = positive[min(np.searchsorted(passing, 0.1), len(positive) - 1)]
+    lo, hi = max(float(positive[0]), float(v10) / _VOLUME_DECADES), float(positive[-1])
+    if hi > 10 * lo:
+        return lo, hi, True
+    if hi == lo:
+        return lo * 0.9, hi * 1.1, False
+    return lo, hi, False
+
+
+@dataclass
+class Scene:
+    """A block system ready to draw: exploded, possibly cut down to `max_blocks` blocks.
+
+    Attributes
+    ----------
+    vertices : (V, 3) float array
+        Every vertex of the system, moved with its block.
+    face_vertices, loop_offsets : int arrays
+        The drawn faces: face ``f`` is ``face_vertices[loop_offsets[f]:loop_offsets[f + 1]]``
+        (indices into `vertices`, counter-clockwise seen from outside).
+    face_normals : (F, 3) float array
+        Outward unit normal of each drawn face.
+    face_block : (F,) int array
+        The block (its id in the system) of each drawn face.
+    offsets : (n, 3) float array
+        The displacement of every block of the system.
+    volumes, centroids : arrays over every block of the system
+        Centroids as moved.
+    shown : (n,) bool array
+        Which blocks are drawn.
+    """
+
+    vertices: np.ndarray
+    face_vertices: np.ndarray
+    loop_offsets: np.ndarray
+    face_normals: np.ndarray
+    face_block: np.ndarray
+    offsets: np.ndarray
+    volumes: np.ndarray
+    centroids: np.ndarray
+    shown: np.ndarray
+
+    @property
+    def n_blocks(self) -> int:
+        """Blocks in the system."""
+        return len(self.volumes)
+
+    @property
+    def n_shown(self) -> int:
+        """Blocks drawn."""
+        return int(self.shown.sum())
+
+    @property
+    def n_faces(self) -> int:
+        """Faces drawn."""
+        return len(self.face_block)
+
+    def polygons(self, faces: np.ndarray | None = None) -> list[np.ndarray]:
+        """The drawn faces (or those of index `faces`) as (k, 3) arrays."""
+        lo = self.loop_offsets
+        if faces is None:
+            faces = np.arange(self.n_faces)
+        sizes = lo[faces + 1] - lo[faces]
+        entries = self.face_vertices[_ranges(lo[faces], sizes)]
+        return np.split(self.vertices[entries], np.cumsum(sizes)[:-1]) if len(faces) else []
+
+    def triangles(self, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Fan triangulation of faces `faces`: (t, 3) vertex indices into `vertices`, and
+        the face of each triangle."""
+        lo = self.loop_offsets
+        start = lo[faces]
+        count = lo[faces + 1] - start - 2
+        first = np.repeat(start, count)
+        step = _ranges(np.zeros_like(count), count)
+        fv = self.face_vertices
+        tris = np.column_stack([fv[first], fv[first + 1 + step], fv[first + 2 + step]])
+        return tris.reshape(-1, 3), np.repeat(faces, count)
+
+    def edges(self, faces: np.ndarray) -> np.ndarray:
+        """The edges of faces `faces`, each once: (e, 2) vertex indices into `vertices`."""
+        lo = self.loop_offsets
+        start = lo[faces]
+        sizes = lo[faces + 1] - start
+        here = _ranges(start, sizes)
+        step = here - np.repeat(start, sizes)
+        after = np.repeat(start, sizes) + (step + 1) % np.repeat(sizes, sizes)
+        fv = self.face_vertices
+        pairs = np.sort(np.column_stack([fv[here], fv[after]]), axis=1)
+        return np.unique(pairs, axis=0) if len(pairs) else pairs.reshape(0, 2)
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """The corners of the box around the drawn faces."""
+        used = self.vertices[self.face_vertices] if self.n_faces else self.vertices
+        if len(used) == 0:
+            return np.zeros(3), np.ones(3)
+        return used.min(axis=0), used.max(axis=0)
+
+
+def _ranges(starts: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """``concatenate([arange(s, s + k) for s, k in zip(starts, sizes)])``, vectorized."""
+    sizes = np.asarray(sizes, dtype=np.int64)
+    total = int(sizes.sum())
+    if total == 0:
+        return np.zeros(0, dtype=np.int64)
+    ends = np.cumsum(sizes)
+    base = np.repeat(np.asarray(starts, dtype=np.int64) - (ends - sizes), sizes)
+    return base + np.arange(total)
+
+
+def _arrays(system: BlockSystem | Iterable[Block]) -> Any:
+    if hasattr(system, "arrays"):
+        return system.arrays()
+    import penedge
+
+    return penedge.BlockSystem(list(system)).arrays()
+
+
+def choose_blocks(arrays: Any, max_blocks: int | None) -> np.ndarray:
+    """Which blocks to draw: all, or when there are more than `max_blocks`, those with a
+    face on the domain's boundary (what a viewer of the whole mass sees) first, then the
+    largest."""
+    volumes = np.asarray(arrays.volumes)
+    n = len(volumes)
+    if max_blocks is None or n <= max_blocks:
+        return np.ones(n, dtype=bool)
+    outside = np.zeros(n, dtype=bool)
+    outside[arrays.face_block[arrays.face_origin_kind == 1]] = True
+    order = np.lexsort((-volumes, ~outside))
+    keep = np.zeros(n, dtype=bool)
+    keep[order[:max_blocks]] = True
+    return keep
+
+
+def build_scene(
+    system: BlockSystem | Iterable[Block],
+    explode: float = 0.5,
+    max_blocks: int | None = DEFAULT_MAX_BLOCKS,
+) -> Scene:
+    """The system exploded (each block moved by ``explode * (its centroid - the system's
+    volume-weighted centroid)``) and cut down to at most `max_blocks` blocks."""
+    if max_blocks is not None and max_blocks < 1:
+        raise ValueError(f"max_blocks must be at least 1, got {max_blocks}")
+    a = _arrays(system)
+    volumes = np.asarray(a.volumes, dtype=float)
+    centroids = np.asarray(a.centroids, dtype=float).reshape(-1, 3)
+    n = len(volumes)
+    total = volumes.sum()
+    centre = volumes @ centroids / total if n and total > 0 else np.zeros(3)
+    offsets = explode * (centroids - centre)
+    vertex_block = np.repeat(np.arange(n), np.diff(a.vertex_offsets))
+    vertices = np.asarray(a.vertices, dtype=float).reshape(-1, 3) + offsets[vertex_block]
+    shown = choose_blocks(a, max_blocks)
+    face_block = np.asarray(a.face_block)
+    loop_offsets = np.asarray(a.loop_offsets)
+    face_vertices = np.asarray(a.face_vertices)
+    face_normals = np.asarray(a.face_normals, dtype=float).reshape(-1, 3)
+    if not shown.all():
+        keep = shown[face_block]
+        sizes = np.diff(loop_offsets)
+        face_vertices = face_vertices[np.repeat(keep, sizes)]
+        loop_offsets = np.concatenate([[0], np.cumsum(sizes[keep])])
+        face_block, face_normals = face_block[keep], face_normals[keep]
+    return Scene(
+        vertices=vertices,
+        face_vertices=face_vertices,
+        loop_offsets=loop_offsets,
+        face_normals=face_normals,
+        face_block=face_block,
+        offsets=offsets,
+        volumes=volumes,
+        centroids=centroids + offsets,
+        shown=shown,
+    )
+
+
+def shown_note(scene: Scene) -> str | None:
+    """``showing 20000 of 103313 blocks (...)`` when the scene is cut down."""
+    if scene.n_shown == scene.n_blocks:
+        return None
+    return (
+        f"showing {scene.n_shown} of {scene.n_blocks} blocks: those on the outside of the "
+        "rock mass first, then the largest"
+    )

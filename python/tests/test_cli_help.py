@@ -1,0 +1,147 @@
+"""``penedge --help`` and each command's ``--help``: a worked example that is true (the
+tests run it and compare its output), the options spelled alike, the exit statuses; and
+the exit statuses themselves, Ctrl-C included."""
+
+import shlex
+from pathlib import Path
+
+import pytest
+
+import penedge
+from penedge import cli
+
+from cli_run import run, squeeze
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+COMMANDS = ["example", "generate", "detect", "show"]
+
+
+def help_text(*args, cwd):
+    result = run(*args, "--help", cwd=cwd)
+    assert result.returncode == 0, result.stderr
+    assert result.stderr == ""
+    return result.stdout
+
+
+def worked_example(text):
+    """The commands (after ``$``) and the printed lines of the help's worked example."""
+    lines = text.split("worked example:\n", 1)[1].splitlines()
+    commands, shown = [], []
+    for line in lines:
+        if line and not line.startswith(" "):  # the next section
+            break
+        stripped = line.strip()
+        if stripped.startswith("$ "):
+            commands.append(stripped[2:])
+            shown = []
+        else:
+            shown.append(" ".join(stripped.split()))
+    return commands, shown
+
+
+def varies(line):
+    """Lines of a worked example that differ from run to run or platform to platform."""
+    return line == "..." or line.endswith(" s") or line.startswith("volume error")
+
+
+def test_the_top_level_help_lists_every_command_and_the_exit_statuses(tmp_path):
+    text = help_text(cwd=tmp_path)
+    for command in COMMANDS:
+        assert f"\n    {command} " in text, command
+    statuses = text.split("exit status:\n", 1)[1].splitlines()
+    codes = [
+        line.split()[0] for line in statuses if line.startswith("  ") and line.split()[0].isdigit()
+    ]
+    assert codes == ["0", "1", "2", "130"]
+    assert "130  interrupted (Ctrl-C)" in text
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_each_command_spells_the_shared_options_alike(command, tmp_path):
+    text = help_text(command, cwd=tmp_path)
+    assert f"usage: penedge {command}" in text
+    for option in ("-q, --quiet", "--json", "-o FILE, --output FILE"):
+        assert option in text, option
+    drawing = command in ("example", "show")
+    for option in ("--force", "--colour-by {block,volume}", "--explode F", "--max-blocks N"):
+        assert (option in text) == drawing, option
+    assert ("--gap G" in text) == (command != "generate")
+
+
+@pytest.mark.parametrize("args", [[], *([c] for c in COMMANDS)])
+def test_every_worked_example_in_the_help_is_what_penedge_prints(args, tmp_path):
+    pytest.importorskip("matplotlib")
+    pytest.importorskip("plotly")
+    commands, shown = worked_example(help_text(*args, cwd=tmp_path))
+    assert commands, "no worked example"
+    assert all(c.startswith("penedge ") for c in commands)
+    (tmp_path / "examples").symlink_to(EXAMPLES)
+    for command in commands:
+        result = run(*shlex.split(command)[1:], cwd=tmp_path)
+        assert result.returncode == 0, (command, result.stderr)
+    printed = squeeze(result.stdout)
+    matched = [bool(line) and line in printed for line in shown]
+    last = max(k for k, hit in enumerate(matched) if hit)  # then prose about the output
+    missing = [
+        line
+        for line, hit in zip(shown[:last], matched[:last], strict=True)
+        if not hit and line and not varies(line)
+    ]
+    assert missing == [], f"{commands[-1]} does not print: {missing}"
+    assert sum(matched) >= 5
+
+
+def test_no_command_is_a_usage_error(tmp_path):
+    result = run(cwd=tmp_path)
+    assert result.returncode == 2
+    assert "usage: penedge" in result.stderr
+    assert result.stdout == ""
+
+
+def test_ctrl_c_exits_130_with_a_word_and_no_traceback(monkeypatch, capsys, tmp_path):
+    def interrupted(n):
+        raise KeyboardInterrupt
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(penedge, "paper_example", interrupted)
+    assert cli.main(["example", "1"]) == 130
+    out, err = capsys.readouterr()
+    assert out == ""
+    assert err == "\npenedge: interrupted\n"
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_signal_during_a_run_exits_130_and_leaves_no_temporary_file(tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    # A run long enough to be interrupted: the 10^5 blocks of three_joint_sets, written.
+    process = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "penedge",
+            "generate",
+            str(EXAMPLES / "three_joint_sets.toml"),
+            "-o",
+            "blocks.json",
+        ],
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    time.sleep(2.5)  # past Python's start and the imports
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=120)
+    if process.returncode == 0:
+        pytest.skip("the run ended before the signal came (a very fast machine)")
+    assert process.returncode == 130, err
+    assert err.endswith("penedge: interrupted\n")
+    assert "Traceback" not in err
+    left = [p.name for p in tmp_path.iterdir()]
+    assert [name for name in left if name != "blocks.json"] == []  # no temporary file
+    if left:  # the signal came after the file was written: it is whole, never half
+        assert len(penedge.BlockSystem.read_json(tmp_path / "blocks.json")) > 10**5
