@@ -3,7 +3,8 @@
 penedge implements Chen, Zheng, Cheng and Ge (2004): every edge of block A is clipped
 by the face planes of block B widened by a gap, and vice versa; the surviving
 *penetration edges* tell whether the blocks touch and which of seven contact types it is
-(:data:`CONTACT_TYPES`). The engine is Rust (``penedge._core``); this package re-exports
+(:data:`CONTACT_TYPES`; the codes 1..7 are also named :data:`VERTEX_VERTEX` ...
+:data:`FACE_FACE`). The engine is Rust (``penedge._core``); this package re-exports
 it, and adds a command line (``penedge example 3``) and pictures
 (:mod:`penedge.pictures`, needs matplotlib).
 
@@ -17,10 +18,18 @@ Systems
     contact as numpy arrays (:class:`SystemContacts`), with ``geometry=True`` also normals,
     distances, areas and contact points. :func:`paper_example` builds the paper's three
     examples, :func:`paper_table3` gives its printed counts.
+Time stepping
+    :class:`ContactTracker` -- the contacts of moving blocks, step after step, reusing
+    the broad phase within a skin and skipping pairs clearly apart or overlapping.
 Generation
     :func:`generate` -- a rock domain cut by joint planes, joint sets and finite joints
     (a spec file, TOML text or a dict) into a :class:`BlockSystem`; its blocks as flat
     arrays (:meth:`BlockSystem.arrays`), volume statistics, and files (JSON, VTU, CSV).
+Files
+    :meth:`BlockSystem.write_json` / :meth:`BlockSystem.read_json` (lossless),
+    :meth:`BlockSystem.write_vtu` and :meth:`SystemContacts.write_vtp` (ParaView),
+    :class:`TimeSeries` -- blocks and contacts step after step as a ParaView time series
+    (``.pvd``), :func:`write_pvd` -- a time series index of any files.
 Errors
     :exc:`PenedgeError` and its subclasses :exc:`InputError`, :exc:`BlockError`,
     :exc:`ToleranceError`, :exc:`SpecError`, :exc:`FileFormatError` (all also
@@ -43,19 +52,28 @@ True
 
 from penedge._core import (
     CONTACT_TYPES,
+    EDGE_EDGE,
+    EDGE_EDGE_SUPERPOSITION,
+    EDGE_FACE,
+    FACE_FACE,
     FEATURE_KINDS,
     PENETRATING,
     SEPARATED,
+    VERTEX_EDGE,
+    VERTEX_FACE,
+    VERTEX_VERTEX,
     Block,
     BlockArrays,
     BlockError,
     BlockSystem,
+    ContactTracker,
     FileFormatError,
     InputError,
     PairContact,
     PenedgeError,
     SpecError,
     SystemContacts,
+    TimeSeries,
     ToleranceError,
     __version__,
     detect_pair,
@@ -63,23 +81,33 @@ from penedge._core import (
     paper_example,
     paper_example_planes,
     paper_table3,
+    write_pvd,
 )
 
 __all__ = [
     "CONTACT_TYPES",
+    "EDGE_EDGE",
+    "EDGE_EDGE_SUPERPOSITION",
+    "EDGE_FACE",
+    "FACE_FACE",
     "FEATURE_KINDS",
     "PENETRATING",
     "SEPARATED",
+    "VERTEX_EDGE",
+    "VERTEX_FACE",
+    "VERTEX_VERTEX",
     "Block",
     "BlockArrays",
     "BlockError",
     "BlockSystem",
+    "ContactTracker",
     "FileFormatError",
     "InputError",
     "PairContact",
     "PenedgeError",
     "SpecError",
     "SystemContacts",
+    "TimeSeries",
     "ToleranceError",
     "__version__",
     "detect_pair",
@@ -87,4 +115,5 @@ __all__ = [
     "paper_example",
     "paper_example_planes",
     "paper_table3",
+    "write_pvd",
 ]

@@ -2,12 +2,48 @@
 
 import os
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any, Final, Literal, TypedDict, final
+from pathlib import Path
+from typing import Any, Final, Literal, Self, TypedDict, final
 
 import numpy as np
 import numpy.typing as npt
 
 __version__: Final[str]
+"""The version of penedge (``major.minor.patch``)."""
+
+__all__ = [
+    "CONTACT_TYPES",
+    "EDGE_EDGE",
+    "EDGE_EDGE_SUPERPOSITION",
+    "EDGE_FACE",
+    "FACE_FACE",
+    "FEATURE_KINDS",
+    "PENETRATING",
+    "SEPARATED",
+    "VERTEX_EDGE",
+    "VERTEX_FACE",
+    "VERTEX_VERTEX",
+    "Block",
+    "BlockArrays",
+    "BlockError",
+    "BlockSystem",
+    "ContactTracker",
+    "FileFormatError",
+    "InputError",
+    "PairContact",
+    "PenedgeError",
+    "SpecError",
+    "SystemContacts",
+    "TimeSeries",
+    "ToleranceError",
+    "__version__",
+    "detect_pair",
+    "generate",
+    "paper_example",
+    "paper_example_planes",
+    "paper_table3",
+    "write_pvd",
+]
 
 _ContactTypeName = Literal[
     "vertex-vertex",
@@ -22,22 +58,37 @@ _Outcome = _ContactTypeName | Literal["separated", "penetrating"]
 _FeatureKind = Literal["vertex", "edge", "face"]
 
 CONTACT_TYPES: Final[tuple[_ContactTypeName, ...]]
+"""The names of the seven contact types, by type code: ``CONTACT_TYPES[code - 1]``."""
 FEATURE_KINDS: Final[tuple[_FeatureKind, _FeatureKind, _FeatureKind]]
+"""The feature kinds by code (``SystemContacts.feature_kinds``): 0 vertex, 1 edge, 2 face."""
 SEPARATED: Final[int]
+"""The type code of a separated pair (``PairContact.type_code``): 0."""
 PENETRATING: Final[int]
+"""The type code of a pair penetrating beyond the gap (``PairContact.type_code``): -1."""
+VERTEX_VERTEX: Final[int]
+"""The type code of vertex-vertex contacts: 1 (``SystemContacts.types``)."""
+VERTEX_EDGE: Final[int]
+"""The type code of vertex-edge contacts: 2."""
+EDGE_EDGE: Final[int]
+"""The type code of edge-edge contacts: 3."""
+EDGE_EDGE_SUPERPOSITION: Final[int]
+"""The type code of edge-edge-superposition contacts: 4."""
+VERTEX_FACE: Final[int]
+"""The type code of vertex-face contacts: 5."""
+EDGE_FACE: Final[int]
+"""The type code of edge-face contacts: 6."""
+FACE_FACE: Final[int]
+"""The type code of face-face contacts: 7."""
 
 class PenedgeError(Exception):
     kind: str
+    field: str | None  # the bad field of a SpecError (always set) or a FileFormatError
 
 class InputError(PenedgeError, ValueError): ...
 class BlockError(PenedgeError, ValueError): ...
 class ToleranceError(PenedgeError, ValueError): ...
-
-class SpecError(PenedgeError, ValueError):
-    field: str
-
-class FileFormatError(PenedgeError, ValueError):
-    field: str | None
+class SpecError(PenedgeError, ValueError): ...
+class FileFormatError(PenedgeError, ValueError): ...
 
 _Path = str | os.PathLike[str]
 
@@ -58,7 +109,7 @@ class _SetRecord(TypedDict):
 
 @final
 class Block:
-    def __init__(self, vertices: npt.ArrayLike, faces: Sequence[Sequence[int]]) -> None: ...
+    def __new__(cls, vertices: npt.ArrayLike, faces: Sequence[Sequence[int]]) -> Self: ...
     @staticmethod
     def from_planes(normals: npt.ArrayLike, offsets: npt.ArrayLike) -> Block: ...
     @staticmethod
@@ -112,6 +163,25 @@ class PairContact:
 def detect_pair(
     a: Block, b: Block, gap: float = 1e-12, length: float | None = None
 ) -> PairContact: ...
+
+class _UpdateReport(TypedDict):
+    rebuilt: bool
+    candidate_pairs: int
+    certified: int
+    queried: int
+
+@final
+class ContactTracker:
+    def __new__(
+        cls,
+        system: BlockSystem,
+        skin: float = 0.0,
+        gap: float = 1e-12,
+        length: float | None = None,
+    ) -> Self: ...
+    @property
+    def contacts(self) -> SystemContacts: ...
+    def update(self, rotations: npt.ArrayLike, translations: npt.ArrayLike) -> _UpdateReport: ...
 
 @final
 class SystemContacts:
@@ -170,7 +240,7 @@ class BlockArrays:
 
 @final
 class BlockSystem:
-    def __init__(self, blocks: Sequence[Block]) -> None: ...
+    def __new__(cls, blocks: Sequence[Block]) -> Self: ...
     @staticmethod
     def from_box_cut(
         lo: npt.ArrayLike, hi: npt.ArrayLike, normals: npt.ArrayLike, offsets: npt.ArrayLike
@@ -186,7 +256,12 @@ class BlockSystem:
     @property
     def domain(self) -> list[Block]: ...
     def detect(
-        self, gap: float = 1e-12, length: float | None = None, geometry: bool = False
+        self,
+        gap: float = 1e-12,
+        length: float | None = None,
+        geometry: bool = False,
+        progress: Callable[[int, int], object] | None = None,
+        threads: int | None = None,
     ) -> SystemContacts: ...
     def arrays(self) -> BlockArrays: ...
     def statistics(self) -> _Statistics | None: ...
@@ -201,9 +276,28 @@ class BlockSystem:
     def write_faces_vtu(self, path: _Path) -> None: ...
     def write_csv(self, path: _Path) -> None: ...
     def __len__(self) -> int: ...
-    def __getitem__(self, index: int) -> Block: ...
+    def __getitem__(self, index: int, /) -> Block: ...
     def __reduce__(self) -> tuple[Any, ...]: ...
 
+@final
+class TimeSeries:
+    def __new__(cls, folder: _Path, resume: bool = False) -> Self: ...
+    def write_step(
+        self, time: float, system: BlockSystem, contacts: SystemContacts | None = None
+    ) -> int: ...
+    @property
+    def folder(self) -> Path: ...
+    @property
+    def blocks_index(self) -> Path: ...
+    @property
+    def contacts_index(self) -> Path: ...
+    @property
+    def times(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def contact_times(self) -> npt.NDArray[np.float64]: ...
+    def __len__(self) -> int: ...
+
+def write_pvd(path: _Path, datasets: Sequence[tuple[float, _Path]]) -> None: ...
 def generate(
     spec: _Path | Mapping[str, Any],
     progress: Callable[[int, int, int], object] | None = None,

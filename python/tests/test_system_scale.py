@@ -31,10 +31,10 @@ def jointed():
 
 def test_named_type_constants_are_the_codes_of_the_types_array():
     names = [name.upper().replace("-", "_") for name in penedge.CONTACT_TYPES]
-    assert [getattr(penedge._core, n) for n in names] == list(range(1, 8))
+    assert [getattr(penedge, n) for n in names] == list(range(1, 8))
     found = penedge.paper_example(3).detect()
-    assert int(np.sum(found.types == penedge._core.FACE_FACE)) == 42
-    assert int(np.sum(found.types == penedge._core.VERTEX_VERTEX)) == 205
+    assert int(np.sum(found.types == penedge.FACE_FACE)) == 42
+    assert int(np.sum(found.types == penedge.VERTEX_VERTEX)) == 205
 
 
 def test_system_arrays_match_the_pair_query_on_every_pair(jointed):
@@ -56,7 +56,8 @@ def test_system_arrays_match_the_pair_query_on_every_pair(jointed):
     assert found.pairs.tolist() == [list(p) for p in touching]
     assert found.types.tolist() == types
     assert found.penetrating.tolist() == [list(p) for p in penetrating]
-    assert found.pairs.dtype == np.int64 and found.types.dtype == np.int8
+    assert found.pairs.dtype == np.int64
+    assert found.types.dtype == np.int8
 
 
 @pytest.mark.parametrize("geometry", [False, True])
@@ -87,14 +88,14 @@ def test_progress_reports_reach_the_total(jointed):
 
 
 def test_an_exception_in_the_progress_callback_stops_the_run(jointed):
-    class Stop(Exception):
+    class StopError(Exception):
         pass
 
     def stop(done, total):
-        raise Stop(f"{done}/{total}")
+        raise StopError(f"{done}/{total}")
 
     for geometry in (False, True):
-        with pytest.raises(Stop):
+        with pytest.raises(StopError):
             jointed.detect(geometry=geometry, progress=stop)
 
 
@@ -140,3 +141,61 @@ def test_ctrl_c_stops_a_long_detection_cleanly():
     assert child.returncode == 0, out + err
     stopped = float(out.split()[-1])
     assert stopped - sent < 0.5, f"took {stopped - sent:.2f} s to stop"
+
+
+def rotate(q, v):
+    """Rotates rows `v` by unit quaternion `q` = (x, y, z, w)."""
+    u, w = np.asarray(q[:3]), q[3]
+    return v + 2.0 * np.cross(u, np.cross(u, v) + w * v)
+
+
+def test_contact_tracker_matches_a_full_detection_step_by_step(jointed):
+    blocks = [jointed[i] for i in range(len(jointed))]
+    tracker = penedge.ContactTracker(jointed, skin=0.2)
+    first = jointed.detect()
+    assert np.array_equal(tracker.contacts.pairs, first.pairs)
+    assert np.array_equal(tracker.contacts.types, first.types)
+    rng = np.random.default_rng(3)
+    n = len(blocks)
+    for step, size in enumerate([1e-3, 1e-6, 1e-6, 0.3]):
+        axes = rng.normal(size=(n, 3))
+        axes /= np.linalg.norm(axes, axis=1)[:, None]
+        half = 0.5 * size * rng.uniform(-1, 1, n)
+        rotations = np.column_stack([axes * np.sin(half)[:, None], np.cos(half)])
+        translations = size * rng.uniform(-1, 1, (n, 3))
+        report = tracker.update(rotations, translations)
+        assert report["rebuilt"] == (size > 0.1), (step, report)
+        assert report["certified"] + report["queried"] == report["candidate_pairs"]
+        moved = penedge.BlockSystem(
+            [
+                penedge.Block(rotate(r, b.vertices) + t, b.faces)
+                for b, r, t in zip(blocks, rotations, translations, strict=True)
+            ]
+        )
+        expected = moved.detect()
+        for name in ("pairs", "types", "penetrating"):
+            assert np.array_equal(
+                getattr(tracker.contacts, name), getattr(expected, name)
+            ), (step, name)
+
+
+def test_contact_tracker_refuses_bad_poses_and_keeps_its_state(jointed):
+    tracker = penedge.ContactTracker(jointed, skin=0.1)
+    n = len(jointed)
+    before = tracker.contacts.pairs.copy()
+    identity = np.tile([0.0, 0.0, 0.0, 1.0], (n, 1))
+    with pytest.raises(penedge.InputError, match=r"shape \(n, 4\)"):
+        tracker.update(np.zeros((n, 3)), np.zeros((n, 3)))
+    with pytest.raises(penedge.InputError, match="rotations but"):
+        tracker.update(identity[:-1], np.zeros((n, 3)))
+    bad = np.zeros((n, 3))
+    bad[4, 1] = np.nan
+    with pytest.raises(penedge.InputError, match="pose 4"):
+        tracker.update(identity, bad)
+    zero = identity.copy()
+    zero[2] = 0.0
+    with pytest.raises(penedge.InputError, match="pose 2"):
+        tracker.update(zero, np.zeros((n, 3)))
+    with pytest.raises(penedge.InputError, match="skin"):
+        penedge.ContactTracker(jointed, skin=-1.0)
+    assert np.array_equal(tracker.contacts.pairs, before)

@@ -61,6 +61,15 @@ pub fn points(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<[f64; 3]>> {
     Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
 }
 
+/// An `(n, 4)` array-like as rows of four numbers (quaternions `x, y, z, w`).
+pub fn quads(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<[f64; 4]>> {
+    let flat = float_array(obj, name, &[None, Some(4)])?;
+    Ok(flat
+        .chunks_exact(4)
+        .map(|c| [c[0], c[1], c[2], c[3]])
+        .collect())
+}
+
 /// A `(3,)` array-like as one point.
 pub fn point(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<[f64; 3]> {
     let flat = float_array(obj, name, &[Some(3)])?;

@@ -33,8 +33,11 @@ mod _core {
     #[pymodule_export]
     use crate::generation::generate;
     #[pymodule_export]
+    use crate::io::{write_pvd, TimeSeries};
+    #[pymodule_export]
     use crate::system::{
-        paper_example, paper_example_planes, paper_table3, BlockArrays, BlockSystem, SystemContacts,
+        paper_example, paper_example_planes, paper_table3, BlockArrays, BlockSystem,
+        ContactTracker, SystemContacts,
     };
 
     #[pymodule_init]

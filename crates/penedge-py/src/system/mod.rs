@@ -5,10 +5,12 @@
 mod blocks;
 mod contacts;
 mod examples;
+mod tracker;
 
 pub use blocks::BlockArrays;
 pub use contacts::SystemContacts;
 pub use examples::{paper_example, paper_example_planes, paper_table3};
+pub use tracker::ContactTracker;
 
 use crate::arrays;
 use crate::block::{cuboid, Block};

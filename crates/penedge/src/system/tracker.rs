@@ -9,12 +9,11 @@
 //!   the broad phase is skipped; a block moving farther triggers a rebuild.
 //! - **Certificates for pairs that are clearly apart or clearly overlapping.** A separated
 //!   pair keeps a face plane with every vertex of the other block at least `s` beyond it; a
-//!   penetrating pair keeps a vertex at least `D` inside the other block. Each
+//!   penetrating pair keeps a point of an edge at least `D` inside the other block. Each
 //!   block accumulates an upper bound of how far any of its points has travelled
 //!   ([`Pose::displacement_bound`], step after step); while the two blocks have together
 //!   travelled less than `s - gap` (or `D - gap`), the plane still separates them by more
-//!   than the gap (or the vertex is still deeper than the gap: the edges through it reach
-//!   deeper than the gap) and the pair's answer is known
+//!   than the gap (or the point is still deeper than the gap) and the pair's answer is known
 //!   without a query. Every other pair, touching ones included, is queried anew.
 //!
 //! The contacts of each step are exactly those of [`BlockSystem::detect`] on the blocks at
@@ -26,6 +25,7 @@ use crate::block::{ConvexBlock, Pose};
 use crate::classify::PairResult;
 use crate::contact::Detector;
 use crate::geometry::DVec3;
+use crate::penetration::{PenetrationEdge, Side};
 use crate::tolerance::{Tolerance, ROUNDING_FLOOR};
 use rayon::prelude::*;
 use thiserror::Error;
@@ -62,18 +62,22 @@ pub struct UpdateReport {
     pub queried: usize,
 }
 
-/// A pair's proof that its answer has not changed: valid while the two blocks have
-/// travelled together less than `margin` beyond the gap since `travel` was recorded.
-#[derive(Clone, Copy, Debug, Default)]
-struct Certificate {
-    /// Separation (or depth) at the time; 0 for none.
-    margin: f64,
-    /// Each block's accumulated travel at the time.
-    travel: [f64; 2],
-    /// The pair's absolute gap at the time.
-    gap: f64,
-    /// Whether it certifies a penetration (else a separation).
-    penetrating: bool,
+/// Slack on the certificates' comparison: the rounding floor of the gap grows with the
+/// coordinates' magnitude, which grows by at most the distance travelled, plus the rounding
+/// of the sums themselves.
+const TRAVEL_SLACK: f64 = 1.0 + ROUNDING_FLOOR + 4.0 * f64::EPSILON;
+
+/// The travel sum below which a certificate holds: with margin `m` (separation or depth)
+/// and gap `g` recorded when the blocks had travelled `ti0` and `tj0`, the answer stands
+/// while `m - (ti - ti0) - (tj - tj0) > g + floor growth`, that is while
+/// `(ti + tj) * TRAVEL_SLACK < m - g + ti0 + tj0` (less the rounding of this sum). One
+/// number per pair, so that checking a certified pair reads 16 bytes and two travels.
+fn deadline(margin: f64, gap: f64, travel: [f64; 2]) -> f64 {
+    if margin <= gap {
+        return f64::NEG_INFINITY;
+    }
+    let sum = margin - gap + travel[0] + travel[1];
+    sum - 4.0 * f64::EPSILON * (margin + gap + travel[0] + travel[1])
 }
 
 /// The contacts of a block system whose blocks move rigidly, updated step by step.
@@ -104,7 +108,10 @@ pub struct ContactTracker {
     built_at: Vec<Pose>,
     travel: Vec<f64>,
     pairs: Vec<[u32; 2]>,
-    certificates: Vec<Certificate>,
+    /// Per pair, the travel sum below which its last answer stands ([`deadline`]).
+    deadlines: Vec<f64>,
+    /// Per pair, its last answer.
+    results: Vec<PairResult>,
     contacts: SystemContacts,
 }
 
@@ -140,7 +147,8 @@ impl ContactTracker {
             built_at: vec![Pose::IDENTITY; n],
             travel: vec![0.0; n],
             pairs: Vec::new(),
-            certificates: Vec::new(),
+            deadlines: Vec::new(),
+            results: Vec::new(),
             contacts: SystemContacts::default(),
         };
         tracker.rebuild();
@@ -224,56 +232,45 @@ impl ContactTracker {
             (aabb, self.tol.for_box(&aabb).gap + half_skin)
         }));
         self.pairs = boxes.pairs(BroadPhase::default());
-        self.certificates = vec![Certificate::default(); self.pairs.len()];
+        self.deadlines = vec![f64::NEG_INFINITY; self.pairs.len()];
+        self.results = vec![PairResult::Separated; self.pairs.len()];
         self.built_at.clone_from(&self.poses);
     }
 
     /// Answers every candidate pair (by certificate or query); returns (certified, queried).
+    /// Each answer stays in its pair's certificate, so a step allocates only its output.
     fn narrow_phase(&mut self) -> (usize, usize) {
         let blocks = self.current.blocks();
         let travel = &self.travel;
         let tol = self.tol;
-        let outcomes: Vec<(PairResult, bool)> = self
+        let certified: usize = self
             .pairs
             .par_iter()
-            .zip(&mut self.certificates)
+            .zip(&mut self.deadlines)
+            .zip(&mut self.results)
             .map_init(
                 || Detector::new(tol),
-                |det, (&[i, j], cert)| {
-                    let moved =
-                        travel[i as usize] - cert.travel[0] + travel[j as usize] - cert.travel[1];
-                    // The gap grows with the coordinates' magnitude (its rounding floor),
-                    // which grows by at most the distance moved: no block data is read.
-                    if cert.margin - moved > cert.gap + ROUNDING_FLOOR * moved {
-                        let known = if cert.penetrating {
-                            PairResult::Penetrating
-                        } else {
-                            PairResult::Separated
-                        };
-                        return (known, true);
+                |det, ((&[i, j], deadline_of), result_of)| {
+                    let (ti, tj) = (travel[i as usize], travel[j as usize]);
+                    if (ti + tj) * TRAVEL_SLACK < *deadline_of {
+                        return 1;
                     }
                     let (a, b) = (&blocks[i as usize], &blocks[j as usize]);
                     let result = det.detect(a, b);
-                    let (margin, penetrating) = match result {
-                        PairResult::Separated => (separation(a, b), false),
-                        PairResult::Penetrating => (depth(a, b).max(depth(b, a)), true),
-                        PairResult::Contact(_) => (0.0, false),
+                    let margin = match result {
+                        PairResult::Separated => separation(a, b),
+                        PairResult::Penetrating => depth(a, b, det.penetration_edges()),
+                        PairResult::Contact(_) => f64::NEG_INFINITY,
                     };
-                    *cert = Certificate {
-                        margin,
-                        travel: [travel[i as usize], travel[j as usize]],
-                        gap: det.thresholds(a, b).gap,
-                        penetrating,
-                    };
-                    (result, false)
+                    *deadline_of = deadline(margin, det.thresholds(a, b).gap, [ti, tj]);
+                    *result_of = result;
+                    0
                 },
             )
-            .collect();
+            .sum();
         let mut found = SystemContacts::default();
-        let mut certified = 0;
-        for (&pair, (result, known)) in self.pairs.iter().zip(outcomes) {
-            certified += known as usize;
-            match result {
+        for (&pair, result) in self.pairs.iter().zip(&self.results) {
+            match *result {
                 PairResult::Contact(contact) => found.contacts.push(PairContact { pair, contact }),
                 PairResult::Penetrating => found.penetrating.push(pair),
                 PairResult::Separated => {}
@@ -301,18 +298,30 @@ fn separation(a: &ConvexBlock, b: &ConvexBlock) -> f64 {
     by(a, b).max(by(b, a))
 }
 
-/// The depth of the deepest vertex of `a` inside `b`: the largest, over `a`'s vertices,
-/// of `min_f -(n_f · (v - q_f))` (negative when no vertex is inside). A lower bound of the
-/// deepest point of the pair (edges crossing without a vertex inside give none, and such
-/// pairs are simply queried again).
-fn depth(a: &ConvexBlock, b: &ConvexBlock) -> f64 {
-    a.vertices()
+/// A depth that some point of the pair's penetration edges (from the query just made)
+/// reaches inside the other block: the largest, over the edges' ends and midpoints, of
+/// `min_f -(n_f · (p - q_f))` (negative when none is inside). Any point inside is a valid
+/// witness; the midpoints catch edges that cross the other block without a vertex inside it
+/// (edge-edge penetrations), and cost a few dot products per edge.
+fn depth(a: &ConvexBlock, b: &ConvexBlock, edges: &[PenetrationEdge]) -> f64 {
+    let depth_in = |block: &ConvexBlock, p: DVec3| {
+        block
+            .planes()
+            .iter()
+            .map(|pl| -pl.distance(p))
+            .fold(f64::INFINITY, f64::min)
+    };
+    edges
         .iter()
-        .map(|&v| {
-            b.planes()
-                .iter()
-                .map(|pl| -pl.distance(v))
-                .fold(f64::INFINITY, f64::min)
+        .map(|pe| {
+            let (owner, other) = match pe.side {
+                Side::A => (a, b),
+                Side::B => (b, a),
+            };
+            let [p, q] = pe.points(owner);
+            depth_in(other, p)
+                .max(depth_in(other, q))
+                .max(depth_in(other, (p + q) * 0.5))
         })
         .fold(f64::NEG_INFINITY, f64::max)
 }
@@ -461,10 +470,20 @@ mod tests {
         let a = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
         let b = ConvexBlock::cuboid([0.75, 0.25, 0.25], [2.0, 0.75, 0.75]).unwrap();
         // b's end face at x = 0.75 is 0.25 inside a (its vertices 0.25 from faces y, z).
-        assert!((depth(&b, &a) - 0.25).abs() < 1e-12);
-        assert!(depth(&a, &b) < 0.0);
+        let mut det = Detector::new(Tolerance::default());
+        assert_eq!(det.detect(&a, &b), PairResult::Penetrating);
+        assert!((depth(&a, &b, det.penetration_edges()) - 0.25).abs() < 1e-12);
+        // Two bars crossing without a vertex inside the other: the edges' midpoints are.
+        let x = ConvexBlock::cuboid([-2.0, -0.5, -0.5], [2.0, 0.5, 0.5]).unwrap();
+        let y = ConvexBlock::cuboid([-0.4, -2.0, 0.3], [0.4, 2.0, 1.3]).unwrap();
+        assert!(x
+            .vertices()
+            .iter()
+            .all(|&v| y.planes().iter().any(|p| p.distance(v) > 0.0)));
+        assert_eq!(det.detect(&x, &y), PairResult::Penetrating);
+        let d = depth(&x, &y, det.penetration_edges());
+        assert!((d - 0.2).abs() < 1e-12, "{d}");
         let c = ConvexBlock::cuboid([1.5, 0.0, 0.0], [2.5, 1.0, 1.0]).unwrap();
         assert!((separation(&a, &c) - 0.5).abs() < 1e-12);
-        assert!(depth(&c, &a) < 0.0);
     }
 }

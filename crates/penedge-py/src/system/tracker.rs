@@ -1,0 +1,159 @@
+//! `ContactTracker` (core `system::ContactTracker`): contacts over time steps.
+
+use super::{BlockSystem, SystemContacts};
+use crate::arrays;
+use crate::errors::input_error;
+use crate::tolerance::tolerance;
+use penedge::block::Pose;
+use penedge::geometry::DVec3;
+use penedge::glam::DQuat;
+use penedge::system::{self, UpdateReport};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// The contacts of a block system whose blocks move rigidly, updated step by step (for DEM
+/// and DDA time stepping).
+///
+/// The broad phase is reused while no block has moved more than half the `skin` since it
+/// was built, and pairs clearly apart or clearly overlapping are answered by a certificate
+/// without a query (see ``docs/systems.md``). Each step's contacts are exactly those of
+/// :meth:`BlockSystem.detect` on the moved blocks.
+///
+/// Parameters
+/// ----------
+/// system : BlockSystem
+///     The blocks at their reference placement (the identity pose).
+/// skin : float, default 0.0
+///     Extra width of the broad phase's boxes (a length, ≥ 0): the larger, the longer the
+///     broad phase is reused, the more candidate pairs it keeps.
+/// gap : float, default 1e-12
+///     Relative gap, as in :func:`detect_pair`.
+/// length : float, optional
+///     Relative length threshold, as in :func:`detect_pair`.
+///
+/// Raises
+/// ------
+/// InputError
+///     A negative, NaN or infinite `skin`.
+/// ToleranceError
+///     Impossible `gap` or `length`.
+///
+/// Examples
+/// --------
+/// >>> import numpy as np, penedge
+/// >>> system = penedge.paper_example(1)
+/// >>> tracker = penedge.ContactTracker(system, skin=0.1)
+/// >>> len(tracker.contacts.pairs)
+/// 28
+/// >>> rotations = np.tile([0.0, 0.0, 0.0, 1.0], (len(system), 1))
+/// >>> translations = np.zeros((len(system), 3))
+/// >>> translations[0, 2] = -1e-3  # block 0 leaves the block above it
+/// >>> report = tracker.update(rotations, translations)
+/// >>> report["rebuilt"], len(tracker.contacts.pairs) < 28
+/// (False, True)
+#[pyclass(module = "penedge", name = "ContactTracker")]
+pub struct ContactTracker {
+    inner: system::ContactTracker,
+    contacts: Py<SystemContacts>,
+}
+
+#[pymethods]
+impl ContactTracker {
+    #[new]
+    #[pyo3(signature = (system, skin = 0.0, gap = 1e-12, length = None))]
+    fn new(
+        py: Python<'_>,
+        system: &BlockSystem,
+        skin: f64,
+        gap: f64,
+        length: Option<f64>,
+    ) -> PyResult<Self> {
+        let tol = tolerance(gap, length)?;
+        let inner = py
+            .detach(|| system::ContactTracker::new(&system.inner, tol, skin))
+            .map_err(|e| input_error("skin", e.to_string()))?;
+        let contacts = contacts_of(py, &inner)?;
+        Ok(ContactTracker { inner, contacts })
+    }
+
+    /// The contacts at the current poses (a :class:`SystemContacts`, without geometry).
+    #[getter]
+    fn contacts(&self, py: Python<'_>) -> Py<SystemContacts> {
+        self.contacts.clone_ref(py)
+    }
+
+    /// Moves every block to a new pose and updates the contacts.
+    ///
+    /// Block ``i`` goes to ``rotations[i] * x + translations[i]`` of its reference
+    /// coordinates ``x``. Runs without the GIL.
+    ///
+    /// Parameters
+    /// ----------
+    /// rotations : array_like, shape (n, 4)
+    ///     Unit quaternions ``x, y, z, w`` (normalised here), one per block.
+    /// translations : array_like, shape (n, 3)
+    ///     Translations, one per block.
+    ///
+    /// Returns
+    /// -------
+    /// dict
+    ///     ``rebuilt`` (whether the broad phase ran again), ``candidate_pairs``,
+    ///     ``certified`` (pairs answered without a query) and ``queried``.
+    ///
+    /// Raises
+    /// ------
+    /// InputError
+    ///     Wrong shapes or dtypes, not one pose per block, NaN or infinite values, a zero
+    ///     quaternion. The tracker is unchanged.
+    fn update<'py>(
+        &mut self,
+        py: Python<'py>,
+        rotations: &Bound<'py, PyAny>,
+        translations: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let rotations = arrays::quads(rotations, "rotations")?;
+        let translations = arrays::points(translations, "translations")?;
+        if rotations.len() != translations.len() {
+            let msg = format!(
+                "{} rotations but {} translations",
+                rotations.len(),
+                translations.len()
+            );
+            return Err(input_error("shape", msg));
+        }
+        let poses: Vec<Pose> = rotations
+            .iter()
+            .zip(&translations)
+            .map(|(&[x, y, z, w], &t)| Pose {
+                rotation: DQuat::from_xyzw(x, y, z, w),
+                translation: DVec3::from_array(t),
+            })
+            .collect();
+        let inner = &mut self.inner;
+        let report: UpdateReport = py
+            .detach(|| inner.update(&poses))
+            .map_err(|e| input_error("pose", e.to_string()))?;
+        self.contacts = contacts_of(py, &self.inner)?;
+        let out = PyDict::new(py);
+        out.set_item("rebuilt", report.rebuilt)?;
+        out.set_item("candidate_pairs", report.candidate_pairs)?;
+        out.set_item("certified", report.certified)?;
+        out.set_item("queried", report.queried)?;
+        Ok(out)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "ContactTracker({} blocks, {} contacts)",
+            self.inner.system().len(),
+            self.inner.contacts().contacts.len()
+        )
+    }
+}
+
+fn contacts_of(py: Python<'_>, tracker: &system::ContactTracker) -> PyResult<Py<SystemContacts>> {
+    Py::new(
+        py,
+        SystemContacts::from_core(py, tracker.contacts().clone(), None)?,
+    )
+}
