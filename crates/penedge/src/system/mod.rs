@@ -5,6 +5,8 @@ mod broad_phase;
 mod detect;
 mod examples;
 mod geometry;
+#[cfg(test)]
+mod test_rng;
 mod tracker;
 
 pub use broad_phase::{BroadPhase, WideBoxes};

@@ -331,22 +331,9 @@ mod tests {
     use super::*;
     use glam::DQuat;
 
-    /// A deterministic generator (SplitMix64).
-    struct Rng(u64);
+    use crate::system::test_rng::Rng;
 
     impl Rng {
-        fn unit(&mut self) -> f64 {
-            self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-        }
-
-        fn signed(&mut self) -> f64 {
-            2.0 * self.unit() - 1.0
-        }
-
         fn small_pose(&mut self, shift: f64, angle: f64) -> Pose {
             let axis = DVec3::new(self.signed(), self.signed(), self.signed()).normalize();
             Pose {

@@ -1,0 +1,20 @@
+//! A deterministic random generator (SplitMix64) for the system module's tests.
+
+/// SplitMix64: the same sequence for the same seed, on every platform.
+pub(super) struct Rng(pub(super) u64);
+
+impl Rng {
+    /// Uniform in [0, 1).
+    pub(super) fn unit(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in [-1, 1).
+    pub(super) fn signed(&mut self) -> f64 {
+        2.0 * self.unit() - 1.0
+    }
+}
