@@ -71,9 +71,9 @@ def test_any_number_of_threads_gives_the_same_arrays(jointed, geometry):
                 assert np.array_equal(getattr(runs[0], name), getattr(other, name)), name
 
 
-@pytest.mark.parametrize("threads", [0, -2])
+@pytest.mark.parametrize("threads", [0, -2, 1025])
 def test_impossible_thread_counts_are_input_errors(jointed, threads):
-    with pytest.raises(penedge.InputError, match="threads must be at least 1"):
+    with pytest.raises(penedge.InputError, match="threads must be from 1 to 1024"):
         jointed.detect(threads=threads)
 
 

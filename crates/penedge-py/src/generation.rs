@@ -159,10 +159,28 @@ fn spec_error(field: &str, message: String) -> PyErr {
 }
 
 /// A Python value as a TOML value (None: left out).
+/// The deepest nesting of lists and tables a spec may have (a spec needs four or five): a
+/// list or dict that contains itself, or absurd nesting, is an error, not a stack overflow.
+const MAX_NESTING: usize = 32;
+
 fn toml_value(obj: &Bound<'_, PyAny>, field: &str) -> PyResult<Option<toml::Value>> {
+    nested_value(obj, field, 0)
+}
+
+fn nested_value(
+    obj: &Bound<'_, PyAny>,
+    field: &str,
+    depth: usize,
+) -> PyResult<Option<toml::Value>> {
     use toml::Value;
     if obj.is_none() {
         return Ok(None);
+    }
+    if depth > MAX_NESTING {
+        let msg = format!(
+            "nested more than {MAX_NESTING} levels deep (a list or dict that contains itself?)"
+        );
+        return Err(spec_error(field, msg));
     }
     let value = if obj.is_instance_of::<PyBool>() {
         Value::Boolean(obj.extract()?)
@@ -176,12 +194,12 @@ fn toml_value(obj: &Bound<'_, PyAny>, field: &str) -> PyResult<Option<toml::Valu
     } else if let Ok(s) = obj.cast::<PyString>() {
         Value::String(s.to_str()?.to_string())
     } else if let Ok(mapping) = obj.cast::<PyMapping>() {
-        Value::Table(toml_table(mapping, field)?)
+        Value::Table(toml_table(mapping, field, depth)?)
     } else if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() {
-        Value::Array(toml_array(obj, field)?)
+        Value::Array(toml_array(obj, field, depth)?)
     } else if obj.hasattr("tolist")? {
         // numpy arrays and scalars
-        return toml_value(&obj.call_method0("tolist")?, field);
+        return nested_value(&obj.call_method0("tolist")?, field, depth + 1);
     } else {
         let kind = obj.get_type().name()?;
         let msg = format!("must be a number, string, list or table, got {kind}");
@@ -190,7 +208,7 @@ fn toml_value(obj: &Bound<'_, PyAny>, field: &str) -> PyResult<Option<toml::Valu
     Ok(Some(value))
 }
 
-fn toml_table(mapping: &Bound<'_, PyMapping>, field: &str) -> PyResult<toml::Table> {
+fn toml_table(mapping: &Bound<'_, PyMapping>, field: &str, depth: usize) -> PyResult<toml::Table> {
     let mut table = toml::Table::new();
     for item in mapping.items()?.iter() {
         let (key, value): (Bound<'_, PyAny>, Bound<'_, PyAny>) = item.extract()?;
@@ -200,18 +218,18 @@ fn toml_table(mapping: &Bound<'_, PyMapping>, field: &str) -> PyResult<toml::Tab
         } else {
             format!("{field}.{key}")
         };
-        if let Some(v) = toml_value(&value, &path)? {
+        if let Some(v) = nested_value(&value, &path, depth + 1)? {
             table.insert(key, v);
         }
     }
     Ok(table)
 }
 
-fn toml_array(list: &Bound<'_, PyAny>, field: &str) -> PyResult<Vec<toml::Value>> {
+fn toml_array(list: &Bound<'_, PyAny>, field: &str, depth: usize) -> PyResult<Vec<toml::Value>> {
     let mut out = Vec::new();
     for (i, item) in list.try_iter()?.enumerate() {
         let path = format!("{field}[{i}]");
-        match toml_value(&item?, &path)? {
+        match nested_value(&item?, &path, depth + 1)? {
             Some(v) => out.push(v),
             None => return Err(spec_error(&path, "None in a list".into())),
         }

@@ -37,11 +37,20 @@ pub enum Side {
 
 /// Splits `block` by `plane` (unit normal), with the length threshold of `tol` at the
 /// block's own scale; the cap faces get an unknown origin.
+///
+/// A plane whose normal is not a finite unit vector (within 1e-12) or whose point is not
+/// finite is refused ([`BlockError::DegenerateCut`]): the caps would carry it.
 pub fn split_block(
     block: &ConvexBlock,
     plane: &Plane,
     tol: &Tolerance,
 ) -> Result<Split, BlockError> {
+    let unit = (plane.normal.length() - 1.0).abs() <= 1e-12;
+    if !(unit && plane.normal.is_finite() && plane.point.is_finite()) {
+        return Err(BlockError::DegenerateCut {
+            reason: "the cutting plane needs a finite unit normal and a finite point",
+        });
+    }
     let eps = tol.for_box(&block.aabb()).length;
     let mut splitter = Splitter::default();
     Ok(match splitter.prepare(block, plane, eps)? {

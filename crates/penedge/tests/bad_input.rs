@@ -177,6 +177,39 @@ fn half_space_normals_of_any_finite_length_count_by_direction() {
     }
 }
 
+#[test]
+fn a_cutting_plane_must_have_a_finite_unit_normal() {
+    use penedge::cutting::split_block;
+    use penedge::geometry::{DVec3, Plane};
+    let cube = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    let tol = Tolerance::default();
+    let centre = DVec3::splat(0.5);
+    // The bug: a normal of length 1 + 1.6e-8 was accepted and carried by the caps, so the
+    // pieces had a face plane that is not a unit vector.
+    for (normal, point) in [
+        (DVec3::new(0.0, 1.000_000_015_6, 0.0), centre),
+        (DVec3::ZERO, centre),
+        (DVec3::new(f64::NAN, 0.0, 0.0), centre),
+        (DVec3::Y, DVec3::new(0.5, f64::INFINITY, 0.5)),
+    ] {
+        let e = split_block(&cube, &Plane { normal, point }, &tol).unwrap_err();
+        assert!(
+            matches!(e, BlockError::DegenerateCut { .. }),
+            "{normal}: {e}"
+        );
+    }
+    let split = split_block(
+        &cube,
+        &Plane {
+            normal: DVec3::Y,
+            point: centre,
+        },
+        &tol,
+    )
+    .unwrap();
+    assert!(split.below.is_some() && split.above.is_some());
+}
+
 // -- detection ------------------------------------------------------------------------------
 
 #[test]
@@ -218,9 +251,6 @@ fn blocks_far_from_the_origin_are_detected_with_finite_geometry() {
 }
 
 #[test]
-#[ignore = "open: BlockSystem::from_domain_cut (src/system/mod.rs) takes `n.length()` of the \
-            plane normal, which overflows for a normal of 1e200 and underflows for 1e-200, and \
-            so refuses a valid plane as degenerate (ConvexBlock::from_planes scales first)"]
 fn domain_cut_planes_count_by_direction() {
     let cube = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
     for big in [1e200, 1e-200] {
@@ -231,6 +261,21 @@ fn domain_cut_planes_count_by_direction() {
             &Tolerance::default(),
         );
         assert_eq!(cut.map(|s| s.len()).ok(), Some(2), "{big:e}");
+    }
+}
+
+#[test]
+fn a_cutting_normal_with_a_nan_component_is_degenerate() {
+    let cube = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    for n in [[1.0, f64::NAN, 0.0], [f64::NAN, 1.0, 0.0]] {
+        let cut = BlockSystem::from_domain_cut(cube.clone(), &[n], &[0.5], &Tolerance::default());
+        assert!(
+            matches!(
+                cut,
+                Err(penedge::system::SystemError::DegeneratePlane { plane: 0 })
+            ),
+            "{n:?}"
+        );
     }
 }
 
@@ -328,6 +373,70 @@ fn a_file_that_reads_always_writes_again() {
     let system = json::from_json_str(&text).unwrap();
     let value = |t: &str| serde_json::from_str::<serde_json::Value>(t).unwrap();
     assert_eq!(value(&json::to_json_string(&system)), value(&text));
+}
+
+#[test]
+fn a_system_cut_with_a_coarse_tolerance_reads_back() {
+    // The bug: with `gap = 1e-3` (length 1e-2), the corner (0, 0, 0), 2.9e-3 from the plane,
+    // counts as on it and stays where it is on the cap; the file was checked with the default
+    // threshold (1e-9) and refused ("face 6 is not planar").
+    let text = format!(
+        "{BOX}[[joints]]\ntype = 'plane'\npoint = [0.005, 0, 0]\nnormal = [1, 1, -1]\n\
+         [options]\ngap = 1e-3\n"
+    );
+    let system = generate(&spec::parse_toml(&text).unwrap()).unwrap().system;
+    assert_eq!(system.len(), 2);
+    let written = json::to_json_string(&system);
+    let value: serde_json::Value = serde_json::from_str(&written).unwrap();
+    let length = value["length"].as_f64().unwrap();
+    assert!(length > 1e-3 && length < 1e-2, "{length}");
+    let back = json::from_json_str(&written).unwrap();
+    assert_eq!(back.len(), 2);
+    assert_eq!(json::to_json_string(&back), written);
+    // A default system writes no `length`, and a bad one is named.
+    let default = json::to_json_string(&generate(&spec::parse_toml(BOX).unwrap()).unwrap().system);
+    assert!(!default.contains("\"length\""));
+    let with_length = |v: &str| written.replacen(&format!("\"length\":{length}"), v, 1);
+    for bad in ["0.5", "-1"] {
+        match json::from_json_str(&with_length(&format!("\"length\":{bad}"))) {
+            Err(IoError::Format { field, message }) => {
+                assert_eq!(field, "length");
+                assert!(message.contains("tolerance `length`"), "{message}");
+            }
+            other => panic!("{bad}: {other:?}"),
+        }
+    }
+    let twice = with_length("\"length\":0.001,\"length\":0.001");
+    assert!(matches!(
+        json::from_json_str(&twice),
+        Err(IoError::Syntax { .. })
+    ));
+}
+
+#[test]
+fn a_joint_table_built_by_hand_with_a_bad_normal_writes_without_a_panic() {
+    use penedge::generation::{JointRecord, JointShape, SetKind, SetRecord};
+    use penedge::geometry::{DVec3, Plane};
+    let cube = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    for normal in [DVec3::ZERO, DVec3::new(f64::NAN, 1.0, 0.0)] {
+        let joint = JointRecord {
+            set: 0,
+            member: 0,
+            plane: Plane {
+                normal,
+                point: DVec3::splat(0.5),
+            },
+            shape: JointShape::Infinite,
+        };
+        let set = SetRecord {
+            name: "hand-made".into(),
+            kind: SetKind::Plane,
+        };
+        let system =
+            BlockSystem::with_provenance(vec![cube.clone()], vec![], vec![joint], vec![set]);
+        let text = json::to_json_string(&system); // panicked in JointRecord::attitude
+        assert!(json::from_json_str(&text).is_err(), "{normal}");
+    }
 }
 
 #[test]

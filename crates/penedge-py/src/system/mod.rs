@@ -155,7 +155,7 @@ impl BlockSystem {
     /// ToleranceError
     ///     Impossible `gap` or `length`.
     /// InputError
-    ///     `threads` below 1.
+    ///     `threads` below 1 or above 1024.
     /// KeyboardInterrupt
     ///     Ctrl-C: the detection runs without the GIL and stops within a fraction of a
     ///     second.
@@ -235,14 +235,15 @@ impl BlockSystem {
 /// The shortest time between two progress reports (and Ctrl-C checks).
 const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 
+/// The most threads a detection may ask for: each is an operating-system thread.
+const MAX_THREADS: i64 = 1024;
+
 /// A pool of `threads` threads, or none for rayon's global pool.
 fn thread_pool(threads: Option<i64>) -> PyResult<Option<rayon::ThreadPool>> {
     let Some(n) = threads else { return Ok(None) };
-    if n < 1 {
-        return Err(input_error(
-            "threads",
-            format!("threads must be at least 1, got {n}"),
-        ));
+    if !(1..=MAX_THREADS).contains(&n) {
+        let msg = format!("threads must be from 1 to {MAX_THREADS}, got {n}");
+        return Err(input_error("threads", msg));
     }
     rayon::ThreadPoolBuilder::new()
         .num_threads(n as usize)

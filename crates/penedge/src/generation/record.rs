@@ -36,9 +36,10 @@ pub struct JointRecord {
 }
 
 impl JointRecord {
-    /// Dip and dip direction of the plane.
-    pub fn attitude(&self) -> Attitude {
-        Attitude::from_normal(self.plane.normal).expect("joint normals are unit vectors")
+    /// Dip and dip direction of the plane; `None` for a zero or non-finite normal, which
+    /// the generators never record but a hand-built record can hold (the fields are public).
+    pub fn attitude(&self) -> Option<Attitude> {
+        Attitude::from_normal(self.plane.normal)
     }
 
     /// Whether the joint is finite (a disc or polygon).

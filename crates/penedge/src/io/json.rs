@@ -5,7 +5,7 @@
 
 use super::{read_text, write_atomic, IoError};
 use crate::block::{ConvexBlock, FaceOrigin};
-use crate::generation::{JointRecord, JointShape, SetRecord};
+use crate::generation::{Attitude, JointRecord, JointShape, SetRecord};
 use crate::geometry::{Aabb, DVec3, Plane};
 use crate::system::BlockSystem;
 use crate::tolerance::Tolerance;
@@ -26,6 +26,8 @@ struct SystemFile {
     format: String,
     version: u32,
     frame: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    length: Option<f64>,
     domain: Vec<BlockFile>,
     sets: Vec<SetRecord>,
     joints: Vec<JointFile>,
@@ -106,9 +108,15 @@ pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
             ),
         ));
     }
+    let default = Tolerance::default();
+    let tol = match file.length {
+        None => default,
+        Some(length) => Tolerance::new(default.gap(), length)
+            .map_err(|e| format_error("length", e.to_string()))?,
+    };
     let system = system_box(file.domain.iter().chain(&file.blocks));
-    let domain = blocks_of("domain", &file.domain, system.as_ref())?;
-    let blocks = blocks_of("blocks", &file.blocks, system.as_ref())?;
+    let domain = blocks_of("domain", &file.domain, system.as_ref(), &tol)?;
+    let blocks = blocks_of("blocks", &file.blocks, system.as_ref(), &tol)?;
     let joints = file
         .joints
         .into_iter()
@@ -155,15 +163,51 @@ fn format_error(field: impl Into<String>, message: String) -> IoError {
 }
 
 fn file_of(system: &BlockSystem) -> SystemFile {
+    let domain: Vec<BlockFile> = system.domain().iter().enumerate().map(block_file).collect();
+    let blocks: Vec<BlockFile> = system.blocks().iter().enumerate().map(block_file).collect();
+    let length = needed_length(system, system_box(domain.iter().chain(&blocks)));
     SystemFile {
         format: FORMAT.to_string(),
         version: VERSION,
         frame: FRAME.to_string(),
-        domain: system.domain().iter().enumerate().map(block_file).collect(),
+        length,
+        domain,
         sets: system.sets().to_vec(),
         joints: system.joints().iter().enumerate().map(joint_file).collect(),
-        blocks: system.blocks().iter().enumerate().map(block_file).collect(),
+        blocks,
     }
+}
+
+/// The relative length threshold with which the blocks read back, when the default is not
+/// enough: blocks cut with a coarser tolerance (generation's `options.length`) keep a
+/// vertex that was within it of a cutting plane where it is, off the new face's plane by up
+/// to that threshold. Twice the largest distance of a face vertex from its plane, or of a
+/// vertex outside a plane, over the size of the system's box.
+fn needed_length(system: &BlockSystem, scale: Option<Aabb>) -> Option<f64> {
+    let scale = scale?;
+    let allowed = Tolerance::default().for_box(&scale).length;
+    let worst = system
+        .domain()
+        .iter()
+        .chain(system.blocks())
+        .map(off_planes)
+        .fold(0.0, f64::max);
+    (worst > allowed).then(|| 2.0 * worst / scale.diagonal())
+}
+
+/// The largest distance of a face vertex from its face's plane, or of a vertex outside a
+/// face's plane (what [`ConvexBlock::from_parts_in`] checks).
+fn off_planes(b: &ConvexBlock) -> f64 {
+    let mut worst = 0.0_f64;
+    for (f, plane) in b.planes().iter().enumerate() {
+        for &v in b.face(f) {
+            worst = worst.max(plane.distance(b.vertices()[v as usize]).abs());
+        }
+        for &p in b.vertices() {
+            worst = worst.max(plane.distance(p));
+        }
+    }
+    worst
 }
 
 fn block_file((id, b): (usize, &ConvexBlock)) -> BlockFile {
@@ -201,8 +245,8 @@ fn blocks_of(
     field: &str,
     files: &[BlockFile],
     system: Option<&Aabb>,
+    tol: &Tolerance,
 ) -> Result<Vec<ConvexBlock>, IoError> {
-    let tol = Tolerance::default();
     files
         .iter()
         .enumerate()
@@ -219,14 +263,16 @@ fn blocks_of(
                     point: DVec3::new(p[3], p[4], p[5]),
                 })
                 .collect();
-            ConvexBlock::from_parts_in(&f.vertices, &f.faces, &planes, &f.origins, &tol, system)
+            ConvexBlock::from_parts_in(&f.vertices, &f.faces, &planes, &f.origins, tol, system)
                 .map_err(|e| format_error(format!("{field}[{i}]"), e.to_string()))
         })
         .collect()
 }
 
 fn joint_file((id, r): (usize, &JointRecord)) -> JointFile {
-    let attitude = r.attitude();
+    // A zero or NaN normal (a joint table built by hand) has no attitude: such a joint is
+    // written with null angles, and reading the file names it.
+    let attitude = r.attitude().unwrap_or(Attitude::new(f64::NAN, f64::NAN));
     JointFile {
         id: id as u32,
         set: r.set,

@@ -118,11 +118,19 @@ impl BlockSystem {
         let domain = Domain::convex(domain);
         let mut joints = Vec::with_capacity(normals.len());
         for (i, (n, &d)) in normals.iter().zip(offsets).enumerate() {
+            // Scaled by the largest component first, so that a normal of 1e200 or 1e-200
+            // (with its offset) is neither overflowed nor flushed to zero by the length.
+            // `max_element` skips NaN, so finiteness is checked on the normal itself.
             let n = DVec3::from_array(*n);
-            let len = n.length();
-            if !(len > 0.0 && len.is_finite() && d.is_finite()) {
+            let scale = n.abs().max_element();
+            if !(n.is_finite() && scale > 0.0 && d.is_finite()) {
                 return Err(SystemError::DegeneratePlane { plane: i });
             }
+            let (n, d) = (n / scale, d / scale);
+            if !d.is_finite() {
+                return Err(SystemError::DegeneratePlane { plane: i });
+            }
+            let len = n.length();
             joints.push(JointRecord {
                 set: i as u32,
                 member: 0,
