@@ -98,12 +98,7 @@ impl Detector {
     }
 
     fn fill_tables(&mut self, a: &ConvexBlock, b: &ConvexBlock, gap: f64) -> bool {
-        if !(self.a_to_b.fill(a, b, gap) && self.b_to_a.fill(b, a, gap)) {
-            return false;
-        }
-        self.a_to_b.build_masks(b.n_faces(), gap);
-        self.b_to_a.build_masks(a.n_faces(), gap);
-        true
+        self.a_to_b.fill(a, b, gap) && self.b_to_a.fill(b, a, gap)
     }
 }
 

@@ -250,12 +250,12 @@ fn prism(n: usize) -> ConvexBlock {
     ConvexBlock::from_planes(&normals, &offsets).unwrap()
 }
 
-/// Blocks with more than 64 faces are clipped without the per-vertex face masks: the same
+/// Blocks with more than 16 faces are clipped without the per-vertex face masks: the same
 /// answers as with them.
 #[test]
 fn blocks_with_many_faces_use_the_unmasked_path_with_the_same_answers() {
     let mut det = Detector::new(Tolerance::default());
-    for n in [30, 70] {
+    for n in [10, 14, 15, 30, 70] {
         let base = prism(n);
         assert_eq!(base.n_faces(), n + 2);
         let on_top = ConvexBlock::cuboid([-0.2, -0.2, 0.0], [0.2, 0.2, 0.4]).unwrap();

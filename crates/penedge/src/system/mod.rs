@@ -6,7 +6,7 @@ mod detect;
 mod examples;
 mod geometry;
 #[cfg(test)]
-mod test_rng;
+pub(crate) mod test_rng;
 mod tracker;
 
 pub use broad_phase::{BroadPhase, WideBoxes};

@@ -1,11 +1,11 @@
-//! A deterministic random generator (SplitMix64) for the system module's tests.
+//! A deterministic random generator (SplitMix64) for the crate's unit tests.
 
 /// SplitMix64: the same sequence for the same seed, on every platform.
-pub(super) struct Rng(pub(super) u64);
+pub(crate) struct Rng(pub(crate) u64);
 
 impl Rng {
     /// Uniform in [0, 1).
-    pub(super) fn unit(&mut self) -> f64 {
+    pub(crate) fn unit(&mut self) -> f64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
@@ -14,7 +14,7 @@ impl Rng {
     }
 
     /// Uniform in [-1, 1).
-    pub(super) fn signed(&mut self) -> f64 {
+    pub(crate) fn signed(&mut self) -> f64 {
         2.0 * self.unit() - 1.0
     }
 }
