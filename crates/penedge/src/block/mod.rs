@@ -226,16 +226,9 @@ impl ConvexBlock {
     /// The block moved rigidly (rotation about the origin, then translation) and scaled
     /// about the origin by `scale` (> 0). Topology and ids are kept.
     pub fn transformed(&self, rotation: DQuat, translation: DVec3, scale: f64) -> ConvexBlock {
-        let map = |p: DVec3| rotation * (p * scale) + translation;
-        let vertices: Vec<DVec3> = self.vertices.iter().map(|&p| map(p)).collect();
-        let planes = self
-            .planes
-            .iter()
-            .map(|pl| Plane {
-                normal: (rotation * pl.normal).normalize(),
-                point: map(pl.point),
-            })
-            .collect();
+        let rigid = pose::Rigid::new(rotation, translation, scale);
+        let vertices: Vec<DVec3> = self.vertices.iter().map(|&p| rigid.point(p)).collect();
+        let planes = self.planes.iter().map(|pl| rigid.plane(pl)).collect();
         ConvexBlock {
             bounds: Bounds::of(&vertices),
             local: LocalCoordinates::of(&vertices),
@@ -246,7 +239,7 @@ impl ConvexBlock {
             origins: self.origins.clone(),
             edges: self.edges.clone(),
             volume: self.volume * scale.powi(3),
-            centroid: map(self.centroid),
+            centroid: rigid.point(self.centroid),
         }
     }
 }

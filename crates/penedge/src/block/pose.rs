@@ -3,7 +3,7 @@
 
 use super::{Bounds, ConvexBlock, LocalCoordinates, Quad};
 use crate::geometry::{DVec3, Plane};
-use glam::DQuat;
+use glam::{DMat3, DQuat};
 
 /// A rigid placement: a rotation about the origin, then a translation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -63,14 +63,6 @@ impl ConvexBlock {
     /// (no allocation once both have the same topology, the usual case in time stepping).
     /// Topology, face origins and volume are copied from `reference`.
     pub fn place_from(&mut self, reference: &ConvexBlock, pose: &Pose) {
-        self.vertices.clear();
-        self.vertices
-            .extend(reference.vertices.iter().map(|&p| pose.apply(p)));
-        self.planes.clear();
-        self.planes.extend(reference.planes.iter().map(|pl| Plane {
-            normal: (pose.rotation * pl.normal).normalize(),
-            point: pose.apply(pl.point),
-        }));
         if self.face_offsets != reference.face_offsets
             || self.face_vertices != reference.face_vertices
             || self.edges != reference.edges
@@ -81,9 +73,61 @@ impl ConvexBlock {
         }
         self.origins.clone_from(&reference.origins);
         self.volume = reference.volume;
-        self.centroid = pose.apply(reference.centroid);
+        self.place_geometry(reference, pose);
+    }
+
+    /// [`ConvexBlock::place_from`] for a block that already has `reference`'s topology, face
+    /// origins and volume (a block placed from it before, as in the tracker): only the
+    /// coordinates and what derives from them are written. Placing is bound by memory
+    /// traffic, and the topology is a third of a block's bytes.
+    pub(crate) fn place_geometry(&mut self, reference: &ConvexBlock, pose: &Pose) {
+        debug_assert!(
+            self.edges == reference.edges && self.face_vertices == reference.face_vertices
+        );
+        let rigid = Rigid::new(pose.rotation, pose.translation, 1.0);
+        self.vertices.clear();
+        self.vertices
+            .extend(reference.vertices.iter().map(|&p| rigid.point(p)));
+        self.planes.clear();
+        self.planes
+            .extend(reference.planes.iter().map(|pl| rigid.plane(pl)));
+        self.centroid = rigid.point(reference.centroid);
         self.bounds = Bounds::of(&self.vertices);
         self.local.fill(&self.vertices);
+    }
+}
+
+/// A rotation (as a matrix: a third of the work of rotating by the quaternion, for the
+/// dozens of points of a block), a scale and a translation, as [`ConvexBlock::transformed`]
+/// and [`ConvexBlock::place_from`] apply them, in the same way so that both give the same
+/// block.
+pub(super) struct Rigid {
+    matrix: DMat3,
+    scale: f64,
+    translation: DVec3,
+}
+
+impl Rigid {
+    pub(super) fn new(rotation: DQuat, translation: DVec3, scale: f64) -> Rigid {
+        Rigid {
+            matrix: DMat3::from_quat(rotation),
+            scale,
+            translation,
+        }
+    }
+
+    #[inline]
+    pub(super) fn point(&self, p: DVec3) -> DVec3 {
+        self.matrix * (p * self.scale) + self.translation
+    }
+
+    /// The plane through the image of its point, with the rotated normal made unit again.
+    #[inline]
+    pub(super) fn plane(&self, plane: &Plane) -> Plane {
+        Plane {
+            normal: (self.matrix * plane.normal).normalize(),
+            point: self.point(plane.point),
+        }
     }
 }
 

@@ -181,8 +181,8 @@ impl ContactTracker {
             });
         }
         if let Some(i) = poses
-            .iter()
-            .position(|p| Pose::new(p.rotation, p.translation).is_none())
+            .par_iter()
+            .position_first(|p| Pose::new(p.rotation, p.translation).is_none())
         {
             return Err(TrackerError::Pose(i));
         }
@@ -203,10 +203,6 @@ impl ContactTracker {
     /// Places the blocks, adds each one's travel; returns the largest distance a block has
     /// moved since the broad phase was built.
     fn move_blocks(&mut self, poses: &[Pose]) -> f64 {
-        let new: Vec<Pose> = poses
-            .iter()
-            .map(|p| Pose::new(p.rotation, p.translation).expect("checked"))
-            .collect();
         let (reference, centre, radius) = (&self.reference, &self.centre, &self.radius);
         self.current
             .blocks
@@ -214,12 +210,14 @@ impl ContactTracker {
             .zip(&mut self.travel)
             .zip(&mut self.poses)
             .zip(&self.built_at)
-            .zip(&new)
+            .zip(poses)
             .enumerate()
-            .map(|(i, ((((block, travel), pose), built), new))| {
+            .map(|(i, ((((block, travel), pose), built), given))| {
+                // Normalised again here rather than kept from the check: one pass, no buffer.
+                let new = &Pose::new(given.rotation, given.translation).unwrap_or(*pose);
                 *travel += pose.displacement_bound(new, centre[i], radius[i]);
                 *pose = *new;
-                block.place_from(&reference[i], new);
+                block.place_geometry(&reference[i], new);
                 built.displacement_bound(new, centre[i], radius[i])
             })
             .reduce(|| 0.0, f64::max)
@@ -268,15 +266,29 @@ impl ContactTracker {
                 },
             )
             .sum();
-        let mut found = SystemContacts::default();
-        for (&pair, result) in self.pairs.iter().zip(&self.results) {
-            match *result {
-                PairResult::Contact(contact) => found.contacts.push(PairContact { pair, contact }),
-                PairResult::Penetrating => found.penetrating.push(pair),
-                PairResult::Separated => {}
-            }
-        }
-        self.contacts = found;
+        // In parallel, in pair order (rayon's collect keeps it).
+        let answers = || self.pairs.par_iter().zip(&self.results);
+        let (contacts, penetrating) = rayon::join(
+            || {
+                answers()
+                    .filter_map(|(&pair, result)| match *result {
+                        PairResult::Contact(contact) => Some(PairContact { pair, contact }),
+                        _ => None,
+                    })
+                    .collect()
+            },
+            || {
+                answers()
+                    .filter_map(|(&pair, result)| {
+                        matches!(result, PairResult::Penetrating).then_some(pair)
+                    })
+                    .collect()
+            },
+        );
+        self.contacts = SystemContacts {
+            contacts,
+            penetrating,
+        };
         (certified, self.pairs.len() - certified)
     }
 }
