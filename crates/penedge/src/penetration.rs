@@ -90,11 +90,11 @@ pub struct PenetrationEdge {
 /// reject most edges with one `and` (for the clipping and for the deeper-than-the-gap test)
 /// and let both visit only the faces that cut an edge.
 ///
-/// The masks are kept as one word per group of four vertices, a nibble per face (bit
+/// The masks are built as one word per group of four vertices, a nibble per face (bit
 /// `4 f + k` for vertex `4 c + k` of group `c`): that is the shape in which the comparisons
 /// of one face with four vertices come out, so they are built while the distances are
-/// computed, with a shift and an `or` per face and group, and a vertex's mask is one shift
-/// and one `and` away.
+/// computed, with a shift and an `or` per face and group; once no plane separates, each
+/// vertex's mask is taken out of its group's word (a shift and an `and`) for the edges.
 #[derive(Default, Clone, Debug)]
 pub(crate) struct DistanceTable {
     table: Vec<[f64; 4]>,

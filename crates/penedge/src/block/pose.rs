@@ -97,8 +97,8 @@ impl ConvexBlock {
     }
 }
 
-/// A rotation (as a matrix: a third of the work of rotating by the quaternion, for the
-/// dozens of points of a block), a scale and a translation, as [`ConvexBlock::transformed`]
+/// A rotation (as a matrix: fewer operations per point than rotating by the quaternion,
+/// for the dozens of points of a block), a scale and a translation, as [`ConvexBlock::transformed`]
 /// and [`ConvexBlock::place_from`] apply them, in the same way so that both give the same
 /// block.
 pub(super) struct Rigid {
