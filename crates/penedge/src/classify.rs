@@ -158,17 +158,15 @@ impl PairResult {
     }
 }
 
-/// Calls `visit` with the representative points of one penetration edge (see the module
-/// docs), one at a time, so that no pair of points is built and read back. An original
-/// vertex comes back once per edge at it: `seen` marks the owner's vertices already
-/// visited (the first 64), which are skipped.
-#[inline]
-fn visit_representatives(
-    pe: &PenetrationEdge,
-    owner: &ConvexBlock,
-    seen: &mut u64,
-    mut visit: impl FnMut(DVec3),
-) {
+/// The representative points of one penetration edge (see the module docs): `points[k]`
+/// where bit `k` of the mask is set. An original vertex comes back once per edge at it:
+/// `seen` marks the owner's vertices already given (the first 64), which are left out.
+///
+/// Both points are computed and the mask says which count, rather than an array filled up
+/// to a count: an array indexed by a count lives in memory, and reading back a point just
+/// written in two parts stalls the processor (no store-to-load forwarding).
+#[inline(always)]
+fn representatives(pe: &PenetrationEdge, owner: &ConvexBlock, seen: &mut u64) -> ([DVec3; 2], u8) {
     let vertices = owner.vertices();
     let [v1, v2] = owner.edges()[pe.edge as usize].vertices;
     let (p, q) = (vertices[v1 as usize], vertices[v2 as usize]);
@@ -176,25 +174,29 @@ fn visit_representatives(
         EdgeEnd::Vertex(v) => vertices[v as usize],
         EdgeEnd::Cut(_) => p + (q - p) * pe.t[k],
     };
-    let mut end = |k: usize| {
-        if let EdgeEnd::Vertex(v) = pe.ends[k] {
+    // Whether end `k` is new: a cut, or a vertex not seen yet (then marked).
+    let mut fresh = |k: usize| match pe.ends[k] {
+        EdgeEnd::Vertex(v) => {
             let bit = 1u64.checked_shl(v).unwrap_or(0);
-            if *seen & bit != 0 {
-                return;
-            }
+            let new = *seen & bit == 0;
             *seen |= bit;
+            new as u8
         }
-        visit(at(k))
+        EdgeEnd::Cut(_) => 1,
     };
-    match (pe.kind, pe.ends) {
-        (PenetrationEdgeType::T3, [EdgeEnd::Vertex(_), _]) => end(0),
-        (PenetrationEdgeType::T3, _) => end(1),
-        (PenetrationEdgeType::T5, _) => visit((at(0) + at(1)) * 0.5),
-        _ => {
-            end(0);
-            end(1);
+    let (ends, mask) = match (pe.kind, pe.ends) {
+        (PenetrationEdgeType::T3, [EdgeEnd::Vertex(_), _]) => ([at(0), at(0)], fresh(0)),
+        (PenetrationEdgeType::T3, _) => ([at(1), at(1)], fresh(1)),
+        (PenetrationEdgeType::T5, _) => {
+            let middle = (at(0) + at(1)) * 0.5;
+            ([middle, middle], 1)
         }
-    }
+        _ => {
+            let first = fresh(0);
+            ([at(0), at(1)], first | fresh(1) << 1)
+        }
+    };
+    (ends, mask)
 }
 
 /// Collects the representative points of the penetration edges (see the module docs).
@@ -209,11 +211,12 @@ pub(crate) fn representative_points(
     for pe in edges {
         let (owner, seen) = side(pe, [a, b], &mut seen);
         // Keep each point once (a cut can fall on a vertex, or two cuts together).
-        visit_representatives(pe, owner, seen, |p| {
-            if !out.contains(&p) {
-                out.push(p)
+        let ([p, q], mask) = representatives(pe, owner, seen);
+        for (k, point) in [p, q].into_iter().enumerate() {
+            if mask >> k & 1 != 0 && !out.contains(&point) {
+                out.push(point)
             }
-        });
+        }
     }
 }
 
@@ -229,7 +232,13 @@ fn side<'a, 's>(
 }
 
 /// Classifies a touching pair from its penetration edges (non-empty); `length` is the
-/// absolute length threshold, `points` receives the representative points.
+/// absolute length threshold.
+///
+/// The faces of each block within `length` of every representative point are kept as a
+/// bit mask that only shrinks: each point is tested against the faces still in the masks
+/// (after the first point, one to three per block) rather than against every face, and no
+/// list of points is built. An empty mask ends the query (`Penetrating`). Blocks with more
+/// than 64 faces take the same rule over a collected list of points.
 pub(crate) fn classify(
     a: &ConvexBlock,
     b: &ConvexBlock,
@@ -237,19 +246,107 @@ pub(crate) fn classify(
     length: f64,
     points: &mut Vec<DVec3>,
 ) -> PairResult {
-    representative_points(a, b, edges, points);
-    let (Some(fa), Some(fb)) = (feature_of(a, points, length), feature_of(b, points, length))
-    else {
+    let (Some(all_a), Some(all_b)) = (FaceMask::all(a), FaceMask::all(b)) else {
+        representative_points(a, b, edges, points);
+        let features = (feature_of(a, points, length), feature_of(b, points, length));
+        return decide(a, b, features, length, || spread(points));
+    };
+    let mut masks = [all_a, all_b];
+    let mut seen = [0u64; 2];
+    for pe in edges {
+        let (owner, seen) = side(pe, [a, b], &mut seen);
+        let ([p, q], mask) = representatives(pe, owner, seen);
+        if mask & 1 != 0 {
+            masks = [masks[0].within(a, p, length), masks[1].within(b, p, length)];
+        }
+        if mask & 2 != 0 {
+            masks = [masks[0].within(a, q, length), masks[1].within(b, q, length)];
+        }
+        if masks[0].is_empty() || masks[1].is_empty() {
+            return PairResult::Penetrating;
+        }
+    }
+    let features = (masks[0].feature(a), masks[1].feature(b));
+    decide(a, b, features, length, || {
+        // Needed only for two parallel edges: the points are visited again.
+        representative_points(a, b, edges, points);
+        spread(points)
+    })
+}
+
+/// The contact from the features of both blocks (`None`: the points reach the block's
+/// interior); `spread` gives the extent of the representative points, asked only for two
+/// parallel edges.
+fn decide(
+    a: &ConvexBlock,
+    b: &ConvexBlock,
+    features: (Option<Feature>, Option<Feature>),
+    length: f64,
+    spread: impl FnOnce() -> f64,
+) -> PairResult {
+    let (Some(fa), Some(fb)) = features else {
         return PairResult::Penetrating;
     };
     let superposed =
-        || edges_parallel(a, b, fa, fb, length / a.size().min(b.size())) && spread(points) > length;
+        || edges_parallel(a, b, fa, fb, length / a.size().min(b.size())) && spread() > length;
     let kind = contact_type(fa, fb, superposed);
     PairResult::Contact(Contact {
         kind,
         feature_a: fa,
         feature_b: fb,
     })
+}
+
+/// The faces of a block (at most 64) still within the length threshold of every
+/// representative point seen so far, bit `f` for face `f`.
+#[derive(Clone, Copy)]
+struct FaceMask(u64);
+
+impl FaceMask {
+    /// Every face of `block`, or `None` past 64 faces.
+    #[inline]
+    fn all(block: &ConvexBlock) -> Option<FaceMask> {
+        match block.n_faces() {
+            64 => Some(FaceMask(u64::MAX)),
+            n if n < 64 => Some(FaceMask((1u64 << n) - 1)),
+            _ => None,
+        }
+    }
+
+    #[inline]
+    fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
+    /// The faces of the mask whose planes pass within `length` of `p` (a NaN distance
+    /// does not).
+    #[inline(always)]
+    fn within(self, block: &ConvexBlock, p: DVec3, length: f64) -> FaceMask {
+        let planes = block.planes();
+        let mut bits = self.0;
+        let mut kept = self.0;
+        while bits != 0 {
+            let f = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let within = planes[f].distance(p).abs() <= length;
+            kept &= !((!within as u64) << f);
+        }
+        FaceMask(kept)
+    }
+
+    /// The smallest feature of `block` whose faces are the mask's first 16 (as
+    /// [`feature_of`] counts them); `None` for an empty mask.
+    fn feature(self, block: &ConvexBlock) -> Option<Feature> {
+        let mut common = [0u32; 16];
+        let mut n = 0;
+        let mut bits = self.0;
+        while bits != 0 && n < common.len() {
+            common[n] = bits.trailing_zeros();
+            bits &= bits - 1;
+            n += 1;
+        }
+        feature_from(block, &common[..n])
+    }
 }
 
 /// Whether two edges are parallel: the sine of their angle at most `sine` (the relative
@@ -269,7 +366,7 @@ fn edges_parallel(a: &ConvexBlock, b: &ConvexBlock, fa: Feature, fb: Feature, si
     }
 }
 
-fn contact_type(fa: Feature, fb: Feature, has_length: impl Fn() -> bool) -> ContactType {
+fn contact_type(fa: Feature, fb: Feature, has_length: impl FnOnce() -> bool) -> ContactType {
     match (fa.rank().min(fb.rank()), fa.rank().max(fb.rank())) {
         (0, 0) => ContactType::VertexVertex,
         (0, 1) => ContactType::VertexEdge,
@@ -304,11 +401,17 @@ fn feature_of(block: &ConvexBlock, points: &[DVec3], length: f64) -> Option<Feat
             n += 1;
         }
     }
-    match n {
-        0 => None,
-        1 => Some(Feature::Face(common[0])),
-        2 => Some(edge_between(block, common[0], common[1]).unwrap_or(Feature::Face(common[0]))),
-        _ => Some(Feature::Vertex(vertex_on(block, &common[..n]))),
+    feature_from(block, &common[..n])
+}
+
+/// The smallest feature of `block` with exactly the faces `common` (in increasing order):
+/// none, a face, the edge between two faces, or the vertex on three or more.
+fn feature_from(block: &ConvexBlock, common: &[u32]) -> Option<Feature> {
+    match *common {
+        [] => None,
+        [f] => Some(Feature::Face(f)),
+        [f, g] => Some(edge_between(block, f, g).unwrap_or(Feature::Face(f))),
+        _ => Some(Feature::Vertex(vertex_on(block, common))),
     }
 }
 
@@ -344,4 +447,125 @@ fn vertex_on(block: &ConvexBlock, faces: &[u32]) -> u32 {
         .min_by(|(_, p), (_, q)| off(p).total_cmp(&off(q)))
         .map_or(0, |(i, _)| i);
     best as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::system::test_rng::Rng;
+    use crate::system::{paper_example, PaperExample};
+    use crate::{Detector, Tolerance};
+    use glam::DQuat;
+
+    /// The rule of the module docs applied as written: the representative points collected
+    /// (duplicates removed), then every face tested against every point.
+    fn by_points(
+        a: &ConvexBlock,
+        b: &ConvexBlock,
+        edges: &[PenetrationEdge],
+        length: f64,
+    ) -> PairResult {
+        let mut points = Vec::new();
+        representative_points(a, b, edges, &mut points);
+        let features = (
+            feature_of(a, &points, length),
+            feature_of(b, &points, length),
+        );
+        decide(a, b, features, length, || spread(&points))
+    }
+
+    /// A unit cube turned by `rotation` and moved so that its lowest feature (vertex, edge
+    /// or face: the middle of its lowest vertices) is at `target`.
+    fn resting_on(rotation: DQuat, target: [f64; 3]) -> ConvexBlock {
+        let cube = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
+        let turned = cube.transformed(rotation, glam::DVec3::ZERO, 1.0);
+        let low = turned
+            .vertices()
+            .iter()
+            .map(|v| v.z)
+            .fold(f64::INFINITY, f64::min);
+        let lowest: Vec<_> = turned
+            .vertices()
+            .iter()
+            .filter(|v| v.z < low + 1e-9)
+            .collect();
+        let middle = lowest.iter().copied().sum::<glam::DVec3>() / lowest.len() as f64;
+        turned.transformed(DQuat::IDENTITY, glam::DVec3::from(target) - middle, 1.0)
+    }
+
+    /// Pairs with every contact type: the paper's three examples (all pairs of blocks) and
+    /// a unit cube with a cube resting on its top face by a vertex, an edge or a face, on the
+    /// face, on an edge or at a corner; two cubes resting on each other's edges, crossed.
+    fn pairs() -> Vec<(ConvexBlock, ConvexBlock)> {
+        let mut pairs = Vec::new();
+        for example in [PaperExample::One, PaperExample::Two, PaperExample::Three] {
+            let blocks = paper_example(example).unwrap().blocks().to_vec();
+            for (i, a) in blocks.iter().enumerate() {
+                pairs.extend(blocks[i + 1..].iter().map(|b| (a.clone(), b.clone())));
+            }
+        }
+        let a = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+        // A vertex down: the cube's diagonal turned onto the vertical.
+        let diagonal = glam::DVec3::ONE.normalize();
+        let vertex_down = DQuat::from_rotation_arc(diagonal, glam::DVec3::Z);
+        let edge_down_x = DQuat::from_rotation_x(std::f64::consts::FRAC_PI_4);
+        let edge_down_y = DQuat::from_rotation_y(std::f64::consts::FRAC_PI_4);
+        let face_down = DQuat::from_rotation_z(0.3);
+        for (rotation, target) in [
+            (vertex_down, [0.5, 0.5, 1.0]), // vertex-face
+            (vertex_down, [0.5, 1.0, 1.0]), // vertex-edge
+            (vertex_down, [1.0, 1.0, 1.0]), // vertex-vertex
+            (edge_down_x, [0.5, 0.5, 1.0]), // edge-face
+            (edge_down_x, [0.5, 1.0, 1.0]), // edge-edge superposition
+            (face_down, [0.6, 0.4, 1.0]),   // face-face
+        ] {
+            pairs.push((a.clone(), resting_on(rotation, target)));
+        }
+        // Edge-edge: two ridges across each other (one cube on an edge along x, the other
+        // on its top edge by an edge along y).
+        let ridge = resting_on(edge_down_x, [0.0; 3]);
+        let top = std::f64::consts::SQRT_2;
+        pairs.push((ridge, resting_on(edge_down_y, [0.0, 0.0, top])));
+        pairs
+    }
+
+    /// The shrinking face masks give the same features and type as the rule applied to
+    /// every point, for pairs with every contact type (and separated ones), turned, moved,
+    /// scaled and pushed slightly together, in both orders.
+    #[test]
+    fn face_masks_classify_as_every_point_does() {
+        let mut rng = Rng(23);
+        let mut contacts = [0usize; 8];
+        let pairs = pairs();
+        for round in 0..4 {
+            let axis = glam::DVec3::new(rng.signed(), rng.signed(), rng.signed() + 2.0);
+            let rotation = DQuat::from_axis_angle(axis.normalize(), 3.0 * rng.signed());
+            let shift = glam::DVec3::new(rng.signed(), rng.signed(), rng.signed()) * 1e3;
+            let scale = 0.01 + rng.unit();
+            for (a, b) in &pairs {
+                let a = a.transformed(rotation, shift, scale);
+                let mut b = b.transformed(rotation, shift, scale);
+                if round == 3 {
+                    // Pushed together by a fraction of the gap.
+                    let towards = (a.centroid() - b.centroid()).normalize();
+                    b = b.transformed(DQuat::IDENTITY, towards * 1e-5 * scale, 1.0);
+                }
+                for (a, b) in [(&a, &b), (&b, &a)] {
+                    let mut det = Detector::new(Tolerance::default());
+                    let result = det.detect(a, b);
+                    let edges = det.penetration_edges();
+                    if edges.is_empty() || result == PairResult::Penetrating {
+                        continue;
+                    }
+                    let length = det.thresholds(a, b).length;
+                    assert_eq!(result, by_points(a, b, edges, length), "round {round}");
+                    contacts[result.contact_type().map_or(0, |t| t.code() as usize)] += 1;
+                }
+            }
+        }
+        assert!(
+            contacts[1..].iter().all(|&n| n > 0),
+            "types met: {contacts:?}"
+        );
+    }
 }

@@ -3,7 +3,9 @@
 use crate::block::ConvexBlock;
 use crate::classify::{classify, PairResult};
 use crate::geometry::DVec3;
-use crate::penetration::{clip_edges, DistanceTable, PenetrationEdge, Side};
+use crate::penetration::{
+    clip_edges, likely_plane_separates, DistanceTable, PenetrationEdge, Side,
+};
 use crate::tolerance::{Thresholds, Tolerance};
 
 /// A reusable pair detector: holds the tolerance and the scratch buffers, so that a loop
@@ -72,8 +74,11 @@ impl Detector {
     }
 
     /// Representative points of the last pair's penetration edges ([`crate::classify`],
-    /// step 1); filled only when the last pair was a contact.
-    pub(crate) fn representative_points(&self) -> &[DVec3] {
+    /// step 1), `a` and `b` being the blocks last given to [`Detector::detect`]. The
+    /// classification itself needs no list of them; it is made here for the contact
+    /// geometry.
+    pub(crate) fn representative_points(&mut self, a: &ConvexBlock, b: &ConvexBlock) -> &[DVec3] {
+        crate::classify::representative_points(a, b, &self.edges, &mut self.points);
         &self.points
     }
 
@@ -97,8 +102,14 @@ impl Detector {
         (counts, [originals[0].len(), originals[1].len()])
     }
 
+    /// Fills both distance tables; `false` when a face plane separates the blocks. The
+    /// plane of each block most likely to separate is tried first, which ends most
+    /// separated queries before any table.
     fn fill_tables(&mut self, a: &ConvexBlock, b: &ConvexBlock, gap: f64) -> bool {
-        self.a_to_b.fill(a, b, gap) && self.b_to_a.fill(b, a, gap)
+        !likely_plane_separates(a, b, gap)
+            && !likely_plane_separates(b, a, gap)
+            && self.a_to_b.fill(a, b, gap)
+            && self.b_to_a.fill(b, a, gap)
     }
 }
 

@@ -145,7 +145,7 @@ impl Detector {
                     a,
                     b,
                     contact,
-                    self.representative_points(),
+                    self.representative_points(a, b),
                     th,
                 ))
             }
