@@ -267,11 +267,8 @@ pub(crate) fn classify(
         }
     }
     let features = (masks[0].feature(a), masks[1].feature(b));
-    decide(a, b, features, length, || {
-        // Needed only for two parallel edges: the points are visited again.
-        representative_points(a, b, edges, points);
-        spread(points)
-    })
+    // Needed only for two parallel edges: the points are visited again (no list).
+    decide(a, b, features, length, || spread_of(a, b, edges))
 }
 
 /// The contact from the features of both blocks (`None`: the points reach the block's
@@ -356,11 +353,13 @@ impl FaceMask {
 fn edges_parallel(a: &ConvexBlock, b: &ConvexBlock, fa: Feature, fb: Feature, sine: f64) -> bool {
     let direction = |block: &ConvexBlock, e: u32| {
         let [p, q] = block.edges()[e as usize].vertices;
-        (block.vertices()[q as usize] - block.vertices()[p as usize]).normalize()
+        block.vertices()[q as usize] - block.vertices()[p as usize]
     };
     match (fa, fb) {
         (Feature::Edge(ea), Feature::Edge(eb)) => {
-            direction(a, ea).cross(direction(b, eb)).length() <= sine
+            // |u × v| <= sine |u| |v|, squared: no square root or division.
+            let (u, v) = (direction(a, ea), direction(b, eb));
+            u.cross(v).length_squared() <= sine * sine * u.length_squared() * v.length_squared()
         }
         _ => false,
     }
@@ -376,6 +375,24 @@ fn contact_type(fa: Feature, fb: Feature, has_length: impl FnOnce() -> bool) -> 
         (1, _) => ContactType::EdgeFace,
         _ => ContactType::FaceFace,
     }
+}
+
+/// [`spread`] of the representative points of `edges`, visited without a list.
+fn spread_of(a: &ConvexBlock, b: &ConvexBlock, edges: &[PenetrationEdge]) -> f64 {
+    let mut seen = [0u64; 2];
+    let mut first = None;
+    let mut farthest: f64 = 0.0;
+    for pe in edges {
+        let (owner, seen) = side(pe, [a, b], &mut seen);
+        let ([p, q], mask) = representatives(pe, owner, seen);
+        for (k, point) in [p, q].into_iter().enumerate() {
+            if mask >> k & 1 != 0 {
+                let from = *first.get_or_insert(point);
+                farthest = farthest.max(point.distance(from));
+            }
+        }
+    }
+    farthest
 }
 
 /// Largest distance of a point from the first one.

@@ -3,9 +3,7 @@
 use crate::block::ConvexBlock;
 use crate::classify::{classify, PairResult};
 use crate::geometry::DVec3;
-use crate::penetration::{
-    clip_edges, likely_plane_separates, DistanceTable, PenetrationEdge, Side,
-};
+use crate::penetration::{clip_edges, DistanceTable, PenetrationEdge, Side};
 use crate::tolerance::{Thresholds, Tolerance};
 
 /// A reusable pair detector: holds the tolerance and the scratch buffers, so that a loop
@@ -102,14 +100,8 @@ impl Detector {
         (counts, [originals[0].len(), originals[1].len()])
     }
 
-    /// Fills both distance tables; `false` when a face plane separates the blocks. The
-    /// plane of each block most likely to separate is tried first, which ends most
-    /// separated queries before any table.
     fn fill_tables(&mut self, a: &ConvexBlock, b: &ConvexBlock, gap: f64) -> bool {
-        !likely_plane_separates(a, b, gap)
-            && !likely_plane_separates(b, a, gap)
-            && self.a_to_b.fill(a, b, gap)
-            && self.b_to_a.fill(b, a, gap)
+        self.a_to_b.fill(a, b, gap) && self.b_to_a.fill(b, a, gap)
     }
 }
 

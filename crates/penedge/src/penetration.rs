@@ -303,30 +303,6 @@ fn local_plane(plane: &Plane, origin: DVec3) -> [f64; 4] {
     [n.x, n.y, n.z, n.dot(plane.point - origin)]
 }
 
-/// Whether one face plane of `to`, the one whose normal points most towards the centroid of
-/// `of`, has every vertex of `of` farther than `gap`: the test of [`DistanceTable::fill`],
-/// with the same arithmetic, on the plane most likely to separate. When a face plane
-/// separates two blocks it is this one, of one block or the other, in most cases; asked
-/// first ([`crate::Detector::detect`]), it ends most separated queries after a few dot
-/// products instead of two tables.
-#[inline]
-pub(crate) fn likely_plane_separates(of: &ConvexBlock, to: &ConvexBlock, gap: f64) -> bool {
-    let towards = of.centroid() - to.centroid();
-    let mut best = (f64::NEG_INFINITY, 0);
-    for (f, plane) in to.planes().iter().enumerate() {
-        let d = plane.normal.dot(towards);
-        if d > best.0 {
-            best = (d, f);
-        }
-    }
-    let local = of.local();
-    let plane = local_plane(&to.planes()[best.1], local.origin);
-    local
-        .quads
-        .iter()
-        .all(|quad| above(&distances(quad, &plane), gap) == 0b1111)
-}
-
 /// Bit `k` set where `s[k] > t` (false for NaN).
 #[inline]
 fn above(s: &[f64; 4], t: f64) -> u64 {
@@ -524,34 +500,6 @@ mod tests {
         let mut out = Vec::new();
         let deep = clip_edges(of, side, other, &table, th, &mut out);
         Some((out, deep))
-    }
-
-    /// The plane tried first is one of the table's: when it separates, filling the table
-    /// finds a separating plane too, so the early answer is the one the tables give. It
-    /// ends most separated queries.
-    #[test]
-    fn likely_plane_agrees_with_the_table() {
-        let mut rng = Rng(29);
-        let (mut separated, mut early) = (0, 0);
-        for round in 0..2000 {
-            let faces = [6, 8, 12, 20][round % 4];
-            let a = polytope(&mut rng, faces, [0.0; 3]);
-            let d = 1.9 + 0.4 * rng.unit();
-            let centre = [d * rng.signed(), d * rng.signed(), d * rng.signed()];
-            let b = polytope(&mut rng, faces, centre);
-            let gap = 0.01;
-            for (of, to) in [(&a, &b), (&b, &a)] {
-                let likely = likely_plane_separates(of, to, gap);
-                let fills = DistanceTable::default().fill(of, to, gap);
-                assert!(!(likely && fills), "round {round}");
-                separated += !fills as usize;
-                early += likely as usize;
-            }
-        }
-        assert!(
-            early * 10 > separated * 7,
-            "{early} of {separated} separations found by the likely plane"
-        );
     }
 
     /// The masks only skip faces that cannot cut an edge: with and without them, the same
