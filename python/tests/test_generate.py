@@ -314,3 +314,24 @@ def test_pickle_keeps_the_provenance():
     assert again.sets == system.sets
     same_blocks(again, system)
     assert np.array_equal(again.arrays().face_origin_index, system.arrays().face_origin_index)
+
+
+def test_a_pickled_block_keeps_its_face_origins():
+    system, _ = penedge.generate(EXAMPLES / "finite_disc.toml")
+    blocks = [pickle.loads(pickle.dumps(b)) for b in system.blocks]
+    again, before = penedge.BlockSystem(blocks).arrays(), system.arrays()
+    assert (before.face_origin_kind > 0).all()
+    for name in ("face_origin_kind", "face_origin_set", "face_origin_index"):
+        assert np.array_equal(getattr(again, name), getattr(before, name)), name
+
+
+def test_restoring_a_block_with_bad_origins_is_an_input_error():
+    block = penedge.paper_example(1).blocks[0]
+    vertices, faces = block.vertices, block.faces
+    n = len(faces)
+    with pytest.raises(penedge.InputError, match="code 7"):
+        penedge.Block._restore(vertices, faces, [(7, 0, 0)] * n)
+    with pytest.raises(penedge.InputError, match="out of range"):
+        penedge.Block._restore(vertices, faces, [(2, -5, 0)] * n)
+    with pytest.raises(penedge.PenedgeError):
+        penedge.Block._restore(vertices, faces, [(0, -1, -1)] * (n + 1))

@@ -3,6 +3,7 @@
 use crate::arrays;
 use crate::errors::{input_error, to_py_err};
 use numpy::{PyArray1, PyArray2};
+use penedge::block::FaceOrigin;
 use penedge::ConvexBlock;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -243,16 +244,70 @@ impl Block {
         )
     }
 
+    /// Pickling: the vertices, the faces and each face's origin (domain boundary or joint,
+    /// as `(code, a, b)` in the numbering of `BlockArrays.face_origin_*`), so that a block of
+    /// a generated system keeps its provenance through a round trip.
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
         let py = slf.py();
         let me = slf.get();
-        let args = (me.vertices(py), me.faces());
+        let origins: Vec<(u8, i64, i64)> = me
+            .inner
+            .face_origins()
+            .iter()
+            .map(|o| {
+                let (a, b) = o.ids();
+                (o.code(), a, b)
+            })
+            .collect();
+        let args = (me.vertices(py), me.faces(), origins);
         PyTuple::new(
             py,
             [
-                py.get_type::<Block>().into_any(),
+                py.get_type::<Block>().getattr("_restore")?,
                 args.into_pyobject(py)?.into_any(),
             ],
         )
+    }
+
+    /// The block of [`Block::__reduce__`]'s parts (not a public constructor).
+    #[staticmethod]
+    fn _restore(
+        vertices: &Bound<'_, PyAny>,
+        faces: &Bound<'_, PyAny>,
+        origins: Vec<(u8, i64, i64)>,
+    ) -> PyResult<Self> {
+        let block = Block::new(vertices, faces)?;
+        let origins = origins
+            .into_iter()
+            .map(|(code, a, b)| face_origin(code, a, b))
+            .collect::<PyResult<Vec<_>>>()?;
+        block
+            .inner
+            .with_face_origins(origins)
+            .map(Block::wrap)
+            .map_err(to_py_err)
+    }
+}
+
+/// A face origin from its code and two numbers ([`FaceOrigin::code`], [`FaceOrigin::ids`]).
+fn face_origin(code: u8, a: i64, b: i64) -> PyResult<FaceOrigin> {
+    let id = |x: i64| {
+        u32::try_from(x)
+            .map_err(|_| input_error("origins", format!("face origin number {x} out of range")))
+    };
+    match code {
+        0 => Ok(FaceOrigin::Unknown),
+        1 => Ok(FaceOrigin::Boundary {
+            part: id(a)?,
+            face: id(b)?,
+        }),
+        2 => Ok(FaceOrigin::Joint {
+            set: id(a)?,
+            joint: id(b)?,
+        }),
+        _ => Err(input_error(
+            "origins",
+            format!("face origin code {code} is not 0 (unknown), 1 (boundary) or 2 (joint)"),
+        )),
     }
 }
