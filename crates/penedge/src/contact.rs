@@ -65,6 +65,23 @@ impl Detector {
         classify(a, b, &self.edges, th.length, &mut self.points)
     }
 
+    /// Whether no edge of either block meets the other one widened by `gap`: the
+    /// `Separated` of [`Detector::detect`] at another gap (no classification). Leaves the
+    /// penetration edges of this query.
+    pub(crate) fn separated_at(&mut self, a: &ConvexBlock, b: &ConvexBlock, gap: f64) -> bool {
+        self.edges.clear();
+        if !self.fill_tables(a, b, gap) {
+            return true;
+        }
+        let th = Thresholds {
+            gap,
+            length: self.thresholds(a, b).length,
+        };
+        clip_edges(a, Side::A, b, &self.a_to_b, th, &mut self.edges);
+        clip_edges(b, Side::B, a, &self.b_to_a, th, &mut self.edges);
+        self.edges.is_empty()
+    }
+
     /// Penetration edges of the pair last given to [`Detector::detect`] (empty when it was
     /// separated by a face plane before any clipping).
     pub fn penetration_edges(&self) -> &[PenetrationEdge] {
