@@ -49,17 +49,14 @@ impl Detector {
     /// 3. an edge deeper than the gap inside the other block means `Penetrating`;
     /// 4. otherwise the type from the penetration edges ([`crate::classify`]).
     pub fn detect(&mut self, a: &ConvexBlock, b: &ConvexBlock) -> PairResult {
-        self.edges.clear();
         let th = self.thresholds(a, b);
-        if !self.fill_tables(a, b, th.gap) {
+        let Some(deep) = self.clip_pair(a, b, th) else {
             return PairResult::Separated;
-        }
-        let deep_a = clip_edges(a, Side::A, b, &self.a_to_b, th, &mut self.edges);
-        let deep_b = clip_edges(b, Side::B, a, &self.b_to_a, th, &mut self.edges);
+        };
         if self.edges.is_empty() {
             return PairResult::Separated;
         }
-        if deep_a || deep_b {
+        if deep {
             return PairResult::Penetrating;
         }
         classify(a, b, &self.edges, th.length, &mut self.points)
@@ -69,17 +66,21 @@ impl Detector {
     /// `Separated` of [`Detector::detect`] at another gap (no classification). Leaves the
     /// penetration edges of this query.
     pub(crate) fn separated_at(&mut self, a: &ConvexBlock, b: &ConvexBlock, gap: f64) -> bool {
+        let length = self.thresholds(a, b).length;
+        self.clip_pair(a, b, Thresholds { gap, length }).is_none() || self.edges.is_empty()
+    }
+
+    /// Steps 1 and 2 of [`Detector::detect`]: the penetration edges at `th`, or `None` when a
+    /// face plane separates the blocks; `Some(deep)` tells whether an edge goes deeper than
+    /// the gap.
+    fn clip_pair(&mut self, a: &ConvexBlock, b: &ConvexBlock, th: Thresholds) -> Option<bool> {
         self.edges.clear();
-        if !self.fill_tables(a, b, gap) {
-            return true;
+        if !self.fill_tables(a, b, th.gap) {
+            return None;
         }
-        let th = Thresholds {
-            gap,
-            length: self.thresholds(a, b).length,
-        };
-        clip_edges(a, Side::A, b, &self.a_to_b, th, &mut self.edges);
-        clip_edges(b, Side::B, a, &self.b_to_a, th, &mut self.edges);
-        self.edges.is_empty()
+        let deep_a = clip_edges(a, Side::A, b, &self.a_to_b, th, &mut self.edges);
+        let deep_b = clip_edges(b, Side::B, a, &self.b_to_a, th, &mut self.edges);
+        Some(deep_a || deep_b)
     }
 
     /// Penetration edges of the pair last given to [`Detector::detect`] (empty when it was

@@ -13,7 +13,6 @@
 //! query early.
 
 use crate::block::{ConvexBlock, Quad};
-use crate::geometry::{DVec3, Plane};
 use crate::tolerance::Thresholds;
 
 /// Which block of the pair.
@@ -94,16 +93,16 @@ pub struct PenetrationEdge {
 /// The masks are built as one word per group of four vertices, a nibble per face (bit
 /// `4 f + k` for vertex `4 c + k` of group `c`): that is the shape in which the comparisons
 /// of one face with four vertices come out, so they are built while the distances are
-/// computed, with a shift and an `or` per face, in a register; each vertex's mask is then
-/// taken out of its group's word (a shift and an `and`) for the edges.
+/// computed, with a shift and an `or` per face and group; once no plane separates, each
+/// vertex's mask is taken out of its group's word (a shift and an `and`) for the edges.
 #[derive(Default, Clone, Debug)]
 pub(crate) struct DistanceTable {
     table: Vec<[f64; 4]>,
     quads: usize,
     /// Nibble masks, one word per group of four vertices.
     groups: Vec<[u64; 2]>,
-    /// Per-vertex masks `[outside, shallow]`, bit `4 f` for face `f` (each vertex is asked
-    /// about once per edge at it).
+    /// Per-vertex masks `[outside, shallow]`, expanded from the groups' once the table is
+    /// known not to separate (each vertex is asked about once per edge at it).
     vertices: Vec<[u64; 2]>,
     masked: bool,
 }
@@ -119,60 +118,45 @@ impl DistanceTable {
     /// masks; returns `false` as soon as one plane has every vertex farther than `gap`
     /// (separation).
     pub(crate) fn fill(&mut self, of: &ConvexBlock, to: &ConvexBlock, gap: f64) -> bool {
-        self.begin(of, to);
-        (0..to.n_faces()).all(|f| !self.row(of, to, f, gap)) && self.finish()
-    }
-
-    /// Makes room for the distances of `of`'s vertices to `to`'s planes and clears the
-    /// masks; the rows come next ([`DistanceTable::row`]), then [`DistanceTable::finish`].
-    #[inline]
-    fn begin(&mut self, of: &ConvexBlock, to: &ConvexBlock) {
-        let quads = of.local().quads.len();
-        let planes = to.n_faces();
-        self.quads = quads;
-        self.masked = planes <= MASK_FACES;
-        let needed = planes * quads;
+        let local = of.local();
+        let quads = local.quads.as_slice();
+        let planes = to.planes();
+        self.quads = quads.len();
+        self.masked = planes.len() <= MASK_FACES;
+        let needed = planes.len() * quads.len();
         if self.table.len() < needed {
             self.table.resize(needed, [0.0; 4]);
         }
-        if self.groups.len() < quads {
-            self.groups.resize(quads, [0; 2]);
-            self.vertices.resize(4 * quads, [0; 2]);
+        if self.groups.len() < quads.len() {
+            self.groups.resize(quads.len(), [0; 2]);
+            self.vertices.resize(4 * quads.len(), [0; 2]);
         }
-        self.groups[..quads].fill([0; 2]);
-    }
-
-    /// The distances of `of`'s vertices to `to`'s face plane `f`, and their masks; returns
-    /// whether every vertex is farther than `gap` (the plane separates).
-    #[inline]
-    fn row(&mut self, of: &ConvexBlock, to: &ConvexBlock, f: usize, gap: f64) -> bool {
-        let local = of.local();
-        let quads = local.quads.as_slice();
+        let groups = &mut self.groups[..quads.len()];
+        groups.fill([0; 2]);
         // Coordinates local to one vertex: `n · (v - o) - n · (p - o)` keeps the accuracy of
         // `n · (v - p)` (differences of nearby coordinates) with one dot product per vertex.
-        let plane = local_plane(&to.planes()[f], local.origin);
-        let row = &mut self.table[f * quads.len()..(f + 1) * quads.len()];
-        let groups = &mut self.groups[..quads.len()];
-        // Faces past the mask's width shift out of the word (masks unused then).
-        let shift = (4 * f) as u32;
-        let mut separating = true;
-        for ((quad, out), group) in quads.iter().zip(row.iter_mut()).zip(groups.iter_mut()) {
-            let s = distances(quad, &plane);
-            *out = s;
-            let beyond = above(&s, gap);
-            separating &= beyond == 0b1111;
-            group[0] |= beyond.checked_shl(shift).unwrap_or(0);
-            group[1] |= at_least(&s, -gap).checked_shl(shift).unwrap_or(0);
+        let origin = local.origin;
+        let rows = self.table[..needed].chunks_exact_mut(quads.len().max(1));
+        for (f, (plane, row)) in planes.iter().zip(rows).enumerate() {
+            let n = plane.normal;
+            let plane = [n.x, n.y, n.z, n.dot(plane.point - origin)];
+            // Faces past the mask's width shift out of the word (masks unused then).
+            let shift = (4 * f) as u32;
+            let mut separating = true;
+            for ((quad, out), group) in quads.iter().zip(row.iter_mut()).zip(groups.iter_mut()) {
+                let s = distances(quad, &plane);
+                *out = s;
+                let beyond = above(&s, gap);
+                separating &= beyond == 0b1111;
+                group[0] |= beyond.checked_shl(shift).unwrap_or(0);
+                group[1] |= at_least(&s, -gap).checked_shl(shift).unwrap_or(0);
+            }
+            if separating {
+                return false;
+            }
         }
-        separating
-    }
-
-    /// Takes each vertex's masks out of its group's words once every row is in (and none
-    /// separates); returns `true`.
-    #[inline]
-    fn finish(&mut self) -> bool {
-        let vertices = self.vertices.chunks_exact_mut(4);
-        for (four, group) in vertices.zip(&self.groups[..self.quads]) {
+        let vertices = self.vertices.chunks_exact_mut(4).zip(groups.iter());
+        for (four, group) in vertices {
             for (k, v) in four.iter_mut().enumerate() {
                 *v = group.map(|g| (g >> k) & NIBBLE_LOW_BITS);
             }
@@ -293,14 +277,6 @@ impl DistanceTable {
         };
         keep.then_some(c)
     }
-}
-
-/// A plane as `[normal, offset]` in coordinates local to `origin`: `n · (v - o) - offset`
-/// is the signed distance of `v`.
-#[inline]
-fn local_plane(plane: &Plane, origin: DVec3) -> [f64; 4] {
-    let n = plane.normal;
-    [n.x, n.y, n.z, n.dot(plane.point - origin)]
 }
 
 /// Bit `k` set where `s[k] > t` (false for NaN).
