@@ -28,6 +28,7 @@ mod export;
 mod family;
 mod generation;
 mod geometry;
+mod outcomes;
 mod pairs;
 mod placement;
 mod report;
@@ -298,6 +299,7 @@ fn main() -> ExitCode {
         Some("generate") => generation::run(&args[1..]),
         Some("generate-one") => generation::run_one(&args[1..]),
         Some("system") => system::run(&args[1..]),
+        Some("outcomes") => outcomes::run(&args[1..]),
         Some("profile") => parse(&args[1..]).and_then(|o| profile(&o)),
         _ => Err(
             "usage: penedge-bench narrow|geometry|generate|system|profile [options] (see the crate docs)"

@@ -256,7 +256,7 @@ fn vector(v: glam::DVec3) -> Vector {
     Vector::new(v.x, v.y, v.z)
 }
 
-fn jointed_system() -> Result<BlockSystem, String> {
+pub fn jointed_system() -> Result<BlockSystem, String> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/three_joint_sets.toml");
     let spec = penedge::io::spec::read_spec(&path).map_err(|e| e.to_string())?;
     Ok(generate(&spec).map_err(|e| e.to_string())?.system)
