@@ -1,9 +1,12 @@
 //! The pair query: penetration edges, then the contact decision and type.
 
 use crate::block::ConvexBlock;
-use crate::classify::{classify, PairResult};
+use crate::block::Edge;
+use crate::classify::{decide, spread_of, FaceLists, FaceMasks, PairResult};
 use crate::geometry::DVec3;
-use crate::penetration::{clip_edges, DistanceTable, PenetrationEdge, Side};
+use crate::penetration::{
+    clip_edges, DistanceTable, EdgeSink, Kernel, PenetrationEdge, Side, VertexMasks,
+};
 use crate::tolerance::{Thresholds, Tolerance};
 
 /// A reusable pair detector: holds the tolerance and the scratch buffers, so that a loop
@@ -14,6 +17,7 @@ use crate::tolerance::{Thresholds, Tolerance};
 #[derive(Clone, Debug, Default)]
 pub struct Detector {
     tolerance: Tolerance,
+    kernel: Kernel,
     a_to_b: DistanceTable,
     b_to_a: DistanceTable,
     edges: Vec<PenetrationEdge>,
@@ -45,21 +49,36 @@ impl Detector {
     ///
     /// 1. distances of each block's vertices to the other's planes; a separating face plane
     ///    ends the query (`Separated`);
-    /// 2. penetration edges with the gap; none means `Separated`;
+    /// 2. penetration edges with the gap; none means `Separated`. The faces of each block
+    ///    that hold their representative points are gathered as they are made
+    ///    ([`crate::classify`]);
     /// 3. an edge deeper than the gap inside the other block means `Penetrating`;
-    /// 4. otherwise the type from the penetration edges ([`crate::classify`]).
+    /// 4. otherwise the type from the features those faces give.
     pub fn detect(&mut self, a: &ConvexBlock, b: &ConvexBlock) -> PairResult {
         let th = self.thresholds(a, b);
-        let Some(deep) = self.clip_pair(a, b, th) else {
-            return PairResult::Separated;
+        let features = match FaceMasks::new(a, b, th.length) {
+            Some(mut masks) => match self.clip_pair(a, b, th, &mut masks) {
+                Some(false) if !self.edges.is_empty() => masks.features(),
+                outcome => return self.unclassified(outcome),
+            },
+            None => {
+                let mut lists = FaceLists::new(a, b, th.length);
+                match self.clip_pair(a, b, th, &mut Sides(&mut lists)) {
+                    Some(false) if !self.edges.is_empty() => lists.features(),
+                    outcome => return self.unclassified(outcome),
+                }
+            }
         };
-        if self.edges.is_empty() {
-            return PairResult::Separated;
+        decide(a, b, features, th.length, || spread_of(a, b, &self.edges))
+    }
+
+    /// The outcome of a pair that is not classified: separated by a face plane (`None`) or
+    /// with no penetration edge, or penetrating (`Some(true)`).
+    fn unclassified(&self, clipped: Option<bool>) -> PairResult {
+        match clipped {
+            Some(true) if !self.edges.is_empty() => PairResult::Penetrating,
+            _ => PairResult::Separated,
         }
-        if deep {
-            return PairResult::Penetrating;
-        }
-        classify(a, b, &self.edges, th.length, &mut self.points)
     }
 
     /// Whether no edge of either block meets the other one widened by `gap`: the
@@ -67,19 +86,27 @@ impl Detector {
     /// penetration edges of this query.
     pub(crate) fn separated_at(&mut self, a: &ConvexBlock, b: &ConvexBlock, gap: f64) -> bool {
         let length = self.thresholds(a, b).length;
-        self.clip_pair(a, b, Thresholds { gap, length }).is_none() || self.edges.is_empty()
+        self.clip_pair(a, b, Thresholds { gap, length }, &mut ())
+            .is_none()
+            || self.edges.is_empty()
     }
 
-    /// Steps 1 and 2 of [`Detector::detect`]: the penetration edges at `th`, or `None` when a
-    /// face plane separates the blocks; `Some(deep)` tells whether an edge goes deeper than
-    /// the gap.
-    fn clip_pair(&mut self, a: &ConvexBlock, b: &ConvexBlock, th: Thresholds) -> Option<bool> {
+    /// Steps 1 and 2 of [`Detector::detect`]: the penetration edges at `th`, each told to
+    /// `sink`, or `None` when a face plane separates the blocks; `Some(deep)` tells whether
+    /// an edge goes deeper than the gap.
+    fn clip_pair(
+        &mut self,
+        a: &ConvexBlock,
+        b: &ConvexBlock,
+        th: Thresholds,
+        sink: &mut impl EdgeSink,
+    ) -> Option<bool> {
         self.edges.clear();
-        if !self.fill_tables(a, b, th.gap) {
+        if !self.fill_tables(a, b, th) {
             return None;
         }
-        let deep_a = clip_edges(a, Side::A, b, &self.a_to_b, th, &mut self.edges);
-        let deep_b = clip_edges(b, Side::B, a, &self.b_to_a, th, &mut self.edges);
+        let deep_a = clip_edges(a, Side::A, b, &self.a_to_b, th, &mut self.edges, sink);
+        let deep_b = clip_edges(b, Side::B, a, &self.b_to_a, th, &mut self.edges, sink);
         Some(deep_a || deep_b)
     }
 
@@ -118,8 +145,30 @@ impl Detector {
         (counts, [originals[0].len(), originals[1].len()])
     }
 
-    fn fill_tables(&mut self, a: &ConvexBlock, b: &ConvexBlock, gap: f64) -> bool {
-        self.a_to_b.fill(a, b, gap) && self.b_to_a.fill(b, a, gap)
+    fn fill_tables(&mut self, a: &ConvexBlock, b: &ConvexBlock, th: Thresholds) -> bool {
+        self.a_to_b.fill(self.kernel, a, b, th) && self.b_to_a.fill(self.kernel, b, a, th)
+    }
+}
+
+impl EdgeSink for FaceMasks<'_> {
+    #[inline(always)]
+    fn edge(
+        &mut self,
+        pe: &PenetrationEdge,
+        parent: &Edge,
+        near: [VertexMasks; 2],
+        t: &DistanceTable,
+    ) {
+        self.add(pe, parent, near, t);
+    }
+}
+
+/// [`FaceLists`] as an [`EdgeSink`].
+struct Sides<'l, 'a>(&'l mut FaceLists<'a>);
+
+impl EdgeSink for Sides<'_, '_> {
+    fn edge(&mut self, pe: &PenetrationEdge, _: &Edge, _: [VertexMasks; 2], t: &DistanceTable) {
+        self.0.add(pe, t);
     }
 }
 

@@ -126,7 +126,14 @@ impl ConvexBlock {
                 BlockError::ZeroVolume
             });
         }
+        let vertex_faces = super::vertex_face_masks(
+            parts.vertices.len(),
+            &parts.face_offsets,
+            &parts.face_vertices,
+        );
         Ok(ConvexBlock {
+            clearance: super::Clearance::of(&parts.vertices, &parts.planes, &vertex_faces),
+            vertex_faces,
             bounds: Bounds::of(&parts.vertices),
             local: LocalCoordinates::of(&parts.vertices),
             vertices: parts.vertices,

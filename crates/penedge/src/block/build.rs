@@ -342,14 +342,17 @@ fn build_checked(
     let bounds = super::Bounds::of(&points);
     check_faces_planar_convex(&points, &faces, &planes, eps)?;
     check_block_convex(&points, &planes, eps)?;
-    let face_offsets = std::iter::once(0)
+    let face_offsets: Vec<u32> = std::iter::once(0)
         .chain(faces.iter().scan(0u32, |acc, f| {
             *acc += f.len() as u32;
             Some(*acc)
         }))
         .collect();
-    let face_vertices = faces.iter().flatten().map(|&v| v as u32).collect();
+    let face_vertices: Vec<u32> = faces.iter().flatten().map(|&v| v as u32).collect();
+    let vertex_faces = super::vertex_face_masks(points.len(), &face_offsets, &face_vertices);
     Ok(ConvexBlock {
+        clearance: super::Clearance::of(&points, &planes, &vertex_faces),
+        vertex_faces,
         origins: vec![super::FaceOrigin::Unknown; planes.len()],
         local: super::LocalCoordinates::of(&points),
         vertices: points,

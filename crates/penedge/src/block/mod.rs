@@ -7,12 +7,14 @@
 
 mod assemble;
 mod build;
+mod clearance;
 mod error;
 mod halfspace;
 mod origin;
 mod pose;
 mod stored;
 pub(crate) use assemble::BlockParts;
+pub(crate) use clearance::Clearance;
 
 pub use error::BlockError;
 pub use origin::FaceOrigin;
@@ -52,10 +54,38 @@ pub struct ConvexBlock {
     planes: Vec<Plane>,
     origins: Vec<FaceOrigin>,
     edges: Vec<Edge>,
+    /// The faces at each vertex, bit `f` for face `f` (empty past [`INCIDENCE_FACES`]
+    /// faces).
+    vertex_faces: Vec<u64>,
+    clearance: Clearance,
     volume: f64,
     centroid: DVec3,
     bounds: Bounds,
     local: LocalCoordinates,
+}
+
+/// Blocks of at most this many faces keep their vertex-face incidence as bit masks
+/// ([`ConvexBlock::vertex_faces`]).
+pub(crate) const INCIDENCE_FACES: usize = 64;
+
+/// The faces at each vertex as bit masks (bit `f` for face `f`); empty for a block of more
+/// than [`INCIDENCE_FACES`] faces.
+pub(crate) fn vertex_face_masks(
+    n_vertices: usize,
+    face_offsets: &[u32],
+    face_vertices: &[u32],
+) -> Vec<u64> {
+    let n_faces = face_offsets.len().saturating_sub(1);
+    if n_faces > INCIDENCE_FACES {
+        return Vec::new();
+    }
+    let mut masks = vec![0u64; n_vertices];
+    for (f, w) in face_offsets.windows(2).enumerate() {
+        for &v in &face_vertices[w[0] as usize..w[1] as usize] {
+            masks[v as usize] |= 1 << f;
+        }
+    }
+    masks
 }
 
 /// The bounding box with the two numbers that every pair query derives from it (the size
@@ -162,6 +192,17 @@ impl ConvexBlock {
         &self.local
     }
 
+    /// The faces at each vertex, bit `f` for face `f`; empty for a block of more than
+    /// [`INCIDENCE_FACES`] faces.
+    pub(crate) fn vertex_faces(&self) -> &[u64] {
+        &self.vertex_faces
+    }
+
+    /// How the block's own face planes pass its vertices ([`Clearance`]).
+    pub(crate) fn clearance(&self) -> Clearance {
+        self.clearance
+    }
+
     /// Edges, each with its two faces.
     pub fn edges(&self) -> &[Edge] {
         &self.edges
@@ -228,8 +269,9 @@ impl ConvexBlock {
     pub fn transformed(&self, rotation: DQuat, translation: DVec3, scale: f64) -> ConvexBlock {
         let rigid = pose::Rigid::new(rotation, translation, scale);
         let vertices: Vec<DVec3> = self.vertices.iter().map(|&p| rigid.point(p)).collect();
-        let planes = self.planes.iter().map(|pl| rigid.plane(pl)).collect();
+        let planes: Vec<Plane> = self.planes.iter().map(|pl| rigid.plane(pl)).collect();
         ConvexBlock {
+            clearance: Clearance::of(&vertices, &planes, &self.vertex_faces),
             bounds: Bounds::of(&vertices),
             local: LocalCoordinates::of(&vertices),
             vertices,
@@ -238,6 +280,7 @@ impl ConvexBlock {
             planes,
             origins: self.origins.clone(),
             edges: self.edges.clone(),
+            vertex_faces: self.vertex_faces.clone(),
             volume: self.volume * scale.powi(3),
             centroid: rigid.point(self.centroid),
         }

@@ -1,7 +1,7 @@
 //! Rigid placements of a block: a block at a new pose, computed into an existing block
 //! without allocating (the time-stepping path of [`crate::system::ContactTracker`]).
 
-use super::{Bounds, ConvexBlock, LocalCoordinates, Quad};
+use super::{Bounds, Clearance, ConvexBlock, LocalCoordinates, Quad};
 use crate::geometry::{DVec3, Plane};
 use glam::{DMat3, DQuat};
 
@@ -70,6 +70,7 @@ impl ConvexBlock {
             self.face_offsets.clone_from(&reference.face_offsets);
             self.face_vertices.clone_from(&reference.face_vertices);
             self.edges.clone_from(&reference.edges);
+            self.vertex_faces.clone_from(&reference.vertex_faces);
         }
         self.origins.clone_from(&reference.origins);
         self.volume = reference.volume;
@@ -93,6 +94,8 @@ impl ConvexBlock {
             .extend(reference.planes.iter().map(|pl| rigid.plane(pl)));
         self.centroid = rigid.point(reference.centroid);
         self.bounds = Bounds::of(&self.vertices);
+        // Not recomputed on this hot path: the classification computes the distances.
+        self.clearance = Clearance::UNKNOWN;
         self.local.fill(&self.vertices);
     }
 }

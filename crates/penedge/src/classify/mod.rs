@@ -10,10 +10,13 @@
 //!    original vertex: the gap widening cut a stub off an edge at a vertex in contact); its
 //!    middle if it is a type 5 (no length, two cuts: an edge crossing the other block's
 //!    boundary at a point);
-//! 2. the feature of block X holding the contact is found from the faces of X whose planes
-//!    pass within the length threshold of every representative point: none means the
-//!    contact reaches X's interior (penetrating), one a face, two an edge, three or more a
-//!    vertex;
+//! 2. the feature of block X holding the contact is found from the faces of X that hold
+//!    every representative point: a point on one of X's own edges is held by the faces at
+//!    that vertex (an original vertex) or by the edge's two faces, and by a face at an end
+//!    of the edge whose plane passes within the length threshold of it; a point on the
+//!    other block's edges by the faces of X whose planes pass within the length threshold
+//!    of it. None means the contact reaches X's interior (penetrating), one a face, two an
+//!    edge, three or more a vertex ([`faces`] has how and why);
 //! 3. the pair of features gives the type: (vertex, vertex) vertex-vertex, (vertex, edge)
 //!    vertex-edge, (vertex, face) vertex-face, (edge, face) edge-face, (face, face)
 //!    face-face; (edge, edge) is an edge-edge superposition when the two edges are parallel
@@ -28,9 +31,14 @@
 //! or contradict the geometry (a face-face contact of two cubes has eight edges with
 //! length, not three; see docs/classification.md).
 
+mod faces;
+mod points;
+
+pub(crate) use faces::{FaceLists, FaceMasks};
+pub(crate) use points::{representative_points, spread_of};
+
 use crate::block::ConvexBlock;
 use crate::geometry::DVec3;
-use crate::penetration::{EdgeEnd, PenetrationEdge, PenetrationEdgeType, Side};
 
 /// The seven contact types of two touching convex blocks.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
@@ -157,124 +165,10 @@ impl PairResult {
         }
     }
 }
-
-/// The representative points of one penetration edge (see the module docs): `points[k]`
-/// where bit `k` of the mask is set. An original vertex comes back once per edge at it:
-/// `seen` marks the owner's vertices already given (the first 64), which are left out.
-///
-/// Both points are computed and the mask says which count, rather than an array filled up
-/// to a count: an array indexed by a count lives in memory, and reading back a point just
-/// written in two parts stalls the processor (no store-to-load forwarding).
-#[inline(always)]
-fn representatives(pe: &PenetrationEdge, owner: &ConvexBlock, seen: &mut u64) -> ([DVec3; 2], u8) {
-    let vertices = owner.vertices();
-    let [v1, v2] = owner.edges()[pe.edge as usize].vertices;
-    let (p, q) = (vertices[v1 as usize], vertices[v2 as usize]);
-    let at = |k: usize| match pe.ends[k] {
-        EdgeEnd::Vertex(v) => vertices[v as usize],
-        EdgeEnd::Cut(_) => p + (q - p) * pe.t[k],
-    };
-    // Whether end `k` is new: a cut, or a vertex not seen yet (then marked).
-    let mut fresh = |k: usize| match pe.ends[k] {
-        EdgeEnd::Vertex(v) => {
-            let bit = 1u64.checked_shl(v).unwrap_or(0);
-            let new = *seen & bit == 0;
-            *seen |= bit;
-            new as u8
-        }
-        EdgeEnd::Cut(_) => 1,
-    };
-    let (ends, mask) = match (pe.kind, pe.ends) {
-        (PenetrationEdgeType::T3, [EdgeEnd::Vertex(_), _]) => ([at(0), at(0)], fresh(0)),
-        (PenetrationEdgeType::T3, _) => ([at(1), at(1)], fresh(1)),
-        (PenetrationEdgeType::T5, _) => {
-            let middle = (at(0) + at(1)) * 0.5;
-            ([middle, middle], 1)
-        }
-        _ => {
-            let first = fresh(0);
-            ([at(0), at(1)], first | fresh(1) << 1)
-        }
-    };
-    (ends, mask)
-}
-
-/// Collects the representative points of the penetration edges (see the module docs).
-pub(crate) fn representative_points(
-    a: &ConvexBlock,
-    b: &ConvexBlock,
-    edges: &[PenetrationEdge],
-    out: &mut Vec<DVec3>,
-) {
-    out.clear();
-    let mut seen = [0u64; 2];
-    for pe in edges {
-        let (owner, seen) = side(pe, [a, b], &mut seen);
-        // Keep each point once (a cut can fall on a vertex, or two cuts together).
-        let ([p, q], mask) = representatives(pe, owner, seen);
-        for (k, point) in [p, q].into_iter().enumerate() {
-            if mask >> k & 1 != 0 && !out.contains(&point) {
-                out.push(point)
-            }
-        }
-    }
-}
-
-/// The block that owns a penetration edge, and its entry of `seen`.
-#[inline]
-fn side<'a, 's>(
-    pe: &PenetrationEdge,
-    blocks: [&'a ConvexBlock; 2],
-    seen: &'s mut [u64; 2],
-) -> (&'a ConvexBlock, &'s mut u64) {
-    let s = (pe.side == Side::B) as usize;
-    (blocks[s], &mut seen[s])
-}
-
-/// Classifies a touching pair from its penetration edges (non-empty); `length` is the
-/// absolute length threshold.
-///
-/// The faces of each block within `length` of every representative point are kept as a
-/// bit mask that only shrinks: each point is tested against the faces still in the masks
-/// (after the first point, one to three per block) rather than against every face, and no
-/// list of points is built. An empty mask ends the query (`Penetrating`). Blocks with more
-/// than 64 faces take the same rule over a collected list of points.
-pub(crate) fn classify(
-    a: &ConvexBlock,
-    b: &ConvexBlock,
-    edges: &[PenetrationEdge],
-    length: f64,
-    points: &mut Vec<DVec3>,
-) -> PairResult {
-    let (Some(all_a), Some(all_b)) = (FaceMask::all(a), FaceMask::all(b)) else {
-        representative_points(a, b, edges, points);
-        let features = (feature_of(a, points, length), feature_of(b, points, length));
-        return decide(a, b, features, length, || spread(points));
-    };
-    let mut masks = [all_a, all_b];
-    let mut seen = [0u64; 2];
-    for pe in edges {
-        let (owner, seen) = side(pe, [a, b], &mut seen);
-        let ([p, q], mask) = representatives(pe, owner, seen);
-        if mask & 1 != 0 {
-            masks = [masks[0].within(a, p, length), masks[1].within(b, p, length)];
-        }
-        if mask & 2 != 0 {
-            masks = [masks[0].within(a, q, length), masks[1].within(b, q, length)];
-        }
-        if masks[0].is_empty() || masks[1].is_empty() {
-            return PairResult::Penetrating;
-        }
-    }
-    let features = (masks[0].feature(a), masks[1].feature(b));
-    // Needed only for two parallel edges: the points are visited again (no list).
-    decide(a, b, features, length, || spread_of(a, b, edges))
-}
-
 /// The contact from the features of both blocks (`None`: the points reach the block's
 /// interior); `spread` gives the extent of the representative points, asked only for two
 /// parallel edges.
-fn decide(
+pub(crate) fn decide(
     a: &ConvexBlock,
     b: &ConvexBlock,
     features: (Option<Feature>, Option<Feature>),
@@ -293,59 +187,6 @@ fn decide(
         feature_b: fb,
     })
 }
-
-/// The faces of a block (at most 64) still within the length threshold of every
-/// representative point seen so far, bit `f` for face `f`.
-#[derive(Clone, Copy)]
-struct FaceMask(u64);
-
-impl FaceMask {
-    /// Every face of `block`, or `None` past 64 faces.
-    #[inline]
-    fn all(block: &ConvexBlock) -> Option<FaceMask> {
-        match block.n_faces() {
-            64 => Some(FaceMask(u64::MAX)),
-            n if n < 64 => Some(FaceMask((1u64 << n) - 1)),
-            _ => None,
-        }
-    }
-
-    #[inline]
-    fn is_empty(self) -> bool {
-        self.0 == 0
-    }
-
-    /// The faces of the mask whose planes pass within `length` of `p` (a NaN distance
-    /// does not).
-    #[inline(always)]
-    fn within(self, block: &ConvexBlock, p: DVec3, length: f64) -> FaceMask {
-        let planes = block.planes();
-        let mut bits = self.0;
-        let mut kept = self.0;
-        while bits != 0 {
-            let f = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            let within = planes[f].distance(p).abs() <= length;
-            kept &= !((!within as u64) << f);
-        }
-        FaceMask(kept)
-    }
-
-    /// The smallest feature of `block` whose faces are the mask's first 16 (as
-    /// [`feature_of`] counts them); `None` for an empty mask.
-    fn feature(self, block: &ConvexBlock) -> Option<Feature> {
-        let mut common = [0u32; 16];
-        let mut n = 0;
-        let mut bits = self.0;
-        while bits != 0 && n < common.len() {
-            common[n] = bits.trailing_zeros();
-            bits &= bits - 1;
-            n += 1;
-        }
-        feature_from(block, &common[..n])
-    }
-}
-
 /// Whether two edges are parallel: the sine of their angle at most `sine` (the relative
 /// length threshold, so that over a block's size the edges stay within the length threshold
 /// of each other). Edges crossing at a small angle have a long stretch within the gap of each
@@ -376,51 +217,6 @@ fn contact_type(fa: Feature, fb: Feature, has_length: impl FnOnce() -> bool) -> 
         _ => ContactType::FaceFace,
     }
 }
-
-/// [`spread`] of the representative points of `edges`, visited without a list.
-fn spread_of(a: &ConvexBlock, b: &ConvexBlock, edges: &[PenetrationEdge]) -> f64 {
-    let mut seen = [0u64; 2];
-    let mut first = None;
-    let mut farthest: f64 = 0.0;
-    for pe in edges {
-        let (owner, seen) = side(pe, [a, b], &mut seen);
-        let ([p, q], mask) = representatives(pe, owner, seen);
-        for (k, point) in [p, q].into_iter().enumerate() {
-            if mask >> k & 1 != 0 {
-                let from = *first.get_or_insert(point);
-                farthest = farthest.max(point.distance(from));
-            }
-        }
-    }
-    farthest
-}
-
-/// Largest distance of a point from the first one.
-fn spread(points: &[DVec3]) -> f64 {
-    points
-        .iter()
-        .map(|p| p.distance(points[0]))
-        .fold(0.0, f64::max)
-}
-
-/// The smallest feature of `block` whose faces all pass within `length` of every point;
-/// `None` when no face does (the points reach the block's interior).
-fn feature_of(block: &ConvexBlock, points: &[DVec3], length: f64) -> Option<Feature> {
-    let planes = block.planes();
-    let mut common = [0u32; 16];
-    let mut n = 0;
-    for (f, plane) in planes.iter().enumerate() {
-        if points.iter().all(|&p| plane.distance(p).abs() <= length) {
-            if n == common.len() {
-                break;
-            }
-            common[n] = f as u32;
-            n += 1;
-        }
-    }
-    feature_from(block, &common[..n])
-}
-
 /// The smallest feature of `block` with exactly the faces `common` (in increasing order):
 /// none, a face, the edge between two faces, or the vertex on three or more.
 fn feature_from(block: &ConvexBlock, common: &[u32]) -> Option<Feature> {
@@ -465,10 +261,30 @@ fn vertex_on(block: &ConvexBlock, faces: &[u32]) -> u32 {
         .map_or(0, |(i, _)| i);
     best as u32
 }
-
 #[cfg(test)]
 mod tests {
+    use super::points::spread;
     use super::*;
+    use crate::penetration::PenetrationEdge;
+
+    /// The smallest feature of `block` whose faces all pass within `length` of every point;
+    /// `None` when no face does (the points reach the block's interior).
+    fn feature_of(block: &ConvexBlock, points: &[DVec3], length: f64) -> Option<Feature> {
+        let planes = block.planes();
+        let mut common = [0u32; 16];
+        let mut n = 0;
+        for (f, plane) in planes.iter().enumerate() {
+            if points.iter().all(|&p| plane.distance(p).abs() <= length) {
+                if n == common.len() {
+                    break;
+                }
+                common[n] = f as u32;
+                n += 1;
+            }
+        }
+        feature_from(block, &common[..n])
+    }
+
     use crate::system::test_rng::Rng;
     use crate::system::{paper_example, PaperExample};
     use crate::{Detector, Tolerance};

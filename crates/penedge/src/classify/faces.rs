@@ -1,0 +1,316 @@
+//! The faces of each block that hold every representative point (step 2 of the rule in the
+//! module docs), gathered edge by edge while the penetration edges are made.
+//!
+//! A representative point lies on an edge of its *owner* (the block whose edge was
+//! clipped) and near the *other* block's boundary:
+//!
+//! * the owner's faces that hold it follow from the owner's topology: a vertex lies on the
+//!   faces at that vertex; a point along an edge on the edge's two faces, and on a face at
+//!   one end of the edge when that face's plane passes within the length threshold of it (a
+//!   cut a rounding error away from a vertex is at the vertex). Topology rather than
+//!   computed distances: a vertex is on its faces by construction, and a block's own
+//!   tolerance (the planarity of its faces) is not the pair's;
+//! * the other block's faces that hold it are those whose planes pass within the length
+//!   threshold. Their distances are read from the pair's distance table: the distance of a
+//!   vertex is in it, and along an edge the distance is affine, so that of a point at `t` is
+//!   `d1 + t (d2 - d1)` from the two ends'. No point is computed.
+//!
+//! [`FaceMasks`] keeps both sets as bit masks that only shrink (blocks of at most 64 faces);
+//! [`FaceLists`] applies the same tests face by face, for larger blocks.
+
+use super::{feature_from, Feature};
+use crate::block::{ConvexBlock, Edge, INCIDENCE_FACES};
+use crate::geometry::DVec3;
+use crate::penetration::{
+    DistanceTable, EdgeEnd, PenetrationEdge, PenetrationEdgeType, VertexMasks,
+};
+
+/// A representative point (module docs of [`crate::classify`]), by where it lies on its
+/// owner.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Representative {
+    /// An original vertex of the owner.
+    Vertex(u32),
+    /// The point at parameter `t` along an edge of the owner (0 at its first vertex).
+    OnEdge(f64),
+}
+
+/// The representative points of a penetration edge: both ends if it has length, its
+/// original vertex if it is a stub (type 3), its middle if it is a crossing point (type 5).
+#[inline]
+pub(crate) fn representatives(pe: &PenetrationEdge) -> ([Representative; 2], usize) {
+    let end = |k: usize| match pe.ends[k] {
+        EdgeEnd::Vertex(v) => Representative::Vertex(v),
+        EdgeEnd::Cut(_) => Representative::OnEdge(pe.t[k]),
+    };
+    match (pe.kind, pe.ends) {
+        (PenetrationEdgeType::T3, [EdgeEnd::Vertex(v), _] | [_, EdgeEnd::Vertex(v)]) => {
+            ([Representative::Vertex(v); 2], 1)
+        }
+        (PenetrationEdgeType::T5, _) => {
+            let middle = Representative::OnEdge(0.5 * (pe.t[0] + pe.t[1]));
+            ([middle; 2], 1)
+        }
+        _ => ([end(0), end(1)], 2),
+    }
+}
+
+/// The point at `t` along `edge` (as the penetration edges' points are computed).
+#[inline]
+fn point_on(owner: &ConvexBlock, edge: &Edge, t: f64) -> DVec3 {
+    let [v1, v2] = edge.vertices;
+    let (p, q) = (owner.vertices()[v1 as usize], owner.vertices()[v2 as usize]);
+    p + (q - p) * t
+}
+
+/// The distance to the other block's face `f` of a representative point of the owner's edge
+/// `(v1, v2)`, from the distance table of the owner's vertices.
+#[inline]
+fn other_distance(table: &DistanceTable, f: usize, rep: Representative, [v1, v2]: [u32; 2]) -> f64 {
+    match rep {
+        Representative::Vertex(v) => table.get(f, v),
+        Representative::OnEdge(t) => {
+            let (d1, d2) = (table.get(f, v1), table.get(f, v2));
+            d1 + (d2 - d1) * t
+        }
+    }
+}
+
+/// The faces of `mask` (bit `f` for face `f`) for which `keep` holds.
+#[inline(always)]
+fn retain(mask: u64, mut keep: impl FnMut(usize) -> bool) -> u64 {
+    let (mut bits, mut kept) = (mask, mask);
+    while bits != 0 {
+        let f = bits.trailing_zeros();
+        bits &= bits - 1;
+        kept &= !((!keep(f as usize) as u64) << f);
+    }
+    kept
+}
+
+/// The faces of each block (at most 64) that hold every representative point given so far,
+/// as bit masks (bit `f` for face `f`, as in the block's vertex-face masks and the distance
+/// tables' masks).
+///
+/// The other block's faces come from the distance table: for a vertex, its `near` mask;
+/// along an edge, the faces near both ends hold every point between them (the distance is
+/// affine along the edge), and only the others are tested, at `d1 + t (d2 - d1)`. The
+/// owner's faces come from its topology where its [`crate::block::Clearance`] decides at the
+/// length threshold, else from the distances of the point to its planes.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FaceMasks<'a> {
+    blocks: [&'a ConvexBlock; 2],
+    masks: [u64; 2],
+    decided: [bool; 2],
+    length: f64,
+}
+
+impl<'a> FaceMasks<'a> {
+    /// Every face of both blocks; `None` when one has more than 64 faces.
+    #[inline]
+    pub(crate) fn new(a: &'a ConvexBlock, b: &'a ConvexBlock, length: f64) -> Option<Self> {
+        let all = |block: &ConvexBlock| match block.n_faces() {
+            n if n > INCIDENCE_FACES => None,
+            n => Some(u64::MAX >> (64 - n)),
+        };
+        Some(FaceMasks {
+            blocks: [a, b],
+            masks: [all(a)?, all(b)?],
+            decided: [a, b].map(|x| x.clearance().decides(length)),
+            length,
+        })
+    }
+
+    /// Keeps the faces that hold the representative points of `pe`; `parent` is its parent
+    /// edge, `near` the masks of the parent's two vertices (when `table` has masks) and
+    /// `table` the distances of its owner's vertices to the other block's planes.
+    ///
+    /// Once the masks have shrunk to the faces along the contact (after a point or two),
+    /// a penetration edge changes them by two `and`s: every point along an edge is held by
+    /// the edge's two faces, and by the other block's faces near both of its vertices; only
+    /// faces still in a mask and not settled so are tested point by point.
+    #[inline(always)]
+    pub(crate) fn add(
+        &mut self,
+        pe: &PenetrationEdge,
+        parent: &Edge,
+        near: [VertexMasks; 2],
+        table: &DistanceTable,
+    ) {
+        let side = pe.side as usize;
+        let other = 1 - side;
+        let ends = parent.vertices;
+        if let (PenetrationEdgeType::T3, [EdgeEnd::Vertex(v), _] | [_, EdgeEnd::Vertex(v)]) =
+            (pe.kind, pe.ends)
+        {
+            return self.vertex(side, v, table);
+        }
+        if self.decided[side] && table.masked() {
+            let along = 1u64 << parent.faces[0] | 1u64 << parent.faces[1];
+            let at = self.blocks[side].vertex_faces();
+            let [v1, v2] = ends.map(|v| at[v as usize]);
+            let both = near[0].near & near[1].near;
+            let open_own = (v1 | v2) & !along & self.masks[side];
+            let open_other = self.masks[other] & !both;
+            if open_own | open_other == 0 {
+                self.masks[side] &= along;
+                self.masks[other] &= both;
+                return;
+            }
+        }
+        match (pe.kind, pe.ends) {
+            (PenetrationEdgeType::T5, _) => {
+                let t = 0.5 * (pe.t[0] + pe.t[1]);
+                self.along(side, parent, near, t, table)
+            }
+            (_, [first, second]) => {
+                for (k, end) in [first, second].into_iter().enumerate() {
+                    match end {
+                        EdgeEnd::Vertex(v) => self.vertex(side, v, table),
+                        EdgeEnd::Cut(_) => self.along(side, parent, near, pe.t[k], table),
+                    }
+                }
+            }
+        }
+    }
+
+    /// A representative point at vertex `v` of block `side`.
+    #[inline(always)]
+    fn vertex(&mut self, side: usize, v: u32, table: &DistanceTable) {
+        let owner = self.blocks[side];
+        self.masks[side] = if self.decided[side] {
+            self.masks[side] & owner.vertex_faces()[v as usize]
+        } else {
+            self.within(side, owner.vertices()[v as usize])
+        };
+        let other = 1 - side;
+        self.masks[other] = if table.masked() {
+            self.masks[other] & table.vertex_masks(v).near
+        } else {
+            let length = self.length;
+            retain(self.masks[other], |f| table.get(f, v).abs() <= length)
+        };
+    }
+
+    /// A representative point at `t` along edge `edge` of block `side`; `near` the masks of
+    /// its vertices.
+    #[inline(always)]
+    fn along(
+        &mut self,
+        side: usize,
+        edge: &Edge,
+        near: [VertexMasks; 2],
+        t: f64,
+        table: &DistanceTable,
+    ) {
+        let owner = self.blocks[side];
+        let [v1, v2] = edge.vertices;
+        let length = self.length;
+        self.masks[side] = if self.decided[side] {
+            let along = 1u64 << edge.faces[0] | 1u64 << edge.faces[1];
+            let at = owner.vertex_faces();
+            let near_end = (at[v1 as usize] | at[v2 as usize]) & !along & self.masks[side];
+            let ends = if near_end == 0 {
+                0
+            } else {
+                let p = point_on(owner, edge, t);
+                retain(near_end, |f| owner.planes()[f].distance(p).abs() <= length)
+            };
+            self.masks[side] & (along | ends)
+        } else {
+            self.within(side, point_on(owner, edge, t))
+        };
+        let other = 1 - side;
+        let lerp = |f: usize| {
+            let (d1, d2) = (table.get(f, v1), table.get(f, v2));
+            (d1 + (d2 - d1) * t).abs() <= length
+        };
+        self.masks[other] = if table.masked() {
+            let both = near[0].near & near[1].near;
+            let rest = self.masks[other] & !both;
+            let tested = if rest == 0 { 0 } else { retain(rest, lerp) };
+            self.masks[other] & (both | tested)
+        } else {
+            retain(self.masks[other], lerp)
+        };
+    }
+
+    /// The faces of block `side` in its mask whose planes pass within the length threshold
+    /// of `p`.
+    #[inline]
+    fn within(&self, side: usize, p: DVec3) -> u64 {
+        let (planes, length) = (self.blocks[side].planes(), self.length);
+        retain(self.masks[side], |f| planes[f].distance(p).abs() <= length)
+    }
+
+    /// The feature of each block that holds the contact.
+    pub(crate) fn features(&self) -> (Option<Feature>, Option<Feature>) {
+        let feature = |k: usize| feature_of_mask(self.blocks[k], self.masks[k]);
+        (feature(0), feature(1))
+    }
+}
+
+/// The smallest feature of `block` with exactly the faces of `mask`.
+fn feature_of_mask(block: &ConvexBlock, mask: u64) -> Option<Feature> {
+    match mask.count_ones() {
+        0 => None,
+        1 => Some(Feature::Face(mask.trailing_zeros())),
+        2 => {
+            let (f, g) = (mask.trailing_zeros(), (mask & (mask - 1)).trailing_zeros());
+            feature_from(block, &[f, g])
+        }
+        _ => match block.vertex_faces().iter().position(|&m| m & mask == mask) {
+            Some(v) => Some(Feature::Vertex(v as u32)),
+            None => {
+                let faces: Vec<u32> = (0..64).filter(|f| mask >> f & 1 == 1).collect();
+                feature_from(block, &faces)
+            }
+        },
+    }
+}
+
+/// [`FaceMasks`] for blocks of any number of faces (their clearance is not kept): the same
+/// tests, face by face over lists of the faces still held, the owner's by the distances of
+/// the points to its planes.
+pub(crate) struct FaceLists<'a> {
+    blocks: [&'a ConvexBlock; 2],
+    held: [Vec<u32>; 2],
+    length: f64,
+}
+
+impl<'a> FaceLists<'a> {
+    /// Every face of both blocks.
+    pub(crate) fn new(a: &'a ConvexBlock, b: &'a ConvexBlock, length: f64) -> Self {
+        let all = |block: &ConvexBlock| (0..block.n_faces() as u32).collect();
+        FaceLists {
+            blocks: [a, b],
+            held: [all(a), all(b)],
+            length,
+        }
+    }
+
+    /// [`FaceMasks::add`].
+    pub(crate) fn add(&mut self, pe: &PenetrationEdge, table: &DistanceTable) {
+        let (reps, n) = representatives(pe);
+        let side = pe.side as usize;
+        let owner = self.blocks[side];
+        let edge = owner.edges()[pe.edge as usize];
+        let length = self.length;
+        for &rep in &reps[..n] {
+            let p = match rep {
+                Representative::Vertex(v) => owner.vertices()[v as usize],
+                Representative::OnEdge(t) => point_on(owner, &edge, t),
+            };
+            let planes = owner.planes();
+            self.held[side].retain(|&f| planes[f as usize].distance(p).abs() <= length);
+            self.held[1 - side]
+                .retain(|&f| other_distance(table, f as usize, rep, edge.vertices).abs() <= length);
+        }
+    }
+
+    /// [`FaceMasks::features`].
+    pub(crate) fn features(&self) -> (Option<Feature>, Option<Feature>) {
+        let feature = |k: usize| feature_from(self.blocks[k], &self.held[k]);
+        (feature(0), feature(1))
+    }
+}

@@ -1,0 +1,106 @@
+//! Representative points as coordinates: the contact geometry builds on them, and the
+//! test for two parallel edges needs their extent.
+
+use crate::block::ConvexBlock;
+use crate::geometry::DVec3;
+use crate::penetration::{EdgeEnd, PenetrationEdge, PenetrationEdgeType, Side};
+
+/// The representative points of one penetration edge (see the module docs): `points[k]`
+/// where bit `k` of the mask is set. An original vertex comes back once per edge at it:
+/// `seen` marks the owner's vertices already given (the first 64), which are left out.
+///
+/// Both points are computed and the mask says which count, rather than an array filled up
+/// to a count: an array indexed by a count lives in memory, and reading back a point just
+/// written in two parts stalls the processor (no store-to-load forwarding).
+#[inline(always)]
+fn representatives(pe: &PenetrationEdge, owner: &ConvexBlock, seen: &mut u64) -> ([DVec3; 2], u8) {
+    let vertices = owner.vertices();
+    let [v1, v2] = owner.edges()[pe.edge as usize].vertices;
+    let (p, q) = (vertices[v1 as usize], vertices[v2 as usize]);
+    let at = |k: usize| match pe.ends[k] {
+        EdgeEnd::Vertex(v) => vertices[v as usize],
+        EdgeEnd::Cut(_) => p + (q - p) * pe.t[k],
+    };
+    // Whether end `k` is new: a cut, or a vertex not seen yet (then marked).
+    let mut fresh = |k: usize| match pe.ends[k] {
+        EdgeEnd::Vertex(v) => {
+            let bit = 1u64.checked_shl(v).unwrap_or(0);
+            let new = *seen & bit == 0;
+            *seen |= bit;
+            new as u8
+        }
+        EdgeEnd::Cut(_) => 1,
+    };
+    let (ends, mask) = match (pe.kind, pe.ends) {
+        (PenetrationEdgeType::T3, [EdgeEnd::Vertex(_), _]) => ([at(0), at(0)], fresh(0)),
+        (PenetrationEdgeType::T3, _) => ([at(1), at(1)], fresh(1)),
+        (PenetrationEdgeType::T5, _) => {
+            let middle = (at(0) + at(1)) * 0.5;
+            ([middle, middle], 1)
+        }
+        _ => {
+            let first = fresh(0);
+            ([at(0), at(1)], first | fresh(1) << 1)
+        }
+    };
+    (ends, mask)
+}
+
+/// Collects the representative points of the penetration edges (see the module docs).
+pub(crate) fn representative_points(
+    a: &ConvexBlock,
+    b: &ConvexBlock,
+    edges: &[PenetrationEdge],
+    out: &mut Vec<DVec3>,
+) {
+    out.clear();
+    let mut seen = [0u64; 2];
+    for pe in edges {
+        let (owner, seen) = side(pe, [a, b], &mut seen);
+        // Keep each point once (a cut can fall on a vertex, or two cuts together).
+        let ([p, q], mask) = representatives(pe, owner, seen);
+        for (k, point) in [p, q].into_iter().enumerate() {
+            if mask >> k & 1 != 0 && !out.contains(&point) {
+                out.push(point)
+            }
+        }
+    }
+}
+
+/// The block that owns a penetration edge, and its entry of `seen`.
+#[inline]
+fn side<'a, 's>(
+    pe: &PenetrationEdge,
+    blocks: [&'a ConvexBlock; 2],
+    seen: &'s mut [u64; 2],
+) -> (&'a ConvexBlock, &'s mut u64) {
+    let s = (pe.side == Side::B) as usize;
+    (blocks[s], &mut seen[s])
+}
+
+/// [`spread`] of the representative points of `edges`, visited without a list.
+pub(crate) fn spread_of(a: &ConvexBlock, b: &ConvexBlock, edges: &[PenetrationEdge]) -> f64 {
+    let mut seen = [0u64; 2];
+    let mut first = None;
+    let mut farthest: f64 = 0.0;
+    for pe in edges {
+        let (owner, seen) = side(pe, [a, b], &mut seen);
+        let ([p, q], mask) = representatives(pe, owner, seen);
+        for (k, point) in [p, q].into_iter().enumerate() {
+            if mask >> k & 1 != 0 {
+                let from = *first.get_or_insert(point);
+                farthest = farthest.max(point.distance(from));
+            }
+        }
+    }
+    farthest
+}
+
+/// Largest distance of a point from the first one.
+#[cfg(test)]
+pub(super) fn spread(points: &[DVec3]) -> f64 {
+    points
+        .iter()
+        .map(|p| p.distance(points[0]))
+        .fold(0.0, f64::max)
+}
