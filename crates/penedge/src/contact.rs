@@ -1,11 +1,10 @@
 //! The pair query: penetration edges, then the contact decision and type.
 
 use crate::block::ConvexBlock;
-use crate::block::Edge;
-use crate::classify::{decide, spread_of, FaceLists, FaceMasks, PairResult};
+use crate::classify::{decide, spread_exceeds, FaceLists, FaceMasks, PairResult};
 use crate::geometry::DVec3;
 use crate::penetration::{
-    clip_edges, DistanceTable, EdgeSink, Kernel, PenetrationEdge, Side, VertexMasks,
+    clip_edges, DistanceTable, EdgeSink, Kernel, PenetrationEdge, Piece, Side,
 };
 use crate::tolerance::{Thresholds, Tolerance};
 
@@ -69,7 +68,9 @@ impl Detector {
                 }
             }
         };
-        decide(a, b, features, th.length, || spread_of(a, b, &self.edges))
+        decide(a, b, features, th.length, |l| {
+            spread_exceeds(a, b, &self.edges, l)
+        })
     }
 
     /// The outcome of a pair that is not classified: separated by a face plane (`None`) or
@@ -152,14 +153,8 @@ impl Detector {
 
 impl EdgeSink for FaceMasks<'_> {
     #[inline(always)]
-    fn edge(
-        &mut self,
-        pe: &PenetrationEdge,
-        parent: &Edge,
-        near: [VertexMasks; 2],
-        t: &DistanceTable,
-    ) {
-        self.add(pe, parent, near, t);
+    fn edge(&mut self, piece: &Piece<'_>, table: &DistanceTable) {
+        self.add(piece, table);
     }
 }
 
@@ -167,8 +162,8 @@ impl EdgeSink for FaceMasks<'_> {
 struct Sides<'l, 'a>(&'l mut FaceLists<'a>);
 
 impl EdgeSink for Sides<'_, '_> {
-    fn edge(&mut self, pe: &PenetrationEdge, _: &Edge, _: [VertexMasks; 2], t: &DistanceTable) {
-        self.0.add(pe, t);
+    fn edge(&mut self, piece: &Piece<'_>, table: &DistanceTable) {
+        self.0.add(piece, table);
     }
 }
 

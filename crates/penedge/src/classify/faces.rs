@@ -21,9 +21,7 @@
 use super::{feature_from, Feature};
 use crate::block::{ConvexBlock, Edge, INCIDENCE_FACES};
 use crate::geometry::DVec3;
-use crate::penetration::{
-    DistanceTable, EdgeEnd, PenetrationEdge, PenetrationEdgeType, VertexMasks,
-};
+use crate::penetration::{DistanceTable, PenetrationEdgeType, Piece};
 
 /// A representative point (module docs of [`crate::classify`]), by where it lies on its
 /// owner.
@@ -38,20 +36,21 @@ pub(crate) enum Representative {
 /// The representative points of a penetration edge: both ends if it has length, its
 /// original vertex if it is a stub (type 3), its middle if it is a crossing point (type 5).
 #[inline]
-pub(crate) fn representatives(pe: &PenetrationEdge) -> ([Representative; 2], usize) {
-    let end = |k: usize| match pe.ends[k] {
-        EdgeEnd::Vertex(v) => Representative::Vertex(v),
-        EdgeEnd::Cut(_) => Representative::OnEdge(pe.t[k]),
-    };
-    match (pe.kind, pe.ends) {
-        (PenetrationEdgeType::T3, [EdgeEnd::Vertex(v), _] | [_, EdgeEnd::Vertex(v)]) => {
-            ([Representative::Vertex(v); 2], 1)
-        }
-        (PenetrationEdgeType::T5, _) => {
-            let middle = Representative::OnEdge(0.5 * (pe.t[0] + pe.t[1]));
+fn representatives(piece: &Piece<'_>) -> ([Representative; 2], usize) {
+    let vertex = |k: usize| Representative::Vertex(piece.parent.vertices[k]);
+    match piece.kind {
+        PenetrationEdgeType::T3 => ([vertex(piece.is_cut(0) as usize); 2], 1),
+        PenetrationEdgeType::T5 => {
+            let middle = Representative::OnEdge(0.5 * (piece.t[0] + piece.t[1]));
             ([middle; 2], 1)
         }
-        _ => ([end(0), end(1)], 2),
+        _ => {
+            let end = |k: usize| match piece.is_cut(k) {
+                true => Representative::OnEdge(piece.t[k]),
+                false => vertex(k),
+            };
+            ([end(0), end(1)], 2)
+        }
     }
 }
 
@@ -121,35 +120,28 @@ impl<'a> FaceMasks<'a> {
         })
     }
 
-    /// Keeps the faces that hold the representative points of `pe`; `parent` is its parent
-    /// edge, `near` the masks of the parent's two vertices (when `table` has masks) and
-    /// `table` the distances of its owner's vertices to the other block's planes.
+    /// Keeps the faces that hold the representative points of `piece`; `table` holds the
+    /// distances of its owner's vertices to the other block's planes.
     ///
     /// Once the masks have shrunk to the faces along the contact (after a point or two),
     /// a penetration edge changes them by two `and`s: every point along an edge is held by
     /// the edge's two faces, and by the other block's faces near both of its vertices; only
     /// faces still in a mask and not settled so are tested point by point.
     #[inline(always)]
-    pub(crate) fn add(
-        &mut self,
-        pe: &PenetrationEdge,
-        parent: &Edge,
-        near: [VertexMasks; 2],
-        table: &DistanceTable,
-    ) {
-        let side = pe.side as usize;
+    pub(crate) fn add(&mut self, piece: &Piece<'_>, table: &DistanceTable) {
+        let side = piece.side as usize;
         let other = 1 - side;
-        let ends = parent.vertices;
-        if let (PenetrationEdgeType::T3, [EdgeEnd::Vertex(v), _] | [_, EdgeEnd::Vertex(v)]) =
-            (pe.kind, pe.ends)
-        {
+        let parent = piece.parent;
+        if piece.kind == PenetrationEdgeType::T3 {
+            // The stub's original vertex.
+            let v = parent.vertices[piece.is_cut(0) as usize];
             return self.vertex(side, v, table);
         }
         if self.decided[side] && table.masked() {
             let along = 1u64 << parent.faces[0] | 1u64 << parent.faces[1];
             let at = self.blocks[side].vertex_faces();
-            let [v1, v2] = ends.map(|v| at[v as usize]);
-            let both = near[0].near & near[1].near;
+            let [v1, v2] = parent.vertices.map(|v| at[v as usize]);
+            let both = piece.near[0] & piece.near[1];
             let open_own = (v1 | v2) & !along & self.masks[side];
             let open_other = self.masks[other] & !both;
             if open_own | open_other == 0 {
@@ -158,18 +150,15 @@ impl<'a> FaceMasks<'a> {
                 return;
             }
         }
-        match (pe.kind, pe.ends) {
-            (PenetrationEdgeType::T5, _) => {
-                let t = 0.5 * (pe.t[0] + pe.t[1]);
-                self.along(side, parent, near, t, table)
-            }
-            (_, [first, second]) => {
-                for (k, end) in [first, second].into_iter().enumerate() {
-                    match end {
-                        EdgeEnd::Vertex(v) => self.vertex(side, v, table),
-                        EdgeEnd::Cut(_) => self.along(side, parent, near, pe.t[k], table),
-                    }
-                }
+        if piece.kind == PenetrationEdgeType::T5 {
+            let t = 0.5 * (piece.t[0] + piece.t[1]);
+            return self.along(side, parent, piece.near, t, table);
+        }
+        for k in 0..2 {
+            if piece.is_cut(k) {
+                self.along(side, parent, piece.near, piece.t[k], table);
+            } else {
+                self.vertex(side, parent.vertices[k], table);
             }
         }
     }
@@ -195,14 +184,7 @@ impl<'a> FaceMasks<'a> {
     /// A representative point at `t` along edge `edge` of block `side`; `near` the masks of
     /// its vertices.
     #[inline(always)]
-    fn along(
-        &mut self,
-        side: usize,
-        edge: &Edge,
-        near: [VertexMasks; 2],
-        t: f64,
-        table: &DistanceTable,
-    ) {
+    fn along(&mut self, side: usize, edge: &Edge, near: [u64; 2], t: f64, table: &DistanceTable) {
         let owner = self.blocks[side];
         let [v1, v2] = edge.vertices;
         let length = self.length;
@@ -226,7 +208,7 @@ impl<'a> FaceMasks<'a> {
             (d1 + (d2 - d1) * t).abs() <= length
         };
         self.masks[other] = if table.masked() {
-            let both = near[0].near & near[1].near;
+            let both = near[0] & near[1];
             let rest = self.masks[other] & !both;
             let tested = if rest == 0 { 0 } else { retain(rest, lerp) };
             self.masks[other] & (both | tested)
@@ -290,11 +272,11 @@ impl<'a> FaceLists<'a> {
     }
 
     /// [`FaceMasks::add`].
-    pub(crate) fn add(&mut self, pe: &PenetrationEdge, table: &DistanceTable) {
-        let (reps, n) = representatives(pe);
-        let side = pe.side as usize;
+    pub(crate) fn add(&mut self, piece: &Piece<'_>, table: &DistanceTable) {
+        let (reps, n) = representatives(piece);
+        let side = piece.side as usize;
         let owner = self.blocks[side];
-        let edge = owner.edges()[pe.edge as usize];
+        let edge = *piece.parent;
         let length = self.length;
         for &rep in &reps[..n] {
             let p = match rep {

@@ -35,7 +35,7 @@ mod faces;
 mod points;
 
 pub(crate) use faces::{FaceLists, FaceMasks};
-pub(crate) use points::{representative_points, spread_of};
+pub(crate) use points::{representative_points, spread_exceeds};
 
 use crate::block::ConvexBlock;
 use crate::geometry::DVec3;
@@ -166,20 +166,20 @@ impl PairResult {
     }
 }
 /// The contact from the features of both blocks (`None`: the points reach the block's
-/// interior); `spread` gives the extent of the representative points, asked only for two
-/// parallel edges.
+/// interior); `spread_exceeds(length)` tells whether the representative points span more
+/// than `length`, asked only for two parallel edges.
 pub(crate) fn decide(
     a: &ConvexBlock,
     b: &ConvexBlock,
     features: (Option<Feature>, Option<Feature>),
     length: f64,
-    spread: impl FnOnce() -> f64,
+    spread_exceeds: impl FnOnce(f64) -> bool,
 ) -> PairResult {
     let (Some(fa), Some(fb)) = features else {
         return PairResult::Penetrating;
     };
     let superposed =
-        || edges_parallel(a, b, fa, fb, length / a.size().min(b.size())) && spread() > length;
+        || edges_parallel(a, b, fa, fb, length / a.size().min(b.size())) && spread_exceeds(length);
     let kind = contact_type(fa, fb, superposed);
     PairResult::Contact(Contact {
         kind,
@@ -304,7 +304,7 @@ mod tests {
             feature_of(a, &points, length),
             feature_of(b, &points, length),
         );
-        decide(a, b, features, length, || spread(&points))
+        decide(a, b, features, length, |l| spread(&points) > l)
     }
 
     /// A unit cube turned by `rotation` and moved so that its lowest feature (vertex, edge

@@ -78,22 +78,27 @@ fn side<'a, 's>(
     (blocks[s], &mut seen[s])
 }
 
-/// [`spread`] of the representative points of `edges`, visited without a list.
-pub(crate) fn spread_of(a: &ConvexBlock, b: &ConvexBlock, edges: &[PenetrationEdge]) -> f64 {
+/// Whether the representative points of `edges` span more than `length`: some point
+/// farther than `length` from the first ([`spread`] above `length`), visited without a list
+/// and left at the first such point.
+pub(crate) fn spread_exceeds(
+    a: &ConvexBlock,
+    b: &ConvexBlock,
+    edges: &[PenetrationEdge],
+    length: f64,
+) -> bool {
     let mut seen = [0u64; 2];
     let mut first = None;
-    let mut farthest: f64 = 0.0;
     for pe in edges {
         let (owner, seen) = side(pe, [a, b], &mut seen);
         let ([p, q], mask) = representatives(pe, owner, seen);
         for (k, point) in [p, q].into_iter().enumerate() {
-            if mask >> k & 1 != 0 {
-                let from = *first.get_or_insert(point);
-                farthest = farthest.max(point.distance(from));
+            if mask >> k & 1 != 0 && point.distance(*first.get_or_insert(point)) > length {
+                return true;
             }
         }
     }
-    farthest
+    false
 }
 
 /// Largest distance of a point from the first one.

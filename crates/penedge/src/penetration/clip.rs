@@ -2,13 +2,14 @@
 //! table: the parameter interval of each edge inside the other block widened by the gap.
 
 use super::table::{DistanceTable, VertexMasks};
+use super::NO_CUT;
 use crate::block::Edge;
 
 /// The part `t[0]..=t[1]` of an edge that survives, with the face that cuts each end
-/// (`None`: the end is the edge's own vertex).
+/// ([`NO_CUT`]: the end is the edge's own vertex).
 pub(super) struct Clipped {
     pub(super) t: [f64; 2],
-    pub(super) cut: [Option<u32>; 2],
+    pub(super) cut: [u32; 2],
 }
 
 /// The edges of a block (at most 64 at a time) that the masks do not reject: bit `k` set
@@ -48,14 +49,14 @@ pub(super) fn masked(
             den: d1.abs() + d2.abs(),
         }
     };
-    let (mut entry, mut entry_face) = (Fraction::ZERO, u32::MAX);
+    let (mut entry, mut entry_face) = (Fraction::ZERO, NO_CUT);
     for f in FaceBits(m1.outside) {
         let t = cut_at(f);
         let later = t.above(entry);
         entry = if later { t } else { entry };
         entry_face = if later { f as u32 } else { entry_face };
     }
-    let (mut exit, mut exit_face) = (Fraction::ONE, u32::MAX);
+    let (mut exit, mut exit_face) = (Fraction::ONE, NO_CUT);
     for f in FaceBits(m2.outside) {
         let t = cut_at(f);
         let earlier = exit.above(t);
@@ -63,10 +64,9 @@ pub(super) fn masked(
         exit_face = if earlier { f as u32 } else { exit_face };
     }
     let t = [entry.value(), exit.value()];
-    let cut = |f: u32| (f != u32::MAX).then_some(f);
     (t[0] <= t[1]).then_some(Clipped {
         t,
-        cut: [cut(entry_face), cut(exit_face)],
+        cut: [entry_face, exit_face],
     })
 }
 
@@ -112,7 +112,7 @@ fn faces(
 ) -> Option<Clipped> {
     let mut c = Clipped {
         t: [0.0, 1.0],
-        cut: [None, None],
+        cut: [NO_CUT; 2],
     };
     for f in faces {
         let d1 = table.get(f, v1) - offset;
@@ -132,11 +132,11 @@ fn faces(
         if out1 {
             if t > c.t[0] {
                 c.t[0] = t;
-                c.cut[0] = Some(f as u32);
+                c.cut[0] = f as u32;
             }
         } else if t < c.t[1] {
             c.t[1] = t;
-            c.cut[1] = Some(f as u32);
+            c.cut[1] = f as u32;
         }
     }
     let keep = if strict {

@@ -88,32 +88,68 @@ pub struct PenetrationEdge {
     pub kind: PenetrationEdgeType,
 }
 
-/// What a consumer of the penetration edges of a pair is told as each one is made: the edge,
-/// its parent edge, the masks of the parent's two vertices (zero when the table has no
-/// masks) and the distance table of its owner's vertices to the other block's planes. The
+/// A penetration edge as the clipping makes it, for a consumer that reads it at once (the
+/// classification): its block, parent edge, Table 1 type, parameters, the face that cuts
+/// each end ([`NO_CUT`]: the end is the parent's vertex), and the faces near each of the
+/// parent's two vertices ([`VertexMasks::near`]; zero when the table has no masks).
+pub(crate) struct Piece<'a> {
+    pub(crate) side: Side,
+    pub(crate) parent: &'a Edge,
+    pub(crate) kind: PenetrationEdgeType,
+    pub(crate) t: [f64; 2],
+    pub(crate) cut: [u32; 2],
+    pub(crate) near: [u64; 2],
+}
+
+/// The face of an end that no face cuts.
+pub(crate) const NO_CUT: u32 = u32::MAX;
+
+impl Piece<'_> {
+    /// Whether end `k` is a cut (else the parent's vertex `k`).
+    #[inline(always)]
+    pub(crate) fn is_cut(&self, k: usize) -> bool {
+        self.cut[k] != NO_CUT
+    }
+
+    /// The penetration edge, its parent being edge `e` of its block.
+    #[inline(always)]
+    fn edge(&self, e: usize) -> PenetrationEdge {
+        let end = |k: usize| {
+            if self.is_cut(k) {
+                EdgeEnd::Cut(self.cut[k])
+            } else {
+                EdgeEnd::Vertex(self.parent.vertices[k])
+            }
+        };
+        PenetrationEdge {
+            side: self.side,
+            edge: e as u32,
+            t: self.t,
+            ends: [end(0), end(1)],
+            kind: self.kind,
+        }
+    }
+}
+
+/// What a consumer of the penetration edges of a pair is told as each one is made: the
+/// piece, and the distance table of its owner's vertices to the other block's planes. The
 /// classification reads them as they come: no second pass, nothing looked up again.
 pub(crate) trait EdgeSink {
     /// One penetration edge.
-    fn edge(
-        &mut self,
-        pe: &PenetrationEdge,
-        parent: &Edge,
-        masks: [VertexMasks; 2],
-        table: &DistanceTable,
-    );
+    fn edge(&mut self, piece: &Piece<'_>, table: &DistanceTable);
 }
 
 /// No consumer.
 impl EdgeSink for () {
     #[inline(always)]
-    fn edge(&mut self, _: &PenetrationEdge, _: &Edge, _: [VertexMasks; 2], _: &DistanceTable) {}
+    fn edge(&mut self, _: &Piece<'_>, _: &DistanceTable) {}
 }
 
 /// Appends to `out` the penetration edges of `of`'s edges inside `other` widened by `gap`
 /// (`table` holds the distances of `of`'s vertices to `other`'s planes), telling `sink` of
-/// each. Returns whether one of them goes deeper than `gap` into `other` (strictly): an
-/// edge deeper than the gap is a penetration edge too, so only the surviving edges need
-/// that second test.
+/// each until one goes deeper than `gap` into `other` (strictly), which settles the pair.
+/// Returns whether one does: an edge deeper than the gap is a penetration edge too, so only
+/// the surviving edges need that second test.
 #[inline(always)]
 pub(crate) fn clip_edges(
     of: &ConvexBlock,
@@ -131,11 +167,8 @@ pub(crate) fn clip_edges(
             let [v1, v2] = edge.vertices;
             if let Some((c, d)) = clip::unmasked(table, other.n_faces(), v1, v2, th.gap) {
                 deep |= d;
-                let pe = piece(of, side, e, edge, c, th);
-                if !deep {
-                    sink.edge(&pe, edge, [VertexMasks::default(); 2], table);
-                }
-                out.push(pe);
+                let masks = [VertexMasks::default(); 2];
+                keep(of, side, (e, edge), c, masks, th, table, deep, out, sink);
             }
         }
         return deep;
@@ -143,50 +176,86 @@ pub(crate) fn clip_edges(
     for (chunk, first) in edges.chunks(64).zip((0..).step_by(64)) {
         let mut survivors = clip::survivors(table, chunk);
         while survivors != 0 {
-            let e = first + survivors.trailing_zeros() as usize;
+            let k = survivors.trailing_zeros() as usize;
             survivors &= survivors - 1;
-            let edge = &edges[e];
+            let edge = &chunk[k];
             let [v1, v2] = edge.vertices;
             let masks = [table.vertex_masks(v1), table.vertex_masks(v2)];
             if let Some(c) = clip::masked(table, masks, v1, v2, th.gap) {
                 deep = deep || clip::masked_deep(table, masks, v1, v2, th.gap);
-                let pe = piece(of, side, e, edge, c, th);
-                // A deep edge settles the pair (penetrating): nothing more to classify.
-                if !deep {
-                    sink.edge(&pe, edge, masks, table);
-                }
-                out.push(pe);
+                keep(
+                    of,
+                    side,
+                    (first + k, edge),
+                    c,
+                    masks,
+                    th,
+                    table,
+                    deep,
+                    out,
+                    sink,
+                );
             }
         }
     }
     deep
 }
 
-/// The penetration edge of `of`'s edge `e` from its clipped interval.
+/// Stores the penetration edge of edge `e` clipped to `c`, and tells `sink` of it unless a
+/// deep edge has settled the pair.
+#[allow(clippy::too_many_arguments)] // one call site per path of `clip_edges`, inlined
 #[inline(always)]
-fn piece(
+fn keep(
     of: &ConvexBlock,
     side: Side,
-    e: usize,
-    edge: &Edge,
+    (e, parent): (usize, &Edge),
     c: Clipped,
+    masks: [VertexMasks; 2],
     th: Thresholds,
-) -> PenetrationEdge {
-    let [v1, v2] = edge.vertices;
-    let end = |k: usize, v: u32| c.cut[k].map_or(EdgeEnd::Vertex(v), EdgeEnd::Cut);
-    let ends = [end(0, v1), end(1, v2)];
+    table: &DistanceTable,
+    deep: bool,
+    out: &mut Vec<PenetrationEdge>,
+    sink: &mut impl EdgeSink,
+) {
+    let piece = piece(of, side, parent, c, masks, th);
+    if !deep {
+        sink.edge(&piece, table);
+    }
+    out.push(piece.edge(e));
+}
+
+/// The piece of `parent` left by the clipping `c`.
+#[inline(always)]
+fn piece<'a>(
+    of: &ConvexBlock,
+    side: Side,
+    parent: &'a Edge,
+    c: Clipped,
+    masks: [VertexMasks; 2],
+    th: Thresholds,
+) -> Piece<'a> {
+    let cut = c.cut.map(|f| f != NO_CUT);
     // Two original vertices always make a type 1; otherwise the length decides.
-    let has_length = (c.cut[0].is_none() && c.cut[1].is_none()) || {
+    let kind = if cut == [false, false] {
+        PenetrationEdgeType::T1
+    } else {
+        let [v1, v2] = parent.vertices;
         let edge_vector = of.vertices()[v2 as usize] - of.vertices()[v1 as usize];
         let piece = c.t[1] - c.t[0];
-        piece * piece * edge_vector.length_squared() > th.length * th.length
+        let has_length = piece * piece * edge_vector.length_squared() > th.length * th.length;
+        const BY_CUTS: [[PenetrationEdgeType; 2]; 3] = {
+            use PenetrationEdgeType::*;
+            [[T1, T1], [T3, T2], [T5, T4]]
+        };
+        BY_CUTS[cut[0] as usize + cut[1] as usize][has_length as usize]
     };
-    PenetrationEdge {
+    Piece {
         side,
-        edge: e as u32,
+        parent,
+        kind,
         t: c.t,
-        ends,
-        kind: PenetrationEdgeType::of(ends, has_length),
+        cut: c.cut,
+        near: masks.map(|m| m.near),
     }
 }
 

@@ -160,10 +160,16 @@ impl DistanceTable {
         outside_all == 0
     }
 
-    /// The distance of vertex `vertex` to face plane `face`.
+    /// The distance of vertex `vertex` to face plane `face`: a vertex of the block the table
+    /// was last filled for, and a face of the other.
     #[inline]
     pub(crate) fn get(&self, face: usize, vertex: u32) -> f64 {
-        self.table[vertex as usize * self.row + face]
+        let k = vertex as usize * self.row + face;
+        debug_assert!(face < self.row && k < self.table.len());
+        // SAFETY: the table holds `n_vertices * row` distances (`fill`), and callers pass a
+        // vertex of the block it was filled for (below its `n_vertices`: an edge's end,
+        // checked when the block was built) and a face of the other (below `row`).
+        unsafe { *self.table.get_unchecked(k) }
     }
 
     /// Whether the masks were built (the other block has at most [`MASK_FACES`] faces).
@@ -178,10 +184,14 @@ impl DistanceTable {
         self.masked = false;
     }
 
-    /// The masks of `vertex`; only with [`DistanceTable::masked`].
+    /// The masks of `vertex` (of the block the table was last filled for); only with
+    /// [`DistanceTable::masked`].
     #[inline]
     pub(crate) fn vertex_masks(&self, vertex: u32) -> VertexMasks {
-        self.vertices[vertex as usize]
+        debug_assert!((vertex as usize) < self.vertices.len());
+        // SAFETY: `fill` keeps a mask per vertex of the block (at least `n_vertices`), and
+        // callers pass one of its vertices (an edge's end, checked when it was built).
+        unsafe { *self.vertices.get_unchecked(vertex as usize) }
     }
 }
 
