@@ -112,17 +112,19 @@ impl DistanceTable {
         let local = of.local();
         let planes = to.planes();
         let n_vertices = of.vertices().len();
+        // Room for the padded last group of four vertices (the AVX kernel fills it).
+        let rows = 4 * local.quads.len();
         self.masked = planes.len() <= MASK_FACES;
         self.row = 4 * planes.len().div_ceil(4);
-        let needed = n_vertices * self.row;
+        let needed = rows * self.row;
         if self.table.len() < needed {
             self.table.resize(needed, 0.0);
         }
-        if self.vertices.len() < n_vertices {
-            self.vertices.resize(n_vertices, VertexMasks::default());
+        if self.vertices.len() < rows {
+            self.vertices.resize(rows, VertexMasks::default());
         }
         let table = &mut self.table[..needed];
-        let masks = &mut self.vertices[..n_vertices];
+        let masks = &mut self.vertices[..rows];
         let outside_all = match kernel {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: `Kernel::Avx` is only chosen where the processor has AVX.
@@ -155,7 +157,7 @@ impl DistanceTable {
             // No masks past 64 faces: the separation test face by face.
             let row = self.row;
             let rows = || table.chunks_exact(row);
-            return !(0..planes.len()).any(|f| rows().all(|d| d[f] > th.gap));
+            return !(0..planes.len()).any(|f| rows().take(n_vertices).all(|d| d[f] > th.gap));
         }
         outside_all == 0
     }
@@ -326,6 +328,9 @@ mod avx {
     /// [`fill`] for a block of at most `4 Q` planes (`Q` from 1 to 4), kept in registers
     /// for the whole table: the plane quads are made here from `planes` ([`plane_quad`]),
     /// and each vertex's distances and masks take `Q` vector steps with constant shifts.
+    /// Vertices go four at a time (the last group padded with copies of the last vertex,
+    /// which `table` and `masks` have room for), so that their coordinates are at constant
+    /// offsets.
     ///
     /// # Safety
     /// The processor must have AVX.
@@ -338,8 +343,8 @@ mod avx {
         table: &mut [f64],
         masks: &mut [VertexMasks],
     ) -> u64 {
-        let n = masks.len();
-        assert!(planes.len() <= 4 * Q && table.len() >= n * 4 * Q && quads.len() * 4 >= n);
+        let n = 4 * quads.len();
+        assert!(planes.len() <= 4 * Q && table.len() >= n * 4 * Q && masks.len() >= n);
         // SAFETY: AVX (the caller's promise).
         let p: [[__m256d; 4]; Q] =
             std::array::from_fn(|q| unsafe { plane_quad(planes, q, origin) });
@@ -348,29 +353,32 @@ mod avx {
         let length = _mm256_set1_pd(th.length);
         let sign = _mm256_set1_pd(-0.0);
         let mut outside_all = u64::MAX;
-        for v in 0..n {
-            // SAFETY: `v / 4 < quads.len()`, `v < masks.len()`, the row of `v` is within
-            // `table` (asserted above).
-            unsafe {
-                let quad = quads.get_unchecked(v / 4);
-                let x = _mm256_broadcast_sd(quad.x.get_unchecked(v % 4));
-                let y = _mm256_broadcast_sd(quad.y.get_unchecked(v % 4));
-                let z = _mm256_broadcast_sd(quad.z.get_unchecked(v % 4));
-                let out = table.as_mut_ptr().add(v * 4 * Q);
-                let mut bits = VertexMasks::default();
-                for (q, [nx, ny, nz, offset]) in p.iter().enumerate() {
-                    let xy = _mm256_add_pd(_mm256_mul_pd(*nx, x), _mm256_mul_pd(*ny, y));
-                    let s = _mm256_sub_pd(_mm256_add_pd(xy, _mm256_mul_pd(*nz, z)), *offset);
-                    _mm256_storeu_pd(out.add(4 * q), s);
-                    let outside = _mm256_cmp_pd::<_CMP_GT_OQ>(s, above);
-                    let shallow = _mm256_cmp_pd::<_CMP_GE_OQ>(s, below);
-                    let near = _mm256_cmp_pd::<_CMP_LE_OQ>(_mm256_andnot_pd(sign, s), length);
-                    bits.outside |= (_mm256_movemask_pd(outside) as u64) << (4 * q);
-                    bits.shallow |= (_mm256_movemask_pd(shallow) as u64) << (4 * q);
-                    bits.near |= (_mm256_movemask_pd(near) as u64) << (4 * q);
+        for (c, quad) in quads.iter().enumerate() {
+            for k in 0..4 {
+                let v = 4 * c + k;
+                // SAFETY: `v < n`, so its row is within `table` and its mask within `masks`
+                // (asserted above).
+                unsafe {
+                    let x = _mm256_broadcast_sd(quad.x.get_unchecked(k));
+                    let y = _mm256_broadcast_sd(quad.y.get_unchecked(k));
+                    let z = _mm256_broadcast_sd(quad.z.get_unchecked(k));
+                    let out = table.as_mut_ptr().add(v * 4 * Q);
+                    let mut bits = VertexMasks::default();
+                    for (q, [nx, ny, nz, offset]) in p.iter().enumerate() {
+                        let xy = _mm256_add_pd(_mm256_mul_pd(*nx, x), _mm256_mul_pd(*ny, y));
+                        let s = _mm256_sub_pd(_mm256_add_pd(xy, _mm256_mul_pd(*nz, z)), *offset);
+                        _mm256_storeu_pd(out.add(4 * q), s);
+                        let outside = _mm256_cmp_pd::<_CMP_GT_OQ>(s, above);
+                        let shallow = _mm256_cmp_pd::<_CMP_GE_OQ>(s, below);
+                        let near = _mm256_cmp_pd::<_CMP_LE_OQ>(_mm256_andnot_pd(sign, s), length);
+                        let nibble = |m: __m256d| opaque(_mm256_movemask_pd(m) as u64) << (4 * q);
+                        bits.outside |= nibble(outside);
+                        bits.shallow |= nibble(shallow);
+                        bits.near |= nibble(near);
+                    }
+                    outside_all &= bits.outside;
+                    *masks.get_unchecked_mut(v) = bits;
                 }
-                outside_all &= bits.outside;
-                *masks.get_unchecked_mut(v) = bits;
             }
         }
         if n == 0 {
@@ -378,6 +386,18 @@ mod avx {
         } else {
             outside_all
         }
+    }
+
+    /// `x`, unknown to the optimiser: it would otherwise merge the sign masks of the plane
+    /// quads into one wider mask through a long chain of packs (about three times the
+    /// instructions of a shift and an `or` each).
+    #[inline(always)]
+    fn opaque(mut x: u64) -> u64 {
+        // SAFETY: an empty assembly block that only claims to change `x`.
+        unsafe {
+            std::arch::asm!("/* {0} */", inout(reg) x, options(pure, nomem, nostack, preserves_flags));
+        }
+        x
     }
 
     /// [`super::fill_portable`] on 256-bit vectors: the same operations in the same order
