@@ -239,10 +239,14 @@ fn piece<'a>(
     let kind = if cut == [false, false] {
         PenetrationEdgeType::T1
     } else {
-        let [v1, v2] = parent.vertices;
-        let edge_vector = of.vertices()[v2 as usize] - of.vertices()[v1 as usize];
         let piece = c.t[1] - c.t[0];
-        let has_length = piece * piece * edge_vector.length_squared() > th.length * th.length;
+        // No edge is longer than the block's diagonal: a piece well below the threshold
+        // there (the gap's stubs) has no length, without the edge's vertices.
+        let has_length = 2.0 * piece * of.size() > th.length && {
+            let [v1, v2] = parent.vertices;
+            let edge_vector = of.vertices()[v2 as usize] - of.vertices()[v1 as usize];
+            piece * piece * edge_vector.length_squared() > th.length * th.length
+        };
         const BY_CUTS: [[PenetrationEdgeType; 2]; 3] = {
             use PenetrationEdgeType::*;
             [[T1, T1], [T3, T2], [T5, T4]]

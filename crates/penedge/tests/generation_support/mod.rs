@@ -12,7 +12,7 @@ pub fn random_spec(seed: u64) -> Spec {
     let mut r = SplitMix64::new(seed);
     let corner = DVec3::new(r.symmetric(1e3), r.symmetric(1e3), 0.0);
     let size = DVec3::new(5.0, 5.0, 5.0) + 10.0 * DVec3::new(r.unit(), r.unit(), r.unit());
-    let mut spec = Spec::new(random_domain(seed % 3 == 0, corner, size));
+    let mut spec = Spec::new(random_domain(seed.is_multiple_of(3), corner, size));
     for s in 0..1 + r.next_u64() % 3 {
         let orientation = Orientation::dip(90.0 * r.unit(), 360.0 * r.unit());
         let mut js = JointSet::new(orientation, 1.0 + 2.0 * r.unit());
