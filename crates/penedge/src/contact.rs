@@ -1,7 +1,7 @@
 //! The pair query: penetration edges, then the contact decision and type.
 
 use crate::block::ConvexBlock;
-use crate::classify::{decide, spread_exceeds, FaceLists, FaceMasks, PairResult};
+use crate::classify::{decide, spread_exceeds, FaceLists, FaceMasks, Feature, PairResult};
 use crate::geometry::DVec3;
 use crate::penetration::{
     clip_edges, DistanceTable, EdgeSink, Kernel, PenetrationEdge, Piece, Side,
@@ -55,18 +55,24 @@ impl Detector {
     /// 4. otherwise the type from the features those faces give.
     pub fn detect(&mut self, a: &ConvexBlock, b: &ConvexBlock) -> PairResult {
         let th = self.thresholds(a, b);
-        let features = match FaceMasks::new(a, b, th.length) {
-            Some(mut masks) => match self.clip_pair(a, b, th, &mut masks) {
-                Some(false) if !self.edges.is_empty() => masks.features(),
-                outcome => return self.unclassified(outcome),
-            },
-            None => {
-                let mut lists = FaceLists::new(a, b, th.length);
-                match self.clip_pair(a, b, th, &mut Sides(&mut lists)) {
-                    Some(false) if !self.edges.is_empty() => lists.features(),
-                    outcome => return self.unclassified(outcome),
-                }
-            }
+        match FaceMasks::new(a, b, th.length) {
+            Some(mut masks) => self.classify_with(a, b, th, &mut masks),
+            None => self.classify_with(a, b, th, &mut FaceLists::new(a, b, th.length)),
+        }
+    }
+
+    /// Steps 1 to 4 of [`Detector::detect`] with the faces gathered by `faces`.
+    #[inline(always)]
+    fn classify_with(
+        &mut self,
+        a: &ConvexBlock,
+        b: &ConvexBlock,
+        th: Thresholds,
+        faces: &mut impl HeldFaces,
+    ) -> PairResult {
+        let features = match self.clip_pair(a, b, th, faces) {
+            Some(false) if !self.edges.is_empty() => faces.features(),
+            outcome => return self.unclassified(outcome),
         };
         decide(a, b, features, th.length, |l| {
             spread_exceeds(a, b, &self.edges, l)
@@ -151,6 +157,12 @@ impl Detector {
     }
 }
 
+/// The faces of each block that hold the representative points, gathered from the
+/// penetration edges as they come ([`crate::classify`]), and the features they give.
+trait HeldFaces: EdgeSink {
+    fn features(&self) -> (Option<Feature>, Option<Feature>);
+}
+
 impl EdgeSink for FaceMasks<'_> {
     #[inline(always)]
     fn edge(&mut self, piece: &Piece<'_>, table: &DistanceTable) {
@@ -158,12 +170,21 @@ impl EdgeSink for FaceMasks<'_> {
     }
 }
 
-/// [`FaceLists`] as an [`EdgeSink`].
-struct Sides<'l, 'a>(&'l mut FaceLists<'a>);
+impl HeldFaces for FaceMasks<'_> {
+    fn features(&self) -> (Option<Feature>, Option<Feature>) {
+        FaceMasks::features(self)
+    }
+}
 
-impl EdgeSink for Sides<'_, '_> {
+impl EdgeSink for FaceLists<'_> {
     fn edge(&mut self, piece: &Piece<'_>, table: &DistanceTable) {
-        self.0.add(piece, table);
+        self.add(piece, table);
+    }
+}
+
+impl HeldFaces for FaceLists<'_> {
+    fn features(&self) -> (Option<Feature>, Option<Feature>) {
+        FaceLists::features(self)
     }
 }
 
@@ -171,4 +192,116 @@ impl EdgeSink for Sides<'_, '_> {
 /// [`Detector`] in loops).
 pub fn detect_pair(a: &ConvexBlock, b: &ConvexBlock, tolerance: &Tolerance) -> PairResult {
     Detector::new(*tolerance).detect(a, b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::system::test_rng::Rng;
+    use crate::system::{paper_example, PaperExample};
+
+    impl Detector {
+        /// [`Detector::detect`] with the faces gathered face by face in lists (the path of
+        /// blocks over 64 faces), or in masks with every owner's face tested by distance
+        /// (no clearance shortcut).
+        fn detect_by(&mut self, a: &ConvexBlock, b: &ConvexBlock, lists: bool) -> PairResult {
+            let th = self.thresholds(a, b);
+            match FaceMasks::new(a, b, th.length) {
+                Some(masks) if !lists => {
+                    self.classify_with(a, b, th, &mut masks.without_clearance())
+                }
+                _ => self.classify_with(a, b, th, &mut FaceLists::new(a, b, th.length)),
+            }
+        }
+    }
+
+    /// A random convex block: `n` planes tangent to the unit sphere about `centre`.
+    fn polytope(rng: &mut Rng, n: usize, centre: glam::DVec3) -> ConvexBlock {
+        loop {
+            let normals: Vec<[f64; 3]> = (0..n)
+                .map(|_| glam::DVec3::new(rng.signed(), rng.signed(), rng.signed()))
+                .filter(|v| v.length() > 0.1)
+                .map(|v| v.normalize().to_array())
+                .collect();
+            let offsets: Vec<f64> = normals
+                .iter()
+                .map(|m| 1.0 + glam::DVec3::from_array(*m).dot(centre))
+                .collect();
+            if let Ok(block) = ConvexBlock::from_planes(&normals, &offsets) {
+                return block;
+            }
+        }
+    }
+
+    /// Pairs of every kind: the paper's examples, and random polytopes of 4 to 40 faces
+    /// sharing a face plane (face, edge and vertex contacts), apart or overlapping, at the
+    /// default gap and at a wide one (where the clearance shortcut is often refused).
+    fn pairs() -> Vec<(ConvexBlock, ConvexBlock)> {
+        let mut pairs = Vec::new();
+        for example in [PaperExample::One, PaperExample::Two, PaperExample::Three] {
+            let blocks = paper_example(example).unwrap().blocks().to_vec();
+            for (i, a) in blocks.iter().enumerate() {
+                pairs.extend(blocks[i + 1..].iter().map(|b| (a.clone(), b.clone())));
+            }
+        }
+        let mut rng = Rng(31);
+        for round in 0..1200 {
+            let faces = [4, 5, 6, 8, 12, 17, 40][round % 7];
+            let a = polytope(&mut rng, faces, glam::DVec3::ZERO);
+            let n = glam::DVec3::from_array(a.planes()[round % a.n_faces()].normal.to_array());
+            let side = glam::DVec3::new(rng.signed(), rng.signed(), rng.signed()) * 0.8;
+            let side = side - n * side.dot(n);
+            let push = [0.0, 1e-13, -1e-13, 1e-4, -1e-4, 1e-3][round % 6];
+            let offset = a.planes()[round % a.n_faces()].distance(glam::DVec3::ZERO);
+            let centre = n * (1.0 - offset - push) + side;
+            // B's first plane on A's chosen face plane, facing it.
+            let b = loop {
+                let mut normals = vec![(-n).to_array()];
+                normals.extend((1..faces).map(|_| {
+                    glam::DVec3::new(rng.signed(), rng.signed(), rng.signed() + 1e-3)
+                        .normalize()
+                        .to_array()
+                }));
+                let offsets: Vec<f64> = normals
+                    .iter()
+                    .map(|m| 1.0 + glam::DVec3::from_array(*m).dot(centre))
+                    .collect();
+                if let Ok(block) = ConvexBlock::from_planes(&normals, &offsets) {
+                    break block;
+                }
+            };
+            pairs.push((a, b));
+        }
+        pairs
+    }
+
+    /// The three ways of gathering the faces (masks with the clearance shortcut, masks
+    /// with distances only, lists) give the same answer on every pair, in both orders, at
+    /// the default gap and at a wide one.
+    #[test]
+    fn every_way_of_gathering_faces_agrees() {
+        let mut types = [0usize; 9];
+        for tolerance in [Tolerance::default(), Tolerance::with_gap(1e-3).unwrap()] {
+            let mut det = Detector::new(tolerance);
+            for (a, b) in pairs() {
+                for (a, b) in [(&a, &b), (&b, &a)] {
+                    let fast = det.detect(a, b);
+                    assert_eq!(fast, det.detect_by(a, b, false), "distances only");
+                    assert_eq!(fast, det.detect_by(a, b, true), "lists");
+                    let k = match fast {
+                        PairResult::Separated => 0,
+                        PairResult::Penetrating => 8,
+                        PairResult::Contact(c) => c.kind.code() as usize,
+                    };
+                    types[k] += 1;
+                }
+            }
+        }
+        // Contacts of several types, separations and penetrations were met.
+        let contact_types = types[1..8].iter().filter(|&&n| n > 0).count();
+        assert!(
+            types[0] > 0 && types[8] > 0 && contact_types >= 4,
+            "{types:?}"
+        );
+    }
 }

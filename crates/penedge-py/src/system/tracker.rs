@@ -145,7 +145,7 @@ impl ContactTracker {
     fn __repr__(&self) -> String {
         format!(
             "ContactTracker({} blocks, {} contacts)",
-            self.inner.system().len(),
+            self.inner.len(),
             self.inner.contacts().contacts.len()
         )
     }

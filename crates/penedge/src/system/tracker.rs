@@ -20,6 +20,12 @@
 //!
 //! The contacts of each step are exactly those of [`BlockSystem::detect`] on the blocks at
 //! their new poses (the tests check it step by step).
+//!
+//! A block's geometry is placed at its new pose only when it is needed: for a queried pair,
+//! for a rebuild of the broad phase, or when [`ContactTracker::system`] is asked for.
+//! Placing is bound by memory traffic (a block's vertices, planes and coordinates written,
+//! its reference read), and in a small step most pairs are certified: their blocks need
+//! only their travel, which comes from the poses.
 
 use super::detect::{PairContact, SystemContacts};
 use super::{BlockSystem, BroadPhase, WideBoxes};
@@ -30,6 +36,7 @@ use crate::geometry::DVec3;
 use crate::penetration::{PenetrationEdge, Side};
 use crate::tolerance::{Tolerance, ROUNDING_FLOOR};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 use thiserror::Error;
 
 /// Why a tracker cannot be made or updated.
@@ -117,6 +124,27 @@ pub struct ContactTracker {
     /// Per pair, its last answer.
     results: Vec<PairResult>,
     contacts: SystemContacts,
+    /// Per block, whether its geometry lags its pose.
+    stale: Vec<bool>,
+    /// Per block, whether a query of this step needs its geometry (scratch).
+    needed: Flags,
+}
+
+/// One flag per block, set from several threads (scratch: all clear between uses, so a
+/// clone is a set of clear flags).
+#[derive(Debug, Default)]
+struct Flags(Vec<AtomicBool>);
+
+impl Flags {
+    fn new(n: usize) -> Flags {
+        Flags((0..n).map(|_| AtomicBool::new(false)).collect())
+    }
+}
+
+impl Clone for Flags {
+    fn clone(&self) -> Flags {
+        Flags::new(self.0.len())
+    }
 }
 
 impl ContactTracker {
@@ -155,6 +183,8 @@ impl ContactTracker {
             deadlines: Vec::new(),
             results: Vec::new(),
             contacts: SystemContacts::default(),
+            stale: vec![false; n],
+            needed: Flags::new(n),
         };
         tracker.rebuild();
         tracker.narrow_phase();
@@ -166,9 +196,21 @@ impl ContactTracker {
         &self.contacts
     }
 
-    /// The blocks at their current poses.
-    pub fn system(&self) -> &BlockSystem {
+    /// The blocks at their current poses (placing those not placed yet: the updates place
+    /// only what their queries need).
+    pub fn system(&mut self) -> &BlockSystem {
+        self.place(|_| true);
         &self.current
+    }
+
+    /// Number of blocks.
+    pub fn len(&self) -> usize {
+        self.reference.len()
+    }
+
+    /// Whether the tracker has no block.
+    pub fn is_empty(&self) -> bool {
+        self.reference.is_empty()
     }
 
     /// The current poses (relative to the blocks given to [`ContactTracker::new`]).
@@ -191,9 +233,10 @@ impl ContactTracker {
         {
             return Err(TrackerError::Pose(i));
         }
-        let farthest = self.move_blocks(poses);
+        let farthest = self.move_poses(poses);
         let rebuilt = farthest > 0.5 * self.skin;
         if rebuilt {
+            self.place(|_| true);
             self.rebuild();
         }
         let (certified, queried) = self.narrow_phase();
@@ -205,29 +248,72 @@ impl ContactTracker {
         })
     }
 
-    /// Places the blocks, adds each one's travel; returns the largest distance a block has
-    /// moved since the broad phase was built.
-    fn move_blocks(&mut self, poses: &[Pose]) -> f64 {
-        let (reference, centre, radius) = (&self.reference, &self.centre, &self.radius);
-        self.current
-            .blocks
+    /// Takes the new poses and adds each block's travel (the blocks are placed when needed,
+    /// [`ContactTracker::place`]); returns the largest distance a block has moved since the
+    /// broad phase was built.
+    fn move_poses(&mut self, poses: &[Pose]) -> f64 {
+        let (centre, radius) = (&self.centre, &self.radius);
+        self.travel
             .par_iter_mut()
-            .zip(&mut self.travel)
             .zip(&mut self.last_step)
             .zip(&mut self.poses)
+            .zip(&mut self.stale)
             .zip(&self.built_at)
             .zip(poses)
             .enumerate()
-            .map(|(i, (((((block, travel), last), pose), built), given))| {
+            .map(|(i, (((((travel, last), pose), stale), built), given))| {
                 // Normalised again here rather than kept from the check: one pass, no buffer.
                 let new = &Pose::new(given.rotation, given.translation).unwrap_or(*pose);
                 *last = pose.displacement_bound(new, centre[i], radius[i]);
                 *travel += *last;
+                *stale |= new != pose;
                 *pose = *new;
-                block.place_geometry(&reference[i], new);
                 built.displacement_bound(new, centre[i], radius[i])
             })
             .reduce(|| 0.0, f64::max)
+    }
+
+    /// Places at their poses the stale blocks that `wanted` accepts.
+    fn place(&mut self, wanted: impl Fn(usize) -> bool + Sync) {
+        let (reference, poses) = (&self.reference, &self.poses);
+        self.current
+            .blocks
+            .par_iter_mut()
+            .zip(&mut self.stale)
+            .enumerate()
+            .for_each(|(i, (block, stale))| {
+                if *stale && wanted(i) {
+                    block.place_geometry(&reference[i], &poses[i]);
+                    *stale = false;
+                }
+            });
+    }
+
+    /// Whether pair `k`'s certificate answers it at the current travels.
+    #[inline]
+    fn certified(&self, k: usize) -> bool {
+        let [i, j] = self.pairs[k];
+        let (ti, tj) = (self.travel[i as usize], self.travel[j as usize]);
+        (ti + tj) * TRAVEL_SLACK < self.deadlines[k]
+    }
+
+    /// Places the blocks of the pairs that their certificates do not answer.
+    fn place_queried(&mut self) {
+        let needed = &self.needed.0;
+        (0..self.pairs.len()).into_par_iter().for_each(|k| {
+            if !self.certified(k) {
+                for b in self.pairs[k] {
+                    needed[b as usize].store(true, Ordering::Relaxed);
+                }
+            }
+        });
+        let needed = std::mem::take(&mut self.needed);
+        self.place(|i| needed.0[i].load(Ordering::Relaxed));
+        needed
+            .0
+            .par_iter()
+            .for_each(|n| n.store(false, Ordering::Relaxed));
+        self.needed = needed;
     }
 
     fn rebuild(&mut self) {
@@ -245,6 +331,7 @@ impl ContactTracker {
     /// Answers every candidate pair (by certificate or query); returns (certified, queried).
     /// Each answer stays in its pair's certificate, so a step allocates only its output.
     fn narrow_phase(&mut self) -> (usize, usize) {
+        self.place_queried();
         let blocks = self.current.blocks();
         let (travel, last_step, radius) = (&self.travel, &self.last_step, &self.radius);
         let tol = self.tol;
@@ -283,29 +370,36 @@ impl ContactTracker {
                 },
             )
             .sum();
-        // In parallel, in pair order (rayon's collect keeps it).
-        let answers = || self.pairs.par_iter().zip(&self.results);
-        let (contacts, penetrating) = rayon::join(
-            || {
-                answers()
-                    .filter_map(|(&pair, result)| match *result {
-                        PairResult::Contact(contact) => Some(PairContact { pair, contact }),
-                        _ => None,
-                    })
-                    .collect()
-            },
-            || {
-                answers()
-                    .filter_map(|(&pair, result)| {
-                        matches!(result, PairResult::Penetrating).then_some(pair)
-                    })
-                    .collect()
-            },
-        );
-        self.contacts = SystemContacts {
-            contacts,
-            penetrating,
-        };
+        // In parallel chunks, each giving both lists in pair order, then joined.
+        const CHUNK: usize = 1 << 14;
+        let chunks: Vec<SystemContacts> = self
+            .pairs
+            .par_chunks(CHUNK)
+            .zip(self.results.par_chunks(CHUNK))
+            .map(|(pairs, results)| {
+                let mut part = SystemContacts::default();
+                for (&pair, result) in pairs.iter().zip(results) {
+                    match *result {
+                        PairResult::Contact(contact) => {
+                            part.contacts.push(PairContact { pair, contact })
+                        }
+                        PairResult::Penetrating => part.penetrating.push(pair),
+                        PairResult::Separated => {}
+                    }
+                }
+                part
+            })
+            .collect();
+        let mut all = SystemContacts::default();
+        all.contacts
+            .reserve(chunks.iter().map(|c| c.contacts.len()).sum());
+        all.penetrating
+            .reserve(chunks.iter().map(|c| c.penetrating.len()).sum());
+        for part in chunks {
+            all.contacts.extend_from_slice(&part.contacts);
+            all.penetrating.extend_from_slice(&part.penetrating);
+        }
+        self.contacts = all;
         (certified, self.pairs.len() - certified)
     }
 }
