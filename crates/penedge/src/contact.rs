@@ -198,7 +198,6 @@ pub fn detect_pair(a: &ConvexBlock, b: &ConvexBlock, tolerance: &Tolerance) -> P
 mod tests {
     use super::*;
     use crate::system::test_rng::Rng;
-    use crate::system::{paper_example, PaperExample};
 
     impl Detector {
         /// [`Detector::detect`] with the faces gathered face by face in lists (the path of
@@ -237,13 +236,7 @@ mod tests {
     /// sharing a face plane (face, edge and vertex contacts), apart or overlapping, at the
     /// default gap and at a wide one (where the clearance shortcut is often refused).
     fn pairs() -> Vec<(ConvexBlock, ConvexBlock)> {
-        let mut pairs = Vec::new();
-        for example in [PaperExample::One, PaperExample::Two, PaperExample::Three] {
-            let blocks = paper_example(example).unwrap().blocks().to_vec();
-            for (i, a) in blocks.iter().enumerate() {
-                pairs.extend(blocks[i + 1..].iter().map(|b| (a.clone(), b.clone())));
-            }
-        }
+        let mut pairs = crate::system::paper_pairs();
         let mut rng = Rng(31);
         for round in 0..1200 {
             let faces = [4, 5, 6, 8, 12, 17, 40][round % 7];

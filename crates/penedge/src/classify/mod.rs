@@ -286,7 +286,6 @@ mod tests {
     }
 
     use crate::system::test_rng::Rng;
-    use crate::system::{paper_example, PaperExample};
     use crate::{Detector, Tolerance};
     use glam::DQuat;
 
@@ -330,13 +329,7 @@ mod tests {
     /// a unit cube with a cube resting on its top face by a vertex, an edge or a face, on the
     /// face, on an edge or at a corner; two cubes resting on each other's edges, crossed.
     fn pairs() -> Vec<(ConvexBlock, ConvexBlock)> {
-        let mut pairs = Vec::new();
-        for example in [PaperExample::One, PaperExample::Two, PaperExample::Three] {
-            let blocks = paper_example(example).unwrap().blocks().to_vec();
-            for (i, a) in blocks.iter().enumerate() {
-                pairs.extend(blocks[i + 1..].iter().map(|b| (a.clone(), b.clone())));
-            }
-        }
+        let mut pairs = crate::system::paper_pairs();
         let a = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
         // A vertex down: the cube's diagonal turned onto the vertical.
         let diagonal = glam::DVec3::ONE.normalize();

@@ -78,3 +78,19 @@ pub fn paper_table3(example: PaperExample) -> [usize; 7] {
         PaperExample::Three => [205, 0, 0, 78, 0, 0, 42],
     }
 }
+
+/// Every pair of blocks of the paper's three examples (tests).
+#[cfg(test)]
+pub(crate) fn paper_pairs() -> Vec<(crate::ConvexBlock, crate::ConvexBlock)> {
+    let mut pairs = Vec::new();
+    for example in [PaperExample::One, PaperExample::Two, PaperExample::Three] {
+        let blocks = paper_example(example)
+            .expect("the paper's examples")
+            .blocks()
+            .to_vec();
+        for (i, a) in blocks.iter().enumerate() {
+            pairs.extend(blocks[i + 1..].iter().map(|b| (a.clone(), b.clone())));
+        }
+    }
+    pairs
+}

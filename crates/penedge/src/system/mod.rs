@@ -11,6 +11,8 @@ mod tracker;
 
 pub use broad_phase::{BroadPhase, WideBoxes};
 pub use detect::{count_types, Cancelled, DetectProgress, PairContact, SystemContacts};
+#[cfg(test)]
+pub(crate) use examples::paper_pairs;
 pub use examples::{paper_example, paper_spec, paper_table3, PaperExample};
 pub use geometry::ContactGeometries;
 pub use tracker::{ContactTracker, TrackerError, UpdateReport};
