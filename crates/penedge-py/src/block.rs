@@ -4,7 +4,8 @@ use crate::arrays;
 use crate::errors::{input_error, to_py_err};
 use numpy::{PyArray1, PyArray2};
 use penedge::block::FaceOrigin;
-use penedge::ConvexBlock;
+use penedge::geometry::{DVec3, Plane};
+use penedge::{ConvexBlock, Tolerance};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
@@ -250,8 +251,8 @@ impl Block {
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
         let py = slf.py();
         let me = slf.get();
-        let origins: Vec<(u8, i64, i64)> = me
-            .inner
+        let block = &me.inner;
+        let origins: Vec<(u8, i64, i64)> = block
             .face_origins()
             .iter()
             .map(|o| {
@@ -259,7 +260,18 @@ impl Block {
                 (o.code(), a, b)
             })
             .collect();
-        let args = (me.vertices(py), me.faces(), origins);
+        let plane_rows =
+            |f: fn(&Plane) -> [f64; 3]| -> Vec<[f64; 3]> { block.planes().iter().map(f).collect() };
+        let normals = arrays::rows3(py, &plane_rows(|p| p.normal.to_array()));
+        let points = arrays::rows3(py, &plane_rows(|p| p.point.to_array()));
+        let args = (
+            me.vertices(py),
+            me.faces(),
+            origins,
+            normals,
+            points,
+            length_needed(block),
+        );
         PyTuple::new(
             py,
             [
@@ -269,28 +281,92 @@ impl Block {
         )
     }
 
-    /// The block of [`Block::__reduce__`]'s parts (not a public constructor).
+    /// The block of [`Block::__reduce__`]'s parts (not a public constructor): its
+    /// vertices, faces and face origins, and its planes (normals and points) with the
+    /// relative length threshold that its faces need, kept as they were (the block comes back
+    /// bit for bit). Without the planes (a pickle of an earlier version), the block is built
+    /// from its vertices and faces.
     #[staticmethod]
+    #[pyo3(signature = (vertices, faces, origins, normals=None, points=None, length=None))]
     fn _restore(
         vertices: &Bound<'_, PyAny>,
         faces: &Bound<'_, PyAny>,
-        origins: Vec<(u8, i64, i64)>,
+        origins: Vec<(Bound<'_, PyAny>, Bound<'_, PyAny>, Bound<'_, PyAny>)>,
+        normals: Option<&Bound<'_, PyAny>>,
+        points: Option<&Bound<'_, PyAny>>,
+        length: Option<f64>,
     ) -> PyResult<Self> {
-        let block = Block::new(vertices, faces)?;
         let origins = origins
-            .into_iter()
-            .map(|(code, a, b)| face_origin(code, a, b))
+            .iter()
+            .map(|(code, a, b)| face_origin(number(code)?, number(a)?, number(b)?))
             .collect::<PyResult<Vec<_>>>()?;
-        block
-            .inner
-            .with_face_origins(origins)
+        let (Some(normals), Some(points)) = (normals, points) else {
+            let block = Block::new(vertices, faces)?;
+            return block
+                .inner
+                .with_face_origins(origins)
+                .map(Block::wrap)
+                .map_err(to_py_err);
+        };
+        let tol = Tolerance::new(0.0, length.unwrap_or(Tolerance::default().length()))
+            .map_err(to_py_err)?;
+        let vertices = arrays::points(vertices, "vertices")?;
+        let faces: Vec<Vec<u32>> = face_lists(faces)?
+            .into_iter()
+            .map(|f| f.into_iter().map(|v| v as u32).collect())
+            .collect();
+        let normals = arrays::points(normals, "normals")?;
+        let points = arrays::points(points, "points")?;
+        let planes: Vec<Plane> = normals
+            .iter()
+            .zip(&points)
+            .map(|(n, p)| Plane {
+                normal: DVec3::from_array(*n),
+                point: DVec3::from_array(*p),
+            })
+            .collect();
+        if planes.len() != normals.len().max(points.len()) {
+            let msg = format!("{} normals and {} points", normals.len(), points.len());
+            return Err(input_error("planes", msg));
+        }
+        ConvexBlock::from_parts(&vertices, &faces, &planes, &origins, &tol)
             .map(Block::wrap)
             .map_err(to_py_err)
     }
 }
 
+/// The relative length threshold that `block`'s own faces need: twice the farthest that a
+/// vertex of a face is from the face's plane, or that any vertex is outside a plane,
+/// relative to the block's size (at least the default threshold).
+fn length_needed(block: &ConvexBlock) -> f64 {
+    let mut farthest: f64 = 0.0;
+    for (f, plane) in block.planes().iter().enumerate() {
+        for &v in block.face(f) {
+            farthest = farthest.max(plane.distance(block.vertices()[v as usize]).abs());
+        }
+        for &p in block.vertices() {
+            farthest = farthest.max(plane.distance(p));
+        }
+    }
+    let relative = 2.0 * farthest / block.size();
+    relative.clamp(
+        Tolerance::default().length(),
+        0.5 * penedge::tolerance::MAX_LENGTH,
+    )
+}
+
+/// A whole number of a face origin, as an `InputError` when it is none or too large.
+fn number(x: &Bound<'_, PyAny>) -> PyResult<i64> {
+    x.extract::<i64>().map_err(|_| {
+        input_error(
+            "origins",
+            format!("face origin number {x} out of range or not an integer"),
+        )
+    })
+}
+
 /// A face origin from its code and two numbers ([`FaceOrigin::code`], [`FaceOrigin::ids`]).
-fn face_origin(code: u8, a: i64, b: i64) -> PyResult<FaceOrigin> {
+fn face_origin(code: i64, a: i64, b: i64) -> PyResult<FaceOrigin> {
     let id = |x: i64| {
         u32::try_from(x)
             .map_err(|_| input_error("origins", format!("face origin number {x} out of range")))

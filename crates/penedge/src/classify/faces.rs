@@ -1,22 +1,25 @@
-//! The faces of each block that hold every representative point (step 2 of the rule in the
-//! module docs), gathered edge by edge while the penetration edges are made.
+//! The faces of each block whose planes pass within the length threshold of every
+//! representative point (step 2 of the rule in the module docs), gathered edge by edge
+//! while the penetration edges are made, without computing the points.
 //!
 //! A representative point lies on an edge of its *owner* (the block whose edge was
 //! clipped) and near the *other* block's boundary:
 //!
-//! * the owner's faces that hold it follow from the owner's topology: a vertex lies on the
-//!   faces at that vertex; a point along an edge on the edge's two faces, and on a face at
-//!   one end of the edge when that face's plane passes within the length threshold of it (a
-//!   cut a rounding error away from a vertex is at the vertex). Topology rather than
-//!   computed distances: a vertex is on its faces by construction, and a block's own
-//!   tolerance (the planarity of its faces) is not the pair's;
-//! * the other block's faces that hold it are those whose planes pass within the length
-//!   threshold. Their distances are read from the pair's distance table: the distance of a
-//!   vertex is in it, and along an edge the distance is affine, so that of a point at `t` is
-//!   `d1 + t (d2 - d1)` from the two ends'. No point is computed.
+//! * the other block's faces: their distances are read from the pair's distance table. The
+//!   distance of a vertex is in it (its `near` mask has the faces within the threshold), and
+//!   along an edge the distance is affine, so that of a point at `t` is `d1 + t (d2 - d1)`
+//!   from the two ends': the faces near both ends hold every point between them, and only
+//!   the others are interpolated;
+//! * the owner's faces: a vertex lies on the faces at that vertex and a point along an edge
+//!   on the edge's two faces (and on a face at one end within the threshold). Where the
+//!   block's [`crate::block::Clearance`] decides at the pair's threshold (every vertex within
+//!   it of its own faces' planes and beyond it from the others, rounding included), this
+//!   topology *is* the distance rule, and no distance is computed; elsewhere the point's
+//!   distances to the owner's planes are.
 //!
 //! [`FaceMasks`] keeps both sets as bit masks that only shrink (blocks of at most 64 faces);
-//! [`FaceLists`] applies the same tests face by face, for larger blocks.
+//! once they hold only the faces along the contact, a penetration edge changes them by two
+//! `and`s. [`FaceLists`] applies the same tests face by face, for larger blocks.
 
 use super::{feature_from, Feature};
 use crate::block::{ConvexBlock, Edge, INCIDENCE_FACES};

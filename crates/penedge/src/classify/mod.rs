@@ -10,13 +10,11 @@
 //!    original vertex: the gap widening cut a stub off an edge at a vertex in contact); its
 //!    middle if it is a type 5 (no length, two cuts: an edge crossing the other block's
 //!    boundary at a point);
-//! 2. the feature of block X holding the contact is found from the faces of X that hold
-//!    every representative point: a point on one of X's own edges is held by the faces at
-//!    that vertex (an original vertex) or by the edge's two faces, and by a face at an end
-//!    of the edge whose plane passes within the length threshold of it; a point on the
-//!    other block's edges by the faces of X whose planes pass within the length threshold
-//!    of it. None means the contact reaches X's interior (penetrating), one a face, two an
-//!    edge, three or more a vertex ([`faces`] has how and why);
+//! 2. the feature of block X holding the contact is found from the faces of X whose planes
+//!    pass within the length threshold of every representative point: none means the
+//!    contact reaches X's interior (penetrating), one a face, two an edge, three or more a
+//!    vertex (how it is done without computing the points: `classify/faces.rs` and
+//!    docs/classification.md);
 //! 3. the pair of features gives the type: (vertex, vertex) vertex-vertex, (vertex, edge)
 //!    vertex-edge, (vertex, face) vertex-face, (edge, face) edge-face, (face, face)
 //!    face-face; (edge, edge) is an edge-edge superposition when the two edges are parallel

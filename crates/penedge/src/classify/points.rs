@@ -79,7 +79,8 @@ fn side<'a, 's>(
 }
 
 /// Whether the representative points of `edges` span more than `length`: some point
-/// farther than `length` from the first ([`spread`] above `length`), visited without a list
+/// farther than `length` from the first (the extent of the points above `length`), visited
+/// without a list
 /// and left at the first such point.
 pub(crate) fn spread_exceeds(
     a: &ConvexBlock,
