@@ -122,7 +122,13 @@ fn grid_pairs(n: usize) -> usize {
 }
 
 /// Wall-clock seconds of `f`, median of `runs`, with the last result.
-fn timed<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+fn timed<T>(runs: usize, f: impl FnMut() -> T) -> (f64, T) {
+    let (mut times, last) = timed_each(runs, f);
+    (median(&mut times), last)
+}
+
+/// Wall-clock seconds of each of `runs` runs of `f`, with the last result.
+fn timed_each<T>(runs: usize, mut f: impl FnMut() -> T) -> (Vec<f64>, T) {
     let mut times = Vec::with_capacity(runs);
     let mut last = None;
     for _ in 0..runs {
@@ -131,7 +137,7 @@ fn timed<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
         times.push(start.elapsed().as_secs_f64());
         last = Some(std::hint::black_box(out));
     }
-    (median(&mut times), last.expect("runs > 0"))
+    (times, last.expect("runs > 0"))
 }
 
 fn grid(o: &SystemOptions) -> Result<(), String> {
@@ -142,7 +148,13 @@ fn grid(o: &SystemOptions) -> Result<(), String> {
     let build = start.elapsed().as_secs_f64();
     let hwm_blocks = vm_hwm_kib()?;
     let (broad, pairs) = timed(o.runs, || system.candidate_pairs(&tol).len());
-    let (full, found) = timed(o.runs, || system.detect(&tol));
+    let (mut each, found) = timed_each(o.runs, || system.detect(&tol));
+    let every = each
+        .iter()
+        .map(|t| format!("{t:.3}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let full = median(&mut each);
     let hwm = vm_hwm_kib()?;
     let expected = grid_pairs(n);
     let counts = count_types(&found.contacts);
@@ -179,6 +191,10 @@ fn grid(o: &SystemOptions) -> Result<(), String> {
         expected as f64 / full,
         gib(hwm),
         gib(hwm_blocks)
+    );
+    println!(
+        "\n`BlockSystem::detect`, every run in order: {every} s (the two virtual cores are \
+         sometimes slower together: see benchmarks.md).\n"
     );
     if o.parry {
         let (parry_s, parry_found) = parry_grid(&system, &tol);

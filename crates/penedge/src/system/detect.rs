@@ -68,16 +68,37 @@ impl BlockSystem {
         let pairs = self.candidate_pairs(tol);
         let mut out = SystemContacts::default();
         out.contacts.reserve(pairs.len());
+        let mut touching: Vec<usize> = Vec::new();
         narrow_phase(
             self,
             &pairs,
             tol,
             progress,
             |det, a, b| det.detect(a, b),
-            |pair, result| match result {
-                PairResult::Contact(contact) => out.contacts.push(PairContact { pair, contact }),
-                PairResult::Penetrating => out.penetrating.push(pair),
-                PairResult::Separated => {}
+            |slice, outcomes| {
+                // The contacts are written into the output by both threads, in pair order
+                // (an indexed parallel extend writes in place): neither waits while the
+                // other appends, and the output's fresh pages are touched by both.
+                touching.clear();
+                touching.par_extend(
+                    (0..slice.len())
+                        .into_par_iter()
+                        .filter(|&k| matches!(outcomes[k], PairResult::Contact(_))),
+                );
+                out.contacts.par_extend(touching.par_iter().map(|&k| {
+                    let PairResult::Contact(contact) = outcomes[k] else {
+                        unreachable!("kept as a contact")
+                    };
+                    PairContact {
+                        pair: slice[k],
+                        contact,
+                    }
+                }));
+                let penetrating = slice.iter().zip(outcomes);
+                out.penetrating
+                    .extend(penetrating.filter_map(|(&pair, outcome)| {
+                        matches!(outcome, PairResult::Penetrating).then_some(pair)
+                    }));
             },
         )?;
         out.contacts.shrink_to_fit();
@@ -106,15 +127,15 @@ pub struct Cancelled;
 const SLICE: usize = 1 << 16;
 
 /// Runs `query` on every candidate pair, in parallel within each slice of [`SLICE`] pairs,
-/// and hands the outcomes to `keep` in pair order: the memory beyond the output is one
-/// slice's outcomes, and the output is the same for any number of threads.
+/// and hands each slice's pairs and outcomes (in pair order) to `keep`: the memory beyond
+/// the output is one slice's outcomes, and the output is the same for any number of threads.
 pub(super) fn narrow_phase<T: Send>(
     system: &BlockSystem,
     pairs: &[[u32; 2]],
     tol: &Tolerance,
     progress: &mut dyn FnMut(DetectProgress) -> ControlFlow<()>,
     query: impl Fn(&mut Detector, &ConvexBlock, &ConvexBlock) -> T + Sync,
-    mut keep: impl FnMut([u32; 2], T),
+    mut keep: impl FnMut(&[[u32; 2]], &[T]),
 ) -> Result<(), Cancelled> {
     let blocks = system.blocks();
     let mut outcomes = Vec::with_capacity(SLICE.min(pairs.len()));
@@ -126,9 +147,7 @@ pub(super) fn narrow_phase<T: Send>(
                 |det, &[i, j]| query(det, &blocks[i as usize], &blocks[j as usize]),
             )
             .collect_into_vec(&mut outcomes);
-        for (&pair, outcome) in slice.iter().zip(outcomes.drain(..)) {
-            keep(pair, outcome);
-        }
+        keep(slice, &outcomes);
         let done = (k * SLICE + slice.len()).min(pairs.len());
         if progress(DetectProgress {
             pairs_done: done,

@@ -109,14 +109,21 @@ impl BlockSystem {
             tol,
             progress,
             |det, a, b| det.detect_with_geometry(a, b),
-            |pair, outcome| match outcome {
-                (PairResult::Contact(contact), Some(g)) => {
-                    found.contacts.push(PairContact { pair, contact });
-                    geometry.push(&g);
+            |slice, outcomes| {
+                for (&pair, outcome) in slice.iter().zip(outcomes) {
+                    match outcome {
+                        (PairResult::Contact(contact), Some(g)) => {
+                            let contact = *contact;
+                            found.contacts.push(PairContact { pair, contact });
+                            geometry.push(g);
+                        }
+                        (PairResult::Penetrating, _) => found.penetrating.push(pair),
+                        (PairResult::Contact(_), None) => {
+                            unreachable!("a contact always has a geometry")
+                        }
+                        (PairResult::Separated, _) => {}
+                    }
                 }
-                (PairResult::Penetrating, _) => found.penetrating.push(pair),
-                (PairResult::Contact(_), None) => unreachable!("a contact always has a geometry"),
-                (PairResult::Separated, _) => {}
             },
         )?;
         Ok((found, geometry))
