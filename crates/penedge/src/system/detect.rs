@@ -44,10 +44,11 @@ impl BlockSystem {
 
     /// Each block's bounding box widened by its own gap.
     pub fn wide_boxes(&self, tol: &Tolerance) -> WideBoxes {
-        WideBoxes::new(self.blocks().iter().map(|b| {
-            let aabb = b.aabb();
+        let blocks = self.blocks();
+        WideBoxes::from_fn(blocks.len(), |i| {
+            let aabb = blocks[i].aabb();
             (aabb, tol.for_box(&aabb).gap)
-        }))
+        })
     }
 
     /// Detects and classifies every contact of the system.
