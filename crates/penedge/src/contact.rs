@@ -197,7 +197,7 @@ pub fn detect_pair(a: &ConvexBlock, b: &ConvexBlock, tolerance: &Tolerance) -> P
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::system::test_rng::Rng;
+    use crate::system::test_rng::{polytope, Rng};
 
     impl Detector {
         /// [`Detector::detect`] with the faces gathered face by face in lists (the path of
@@ -214,24 +214,6 @@ mod tests {
         }
     }
 
-    /// A random convex block: `n` planes tangent to the unit sphere about `centre`.
-    fn polytope(rng: &mut Rng, n: usize, centre: glam::DVec3) -> ConvexBlock {
-        loop {
-            let normals: Vec<[f64; 3]> = (0..n)
-                .map(|_| glam::DVec3::new(rng.signed(), rng.signed(), rng.signed()))
-                .filter(|v| v.length() > 0.1)
-                .map(|v| v.normalize().to_array())
-                .collect();
-            let offsets: Vec<f64> = normals
-                .iter()
-                .map(|m| 1.0 + glam::DVec3::from_array(*m).dot(centre))
-                .collect();
-            if let Ok(block) = ConvexBlock::from_planes(&normals, &offsets) {
-                return block;
-            }
-        }
-    }
-
     /// Pairs of every kind: the paper's examples, and random polytopes of 4 to 40 faces
     /// sharing a face plane (face, edge and vertex contacts), apart or overlapping, at the
     /// default gap and at a wide one (where the clearance shortcut is often refused).
@@ -240,29 +222,16 @@ mod tests {
         let mut rng = Rng(31);
         for round in 0..1200 {
             let faces = [4, 5, 6, 8, 12, 17, 40][round % 7];
-            let a = polytope(&mut rng, faces, glam::DVec3::ZERO);
-            let n = glam::DVec3::from_array(a.planes()[round % a.n_faces()].normal.to_array());
+            let a = polytope(&mut rng, faces, [0.0; 3], None);
+            let plane = a.planes()[round % a.n_faces()];
+            let n = plane.normal;
             let side = glam::DVec3::new(rng.signed(), rng.signed(), rng.signed()) * 0.8;
             let side = side - n * side.dot(n);
             let push = [0.0, 1e-13, -1e-13, 1e-4, -1e-4, 1e-3][round % 6];
-            let offset = a.planes()[round % a.n_faces()].distance(glam::DVec3::ZERO);
+            let offset = plane.distance(glam::DVec3::ZERO);
             let centre = n * (1.0 - offset - push) + side;
             // B's first plane on A's chosen face plane, facing it.
-            let b = loop {
-                let mut normals = vec![(-n).to_array()];
-                normals.extend((1..faces).map(|_| {
-                    glam::DVec3::new(rng.signed(), rng.signed(), rng.signed() + 1e-3)
-                        .normalize()
-                        .to_array()
-                }));
-                let offsets: Vec<f64> = normals
-                    .iter()
-                    .map(|m| 1.0 + glam::DVec3::from_array(*m).dot(centre))
-                    .collect();
-                if let Ok(block) = ConvexBlock::from_planes(&normals, &offsets) {
-                    break block;
-                }
-            };
+            let b = polytope(&mut rng, faces, centre.to_array(), Some((-n).to_array()));
             pairs.push((a, b));
         }
         pairs

@@ -282,28 +282,8 @@ impl PenetrationEdge {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::system::test_rng::Rng;
+    use crate::system::test_rng::{polytope, Rng};
     use crate::{Detector, Tolerance};
-
-    /// A random convex block: `n` planes tangent to the unit sphere about `centre`.
-    fn polytope(rng: &mut Rng, n: usize, centre: [f64; 3]) -> ConvexBlock {
-        loop {
-            let normals: Vec<[f64; 3]> = (0..n)
-                .map(|_| {
-                    let v = [rng.signed(), rng.signed(), rng.signed()];
-                    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-                    v.map(|c| c / len)
-                })
-                .collect();
-            let offsets: Vec<f64> = normals
-                .iter()
-                .map(|m| 1.0 + m[0] * centre[0] + m[1] * centre[1] + m[2] * centre[2])
-                .collect();
-            if let Ok(block) = ConvexBlock::from_planes(&normals, &offsets) {
-                return block;
-            }
-        }
-    }
 
     /// The penetration edges of `of` in `other` by the clipping of every edge against
     /// every face (no masks), and whether one is deeper than the gap.
@@ -331,10 +311,10 @@ mod tests {
         let mut compared = 0;
         for round in 0..400 {
             let faces = [6, 12, 16, 17, 24][round % 5];
-            let a = polytope(&mut rng, faces, [0.0; 3]);
+            let a = polytope(&mut rng, faces, [0.0; 3], None);
             let d = 1.2 + 0.6 * rng.unit();
             let centre = [d * rng.signed(), d * rng.signed(), d];
-            let b = polytope(&mut rng, faces, centre);
+            let b = polytope(&mut rng, faces, centre, None);
             let mut det = Detector::new(Tolerance::default());
             det.detect(&a, &b);
             let th = det.thresholds(&a, &b);

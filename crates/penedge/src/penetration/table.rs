@@ -1,7 +1,7 @@
 //! The distance table of a pair: signed distances of one block's vertices to the other
 //! block's face planes, computed once per pair and read by every edge.
 
-use crate::block::ConvexBlock;
+use crate::block::{ConvexBlock, Quad};
 use crate::geometry::{DVec3, Plane};
 use crate::tolerance::Thresholds;
 
@@ -15,10 +15,11 @@ use crate::tolerance::Thresholds;
 /// cut an edge; the third gives the classification the faces that hold a vertex.
 ///
 /// Vertex-major, because the masks are wanted per vertex: each vertex's coordinates are
-/// broadcast once, its distances to four planes are one 256-bit vector operation on
-/// processors with AVX (chosen at run time, [`Kernel`]), and the comparisons of those four
-/// distances come out as four bits of that vertex's masks. The portable code does the same
-/// operations in the same order without fused multiply-adds, so both give the same bits.
+/// broadcast once, its distances to four (eight) planes are one 256-bit (512-bit) vector
+/// operation on processors with AVX (AVX-512), chosen at run time ([`Kernel`]), and the
+/// comparisons of those distances come out as bits of that vertex's masks. The portable code
+/// does the same operations in the same order without fused multiply-adds, so all give the
+/// same bits.
 /// A face plane with every vertex outside (the `and` of the `outside` masks) separates the
 /// pair.
 #[derive(Default, Clone, Debug)]
@@ -68,11 +69,12 @@ struct PlaneQuad {
 pub(crate) enum Kernel {
     /// Plain Rust, vectorised by the compiler for the build's target (SSE2 on x86-64).
     Portable,
-    /// AVX intrinsics (x86-64, checked at run time).
+    /// AVX intrinsics (x86-64, checked at run time). The vector kernels serve blocks of
+    /// up to 16 faces (the usual rock blocks), kept in registers; larger ones take the
+    /// portable code.
     #[cfg(target_arch = "x86_64")]
     Avx,
-    /// AVX-512 intrinsics for blocks of up to 16 faces, AVX beyond (x86-64, checked at run
-    /// time).
+    /// AVX-512 intrinsics (x86-64, checked at run time).
     #[cfg(target_arch = "x86_64")]
     Avx512,
 }
@@ -115,16 +117,6 @@ impl Kernel {
     }
 }
 
-/// What a fill works on: the vertices of one block, local to its first vertex, four at a
-/// time; the other block's planes in the same coordinates; the thresholds.
-struct Inputs<'a> {
-    /// `[x, y, z]` of vertex `v` are `quads[v / 4].{x, y, z}[v % 4]`.
-    quads: &'a [crate::block::Quad],
-    n_vertices: usize,
-    planes: &'a [PlaneQuad],
-    th: Thresholds,
-}
-
 impl DistanceTable {
     /// Fills the table with the distances of `of`'s vertices to `to`'s planes, and the
     /// masks at the thresholds `th`; returns `false` when one plane has every vertex
@@ -138,7 +130,6 @@ impl DistanceTable {
     ) -> bool {
         let local = of.local();
         let planes = to.planes();
-        let n_vertices = of.vertices().len();
         // Room for the padded last group of four vertices (the vector kernels fill it).
         let rows = 4 * local.quads.len();
         self.masked = planes.len() <= MASK_FACES;
@@ -170,10 +161,9 @@ impl DistanceTable {
                     _ => avx512::fill_eights::<2>(planes, origin, quads, th, table, masks),
                 }
             },
-            // SAFETY: `Kernel::Avx` (and `Avx512`) are only chosen where the processor has
-            // AVX.
+            // SAFETY: `Kernel::Avx` is only chosen where the processor has AVX.
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx | Kernel::Avx512 if planes.len() <= 16 => unsafe {
+            Kernel::Avx if planes.len() <= 16 => unsafe {
                 let fill = match planes.len().div_ceil(4) {
                     1 => avx::fill_quads::<1>,
                     2 => avx::fill_quads::<2>,
@@ -182,27 +172,16 @@ impl DistanceTable {
                 };
                 fill(planes, origin, quads, th, table, masks)
             },
-            kernel => {
+            _ => {
                 set_planes(&mut self.planes, planes, origin);
-                let inputs = Inputs {
-                    quads,
-                    n_vertices,
-                    planes: &self.planes,
-                    th,
-                };
-                match kernel {
-                    // SAFETY: as above.
-                    #[cfg(target_arch = "x86_64")]
-                    Kernel::Avx | Kernel::Avx512 => unsafe { avx::fill(&inputs, table, masks) },
-                    _ => fill_portable(&inputs, table, masks),
-                }
+                fill_portable(quads, &self.planes, th, table, masks)
             }
         };
         if !self.masked {
-            // No masks past 64 faces: the separation test face by face.
+            // No masks past 64 faces: the separation test face by face (the padded rows
+            // repeat the last vertex, which changes no `all`).
             let row = self.row;
-            let rows = || table.chunks_exact(row);
-            return !(0..planes.len()).any(|f| rows().take(n_vertices).all(|d| d[f] > th.gap));
+            return !(0..planes.len()).any(|f| table.chunks_exact(row).all(|d| d[f] > th.gap));
         }
         outside_all == 0
     }
@@ -213,9 +192,9 @@ impl DistanceTable {
     pub(crate) fn get(&self, face: usize, vertex: u32) -> f64 {
         let k = vertex as usize * self.row + face;
         debug_assert!(face < self.row && k < self.table.len());
-        // SAFETY: the table holds `n_vertices * row` distances (`fill`), and callers pass a
-        // vertex of the block it was filled for (below its `n_vertices`: an edge's end,
-        // checked when the block was built) and a face of the other (below `row`).
+        // SAFETY: the table holds a row of `row` distances per vertex of the block it was
+        // filled for (`fill`), and callers pass one of its vertices (an edge's end, checked
+        // when the block was built) and a face of the other (below `row`).
         unsafe { *self.table.get_unchecked(k) }
     }
 
@@ -236,8 +215,8 @@ impl DistanceTable {
     #[inline]
     pub(crate) fn vertex_masks(&self, vertex: u32) -> VertexMasks {
         debug_assert!((vertex as usize) < self.vertices.len());
-        // SAFETY: `fill` keeps a mask per vertex of the block (at least `n_vertices`), and
-        // callers pass one of its vertices (an edge's end, checked when it was built).
+        // SAFETY: `fill` keeps a mask per vertex of the block, and callers pass one of its
+        // vertices (an edge's end, checked when it was built).
         unsafe { *self.vertices.get_unchecked(vertex as usize) }
     }
 }
@@ -260,29 +239,29 @@ fn set_planes(out: &mut Vec<PlaneQuad>, planes: &[Plane], origin: DVec3) {
     }
 }
 
-/// The portable fill: one vertex after the other, four planes at a time; writes the
-/// distances and the masks and returns the faces with every vertex outside (nonzero:
-/// separated). Without masks (more than 64 faces) the returned word is zero, and the
-/// separation is found by the clipping.
+/// The portable fill: one vertex after the other (`[x, y, z]` of vertex `v` are
+/// `quads[v / 4].{x, y, z}[v % 4]`, the last group padded), four planes at a time; writes
+/// the distances and the masks (of the first 64 faces) and returns the faces with every
+/// vertex outside (nonzero: separated).
 #[inline(always)]
-fn fill_portable(inputs: &Inputs, table: &mut [f64], masks: &mut [VertexMasks]) -> u64 {
-    let Thresholds { gap, length } = inputs.th;
-    let row = 4 * inputs.planes.len();
-    let mut outside_all = if inputs.planes.len() * 4 <= MASK_FACES {
-        u64::MAX
-    } else {
-        0
-    };
-    for (v, (out, m)) in table.chunks_exact_mut(row).zip(masks).enumerate() {
-        let quad = &inputs.quads[v / 4];
+fn fill_portable(
+    quads: &[Quad],
+    planes: &[PlaneQuad],
+    th: Thresholds,
+    table: &mut [f64],
+    masks: &mut [VertexMasks],
+) -> u64 {
+    let Thresholds { gap, length } = th;
+    let mut outside_all = u64::MAX;
+    for (v, (out, m)) in table
+        .chunks_exact_mut(4 * planes.len())
+        .zip(masks)
+        .enumerate()
+    {
+        let quad = &quads[v / 4];
         let (x, y, z) = (quad.x[v % 4], quad.y[v % 4], quad.z[v % 4]);
         let mut bits = VertexMasks::default();
-        for (pq, (p, s)) in inputs
-            .planes
-            .iter()
-            .zip(out.chunks_exact_mut(4))
-            .enumerate()
-        {
+        for (pq, (p, s)) in planes.iter().zip(out.chunks_exact_mut(4)).enumerate() {
             let d: [f64; 4] =
                 std::array::from_fn(|k| p.nx[k] * x + p.ny[k] * y + p.nz[k] * z - p.offset[k]);
             s.copy_from_slice(&d);
@@ -296,11 +275,7 @@ fn fill_portable(inputs: &Inputs, table: &mut [f64], masks: &mut [VertexMasks]) 
         outside_all &= bits.outside;
         *m = bits;
     }
-    if inputs.n_vertices == 0 {
-        0
-    } else {
-        outside_all
-    }
+    outside_all
 }
 
 /// The four comparisons of a vertex with four planes as the low four bits of a word.
@@ -311,7 +286,7 @@ fn nibble(b: [bool; 4]) -> u64 {
 
 #[cfg(target_arch = "x86_64")]
 mod avx {
-    use super::{Inputs, PlaneQuad, VertexMasks, MASK_FACES};
+    use super::VertexMasks;
     use crate::block::Quad;
     use crate::geometry::{DVec3, Plane};
     use crate::tolerance::Thresholds;
@@ -370,7 +345,7 @@ mod avx {
         [nx, ny, nz, offset]
     }
 
-    /// [`fill`] for a block of at most `4 Q` planes (`Q` from 1 to 4), kept in registers
+    /// The fill for a block of at most `4 Q` planes (`Q` from 1 to 4), kept in registers
     /// for the whole table: the plane quads are made here from `planes` ([`plane_quad`]),
     /// and each vertex's distances and masks take `Q` vector steps with constant shifts.
     /// Vertices go four at a time (the last group padded with copies of the last vertex,
@@ -426,11 +401,7 @@ mod avx {
                 }
             }
         }
-        if n == 0 {
-            0
-        } else {
-            outside_all
-        }
+        outside_all
     }
 
     /// `x`, unknown to the optimiser: it would otherwise merge the sign masks of the plane
@@ -443,69 +414,6 @@ mod avx {
             std::arch::asm!("/* {0} */", inout(reg) x, options(pure, nomem, nostack, preserves_flags));
         }
         x
-    }
-
-    /// [`super::fill_portable`] on 256-bit vectors: the same operations in the same order
-    /// (multiplications, then additions from the left, then the offset; no fused
-    /// multiply-add), so the same distances to the bit.
-    ///
-    /// # Safety
-    /// The processor must have AVX.
-    #[target_feature(enable = "avx")]
-    pub(super) unsafe fn fill(
-        inputs: &Inputs,
-        table: &mut [f64],
-        masks: &mut [VertexMasks],
-    ) -> u64 {
-        let Thresholds { gap, length } = inputs.th;
-        let planes: &[PlaneQuad] = inputs.planes;
-        let row = 4 * planes.len();
-        let n = inputs.n_vertices;
-        assert!(table.len() >= n * row && masks.len() >= n && inputs.quads.len() * 4 >= n);
-        let above = _mm256_set1_pd(gap);
-        let below = _mm256_set1_pd(-gap);
-        let length = _mm256_set1_pd(length);
-        let sign = _mm256_set1_pd(-0.0);
-        let masked = row <= MASK_FACES;
-        let mut outside_all = if masked { u64::MAX } else { 0 };
-        for v in 0..n {
-            // SAFETY: `v / 4 < quads.len()`, `v < masks.len()` and the row of `v` is within
-            // `table` (asserted above); `PlaneQuad` holds four `[f64; 4]`, read unaligned.
-            unsafe {
-                let quad = inputs.quads.get_unchecked(v / 4);
-                let x = _mm256_broadcast_sd(quad.x.get_unchecked(v % 4));
-                let y = _mm256_broadcast_sd(quad.y.get_unchecked(v % 4));
-                let z = _mm256_broadcast_sd(quad.z.get_unchecked(v % 4));
-                let out = table.as_mut_ptr().add(v * row);
-                let mut bits = VertexMasks::default();
-                for (pq, p) in planes.iter().enumerate() {
-                    let xy = _mm256_add_pd(
-                        _mm256_mul_pd(_mm256_loadu_pd(p.nx.as_ptr()), x),
-                        _mm256_mul_pd(_mm256_loadu_pd(p.ny.as_ptr()), y),
-                    );
-                    let xyz = _mm256_add_pd(xy, _mm256_mul_pd(_mm256_loadu_pd(p.nz.as_ptr()), z));
-                    let s = _mm256_sub_pd(xyz, _mm256_loadu_pd(p.offset.as_ptr()));
-                    _mm256_storeu_pd(out.add(4 * pq), s);
-                    if masked {
-                        let shift = 4 * pq as u32;
-                        let outside = _mm256_cmp_pd::<_CMP_GT_OQ>(s, above);
-                        let shallow = _mm256_cmp_pd::<_CMP_GE_OQ>(s, below);
-                        let magnitude = _mm256_andnot_pd(sign, s);
-                        let near = _mm256_cmp_pd::<_CMP_LE_OQ>(magnitude, length);
-                        bits.outside |= (_mm256_movemask_pd(outside) as u64) << shift;
-                        bits.shallow |= (_mm256_movemask_pd(shallow) as u64) << shift;
-                        bits.near |= (_mm256_movemask_pd(near) as u64) << shift;
-                    }
-                }
-                outside_all &= bits.outside;
-                *masks.get_unchecked_mut(v) = bits;
-            }
-        }
-        if n == 0 {
-            0
-        } else {
-            outside_all
-        }
     }
 }
 
@@ -576,36 +484,14 @@ mod avx512 {
                 }
             }
         }
-        if n == 0 {
-            0
-        } else {
-            outside_all
-        }
+        outside_all
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::system::test_rng::Rng;
-
-    fn block(rng: &mut Rng, faces: usize, centre: [f64; 3]) -> ConvexBlock {
-        loop {
-            let normals: Vec<[f64; 3]> = (0..faces)
-                .map(|_| [rng.signed(), rng.signed(), rng.signed()])
-                .collect();
-            let offsets: Vec<f64> = normals
-                .iter()
-                .map(|m| {
-                    let len = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
-                    len + m[0] * centre[0] + m[1] * centre[1] + m[2] * centre[2]
-                })
-                .collect();
-            if let Ok(b) = ConvexBlock::from_planes(&normals, &offsets) {
-                return b;
-            }
-        }
-    }
+    use crate::system::test_rng::{polytope, Rng};
 
     /// Every kernel this processor runs gives the portable kernel's distances and masks,
     /// to the bit, with and without masks, separated or not; each distance is the plane's
@@ -617,10 +503,10 @@ mod tests {
         let mut separated = 0;
         for round in 0..300 {
             let faces = [4, 6, 8, 9, 12, 16, 17, 30, 70][round % 9];
-            let a = block(&mut rng, faces, [0.0; 3]);
+            let a = polytope(&mut rng, faces, [0.0; 3], None);
             let d = 1.0 + 2.0 * rng.unit();
             let centre = [d * rng.signed(), d * rng.signed(), d];
-            let b = block(&mut rng, faces, centre);
+            let b = polytope(&mut rng, faces, centre, None);
             let gap = [0.0, 1e-9, 0.03][round % 3];
             let th = Thresholds {
                 gap,

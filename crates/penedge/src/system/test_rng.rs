@@ -18,3 +18,32 @@ impl Rng {
         2.0 * self.unit() - 1.0
     }
 }
+
+/// A random convex block: `n` planes tangent to the unit sphere about `centre`, of random
+/// outward normals, the first one `first` when given (drawn again until they bound a block).
+pub(crate) fn polytope(
+    rng: &mut Rng,
+    n: usize,
+    centre: [f64; 3],
+    first: Option<[f64; 3]>,
+) -> crate::ConvexBlock {
+    loop {
+        let mut normals: Vec<[f64; 3]> = (0..n)
+            .map(|_| {
+                let v = [rng.signed(), rng.signed(), rng.signed()];
+                let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                v.map(|c| c / len)
+            })
+            .collect();
+        if let Some(f) = first {
+            normals[0] = f;
+        }
+        let offsets: Vec<f64> = normals
+            .iter()
+            .map(|m| 1.0 + m[0] * centre[0] + m[1] * centre[1] + m[2] * centre[2])
+            .collect();
+        if let Ok(block) = crate::ConvexBlock::from_planes(&normals, &offsets) {
+            return block;
+        }
+    }
+}
