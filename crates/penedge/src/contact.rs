@@ -1,11 +1,9 @@
 //! The pair query: penetration edges, then the contact decision and type.
 
 use crate::block::ConvexBlock;
-use crate::classify::{decide, spread_exceeds, FaceLists, FaceMasks, Feature, PairResult};
+use crate::classify::{decide, spread_exceeds, FaceLists, FaceMasks, HeldFaces, PairResult};
 use crate::geometry::DVec3;
-use crate::penetration::{
-    clip_edges, DistanceTable, EdgeSink, Kernel, PenetrationEdge, Piece, Side,
-};
+use crate::penetration::{clip_edges, DistanceTable, EdgeSink, Kernel, PenetrationEdge, Side};
 use crate::tolerance::{Thresholds, Tolerance};
 
 /// A reusable pair detector: holds the tolerance and the scratch buffers, so that a loop
@@ -154,37 +152,6 @@ impl Detector {
 
     fn fill_tables(&mut self, a: &ConvexBlock, b: &ConvexBlock, th: Thresholds) -> bool {
         self.a_to_b.fill(self.kernel, a, b, th) && self.b_to_a.fill(self.kernel, b, a, th)
-    }
-}
-
-/// The faces of each block that hold the representative points, gathered from the
-/// penetration edges as they come ([`crate::classify`]), and the features they give.
-trait HeldFaces: EdgeSink {
-    fn features(&self) -> (Option<Feature>, Option<Feature>);
-}
-
-impl EdgeSink for FaceMasks<'_> {
-    #[inline(always)]
-    fn edge(&mut self, piece: &Piece<'_>, table: &DistanceTable) {
-        self.add(piece, table);
-    }
-}
-
-impl HeldFaces for FaceMasks<'_> {
-    fn features(&self) -> (Option<Feature>, Option<Feature>) {
-        FaceMasks::features(self)
-    }
-}
-
-impl EdgeSink for FaceLists<'_> {
-    fn edge(&mut self, piece: &Piece<'_>, table: &DistanceTable) {
-        self.add(piece, table);
-    }
-}
-
-impl HeldFaces for FaceLists<'_> {
-    fn features(&self) -> (Option<Feature>, Option<Feature>) {
-        FaceLists::features(self)
     }
 }
 

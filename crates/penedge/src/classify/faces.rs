@@ -24,7 +24,14 @@
 use super::{feature_from, Feature};
 use crate::block::{ConvexBlock, Edge, INCIDENCE_FACES};
 use crate::geometry::DVec3;
-use crate::penetration::{DistanceTable, PenetrationEdgeType, Piece};
+use crate::penetration::{DistanceTable, EdgeSink, PenetrationEdgeType, Piece};
+
+/// The faces of each block that hold the representative points, gathered from the
+/// penetration edges as they come, and the features they give.
+pub(crate) trait HeldFaces: EdgeSink {
+    /// The feature of each block that holds the contact.
+    fn features(&self) -> (Option<Feature>, Option<Feature>);
+}
 
 /// A representative point (module docs of [`crate::classify`]), by where it lies on its
 /// owner.
@@ -78,6 +85,12 @@ fn other_distance(table: &DistanceTable, f: usize, rep: Representative, [v1, v2]
     }
 }
 
+/// The faces along `edge` (its two), as a mask.
+#[inline(always)]
+fn edge_faces(edge: &Edge) -> u64 {
+    1u64 << edge.faces[0] | 1u64 << edge.faces[1]
+}
+
 /// The faces of `mask` (bit `f` for face `f`) for which `keep` holds.
 #[inline(always)]
 fn retain(mask: u64, mut keep: impl FnMut(usize) -> bool) -> u64 {
@@ -123,49 +136,6 @@ impl<'a> FaceMasks<'a> {
         })
     }
 
-    /// Keeps the faces that hold the representative points of `piece`; `table` holds the
-    /// distances of its owner's vertices to the other block's planes.
-    ///
-    /// Once the masks have shrunk to the faces along the contact (after a point or two),
-    /// a penetration edge changes them by two `and`s: every point along an edge is held by
-    /// the edge's two faces, and by the other block's faces near both of its vertices; only
-    /// faces still in a mask and not settled so are tested point by point.
-    #[inline(always)]
-    pub(crate) fn add(&mut self, piece: &Piece<'_>, table: &DistanceTable) {
-        let side = piece.side as usize;
-        let other = 1 - side;
-        let parent = piece.parent;
-        if piece.kind == PenetrationEdgeType::T3 {
-            // The stub's original vertex.
-            let v = parent.vertices[piece.is_cut(0) as usize];
-            return self.vertex(side, v, table);
-        }
-        if self.decided[side] && table.masked() {
-            let along = 1u64 << parent.faces[0] | 1u64 << parent.faces[1];
-            let at = self.blocks[side].vertex_faces();
-            let [v1, v2] = parent.vertices.map(|v| at[v as usize]);
-            let both = piece.near[0] & piece.near[1];
-            let open_own = (v1 | v2) & !along & self.masks[side];
-            let open_other = self.masks[other] & !both;
-            if open_own | open_other == 0 {
-                self.masks[side] &= along;
-                self.masks[other] &= both;
-                return;
-            }
-        }
-        if piece.kind == PenetrationEdgeType::T5 {
-            let t = 0.5 * (piece.t[0] + piece.t[1]);
-            return self.along(side, parent, piece.near, t, table);
-        }
-        for k in 0..2 {
-            if piece.is_cut(k) {
-                self.along(side, parent, piece.near, piece.t[k], table);
-            } else {
-                self.vertex(side, parent.vertices[k], table);
-            }
-        }
-    }
-
     /// A representative point at vertex `v` of block `side`.
     #[inline(always)]
     fn vertex(&mut self, side: usize, v: u32, table: &DistanceTable) {
@@ -192,7 +162,7 @@ impl<'a> FaceMasks<'a> {
         let [v1, v2] = edge.vertices;
         let length = self.length;
         self.masks[side] = if self.decided[side] {
-            let along = 1u64 << edge.faces[0] | 1u64 << edge.faces[1];
+            let along = edge_faces(edge);
             let at = owner.vertex_faces();
             let near_end = (at[v1 as usize] | at[v2 as usize]) & !along & self.masks[side];
             let ends = if near_end == 0 {
@@ -207,8 +177,7 @@ impl<'a> FaceMasks<'a> {
         };
         let other = 1 - side;
         let lerp = |f: usize| {
-            let (d1, d2) = (table.get(f, v1), table.get(f, v2));
-            (d1 + (d2 - d1) * t).abs() <= length
+            other_distance(table, f, Representative::OnEdge(t), [v1, v2]).abs() <= length
         };
         self.masks[other] = if table.masked() {
             let both = near[0] & near[1];
@@ -235,9 +204,55 @@ impl<'a> FaceMasks<'a> {
         self.decided = [false; 2];
         self
     }
+}
 
-    /// The feature of each block that holds the contact.
-    pub(crate) fn features(&self) -> (Option<Feature>, Option<Feature>) {
+impl EdgeSink for FaceMasks<'_> {
+    /// Keeps the faces that hold the representative points of `piece`; `table` holds the
+    /// distances of its owner's vertices to the other block's planes.
+    ///
+    /// Once the masks have shrunk to the faces along the contact (after a point or two),
+    /// a penetration edge changes them by two `and`s: every point along an edge is held by
+    /// the edge's two faces, and by the other block's faces near both of its vertices; only
+    /// faces still in a mask and not settled so are tested point by point.
+    #[inline(always)]
+    fn edge(&mut self, piece: &Piece<'_>, table: &DistanceTable) {
+        let side = piece.side as usize;
+        let other = 1 - side;
+        let parent = piece.parent;
+        if piece.kind == PenetrationEdgeType::T3 {
+            // The stub's original vertex.
+            let v = parent.vertices[piece.is_cut(0) as usize];
+            return self.vertex(side, v, table);
+        }
+        if self.decided[side] && table.masked() {
+            let along = edge_faces(parent);
+            let at = self.blocks[side].vertex_faces();
+            let [v1, v2] = parent.vertices.map(|v| at[v as usize]);
+            let both = piece.near[0] & piece.near[1];
+            let open_own = (v1 | v2) & !along & self.masks[side];
+            let open_other = self.masks[other] & !both;
+            if open_own | open_other == 0 {
+                self.masks[side] &= along;
+                self.masks[other] &= both;
+                return;
+            }
+        }
+        if piece.kind == PenetrationEdgeType::T5 {
+            let t = 0.5 * (piece.t[0] + piece.t[1]);
+            return self.along(side, parent, piece.near, t, table);
+        }
+        for k in 0..2 {
+            if piece.is_cut(k) {
+                self.along(side, parent, piece.near, piece.t[k], table);
+            } else {
+                self.vertex(side, parent.vertices[k], table);
+            }
+        }
+    }
+}
+
+impl HeldFaces for FaceMasks<'_> {
+    fn features(&self) -> (Option<Feature>, Option<Feature>) {
         let feature = |k: usize| feature_of_mask(self.blocks[k], self.masks[k]);
         (feature(0), feature(1))
     }
@@ -281,9 +296,11 @@ impl<'a> FaceLists<'a> {
             length,
         }
     }
+}
 
-    /// [`FaceMasks::add`].
-    pub(crate) fn add(&mut self, piece: &Piece<'_>, table: &DistanceTable) {
+impl EdgeSink for FaceLists<'_> {
+    /// The tests of [`FaceMasks`], face by face.
+    fn edge(&mut self, piece: &Piece<'_>, table: &DistanceTable) {
         let (reps, n) = representatives(piece);
         let side = piece.side as usize;
         let owner = self.blocks[side];
@@ -300,9 +317,10 @@ impl<'a> FaceLists<'a> {
                 .retain(|&f| other_distance(table, f as usize, rep, edge.vertices).abs() <= length);
         }
     }
+}
 
-    /// [`FaceMasks::features`].
-    pub(crate) fn features(&self) -> (Option<Feature>, Option<Feature>) {
+impl HeldFaces for FaceLists<'_> {
+    fn features(&self) -> (Option<Feature>, Option<Feature>) {
         let feature = |k: usize| feature_from(self.blocks[k], &self.held[k]);
         (feature(0), feature(1))
     }

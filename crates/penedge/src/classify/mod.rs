@@ -32,7 +32,7 @@
 mod faces;
 mod points;
 
-pub(crate) use faces::{FaceLists, FaceMasks};
+pub(crate) use faces::{FaceLists, FaceMasks, HeldFaces};
 pub(crate) use points::{representative_points, spread_exceeds};
 
 use crate::block::ConvexBlock;

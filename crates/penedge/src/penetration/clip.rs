@@ -2,8 +2,10 @@
 //! table: the parameter interval of each edge inside the other block widened by the gap.
 
 use super::table::{DistanceTable, VertexMasks};
-use super::NO_CUT;
 use crate::block::Edge;
+
+/// The face of an end that no face cuts.
+pub(super) const NO_CUT: u32 = u32::MAX;
 
 /// The part `t[0]..=t[1]` of an edge that survives, with the face that cuts each end
 /// ([`NO_CUT`]: the end is the edge's own vertex).

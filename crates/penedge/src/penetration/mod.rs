@@ -17,7 +17,7 @@ mod table;
 
 use crate::block::{ConvexBlock, Edge};
 use crate::tolerance::Thresholds;
-use clip::Clipped;
+use clip::{Clipped, NO_CUT};
 pub(crate) use table::{DistanceTable, Kernel, VertexMasks};
 
 /// Which block of the pair.
@@ -90,19 +90,17 @@ pub struct PenetrationEdge {
 
 /// A penetration edge as the clipping makes it, for a consumer that reads it at once (the
 /// classification): its block, parent edge, Table 1 type, parameters, the face that cuts
-/// each end ([`NO_CUT`]: the end is the parent's vertex), and the faces near each of the
+/// each end ([`NO_CUT`]: the end is the parent's vertex; a plain number is cheaper to test
+/// in the classification's inner loop than an [`EdgeEnd`]), and the faces near each of the
 /// parent's two vertices ([`VertexMasks::near`]; zero when the table has no masks).
 pub(crate) struct Piece<'a> {
     pub(crate) side: Side,
     pub(crate) parent: &'a Edge,
     pub(crate) kind: PenetrationEdgeType,
     pub(crate) t: [f64; 2],
-    pub(crate) cut: [u32; 2],
+    cut: [u32; 2],
     pub(crate) near: [u64; 2],
 }
-
-/// The face of an end that no face cuts.
-pub(crate) const NO_CUT: u32 = u32::MAX;
 
 impl Piece<'_> {
     /// Whether end `k` is a cut (else the parent's vertex `k`).
@@ -111,21 +109,24 @@ impl Piece<'_> {
         self.cut[k] != NO_CUT
     }
 
+    /// The nature of each end.
+    #[inline(always)]
+    fn ends(&self) -> [EdgeEnd; 2] {
+        let end = |k: usize| match self.cut[k] {
+            NO_CUT => EdgeEnd::Vertex(self.parent.vertices[k]),
+            f => EdgeEnd::Cut(f),
+        };
+        [end(0), end(1)]
+    }
+
     /// The penetration edge, its parent being edge `e` of its block.
     #[inline(always)]
     fn edge(&self, e: usize) -> PenetrationEdge {
-        let end = |k: usize| {
-            if self.is_cut(k) {
-                EdgeEnd::Cut(self.cut[k])
-            } else {
-                EdgeEnd::Vertex(self.parent.vertices[k])
-            }
-        };
         PenetrationEdge {
             side: self.side,
             edge: e as u32,
             t: self.t,
-            ends: [end(0), end(1)],
+            ends: self.ends(),
             kind: self.kind,
         }
     }
@@ -234,33 +235,25 @@ fn piece<'a>(
     masks: [VertexMasks; 2],
     th: Thresholds,
 ) -> Piece<'a> {
-    let cut = c.cut.map(|f| f != NO_CUT);
-    // Two original vertices always make a type 1; otherwise the length decides.
-    let kind = if cut == [false, false] {
-        PenetrationEdgeType::T1
-    } else {
-        let piece = c.t[1] - c.t[0];
-        // No edge is longer than the block's diagonal: a piece well below the threshold
-        // there (the gap's stubs) has no length, without the edge's vertices.
-        let has_length = 2.0 * piece * of.size() > th.length && {
-            let [v1, v2] = parent.vertices;
-            let edge_vector = of.vertices()[v2 as usize] - of.vertices()[v1 as usize];
-            piece * piece * edge_vector.length_squared() > th.length * th.length
-        };
-        const BY_CUTS: [[PenetrationEdgeType; 2]; 3] = {
-            use PenetrationEdgeType::*;
-            [[T1, T1], [T3, T2], [T5, T4]]
-        };
-        BY_CUTS[cut[0] as usize + cut[1] as usize][has_length as usize]
+    // Two original vertices make a type 1 whatever the length; a cut piece well below the
+    // threshold at the block's diagonal (no edge is longer: the gap's stubs) has no length,
+    // known without the edge's vertices.
+    let piece = c.t[1] - c.t[0];
+    let has_length = c.cut != [NO_CUT; 2] && 2.0 * piece * of.size() > th.length && {
+        let [v1, v2] = parent.vertices;
+        let edge_vector = of.vertices()[v2 as usize] - of.vertices()[v1 as usize];
+        piece * piece * edge_vector.length_squared() > th.length * th.length
     };
-    Piece {
+    let mut piece = Piece {
         side,
         parent,
-        kind,
+        kind: PenetrationEdgeType::T1,
         t: c.t,
         cut: c.cut,
         near: masks.map(|m| m.near),
-    }
+    };
+    piece.kind = PenetrationEdgeType::of(piece.ends(), has_length);
+    piece
 }
 
 impl PenetrationEdge {
