@@ -69,41 +69,78 @@ impl BlockSystem {
         let pairs = self.candidate_pairs(tol);
         let mut out = SystemContacts::default();
         out.contacts.reserve(pairs.len());
-        let mut touching: Vec<usize> = Vec::new();
         narrow_phase(
             self,
             &pairs,
             tol,
             progress,
             |det, a, b| det.detect(a, b),
-            |slice, outcomes| {
-                // The contacts are written into the output by both threads, in pair order
-                // (an indexed parallel extend writes in place): neither waits while the
-                // other appends, and the output's fresh pages are touched by both.
-                touching.clear();
-                touching.par_extend(
-                    (0..slice.len())
-                        .into_par_iter()
-                        .filter(|&k| matches!(outcomes[k], PairResult::Contact(_))),
-                );
-                out.contacts.par_extend(touching.par_iter().map(|&k| {
-                    let PairResult::Contact(contact) = outcomes[k] else {
-                        unreachable!("kept as a contact")
-                    };
-                    PairContact {
-                        pair: slice[k],
-                        contact,
-                    }
-                }));
-                let penetrating = slice.iter().zip(outcomes);
-                out.penetrating
-                    .extend(penetrating.filter_map(|(&pair, outcome)| {
-                        matches!(outcome, PairResult::Penetrating).then_some(pair)
-                    }));
-            },
+            |slice, outcomes| out.extend_from(slice, outcomes),
         )?;
         out.contacts.shrink_to_fit();
         Ok(out)
+    }
+}
+
+impl SystemContacts {
+    /// Appends the contacts and the penetrating pairs among `results` (the answers for
+    /// `pairs`), in pair order. Each chunk of the results is sorted out by one thread, then
+    /// every chunk copies its part into its own stretch of the output, in parallel: no
+    /// thread waits while another appends, and the output's fresh pages are touched by all
+    /// (on a grid of 10^6 blocks, appending from one thread cost 0.15 to 0.9 s).
+    pub(super) fn extend_from(&mut self, pairs: &[[u32; 2]], results: &[PairResult]) {
+        const CHUNK: usize = 1 << 14;
+        let parts: Vec<SystemContacts> = pairs
+            .par_chunks(CHUNK)
+            .zip(results.par_chunks(CHUNK))
+            .map(|(pairs, results)| {
+                let mut part = SystemContacts::default();
+                for (&pair, result) in pairs.iter().zip(results) {
+                    match *result {
+                        PairResult::Contact(contact) => {
+                            part.contacts.push(PairContact { pair, contact })
+                        }
+                        PairResult::Penetrating => part.penetrating.push(pair),
+                        PairResult::Separated => {}
+                    }
+                }
+                part
+            })
+            .collect();
+        let contacts = parts.iter().map(|p| p.contacts.len()).sum();
+        let penetrating = parts.iter().map(|p| p.penetrating.len()).sum();
+        self.contacts.reserve(contacts);
+        self.penetrating.reserve(penetrating);
+        let mut spare = (
+            &mut self.contacts.spare_capacity_mut()[..contacts],
+            &mut self.penetrating.spare_capacity_mut()[..penetrating],
+        );
+        let mut stretches = Vec::with_capacity(parts.len());
+        for part in &parts {
+            let (c_here, c_rest) = std::mem::take(&mut spare.0).split_at_mut(part.contacts.len());
+            let (p_here, p_rest) =
+                std::mem::take(&mut spare.1).split_at_mut(part.penetrating.len());
+            stretches.push((c_here, p_here));
+            spare = (c_rest, p_rest);
+        }
+        stretches
+            .into_par_iter()
+            .zip(&parts)
+            .for_each(|((c_out, p_out), part)| {
+                for (slot, &c) in c_out.iter_mut().zip(&part.contacts) {
+                    slot.write(c);
+                }
+                for (slot, &p) in p_out.iter_mut().zip(&part.penetrating) {
+                    slot.write(p);
+                }
+            });
+        // SAFETY: the stretches have the lengths of the parts, and together cover the first
+        // `contacts` (`penetrating`) spare slots, each written exactly once above.
+        unsafe {
+            self.contacts.set_len(self.contacts.len() + contacts);
+            self.penetrating
+                .set_len(self.penetrating.len() + penetrating);
+        }
     }
 }
 
@@ -169,4 +206,49 @@ pub fn count_types(contacts: &[PairContact]) -> [usize; 7] {
         counts[c.contact.kind.code() as usize - 1] += 1;
     }
     counts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::classify::{ContactType, Feature};
+    use crate::system::test_rng::Rng;
+
+    /// The output built in parallel chunks equals the contacts and penetrating pairs picked
+    /// one by one, in order, appended after what was there, across chunk boundaries.
+    #[test]
+    fn extend_from_keeps_pair_order_across_chunks() {
+        let mut rng = Rng(3);
+        let n = 50_000;
+        let pairs: Vec<[u32; 2]> = (0..n as u32).map(|k| [k, k + 1]).collect();
+        let results: Vec<PairResult> = (0..n)
+            .map(|k| match (rng.unit() * 3.0) as u32 {
+                0 => PairResult::Separated,
+                1 => PairResult::Penetrating,
+                _ => PairResult::Contact(Contact {
+                    kind: ContactType::ALL[k % 7],
+                    feature_a: Feature::Vertex(k as u32),
+                    feature_b: Feature::Face(7),
+                }),
+            })
+            .collect();
+        let mut expected = SystemContacts {
+            contacts: Vec::new(),
+            penetrating: vec![[9, 9]],
+        };
+        let mut found = expected.clone();
+        for (&pair, result) in pairs.iter().zip(&results) {
+            match *result {
+                PairResult::Contact(contact) => {
+                    expected.contacts.push(PairContact { pair, contact })
+                }
+                PairResult::Penetrating => expected.penetrating.push(pair),
+                PairResult::Separated => {}
+            }
+        }
+        found.extend_from(&pairs[..n / 3], &results[..n / 3]);
+        found.extend_from(&pairs[n / 3..], &results[n / 3..]);
+        assert_eq!(found, expected);
+        assert!(expected.contacts.len() > n / 4 && expected.penetrating.len() > n / 4);
+    }
 }

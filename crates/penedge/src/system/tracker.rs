@@ -27,7 +27,7 @@
 //! its reference read), and in a small step most pairs are certified: their blocks need
 //! only their travel, which comes from the poses.
 
-use super::detect::{PairContact, SystemContacts};
+use super::detect::SystemContacts;
 use super::{BlockSystem, BroadPhase, WideBoxes};
 use crate::block::{ConvexBlock, Pose};
 use crate::classify::PairResult;
@@ -87,6 +87,13 @@ fn deadline(margin: f64, gap: f64, travel: [f64; 2]) -> f64 {
     }
     let sum = margin - gap + travel[0] + travel[1];
     sum - 4.0 * f64::EPSILON * (margin + gap + travel[0] + travel[1])
+}
+
+/// Whether a certificate with deadline `deadline` ([`deadline`]) still answers its pair, the
+/// blocks having travelled `travel` in all.
+#[inline]
+fn holds(deadline: f64, travel: [f64; 2]) -> bool {
+    (travel[0] + travel[1]) * TRAVEL_SLACK < deadline
 }
 
 /// The contacts of a block system whose blocks move rigidly, updated step by step.
@@ -292,9 +299,8 @@ impl ContactTracker {
     /// Whether pair `k`'s certificate answers it at the current travels.
     #[inline]
     fn certified(&self, k: usize) -> bool {
-        let [i, j] = self.pairs[k];
-        let (ti, tj) = (self.travel[i as usize], self.travel[j as usize]);
-        (ti + tj) * TRAVEL_SLACK < self.deadlines[k]
+        let travel = self.pairs[k].map(|b| self.travel[b as usize]);
+        holds(self.deadlines[k], travel)
     }
 
     /// Places the blocks of the pairs that their certificates do not answer.
@@ -318,10 +324,11 @@ impl ContactTracker {
 
     fn rebuild(&mut self) {
         let half_skin = 0.5 * self.skin;
-        let boxes = WideBoxes::new(self.current.blocks().iter().map(|b| {
-            let aabb = b.aabb();
+        let blocks = self.current.blocks();
+        let boxes = WideBoxes::from_fn(blocks.len(), |i| {
+            let aabb = blocks[i].aabb();
             (aabb, self.tol.for_box(&aabb).gap + half_skin)
-        }));
+        });
         self.pairs = boxes.pairs(BroadPhase::default());
         self.deadlines = vec![f64::NEG_INFINITY; self.pairs.len()];
         self.results = vec![PairResult::Separated; self.pairs.len()];
@@ -344,7 +351,7 @@ impl ContactTracker {
                 || Detector::new(tol),
                 |det, ((&[i, j], deadline_of), result_of)| {
                     let (ti, tj) = (travel[i as usize], travel[j as usize]);
-                    if (ti + tj) * TRAVEL_SLACK < *deadline_of {
+                    if holds(*deadline_of, [ti, tj]) {
                         return 1;
                     }
                     let (a, b) = (&blocks[i as usize], &blocks[j as usize]);
@@ -370,36 +377,9 @@ impl ContactTracker {
                 },
             )
             .sum();
-        // In parallel chunks, each giving both lists in pair order, then joined.
-        const CHUNK: usize = 1 << 14;
-        let chunks: Vec<SystemContacts> = self
-            .pairs
-            .par_chunks(CHUNK)
-            .zip(self.results.par_chunks(CHUNK))
-            .map(|(pairs, results)| {
-                let mut part = SystemContacts::default();
-                for (&pair, result) in pairs.iter().zip(results) {
-                    match *result {
-                        PairResult::Contact(contact) => {
-                            part.contacts.push(PairContact { pair, contact })
-                        }
-                        PairResult::Penetrating => part.penetrating.push(pair),
-                        PairResult::Separated => {}
-                    }
-                }
-                part
-            })
-            .collect();
-        let mut all = SystemContacts::default();
-        all.contacts
-            .reserve(chunks.iter().map(|c| c.contacts.len()).sum());
-        all.penetrating
-            .reserve(chunks.iter().map(|c| c.penetrating.len()).sum());
-        for part in chunks {
-            all.contacts.extend_from_slice(&part.contacts);
-            all.penetrating.extend_from_slice(&part.penetrating);
-        }
-        self.contacts = all;
+        let mut found = SystemContacts::default();
+        found.extend_from(&self.pairs, &self.results);
+        self.contacts = found;
         (certified, self.pairs.len() - certified)
     }
 }
@@ -550,6 +530,12 @@ mod tests {
                     .collect(),
             );
             assert_eq!(tracker.contacts(), &moved.detect(&tol), "{report:?}");
+            // The blocks that no query placed are placed when the system is asked for.
+            let placed = tracker.system().blocks();
+            for (p, m) in placed.iter().zip(moved.blocks()) {
+                let off = p.vertices().iter().zip(m.vertices());
+                assert!(off.map(|(p, m)| p.distance(*m)).fold(0.0, f64::max) < 1e-12);
+            }
             reports.push(report);
         }
         reports
