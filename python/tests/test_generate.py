@@ -358,6 +358,22 @@ def test_a_pickled_block_is_the_same_block_bit_for_bit():
     assert np.array_equal(found.types, found_again.types)
 
 
+def test_restoring_a_block_with_bad_planes_is_an_error():
+    block = penedge.paper_example(1).blocks[0]
+    vertices, faces, normals = block.vertices, block.faces, block.face_normals
+    n = len(faces)
+    origins = [(0, -1, -1)] * n
+    points = block.vertices[[face[0] for face in faces]]
+    again = penedge.Block._restore(vertices, faces, origins, normals, points, 1e-9)
+    assert np.array_equal(again.face_normals, normals)
+    with pytest.raises(penedge.InputError, match="normals and"):
+        penedge.Block._restore(vertices, faces, origins, normals[:-1], points, 1e-9)
+    with pytest.raises(penedge.ToleranceError, match="length"):
+        penedge.Block._restore(vertices, faces, origins, normals, points, 0.5)
+    with pytest.raises(penedge.BlockError):
+        penedge.Block._restore(vertices, faces, origins, -normals, points, 1e-9)
+
+
 def test_a_block_pickled_without_its_planes_still_loads():
     block = penedge.paper_example(1).blocks[0]
     origins = [(0, -1, -1)] * len(block.faces)

@@ -317,6 +317,10 @@ impl Block {
             .collect();
         let normals = arrays::points(normals, "normals")?;
         let points = arrays::points(points, "points")?;
+        if normals.len() != points.len() {
+            let msg = format!("{} normals and {} points", normals.len(), points.len());
+            return Err(input_error("planes", msg));
+        }
         let planes: Vec<Plane> = normals
             .iter()
             .zip(&points)
@@ -325,10 +329,6 @@ impl Block {
                 point: DVec3::from_array(*p),
             })
             .collect();
-        if planes.len() != normals.len().max(points.len()) {
-            let msg = format!("{} normals and {} points", normals.len(), points.len());
-            return Err(input_error("planes", msg));
-        }
         ConvexBlock::from_parts(&vertices, &faces, &planes, &origins, &tol)
             .map(Block::wrap)
             .map_err(to_py_err)

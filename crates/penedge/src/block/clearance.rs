@@ -91,7 +91,8 @@ mod tests {
 
     #[test]
     fn a_sliver_is_not_decided_at_a_wide_threshold() {
-        // A wedge whose top edge is 1e-4 above the plane of its sloping face's neighbour.
+        // A wedge 1e-4 thick at one end: the vertices of that end lie 1e-4 from the plane
+        // of the bottom face, which they are not on.
         let wedge = ConvexBlock::from_planes(
             &[
                 [0.0, 0.0, -1.0],
