@@ -54,7 +54,7 @@ pub struct ConvexBlock {
     planes: Vec<Plane>,
     origins: Vec<FaceOrigin>,
     edges: Vec<Edge>,
-    /// The faces at each vertex, bit `f` for face `f` (empty past [`INCIDENCE_FACES`]
+    /// The faces at each vertex, bit `f` for face `f` (empty past [`MASK_FACES`]
     /// faces).
     vertex_faces: Vec<u64>,
     clearance: Clearance,
@@ -64,19 +64,20 @@ pub struct ConvexBlock {
     local: LocalCoordinates,
 }
 
-/// Blocks of at most this many faces keep their vertex-face incidence as bit masks
-/// ([`ConvexBlock::vertex_faces`]).
-pub(crate) const INCIDENCE_FACES: usize = 64;
+/// Sets of faces are bit masks (a bit per face in a `u64`) for blocks of at most this many
+/// faces: the faces at each vertex ([`ConvexBlock::vertex_faces`]), the masks of the pair
+/// query's distance tables and those of the classification. Larger blocks take lists.
+pub(crate) const MASK_FACES: usize = 64;
 
 /// The faces at each vertex as bit masks (bit `f` for face `f`); empty for a block of more
-/// than [`INCIDENCE_FACES`] faces.
+/// than [`MASK_FACES`] faces.
 pub(crate) fn vertex_face_masks(
     n_vertices: usize,
     face_offsets: &[u32],
     face_vertices: &[u32],
 ) -> Vec<u64> {
     let n_faces = face_offsets.len().saturating_sub(1);
-    if n_faces > INCIDENCE_FACES {
+    if n_faces > MASK_FACES {
         return Vec::new();
     }
     let mut masks = vec![0u64; n_vertices];
@@ -193,7 +194,7 @@ impl ConvexBlock {
     }
 
     /// The faces at each vertex, bit `f` for face `f`; empty for a block of more than
-    /// [`INCIDENCE_FACES`] faces.
+    /// [`MASK_FACES`] faces.
     pub(crate) fn vertex_faces(&self) -> &[u64] {
         &self.vertex_faces
     }

@@ -22,7 +22,7 @@
 //! `and`s. [`FaceLists`] applies the same tests face by face, for larger blocks.
 
 use super::{feature_from, Feature};
-use crate::block::{ConvexBlock, Edge, INCIDENCE_FACES};
+use crate::block::{ConvexBlock, Edge, MASK_FACES};
 use crate::geometry::DVec3;
 use crate::penetration::{DistanceTable, EdgeSink, PenetrationEdgeType, Piece};
 
@@ -125,7 +125,7 @@ impl<'a> FaceMasks<'a> {
     #[inline]
     pub(crate) fn new(a: &'a ConvexBlock, b: &'a ConvexBlock, length: f64) -> Option<Self> {
         let all = |block: &ConvexBlock| match block.n_faces() {
-            n if n > INCIDENCE_FACES => None,
+            n if n > MASK_FACES => None,
             n => Some(u64::MAX >> (64 - n)),
         };
         Some(FaceMasks {

@@ -1,7 +1,7 @@
 //! The distance table of a pair: signed distances of one block's vertices to the other
 //! block's face planes, computed once per pair and read by every edge.
 
-use crate::block::{ConvexBlock, Quad};
+use crate::block::{ConvexBlock, Quad, MASK_FACES};
 use crate::geometry::{DVec3, Plane};
 use crate::tolerance::Thresholds;
 
@@ -46,9 +46,6 @@ pub(crate) struct VertexMasks {
     /// Faces whose planes pass within the length threshold of the vertex (`|s| <= length`).
     pub(crate) near: u64,
 }
-
-/// Faces beyond this count are clipped without masks (a bit per face in a `u64`).
-pub(crate) const MASK_FACES: usize = 64;
 
 /// Four planes `n · x = offset`, one array per component (a missing plane is `0 · x = ∞`,
 /// which every vertex is far inside of).
