@@ -137,6 +137,14 @@ pub struct ContactTracker {
     needed: Flags,
 }
 
+/// Which stale blocks [`ContactTracker::place`] places.
+#[derive(Clone, Copy)]
+enum Which {
+    All,
+    /// Those marked in `needed`.
+    Needed,
+}
+
 /// One flag per block, set from several threads (scratch: all clear between uses, so a
 /// clone is a set of clear flags).
 #[derive(Debug, Default)]
@@ -206,7 +214,7 @@ impl ContactTracker {
     /// The blocks at their current poses (placing those not placed yet: the updates place
     /// only what their queries need).
     pub fn system(&mut self) -> &BlockSystem {
-        self.place(|_| true);
+        self.place(Which::All);
         &self.current
     }
 
@@ -243,7 +251,7 @@ impl ContactTracker {
         let farthest = self.move_poses(poses);
         let rebuilt = farthest > 0.5 * self.skin;
         if rebuilt {
-            self.place(|_| true);
+            self.place(Which::All);
             self.rebuild();
         }
         let (certified, queried) = self.narrow_phase();
@@ -280,16 +288,28 @@ impl ContactTracker {
             .reduce(|| 0.0, f64::max)
     }
 
-    /// Places at their poses the stale blocks that `wanted` accepts.
-    fn place(&mut self, wanted: impl Fn(usize) -> bool + Sync) {
-        let (reference, poses) = (&self.reference, &self.poses);
+    /// Places at their poses the stale blocks, all of them or those marked as needed (the
+    /// marks are cleared on the way).
+    fn place(&mut self, which: Which) {
+        let (reference, poses, needed) = (&self.reference, &self.poses, &self.needed.0);
         self.current
             .blocks
             .par_iter_mut()
             .zip(&mut self.stale)
             .enumerate()
             .for_each(|(i, (block, stale))| {
-                if *stale && wanted(i) {
+                let wanted = match which {
+                    Which::All => true,
+                    // A load, and a store only where set (a swap on every block is dearer).
+                    Which::Needed => {
+                        let mark = needed[i].load(Ordering::Relaxed);
+                        if mark {
+                            needed[i].store(false, Ordering::Relaxed);
+                        }
+                        mark
+                    }
+                };
+                if *stale && wanted {
                     block.place_geometry(&reference[i], &poses[i]);
                     *stale = false;
                 }
@@ -313,13 +333,7 @@ impl ContactTracker {
                 }
             }
         });
-        let needed = std::mem::take(&mut self.needed);
-        self.place(|i| needed.0[i].load(Ordering::Relaxed));
-        needed
-            .0
-            .par_iter()
-            .for_each(|n| n.store(false, Ordering::Relaxed));
-        self.needed = needed;
+        self.place(Which::Needed);
     }
 
     fn rebuild(&mut self) {
