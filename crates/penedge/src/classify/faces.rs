@@ -241,12 +241,21 @@ impl EdgeSink for FaceMasks<'_> {
             let t = 0.5 * (piece.t[0] + piece.t[1]);
             return self.along(side, parent, piece.near, t, table);
         }
-        for k in 0..2 {
-            if piece.is_cut(k) {
-                self.along(side, parent, piece.near, piece.t[k], table);
-            } else {
-                self.vertex(side, parent.vertices[k], table);
-            }
+        // The two ends written out rather than looped over by index: an indexed piece
+        // stays in memory, and the caller's copy of its parameters into the penetration
+        // edge then reads two narrow stores with one wide load, which the processor cannot
+        // forward (about 5 % of the 100^3 grid's detection).
+        let [t0, t1] = piece.t;
+        let [v1, v2] = parent.vertices;
+        if piece.is_cut(0) {
+            self.along(side, parent, piece.near, t0, table);
+        } else {
+            self.vertex(side, v1, table);
+        }
+        if piece.is_cut(1) {
+            self.along(side, parent, piece.near, t1, table);
+        } else {
+            self.vertex(side, v2, table);
         }
     }
 }
