@@ -156,6 +156,32 @@ impl WideBoxes {
     }
 }
 
+/// Concatenates `parts` in parallel: each part copied into its own stretch of the output
+/// (copying 10^7 pairs from one thread cost 0.045 s, a fifth of the broad phase).
+fn concat_in_parallel<T: Copy + Send + Sync>(parts: Vec<Vec<T>>) -> Vec<T> {
+    let total = parts.iter().map(Vec::len).sum();
+    let mut out = Vec::with_capacity(total);
+    let mut spare = &mut out.spare_capacity_mut()[..total];
+    let mut stretches = Vec::with_capacity(parts.len());
+    for part in &parts {
+        let (here, rest) = std::mem::take(&mut spare).split_at_mut(part.len());
+        stretches.push(here);
+        spare = rest;
+    }
+    stretches
+        .into_par_iter()
+        .zip(&parts)
+        .for_each(|(stretch, part)| {
+            for (slot, &x) in stretch.iter_mut().zip(part) {
+                slot.write(x);
+            }
+        });
+    // SAFETY: the stretches have the parts' lengths and together cover the first `total`
+    // spare slots, each written exactly once above.
+    unsafe { out.set_len(total) };
+    out
+}
+
 /// The pair, smaller id first.
 #[inline]
 fn key(i: usize, j: usize) -> [u32; 2] {
@@ -205,20 +231,19 @@ impl Grid {
             };
         }
         let extent: Vec<f64> = (0..n)
+            .into_par_iter()
             .map(|i| (boxes.max[i] - boxes.min[i]).max_element())
             .collect();
         let origin = boxes
             .min
-            .iter()
+            .par_iter()
             .copied()
-            .reduce(DVec3::min)
-            .unwrap_or_default();
+            .reduce(|| DVec3::INFINITY, DVec3::min);
         let top = boxes
             .max
-            .iter()
+            .par_iter()
             .copied()
-            .reduce(DVec3::max)
-            .unwrap_or_default();
+            .reduce(|| DVec3::NEG_INFINITY, DVec3::max);
         let span = top - origin;
         let mut median = extent.clone();
         let mid = n / 2;
@@ -242,6 +267,7 @@ impl Grid {
         let levels = (0..=top_level)
             .map(|l| {
                 let members: Vec<u32> = (0..n as u32)
+                    .into_par_iter()
                     .filter(|&i| assigned[i as usize] as usize == l)
                     .collect();
                 Level::new(boxes, origin, span, base * 2f64.powi(l as i32), members)
@@ -281,11 +307,7 @@ impl Grid {
                 .collect();
             parts.extend(found);
         }
-        let mut out = Vec::with_capacity(parts.iter().map(Vec::len).sum());
-        for part in parts {
-            out.extend(part);
-        }
-        out
+        concat_in_parallel(parts)
     }
 }
 
@@ -301,7 +323,7 @@ impl Level {
             lookup: Lookup::Sparse,
         };
         let mut entries: Vec<(u64, u32)> = members
-            .iter()
+            .par_iter()
             .map(|&i| {
                 (
                     level.index(level.coordinates(boxes.min[i as usize], origin)),
