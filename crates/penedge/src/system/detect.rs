@@ -84,61 +84,58 @@ impl BlockSystem {
 
 impl SystemContacts {
     /// Appends the contacts and the penetrating pairs among `results` (the answers for
-    /// `pairs`), in pair order. Each chunk of the results is counted by one thread, then
-    /// every chunk writes its contacts straight into its own stretch of the output, in
-    /// parallel: no thread waits while another appends, the output's fresh pages are touched
-    /// by all (on a grid of 10^6 blocks, appending from one thread cost 0.15 to 0.9 s), and
-    /// nothing is gathered on the way (per-chunk lists were allocated, filled and copied:
-    /// 0.1 to 0.3 s of the grid).
+    /// `pairs`), in pair order. Each chunk of the results is sorted out by one thread, then
+    /// every chunk copies its part into its own stretch of the output, in parallel: no
+    /// thread waits while another appends, and the output's fresh pages are touched by all
+    /// (on a grid of 10^6 blocks, appending from one thread cost 0.15 to 0.9 s).
     pub(super) fn extend_from(&mut self, pairs: &[[u32; 2]], results: &[PairResult]) {
         const CHUNK: usize = 1 << 14;
-        let counts: Vec<[usize; 2]> = results
+        let parts: Vec<SystemContacts> = pairs
             .par_chunks(CHUNK)
-            .map(|results| {
-                results.iter().fold([0, 0], |[c, p], r| match r {
-                    PairResult::Contact(_) => [c + 1, p],
-                    PairResult::Penetrating => [c, p + 1],
-                    PairResult::Separated => [c, p],
-                })
+            .zip(results.par_chunks(CHUNK))
+            .map(|(pairs, results)| {
+                let mut part = SystemContacts::default();
+                for (&pair, result) in pairs.iter().zip(results) {
+                    match *result {
+                        PairResult::Contact(contact) => {
+                            part.contacts.push(PairContact { pair, contact })
+                        }
+                        PairResult::Penetrating => part.penetrating.push(pair),
+                        PairResult::Separated => {}
+                    }
+                }
+                part
             })
             .collect();
-        let contacts = counts.iter().map(|c| c[0]).sum();
-        let penetrating = counts.iter().map(|c| c[1]).sum();
+        let contacts = parts.iter().map(|p| p.contacts.len()).sum();
+        let penetrating = parts.iter().map(|p| p.penetrating.len()).sum();
         self.contacts.reserve(contacts);
         self.penetrating.reserve(penetrating);
         let mut spare = (
             &mut self.contacts.spare_capacity_mut()[..contacts],
             &mut self.penetrating.spare_capacity_mut()[..penetrating],
         );
-        let mut stretches = Vec::with_capacity(counts.len());
-        for &[c, p] in &counts {
-            let (c_here, c_rest) = std::mem::take(&mut spare.0).split_at_mut(c);
-            let (p_here, p_rest) = std::mem::take(&mut spare.1).split_at_mut(p);
+        let mut stretches = Vec::with_capacity(parts.len());
+        for part in &parts {
+            let (c_here, c_rest) = std::mem::take(&mut spare.0).split_at_mut(part.contacts.len());
+            let (p_here, p_rest) =
+                std::mem::take(&mut spare.1).split_at_mut(part.penetrating.len());
             stretches.push((c_here, p_here));
             spare = (c_rest, p_rest);
         }
         stretches
             .into_par_iter()
-            .zip(pairs.par_chunks(CHUNK).zip(results.par_chunks(CHUNK)))
-            .for_each(|((c_out, p_out), (pairs, results))| {
-                let (mut c_slots, mut p_slots) = (c_out.iter_mut(), p_out.iter_mut());
-                for (&pair, result) in pairs.iter().zip(results) {
-                    match *result {
-                        PairResult::Contact(contact) => {
-                            let slot = c_slots.next().expect("counted");
-                            slot.write(PairContact { pair, contact });
-                        }
-                        PairResult::Penetrating => {
-                            p_slots.next().expect("counted").write(pair);
-                        }
-                        PairResult::Separated => {}
-                    }
+            .zip(&parts)
+            .for_each(|((c_out, p_out), part)| {
+                for (slot, &c) in c_out.iter_mut().zip(&part.contacts) {
+                    slot.write(c);
+                }
+                for (slot, &p) in p_out.iter_mut().zip(&part.penetrating) {
+                    slot.write(p);
                 }
             });
-        // SAFETY: each chunk's stretches have the lengths counted from the same results, so
-        // every slot of them was written once above (`expect` would have stopped a chunk
-        // that found more); together they cover the first `contacts` (`penetrating`) spare
-        // slots.
+        // SAFETY: the stretches have the lengths of the parts, and together cover the first
+        // `contacts` (`penetrating`) spare slots, each written exactly once above.
         unsafe {
             self.contacts.set_len(self.contacts.len() + contacts);
             self.penetrating
