@@ -144,6 +144,56 @@ impl SystemContacts {
     }
 }
 
+impl SystemContacts {
+    /// This output with the answers of some of its candidate pairs replaced: `changed`
+    /// holds those pairs, sorted and distinct, with their new answers; every other pair
+    /// keeps its answer. A step of [`super::ContactTracker`] that queries few pairs reads the
+    /// last output this way, rather than every candidate pair's answer.
+    pub(super) fn with_changes(&self, changed: &[([u32; 2], PairResult)]) -> SystemContacts {
+        SystemContacts {
+            contacts: merged(
+                &self.contacts,
+                |c| c.pair,
+                changed,
+                |pair, result| match *result {
+                    PairResult::Contact(contact) => Some(PairContact { pair, contact }),
+                    _ => None,
+                },
+            ),
+            penetrating: merged(
+                &self.penetrating,
+                |&p| p,
+                changed,
+                |pair, result| (*result == PairResult::Penetrating).then_some(pair),
+            ),
+        }
+    }
+}
+
+/// `old` (sorted by pair) with the entries of the pairs of `changed` (sorted) replaced by
+/// `entry` of their new answers (`None`: no entry). The stretches between changed pairs are
+/// found by binary search and copied whole.
+fn merged<T: Copy>(
+    old: &[T],
+    pair_of: impl Fn(&T) -> [u32; 2],
+    changed: &[([u32; 2], PairResult)],
+    entry: impl Fn([u32; 2], &PairResult) -> Option<T>,
+) -> Vec<T> {
+    let mut out = Vec::with_capacity(old.len() + changed.len());
+    let mut rest = old;
+    for (pair, result) in changed {
+        let before = rest.partition_point(|x| pair_of(x) < *pair);
+        out.extend_from_slice(&rest[..before]);
+        rest = &rest[before..];
+        if rest.first().is_some_and(|x| pair_of(x) == *pair) {
+            rest = &rest[1..];
+        }
+        out.extend(entry(*pair, result));
+    }
+    out.extend_from_slice(rest);
+    out
+}
+
 /// How far a system detection has come.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DetectProgress {
@@ -214,6 +264,46 @@ mod tests {
     use crate::classify::{ContactType, Feature};
     use crate::system::test_rng::Rng;
 
+    /// An answer drawn at random: separated, penetrating or a contact (types in turn).
+    fn random_result(rng: &mut Rng, k: usize) -> PairResult {
+        match (rng.unit() * 3.0) as u32 {
+            0 => PairResult::Separated,
+            1 => PairResult::Penetrating,
+            _ => PairResult::Contact(Contact {
+                kind: ContactType::ALL[k % 7],
+                feature_a: Feature::Vertex(k as u32),
+                feature_b: Feature::Face(7),
+            }),
+        }
+    }
+
+    /// An output with some pairs' answers replaced equals the output built anew from every
+    /// pair's answer: pairs that change category, stay, appear or go, at the ends too.
+    #[test]
+    fn with_changes_equals_the_output_built_anew() {
+        let mut rng = Rng(8);
+        let n = 3000;
+        let pairs: Vec<[u32; 2]> = (0..n as u32).map(|k| [k / 40, k]).collect();
+        let mut results: Vec<PairResult> = (0..n).map(|k| random_result(&mut rng, k)).collect();
+        let mut old = SystemContacts::default();
+        old.extend_from(&pairs, &results);
+        for (round, share) in [0.0, 0.01, 0.3, 1.0].into_iter().enumerate() {
+            let mut changed = Vec::new();
+            for k in 0..n {
+                let ends = k == 0 || k == n - 1;
+                if rng.unit() < share || (ends && round == 2) {
+                    results[k] = random_result(&mut rng, k + round);
+                    changed.push((pairs[k], results[k]));
+                }
+            }
+            let mut anew = SystemContacts::default();
+            anew.extend_from(&pairs, &results);
+            let merged = old.with_changes(&changed);
+            assert_eq!(merged, anew, "round {round}, {} changed", changed.len());
+            old = merged;
+        }
+    }
+
     /// The output built in parallel chunks equals the contacts and penetrating pairs picked
     /// one by one, in order, appended after what was there, across chunk boundaries.
     #[test]
@@ -221,17 +311,7 @@ mod tests {
         let mut rng = Rng(3);
         let n = 50_000;
         let pairs: Vec<[u32; 2]> = (0..n as u32).map(|k| [k, k + 1]).collect();
-        let results: Vec<PairResult> = (0..n)
-            .map(|k| match (rng.unit() * 3.0) as u32 {
-                0 => PairResult::Separated,
-                1 => PairResult::Penetrating,
-                _ => PairResult::Contact(Contact {
-                    kind: ContactType::ALL[k % 7],
-                    feature_a: Feature::Vertex(k as u32),
-                    feature_b: Feature::Face(7),
-                }),
-            })
-            .collect();
+        let results: Vec<PairResult> = (0..n).map(|k| random_result(&mut rng, k)).collect();
         let mut expected = SystemContacts {
             contacts: Vec::new(),
             penetrating: vec![[9, 9]],

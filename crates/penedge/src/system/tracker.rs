@@ -202,7 +202,7 @@ impl ContactTracker {
             needed: Flags::new(n),
         };
         tracker.rebuild();
-        tracker.narrow_phase();
+        tracker.narrow_phase(true);
         Ok(tracker)
     }
 
@@ -254,7 +254,7 @@ impl ContactTracker {
             self.place(Which::All);
             self.rebuild();
         }
-        let (certified, queried) = self.narrow_phase();
+        let (certified, queried) = self.narrow_phase(rebuilt);
         Ok(UpdateReport {
             rebuilt,
             candidate_pairs: self.pairs.len(),
@@ -323,17 +323,24 @@ impl ContactTracker {
         holds(self.deadlines[k], travel)
     }
 
-    /// Places the blocks of the pairs that their certificates do not answer.
-    fn place_queried(&mut self) {
+    /// The pairs (indices, ascending) that their certificates do not answer, with their
+    /// blocks placed.
+    fn place_queried(&mut self) -> Vec<u32> {
         let needed = &self.needed.0;
-        (0..self.pairs.len()).into_par_iter().for_each(|k| {
-            if !self.certified(k) {
-                for b in self.pairs[k] {
-                    needed[b as usize].store(true, Ordering::Relaxed);
+        let queried = (0..self.pairs.len() as u32)
+            .into_par_iter()
+            .filter(|&k| {
+                let answered = self.certified(k as usize);
+                if !answered {
+                    for b in self.pairs[k as usize] {
+                        needed[b as usize].store(true, Ordering::Relaxed);
+                    }
                 }
-            }
-        });
+                !answered
+            })
+            .collect();
         self.place(Which::Needed);
+        queried
     }
 
     fn rebuild(&mut self) {
@@ -350,53 +357,74 @@ impl ContactTracker {
     }
 
     /// Answers every candidate pair (by certificate or query); returns (certified, queried).
-    /// Each answer stays in its pair's certificate, so a step allocates only its output.
-    fn narrow_phase(&mut self) -> (usize, usize) {
-        self.place_queried();
+    /// `fresh`: the candidate pairs are new (the output is built from every pair's answer;
+    /// otherwise the last output is kept but for the queried pairs).
+    ///
+    /// Each answer stays in its pair's certificate. The pairs to query are listed once, then
+    /// queried a slice at a time: a small step reads the certificates of all pairs once and
+    /// touches only the queried ones after that, and its output is the last one with those
+    /// pairs' answers replaced (on a 50^3 grid of cubes, 10,000 of 1.5 million pairs).
+    fn narrow_phase(&mut self, fresh: bool) -> (usize, usize) {
+        let queried = self.place_queried();
+        // Past an eighth of the pairs queried, building the output anew costs less.
+        let fresh = fresh || queried.len() > self.pairs.len() / 8;
         let blocks = self.current.blocks();
         let (travel, last_step, radius) = (&self.travel, &self.last_step, &self.radius);
-        let tol = self.tol;
-        let certified: usize = self
-            .pairs
-            .par_iter()
-            .zip(&mut self.deadlines)
-            .zip(&mut self.results)
-            .map_init(
-                || Detector::new(tol),
-                |det, ((&[i, j], deadline_of), result_of)| {
-                    let (ti, tj) = (travel[i as usize], travel[j as usize]);
-                    if holds(*deadline_of, [ti, tj]) {
-                        return 1;
-                    }
-                    let (a, b) = (&blocks[i as usize], &blocks[j as usize]);
-                    let result = det.detect(a, b);
-                    let gap = det.thresholds(a, b).gap;
-                    let margin = match result {
-                        PairResult::Separated => separation(a, b),
-                        PairResult::Penetrating => depth(a, b, det.penetration_edges()),
-                        PairResult::Contact(_) => f64::NEG_INFINITY,
-                    };
-                    *deadline_of = if result == PairResult::Separated && margin <= gap {
-                        // No separating face plane: try the certificate of a wider gap.
-                        let (i, j) = (i as usize, j as usize);
-                        let wider = EDGE_CERTIFICATE_STEPS * (last_step[i] + last_step[j]);
-                        let radii = [radius[i], radius[j]];
-                        edge_certificate(det, [a, b], radii, gap, wider)
-                            .map_or(f64::NEG_INFINITY, |m| deadline(m + gap, gap, [ti, tj]))
-                    } else {
-                        deadline(margin, gap, [ti, tj])
-                    };
-                    *result_of = result;
-                    0
-                },
-            )
-            .sum();
-        let mut found = SystemContacts::default();
-        found.extend_from(&self.pairs, &self.results);
-        self.contacts = found;
-        (certified, self.pairs.len() - certified)
+        let (pairs, tol) = (&self.pairs, self.tol);
+        let mut changed: Vec<([u32; 2], PairResult)> = Vec::new();
+        let mut answers = Vec::new();
+        for slice in queried.chunks(SLICE) {
+            slice
+                .par_iter()
+                .map_init(
+                    || Detector::new(tol),
+                    |det, &k| {
+                        let [i, j] = pairs[k as usize];
+                        let (ti, tj) = (travel[i as usize], travel[j as usize]);
+                        let (a, b) = (&blocks[i as usize], &blocks[j as usize]);
+                        let result = det.detect(a, b);
+                        let gap = det.thresholds(a, b).gap;
+                        let margin = match result {
+                            PairResult::Separated => separation(a, b),
+                            PairResult::Penetrating => depth(a, b, det.penetration_edges()),
+                            PairResult::Contact(_) => f64::NEG_INFINITY,
+                        };
+                        let deadline = if result == PairResult::Separated && margin <= gap {
+                            // No separating face plane: try the certificate of a wider gap.
+                            let (i, j) = (i as usize, j as usize);
+                            let wider = EDGE_CERTIFICATE_STEPS * (last_step[i] + last_step[j]);
+                            let radii = [radius[i], radius[j]];
+                            edge_certificate(det, [a, b], radii, gap, wider)
+                                .map_or(f64::NEG_INFINITY, |m| deadline(m + gap, gap, [ti, tj]))
+                        } else {
+                            deadline(margin, gap, [ti, tj])
+                        };
+                        (result, deadline)
+                    },
+                )
+                .collect_into_vec(&mut answers);
+            for (&k, &(result, deadline)) in slice.iter().zip(&answers) {
+                let k = k as usize;
+                self.results[k] = result;
+                self.deadlines[k] = deadline;
+                if !fresh {
+                    changed.push((self.pairs[k], result));
+                }
+            }
+        }
+        if fresh {
+            let mut found = SystemContacts::default();
+            found.extend_from(&self.pairs, &self.results);
+            self.contacts = found;
+        } else {
+            self.contacts = self.contacts.with_changes(&changed);
+        }
+        (self.pairs.len() - queried.len(), queried.len())
     }
 }
+
+/// Pairs queried per slice of a step (the answers of one slice are held at a time).
+const SLICE: usize = 1 << 16;
 
 /// How many steps like the last one an edge certificate is sized for (see
 /// [`edge_certificate`]): a wider gap costs nothing more but holds for fewer pairs.
