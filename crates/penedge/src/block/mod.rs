@@ -19,6 +19,7 @@ pub(crate) use clearance::Clearance;
 pub use error::BlockError;
 pub use origin::FaceOrigin;
 pub use pose::Pose;
+pub(crate) use pose::Prefetch;
 
 /// The largest coordinate magnitude of a block: beyond it, products of four lengths (the
 /// volume's moments) would overflow `f64`.

@@ -77,6 +77,25 @@ impl ConvexBlock {
         self.place_geometry(reference, pose);
     }
 
+    /// Starts loading part of this block ([`Prefetch`]). A hint to the processor, with no
+    /// effect on any result: placing the scattered blocks of a tracker's step, and querying
+    /// their pairs, wait on memory, one dependent load after another.
+    #[inline(always)]
+    pub(crate) fn prefetch(&self, what: Prefetch) {
+        match what {
+            Prefetch::Block => prefetch_bytes(std::slice::from_ref(self)),
+            Prefetch::Coordinates | Prefetch::Query => {
+                prefetch_bytes(&self.vertices);
+                prefetch_bytes(&self.planes);
+                prefetch_bytes(&self.local.quads);
+                if what == Prefetch::Query {
+                    prefetch_bytes(&self.edges);
+                    prefetch_bytes(&self.vertex_faces);
+                }
+            }
+        }
+    }
+
     /// [`ConvexBlock::place_from`] for a block that already has `reference`'s topology, face
     /// origins and volume (a block placed from it before, as in the tracker): only the
     /// coordinates and what derives from them are written. Placing is bound by memory
@@ -189,4 +208,32 @@ mod tests {
         assert!(Pose::new(DQuat::IDENTITY, DVec3::new(f64::NAN, 0.0, 0.0)).is_none());
         assert!(Pose::new(DQuat::from_xyzw(0.0, 0.0, 0.0, 2.0), DVec3::ZERO).is_some());
     }
+}
+
+/// What [`ConvexBlock::prefetch`] asks for.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Prefetch {
+    /// The block itself (where its buffers are, its box, its clearance): first, so that
+    /// the buffers' addresses can be read when they are asked for.
+    Block,
+    /// The buffers that placing reads (of the reference) and writes (of the placed block).
+    Coordinates,
+    /// The buffers a pair query reads most.
+    Query,
+}
+
+/// Asks for the cache lines of `items` (never faults, whatever the address).
+#[inline(always)]
+fn prefetch_bytes<T>(items: &[T]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let p = items.as_ptr() as *const i8;
+        for offset in (0..std::mem::size_of_val(items)).step_by(64) {
+            // SAFETY: a prefetch is a hint; it reads nothing and faults on no address.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(offset)) };
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = items;
 }

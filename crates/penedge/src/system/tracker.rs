@@ -25,11 +25,13 @@
 //! for a rebuild of the broad phase, or when [`ContactTracker::system`] is asked for.
 //! Placing is bound by memory traffic (a block's vertices, planes and coordinates written,
 //! its reference read), and in a small step most pairs are certified: their blocks need
-//! only their travel, which comes from the poses.
+//! only their travel, which comes from the poses. The blocks placed in a step, and those of
+//! the pairs it queries, are scattered through memory: each is asked for (prefetched) a few
+//! places ahead of its turn, which made a small step of a 50^3 grid a quarter faster.
 
 use super::detect::SystemContacts;
 use super::{BlockSystem, BroadPhase, WideBoxes};
-use crate::block::{ConvexBlock, Pose};
+use crate::block::{ConvexBlock, Pose, Prefetch};
 use crate::classify::PairResult;
 use crate::contact::Detector;
 use crate::geometry::DVec3;
@@ -144,6 +146,11 @@ enum Which {
     /// Those marked in `needed`.
     Needed,
 }
+
+/// A pointer to the blocks shared by the threads that place them, each a different block.
+struct Shared(*mut ConvexBlock);
+// SAFETY: used only by `ContactTracker::place`, whose threads touch distinct blocks.
+unsafe impl Sync for Shared {}
 
 /// One flag per block, set from several threads (scratch: all clear between uses, so a
 /// clone is a set of clear flags).
@@ -292,15 +299,15 @@ impl ContactTracker {
     /// marks are cleared on the way).
     fn place(&mut self, which: Which) {
         let (reference, poses, needed) = (&self.reference, &self.poses, &self.needed.0);
-        self.current
-            .blocks
+        // The blocks to place, their marks cleared: a load, and a store only where set (a
+        // swap on every block is dearer).
+        let list: Vec<u32> = self
+            .stale
             .par_iter_mut()
-            .zip(&mut self.stale)
             .enumerate()
-            .for_each(|(i, (block, stale))| {
+            .filter_map(|(i, stale)| {
                 let wanted = match which {
                     Which::All => true,
-                    // A load, and a store only where set (a swap on every block is dearer).
                     Which::Needed => {
                         let mark = needed[i].load(Ordering::Relaxed);
                         if mark {
@@ -309,11 +316,31 @@ impl ContactTracker {
                         mark
                     }
                 };
-                if *stale && wanted {
-                    block.place_geometry(&reference[i], &poses[i]);
-                    *stale = false;
+                let place = *stale && wanted;
+                *stale &= !place;
+                place.then_some(i as u32)
+            })
+            .collect();
+        let blocks = Shared(self.current.blocks.as_mut_ptr());
+        let blocks = &blocks;
+        list.par_chunks(256).for_each(|chunk| {
+            // SAFETY: the ids of `list` are distinct and below the number of blocks, so each
+            // block is borrowed by one thread at a time, and `self.current` is not otherwise
+            // borrowed during this call.
+            let block = |i: u32| unsafe { &mut *blocks.0.add(i as usize) };
+            for (k, &i) in chunk.iter().enumerate() {
+                const AHEAD: usize = 4;
+                if let Some(&far) = chunk.get(k + 2 * AHEAD) {
+                    reference[far as usize].prefetch(Prefetch::Block);
+                    block(far).prefetch(Prefetch::Block);
                 }
-            });
+                if let Some(&near) = chunk.get(k + AHEAD) {
+                    reference[near as usize].prefetch(Prefetch::Coordinates);
+                    block(near).prefetch(Prefetch::Coordinates);
+                }
+                block(i).place_geometry(&reference[i as usize], &poses[i as usize]);
+            }
+        });
     }
 
     /// Whether pair `k`'s certificate answers it at the current travels.
@@ -362,57 +389,84 @@ impl ContactTracker {
     ///
     /// Each answer stays in its pair's certificate. The pairs to query are listed once, then
     /// queried a slice at a time: a small step reads the certificates of all pairs once and
-    /// touches only the queried ones after that, and its output is the last one with those
-    /// pairs' answers replaced (on a 50^3 grid of cubes, 10,000 of 1.5 million pairs).
+    /// touches only the queried ones after that (on a 50^3 grid of cubes, 10,000 of 1.5
+    /// million pairs, whose blocks are asked for ahead of their queries), and its output is
+    /// the last one with those pairs' answers replaced.
     fn narrow_phase(&mut self, fresh: bool) -> (usize, usize) {
         let queried = self.place_queried();
-        // Past an eighth of the pairs queried, building the output anew costs less.
-        let fresh = fresh || queried.len() > self.pairs.len() / 8;
+        // A dense step (new pairs, or over an eighth of them queried) builds its output anew.
+        let dense = fresh || queried.len() > self.pairs.len() / 8;
         let blocks = self.current.blocks();
         let (travel, last_step, radius) = (&self.travel, &self.last_step, &self.radius);
         let (pairs, tol) = (&self.pairs, self.tol);
+        let blocks_of = |k: u32| pairs[k as usize].map(|b| &blocks[b as usize]);
+        // Pair `k`'s answer and the deadline of its certificate.
+        let answer = |det: &mut Detector, k: u32| {
+            let [i, j] = pairs[k as usize].map(|b| b as usize);
+            let (ti, tj) = (travel[i], travel[j]);
+            let [a, b] = blocks_of(k);
+            let result = det.detect(a, b);
+            let gap = det.thresholds(a, b).gap;
+            let margin = match result {
+                PairResult::Separated => separation(a, b),
+                PairResult::Penetrating => depth(a, b, det.penetration_edges()),
+                PairResult::Contact(_) => f64::NEG_INFINITY,
+            };
+            let deadline = if result == PairResult::Separated && margin <= gap {
+                // No separating face plane: try the certificate of a wider gap.
+                let wider = EDGE_CERTIFICATE_STEPS * (last_step[i] + last_step[j]);
+                let radii = [radius[i], radius[j]];
+                edge_certificate(det, [a, b], radii, gap, wider)
+                    .map_or(f64::NEG_INFINITY, |m| deadline(m + gap, gap, [ti, tj]))
+            } else {
+                deadline(margin, gap, [ti, tj])
+            };
+            (result, deadline)
+        };
+        // Asks for the blocks of the pairs a few places ahead in `run`: the pairs of a sparse
+        // step are scattered through memory (in a dense one, consecutive pairs share blocks).
+        let ask_ahead = |run: &[u32], n: usize| {
+            const AHEAD: usize = 2;
+            if let Some(&far) = run.get(n + 2 * AHEAD) {
+                for b in blocks_of(far) {
+                    b.prefetch(Prefetch::Block);
+                }
+            }
+            if let Some(&near) = run.get(n + AHEAD) {
+                for b in blocks_of(near) {
+                    b.prefetch(Prefetch::Query);
+                }
+            }
+        };
         let mut changed: Vec<([u32; 2], PairResult)> = Vec::new();
-        let mut answers = Vec::new();
+        let mut answers: Vec<Vec<(PairResult, f64)>> = Vec::new();
         for slice in queried.chunks(SLICE) {
             slice
-                .par_iter()
+                .par_chunks(64)
                 .map_init(
                     || Detector::new(tol),
-                    |det, &k| {
-                        let [i, j] = pairs[k as usize];
-                        let (ti, tj) = (travel[i as usize], travel[j as usize]);
-                        let (a, b) = (&blocks[i as usize], &blocks[j as usize]);
-                        let result = det.detect(a, b);
-                        let gap = det.thresholds(a, b).gap;
-                        let margin = match result {
-                            PairResult::Separated => separation(a, b),
-                            PairResult::Penetrating => depth(a, b, det.penetration_edges()),
-                            PairResult::Contact(_) => f64::NEG_INFINITY,
-                        };
-                        let deadline = if result == PairResult::Separated && margin <= gap {
-                            // No separating face plane: try the certificate of a wider gap.
-                            let (i, j) = (i as usize, j as usize);
-                            let wider = EDGE_CERTIFICATE_STEPS * (last_step[i] + last_step[j]);
-                            let radii = [radius[i], radius[j]];
-                            edge_certificate(det, [a, b], radii, gap, wider)
-                                .map_or(f64::NEG_INFINITY, |m| deadline(m + gap, gap, [ti, tj]))
-                        } else {
-                            deadline(margin, gap, [ti, tj])
-                        };
-                        (result, deadline)
+                    |det, run| {
+                        let mut out = Vec::with_capacity(run.len());
+                        for (n, &k) in run.iter().enumerate() {
+                            if !dense {
+                                ask_ahead(run, n);
+                            }
+                            out.push(answer(det, k));
+                        }
+                        out
                     },
                 )
                 .collect_into_vec(&mut answers);
-            for (&k, &(result, deadline)) in slice.iter().zip(&answers) {
+            for (&k, &(result, deadline)) in slice.iter().zip(answers.iter().flatten()) {
                 let k = k as usize;
                 self.results[k] = result;
                 self.deadlines[k] = deadline;
-                if !fresh {
+                if !dense {
                     changed.push((self.pairs[k], result));
                 }
             }
         }
-        if fresh {
+        if dense {
             let mut found = SystemContacts::default();
             found.extend_from(&self.pairs, &self.results);
             self.contacts = found;
