@@ -29,7 +29,7 @@
 //! the pairs it queries, are scattered through memory: each is asked for (prefetched) a few
 //! places ahead of its turn, which made a small step of a 50^3 grid a quarter faster.
 
-use super::detect::SystemContacts;
+use super::detect::{ask_ahead, SystemContacts};
 use super::{BlockSystem, BroadPhase, WideBoxes};
 use crate::block::{ConvexBlock, Pose, Prefetch};
 use crate::classify::PairResult;
@@ -423,21 +423,6 @@ impl ContactTracker {
             };
             (result, deadline)
         };
-        // Asks for the blocks of the pairs a few places ahead in `run`: the pairs of a sparse
-        // step are scattered through memory (in a dense one, consecutive pairs share blocks).
-        let ask_ahead = |run: &[u32], n: usize| {
-            const AHEAD: usize = 2;
-            if let Some(&far) = run.get(n + 2 * AHEAD) {
-                for b in blocks_of(far) {
-                    b.prefetch(Prefetch::Block);
-                }
-            }
-            if let Some(&near) = run.get(n + AHEAD) {
-                for b in blocks_of(near) {
-                    b.prefetch(Prefetch::Query);
-                }
-            }
-        };
         let mut changed: Vec<([u32; 2], PairResult)> = Vec::new();
         let mut answers: Vec<Vec<(PairResult, f64)>> = Vec::new();
         for slice in queried.chunks(SLICE) {
@@ -449,7 +434,10 @@ impl ContactTracker {
                         let mut out = Vec::with_capacity(run.len());
                         for (n, &k) in run.iter().enumerate() {
                             if !dense {
-                                ask_ahead(run, n);
+                                // Scattered pairs: both blocks asked for (in a dense step
+                                // consecutive pairs share blocks, which are then in cache).
+                                let pair_at = |m: usize| run.get(m).map(|&k| pairs[k as usize]);
+                                ask_ahead(blocks, pair_at, n, true);
                             }
                             out.push(answer(det, k));
                         }
