@@ -291,11 +291,12 @@ impl Grid {
                 .map(|c| {
                     let mut found = Vec::new();
                     for p in c * CHUNK..(c * CHUNK + CHUNK).min(n) {
-                        level.same_level(boxes, p, &mut found);
+                        level.same_level(boxes, self.origin, p, &mut found);
                         let i = level.blocks[p] as usize;
                         for other in &coarser {
                             let home = other.coordinates(boxes.min[i], self.origin);
-                            other.around(home, 0, |j| {
+                            let top = other.coordinates(boxes.max[i], self.origin);
+                            other.around(home, top, 0, |j| {
                                 if boxes.overlap(i, j) {
                                     found.push(key(i, j));
                                 }
@@ -377,11 +378,20 @@ impl Level {
         }
     }
 
-    /// Calls `f` with each block of the 27 cells around `home` whose cell index is at least
-    /// `from_index` (0: all of them).
+    /// Calls `f` with each block of the cells around `home` (the cell of a box's lower
+    /// corner; `top`, that of its upper corner) whose cell index is at least `from_index`
+    /// (0: all of them): the blocks of this level whose boxes may overlap that box.
+    ///
+    /// A box of this level overlapping it has its lower corner at most a cell below the
+    /// box's lower corner (its extent is under a cell) and not above its upper corner, so in
+    /// a cell from `home - 1` to `top` along each axis: the 27 cells around `home`, less the
+    /// upper ones where the box ends within its cell (for blocks of a finer level, most
+    /// of them: about 10 cells instead of 27). The cell coordinates grow with the point
+    /// (a difference and a division by the cell, both monotonic under rounding), so the
+    /// upper bound holds exactly; the lower one has the slack of the cell size.
     #[inline]
-    fn around(&self, home: [u64; 3], from_index: u64, mut f: impl FnMut(usize)) {
-        let span = |k: usize| home[k].saturating_sub(1)..=(home[k] + 1).min(self.dims[k] - 1);
+    fn around(&self, home: [u64; 3], top: [u64; 3], from_index: u64, mut f: impl FnMut(usize)) {
+        let span = |k: usize| home[k].saturating_sub(1)..=(home[k] + 1).min(top[k]);
         for z in span(2) {
             for y in span(1) {
                 for x in span(0) {
@@ -398,7 +408,7 @@ impl Level {
 
     /// The pairs of entry `p` with the entries after it in the 27 cells around its own: each
     /// same-level pair once.
-    fn same_level(&self, boxes: &WideBoxes, p: usize, found: &mut Vec<[u32; 2]>) {
+    fn same_level(&self, boxes: &WideBoxes, origin: DVec3, p: usize, found: &mut Vec<[u32; 2]>) {
         let i = self.blocks[p] as usize;
         let own = self.cells[p];
         let home = [
@@ -413,7 +423,8 @@ impl Level {
                 found.push(key(i, j));
             }
         }
-        self.around(home, own + 1, |j| {
+        let top = self.coordinates(boxes.max[i], origin);
+        self.around(home, top, own + 1, |j| {
             if boxes.overlap(i, j) {
                 found.push(key(i, j));
             }
