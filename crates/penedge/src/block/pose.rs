@@ -228,6 +228,9 @@ fn prefetch_bytes<T>(items: &[T]) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        // Offsets from the first byte: a buffer that straddles one more line than its length
+        // gets its last line late (asking for every line it touches measured 3 % slower on
+        // the 100^3 grid, one more prefetch per buffer).
         let p = items.as_ptr() as *const i8;
         for offset in (0..std::mem::size_of_val(items)).step_by(64) {
             // SAFETY: a prefetch is a hint; it reads nothing and faults on no address.

@@ -12,7 +12,8 @@
 //!   median box extent; a block lives in the coarsest-needed level, whose cell is at least
 //!   its extent, in the cell of its lower corner. Two overlapping boxes of the same level
 //!   then have lower corners in neighbouring cells, and a block meets the blocks of coarser
-//!   levels in the 27 cells around its lower corner's cell there. Linear in the number of
+//!   levels in the cells around its lower corner's cell there (at most 27: from one below
+//!   to its upper corner's, along each axis). Linear in the number of
 //!   blocks and pairs for any mix of sizes (slivers beside big blocks cost one more level).
 //! - [`BroadPhase::Sweep`]: sort-and-sweep along the axis of largest spread. Good for
 //!   elongated systems, quadratic when many blocks share a slab (a cubic grid of blocks:
@@ -103,6 +104,12 @@ impl WideBoxes {
         self.min[i].cmple(self.max[j]).all() && self.min[j].cmple(self.max[i]).all()
     }
 
+    /// [`WideBoxes::overlap`] without branches.
+    #[inline]
+    fn overlap_mask(&self, i: usize, j: usize) -> bool {
+        (self.min[i].cmple(self.max[j]) & self.min[j].cmple(self.max[i])).bitmask() == 0b111
+    }
+
     /// The candidate pairs `[i, j]`, `i < j`, sorted, by the given method.
     pub fn pairs(&self, method: BroadPhase) -> Vec<[u32; 2]> {
         let mut pairs = match method {
@@ -180,6 +187,36 @@ fn concat_in_parallel<T: Copy + Send + Sync>(parts: Vec<Vec<T>>) -> Vec<T> {
     // spare slots, each written exactly once above.
     unsafe { out.set_len(total) };
     out
+}
+
+/// Appends the pair of `i` with each block of `js` whose widened box overlaps `i`'s, without
+/// a branch per candidate: whether two neighbouring boxes overlap is unpredictable (a mispredicted
+/// branch costs more than the test), so every candidate's pair is written at the end of the
+/// list and the length grows by the outcome.
+#[inline]
+fn push_overlapping(boxes: &WideBoxes, i: usize, js: &[u32], found: &mut Vec<[u32; 2]>) {
+    if js.len() <= 2 {
+        // A cell of one or two blocks (a regular grid of blocks): branches, which are
+        // predictable there (most neighbours overlap), cost less than the set-up below.
+        for &j in js {
+            if boxes.overlap(i, j as usize) {
+                found.push(key(i, j as usize));
+            }
+        }
+        return;
+    }
+    found.reserve(js.len());
+    let start = found.len();
+    let spare = &mut found.spare_capacity_mut()[..js.len()];
+    let mut n = 0;
+    for &j in js {
+        let j = j as usize;
+        spare[n].write(key(i, j));
+        n += boxes.overlap_mask(i, j) as usize;
+    }
+    // SAFETY: slot `k < n` was written when `n` was `k` (it grows by at most one after each
+    // write), and `n <= js.len()` slots are within the reserved capacity.
+    unsafe { found.set_len(start + n) };
 }
 
 /// The pair, smaller id first.
@@ -296,10 +333,8 @@ impl Grid {
                         for other in &coarser {
                             let home = other.coordinates(boxes.min[i], self.origin);
                             let top = other.coordinates(boxes.max[i], self.origin);
-                            other.around(home, top, 0, |j| {
-                                if boxes.overlap(i, j) {
-                                    found.push(key(i, j));
-                                }
+                            other.around(home, top, 0, |js| {
+                                push_overlapping(boxes, i, js, &mut found)
                             });
                         }
                     }
@@ -390,24 +425,22 @@ impl Level {
     /// (a difference and a division by the cell, both monotonic under rounding), so the
     /// upper bound holds exactly; the lower one has the slack of the cell size.
     #[inline]
-    fn around(&self, home: [u64; 3], top: [u64; 3], from_index: u64, mut f: impl FnMut(usize)) {
+    fn around(&self, home: [u64; 3], top: [u64; 3], from_index: u64, mut f: impl FnMut(&[u32])) {
         let span = |k: usize| home[k].saturating_sub(1)..=(home[k] + 1).min(top[k]);
         for z in span(2) {
             for y in span(1) {
                 for x in span(0) {
                     let c = self.index([x, y, z]);
                     if c >= from_index {
-                        for q in self.range(c) {
-                            f(self.blocks[q] as usize);
-                        }
+                        f(&self.blocks[self.range(c)]);
                     }
                 }
             }
         }
     }
 
-    /// The pairs of entry `p` with the entries after it in the 27 cells around its own: each
-    /// same-level pair once.
+    /// The pairs of entry `p` with the entries after it in the cells around its own
+    /// ([`Level::around`]): each same-level pair once.
     fn same_level(&self, boxes: &WideBoxes, origin: DVec3, p: usize, found: &mut Vec<[u32; 2]>) {
         let i = self.blocks[p] as usize;
         let own = self.cells[p];
@@ -417,17 +450,10 @@ impl Level {
             own / (self.dims[0] * self.dims[1]),
         ];
         let own_range = self.range(own);
-        for q in p + 1..own_range.end {
-            let j = self.blocks[q] as usize;
-            if boxes.overlap(i, j) {
-                found.push(key(i, j));
-            }
-        }
+        push_overlapping(boxes, i, &self.blocks[p + 1..own_range.end], found);
         let top = self.coordinates(boxes.max[i], origin);
-        self.around(home, top, own + 1, |j| {
-            if boxes.overlap(i, j) {
-                found.push(key(i, j));
-            }
+        self.around(home, top, own + 1, |js| {
+            push_overlapping(boxes, i, js, found)
         });
     }
 }

@@ -150,6 +150,7 @@ impl SystemContacts {
     /// keeps its answer. A step of [`super::ContactTracker`] that queries few pairs reads the
     /// last output this way, rather than every candidate pair's answer.
     pub(super) fn with_changes(&self, changed: &[([u32; 2], PairResult)]) -> SystemContacts {
+        debug_assert!(changed.windows(2).all(|w| w[0].0 < w[1].0));
         SystemContacts {
             contacts: merged(
                 &self.contacts,
@@ -217,8 +218,8 @@ const AHEAD: usize = 2;
 /// both ([`ConvexBlock::prefetch`]). A hint, with no effect on any result: a query waits on
 /// each cache line of its blocks that is not in cache, and the blocks of the pairs that
 /// follow are elsewhere in memory (by 10^4 blocks on a 100^3 grid; anywhere in a tracker's
-/// step). On the 100^3 grid and the jointed mass it made the detection 10-15 % faster, and
-/// a tracker's small step a quarter.
+/// step). On the 100^3 grid and the jointed mass it made the detection about 10 % faster,
+/// and a tracker's small step a quarter.
 #[inline(always)]
 pub(super) fn ask_ahead(
     blocks: &[ConvexBlock],

@@ -147,11 +147,6 @@ enum Which {
     Needed,
 }
 
-/// A pointer to the blocks shared by the threads that place them, each a different block.
-struct Shared(*mut ConvexBlock);
-// SAFETY: used only by `ContactTracker::place`, whose threads touch distinct blocks.
-unsafe impl Sync for Shared {}
-
 /// One flag per block, set from several threads (scratch: all clear between uses, so a
 /// clone is a set of clear flags).
 #[derive(Debug, Default)]
@@ -299,13 +294,15 @@ impl ContactTracker {
     /// marks are cleared on the way).
     fn place(&mut self, which: Which) {
         let (reference, poses, needed) = (&self.reference, &self.poses, &self.needed.0);
-        // The blocks to place, their marks cleared: a load, and a store only where set (a
-        // swap on every block is dearer).
-        let list: Vec<u32> = self
-            .stale
+        // The blocks to place, with their stale flags, their marks cleared on the way: a
+        // load, and a store only where set (a swap on every block is dearer).
+        let mut list: Vec<(usize, &mut ConvexBlock, &mut bool)> = self
+            .current
+            .blocks
             .par_iter_mut()
+            .zip(&mut self.stale)
             .enumerate()
-            .filter_map(|(i, stale)| {
+            .filter_map(|(i, (block, stale))| {
                 let wanted = match which {
                     Which::All => true,
                     Which::Needed => {
@@ -316,29 +313,23 @@ impl ContactTracker {
                         mark
                     }
                 };
-                let place = *stale && wanted;
-                *stale &= !place;
-                place.then_some(i as u32)
+                (*stale && wanted).then_some((i, block, stale))
             })
             .collect();
-        let blocks = Shared(self.current.blocks.as_mut_ptr());
-        let blocks = &blocks;
-        list.par_chunks(256).for_each(|chunk| {
-            // SAFETY: the ids of `list` are distinct and below the number of blocks, so each
-            // block is borrowed by one thread at a time, and `self.current` is not otherwise
-            // borrowed during this call.
-            let block = |i: u32| unsafe { &mut *blocks.0.add(i as usize) };
-            for (k, &i) in chunk.iter().enumerate() {
-                const AHEAD: usize = 4;
-                if let Some(&far) = chunk.get(k + 2 * AHEAD) {
-                    reference[far as usize].prefetch(Prefetch::Block);
-                    block(far).prefetch(Prefetch::Block);
+        list.par_chunks_mut(256).for_each(|run| {
+            const AHEAD: usize = 4;
+            for k in 0..run.len() {
+                if let Some((far, block, _)) = run.get(k + 2 * AHEAD) {
+                    reference[*far].prefetch(Prefetch::Block);
+                    block.prefetch(Prefetch::Block);
                 }
-                if let Some(&near) = chunk.get(k + AHEAD) {
-                    reference[near as usize].prefetch(Prefetch::Coordinates);
-                    block(near).prefetch(Prefetch::Coordinates);
+                if let Some((near, block, _)) = run.get(k + AHEAD) {
+                    reference[*near].prefetch(Prefetch::Coordinates);
+                    block.prefetch(Prefetch::Coordinates);
                 }
-                block(i).place_geometry(&reference[i as usize], &poses[i as usize]);
+                let (i, block, stale) = &mut run[k];
+                block.place_geometry(&reference[*i], &poses[*i]);
+                **stale = false;
             }
         });
     }
@@ -458,7 +449,7 @@ impl ContactTracker {
             let mut found = SystemContacts::default();
             found.extend_from(&self.pairs, &self.results);
             self.contacts = found;
-        } else {
+        } else if !changed.is_empty() {
             self.contacts = self.contacts.with_changes(&changed);
         }
         (self.pairs.len() - queried.len(), queried.len())
@@ -623,6 +614,55 @@ mod tests {
             reports.push(report);
         }
         reports
+    }
+
+    /// Sparse steps (few pairs queried, the output made from the last one): one block of a
+    /// loose grid moves onto a neighbour, into it, and back out, while the others stay.
+    /// Contacts and penetrating pairs appear and go, and every step equals a full detection.
+    #[test]
+    fn sparse_steps_replace_only_the_queried_answers() {
+        let n = 5;
+        let spacing = 1.01;
+        let system = BlockSystem::new(
+            (0..n * n * n)
+                .map(|k| {
+                    let p = [k % n, k / n % n, k / (n * n)].map(|c| c as f64 * spacing);
+                    ConvexBlock::cuboid(p, p.map(|c| c + 1.0)).unwrap()
+                })
+                .collect(),
+        );
+        let tol = Tolerance::default();
+        let mut tracker = ContactTracker::new(&system, tol, 0.1).unwrap();
+        assert!(tracker.contacts().contacts.is_empty());
+        // Block 62, in the middle, along x towards block 63: touching, in, touching, away.
+        let (mut touched, mut penetrated, mut sparse) = (false, false, 0);
+        for shift in [0.005, 0.01, 0.012, 0.01, 0.004, 0.0] {
+            let mut poses = vec![Pose::IDENTITY; system.len()];
+            poses[62].translation.x = shift;
+            let report = tracker.update(&poses).unwrap();
+            assert!(!report.rebuilt);
+            assert!(report.queried * 8 < report.candidate_pairs);
+            sparse += (report.queried > 0) as usize;
+            let moved = BlockSystem::new(
+                system
+                    .blocks()
+                    .iter()
+                    .zip(&poses)
+                    .map(|(b, p)| b.transformed(p.rotation, p.translation, 1.0))
+                    .collect(),
+            );
+            let found = moved.detect(&tol);
+            assert_eq!(tracker.contacts(), &found, "shift {shift}");
+            touched |= found.contacts.iter().any(|c| c.pair == [62, 63]);
+            penetrated |= found.penetrating.contains(&[62, 63]);
+        }
+        assert!(
+            touched && penetrated && sparse >= 4,
+            "{touched} {penetrated} {sparse}"
+        );
+        assert!(
+            tracker.contacts().contacts.is_empty() && tracker.contacts().penetrating.is_empty()
+        );
     }
 
     #[test]
