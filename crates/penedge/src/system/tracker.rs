@@ -577,6 +577,16 @@ mod tests {
         )
     }
 
+    /// `system`'s blocks placed at `poses`, as a system of their own.
+    fn moved_system(system: &BlockSystem, poses: &[Pose]) -> BlockSystem {
+        let blocks = system.blocks().iter().zip(poses);
+        BlockSystem::new(
+            blocks
+                .map(|(b, p)| b.transformed(p.rotation, p.translation, 1.0))
+                .collect(),
+        )
+    }
+
     /// Each step's contacts equal a full detection on the moved blocks.
     fn check_steps(system: &BlockSystem, skin: f64, steps: &[(f64, f64)]) -> Vec<UpdateReport> {
         let tol = Tolerance::default();
@@ -596,14 +606,7 @@ mod tests {
                 };
             }
             let report = tracker.update(&poses).unwrap();
-            let moved = BlockSystem::new(
-                system
-                    .blocks()
-                    .iter()
-                    .zip(&poses)
-                    .map(|(b, p)| b.transformed(p.rotation, p.translation, 1.0))
-                    .collect(),
-            );
+            let moved = moved_system(system, &poses);
             assert_eq!(tracker.contacts(), &moved.detect(&tol), "{report:?}");
             // The blocks that no query placed are placed when the system is asked for.
             let placed = tracker.system().blocks();
@@ -643,14 +646,7 @@ mod tests {
             assert!(!report.rebuilt);
             assert!(report.queried * 8 < report.candidate_pairs);
             sparse += (report.queried > 0) as usize;
-            let moved = BlockSystem::new(
-                system
-                    .blocks()
-                    .iter()
-                    .zip(&poses)
-                    .map(|(b, p)| b.transformed(p.rotation, p.translation, 1.0))
-                    .collect(),
-            );
+            let moved = moved_system(&system, &poses);
             let found = moved.detect(&tol);
             assert_eq!(tracker.contacts(), &found, "shift {shift}");
             touched |= found.contacts.iter().any(|c| c.pair == [62, 63]);
