@@ -70,6 +70,21 @@ pub struct ConvexBlock {
 /// query's distance tables and those of the classification. Larger blocks take lists.
 pub(crate) const MASK_FACES: usize = 64;
 
+/// The members of such a set (or of any `u64` of bits), lowest first: bit `k` gives `k`.
+pub(crate) struct Bits(pub(crate) u64);
+
+impl Iterator for Bits {
+    type Item = usize;
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        (self.0 != 0).then(|| {
+            let k = self.0.trailing_zeros() as usize;
+            self.0 &= self.0 - 1;
+            k
+        })
+    }
+}
+
 /// The faces at each vertex as bit masks (bit `f` for face `f`); empty for a block of more
 /// than [`MASK_FACES`] faces.
 pub(crate) fn vertex_face_masks(

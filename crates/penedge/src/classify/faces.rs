@@ -22,7 +22,7 @@
 //! `and`s. [`FaceLists`] applies the same tests face by face, for larger blocks.
 
 use super::{feature_from, Feature};
-use crate::block::{ConvexBlock, Edge, MASK_FACES};
+use crate::block::{Bits, ConvexBlock, Edge, MASK_FACES};
 use crate::geometry::DVec3;
 use crate::penetration::{DistanceTable, EdgeSink, PenetrationEdgeType, Piece};
 
@@ -94,11 +94,9 @@ fn edge_faces(edge: &Edge) -> u64 {
 /// The faces of `mask` (bit `f` for face `f`) for which `keep` holds.
 #[inline(always)]
 fn retain(mask: u64, mut keep: impl FnMut(usize) -> bool) -> u64 {
-    let (mut bits, mut kept) = (mask, mask);
-    while bits != 0 {
-        let f = bits.trailing_zeros();
-        bits &= bits - 1;
-        kept &= !((!keep(f as usize) as u64) << f);
+    let mut kept = mask;
+    for f in Bits(mask) {
+        kept &= !((!keep(f) as u64) << f);
     }
     kept
 }
@@ -279,7 +277,7 @@ fn feature_of_mask(block: &ConvexBlock, mask: u64) -> Option<Feature> {
         _ => match block.vertex_faces().iter().position(|&m| m & mask == mask) {
             Some(v) => Some(Feature::Vertex(v as u32)),
             None => {
-                let faces: Vec<u32> = (0..64).filter(|f| mask >> f & 1 == 1).collect();
+                let faces: Vec<u32> = Bits(mask).map(|f| f as u32).collect();
                 feature_from(block, &faces)
             }
         },

@@ -80,8 +80,7 @@ fn side<'a, 's>(
 
 /// Whether the representative points of `edges` span more than `length`: some point
 /// farther than `length` from the first (the extent of the points above `length`), visited
-/// without a list
-/// and left at the first such point.
+/// without a list and left at the first such point.
 pub(crate) fn spread_exceeds(
     a: &ConvexBlock,
     b: &ConvexBlock,

@@ -2,7 +2,7 @@
 //! table: the parameter interval of each edge inside the other block widened by the gap.
 
 use super::table::{DistanceTable, VertexMasks};
-use crate::block::Edge;
+use crate::block::{Bits, Edge};
 
 /// The face of an end that no face cuts.
 pub(super) const NO_CUT: u32 = u32::MAX;
@@ -51,25 +51,34 @@ pub(super) fn masked(
             den: d1.abs() + d2.abs(),
         }
     };
-    let (mut entry, mut entry_face) = (Fraction::ZERO, NO_CUT);
-    for f in FaceBits(m1.outside) {
-        let t = cut_at(f);
-        let later = t.above(entry);
-        entry = if later { t } else { entry };
-        entry_face = if later { f as u32 } else { entry_face };
-    }
-    let (mut exit, mut exit_face) = (Fraction::ONE, NO_CUT);
-    for f in FaceBits(m2.outside) {
-        let t = cut_at(f);
-        let earlier = exit.above(t);
-        exit = if earlier { t } else { exit };
-        exit_face = if earlier { f as u32 } else { exit_face };
-    }
+    let (entry, entry_face) = pick(m1.outside, Fraction::ZERO, cut_at, |t, entry| {
+        t.above(entry)
+    });
+    let (exit, exit_face) = pick(m2.outside, Fraction::ONE, cut_at, |t, exit| exit.above(t));
     let t = [entry.value(), exit.value()];
     (t[0] <= t[1]).then_some(Clipped {
         t,
         cut: [entry_face, exit_face],
     })
+}
+
+/// The cut `cut_at(f)` of the faces `f` of `mask` that `better` prefers to `start` and to
+/// the others, with its face (`NO_CUT`: none, `start` stays); chosen without branches.
+#[inline(always)]
+fn pick(
+    mask: u64,
+    start: Fraction,
+    cut_at: impl Fn(usize) -> Fraction,
+    better: impl Fn(Fraction, Fraction) -> bool,
+) -> (Fraction, u32) {
+    let (mut best, mut face) = (start, NO_CUT);
+    for f in Bits(mask) {
+        let t = cut_at(f);
+        let wins = better(t, best);
+        best = if wins { t } else { best };
+        face = if wins { f as u32 } else { face };
+    }
+    (best, face)
 }
 
 /// Whether part of edge `(v1, v2)` has `s < -gap` on every face (deeper than the gap
@@ -85,7 +94,7 @@ pub(super) fn masked_deep(
     gap: f64,
 ) -> bool {
     let (s1, s2) = (m1.shallow, m2.shallow);
-    s1 & s2 == 0 && faces(table, FaceBits(s1 | s2), v1, v2, -gap, true).is_some()
+    s1 & s2 == 0 && faces(table, Bits(s1 | s2), v1, v2, -gap, true).is_some()
 }
 
 /// [`masked`] and [`masked_deep`] for tables without masks: every face is visited.
@@ -147,21 +156,6 @@ fn faces(
         c.t[0] <= c.t[1]
     };
     keep.then_some(c)
-}
-
-/// The faces of a vertex mask (bit `f` for face `f`), lowest first.
-struct FaceBits(u64);
-
-impl Iterator for FaceBits {
-    type Item = usize;
-    #[inline]
-    fn next(&mut self) -> Option<usize> {
-        (self.0 != 0).then(|| {
-            let i = self.0.trailing_zeros() as usize;
-            self.0 &= self.0 - 1;
-            i
-        })
-    }
 }
 
 /// A non-negative fraction with a positive denominator.

@@ -15,7 +15,7 @@
 mod clip;
 mod table;
 
-use crate::block::{ConvexBlock, Edge};
+use crate::block::{Bits, ConvexBlock, Edge};
 use crate::tolerance::Thresholds;
 use clip::{Clipped, NO_CUT};
 pub(crate) use table::{DistanceTable, Kernel, VertexMasks};
@@ -175,10 +175,7 @@ pub(crate) fn clip_edges(
         return deep;
     }
     for (chunk, first) in edges.chunks(64).zip((0..).step_by(64)) {
-        let mut survivors = clip::survivors(table, chunk);
-        while survivors != 0 {
-            let k = survivors.trailing_zeros() as usize;
-            survivors &= survivors - 1;
+        for k in Bits(clip::survivors(table, chunk)) {
             let edge = &chunk[k];
             let [v1, v2] = edge.vertices;
             let masks = [table.vertex_masks(v1), table.vertex_masks(v2)];
