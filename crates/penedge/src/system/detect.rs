@@ -3,7 +3,7 @@
 //! Candidate pairs come from the broad phase ([`super::BroadPhase`]); the narrow phase runs in parallel over blocks with rayon, and the result is
 //! sorted by block pair, so it is the same for any number of threads.
 
-use super::{BlockSystem, BroadPhase, WideBoxes};
+use super::{append_in_parallel, BlockSystem, BroadPhase, WideBoxes};
 use crate::block::{ConvexBlock, Prefetch};
 use crate::classify::{Contact, PairResult};
 use crate::contact::Detector;
@@ -85,9 +85,9 @@ impl BlockSystem {
 impl SystemContacts {
     /// Appends the contacts and the penetrating pairs among `results` (the answers for
     /// `pairs`), in pair order. Each chunk of the results is sorted out by one thread, then
-    /// every chunk copies its part into its own stretch of the output, in parallel: no
-    /// thread waits while another appends, and the output's fresh pages are touched by all
-    /// (on a grid of 10^6 blocks, appending from one thread cost 0.15 to 0.9 s).
+    /// the chunks' parts are appended in parallel ([`super::append_in_parallel`]): no thread
+    /// waits while another appends, and the output's fresh pages are touched by all (on a
+    /// grid of 10^6 blocks, appending from one thread cost 0.15 to 0.9 s).
     pub(super) fn extend_from(&mut self, pairs: &[[u32; 2]], results: &[PairResult]) {
         const CHUNK: usize = 1 << 14;
         let parts: Vec<SystemContacts> = pairs
@@ -107,44 +107,12 @@ impl SystemContacts {
                 part
             })
             .collect();
-        let contacts = parts.iter().map(|p| p.contacts.len()).sum();
-        let penetrating = parts.iter().map(|p| p.penetrating.len()).sum();
-        self.contacts.reserve(contacts);
-        self.penetrating.reserve(penetrating);
-        let mut spare = (
-            &mut self.contacts.spare_capacity_mut()[..contacts],
-            &mut self.penetrating.spare_capacity_mut()[..penetrating],
-        );
-        let mut stretches = Vec::with_capacity(parts.len());
-        for part in &parts {
-            let (c_here, c_rest) = std::mem::take(&mut spare.0).split_at_mut(part.contacts.len());
-            let (p_here, p_rest) =
-                std::mem::take(&mut spare.1).split_at_mut(part.penetrating.len());
-            stretches.push((c_here, p_here));
-            spare = (c_rest, p_rest);
-        }
-        stretches
-            .into_par_iter()
-            .zip(&parts)
-            .for_each(|((c_out, p_out), part)| {
-                for (slot, &c) in c_out.iter_mut().zip(&part.contacts) {
-                    slot.write(c);
-                }
-                for (slot, &p) in p_out.iter_mut().zip(&part.penetrating) {
-                    slot.write(p);
-                }
-            });
-        // SAFETY: the stretches have the lengths of the parts, and together cover the first
-        // `contacts` (`penetrating`) spare slots, each written exactly once above.
-        unsafe {
-            self.contacts.set_len(self.contacts.len() + contacts);
-            self.penetrating
-                .set_len(self.penetrating.len() + penetrating);
-        }
+        let contacts: Vec<&[PairContact]> = parts.iter().map(|p| &p.contacts[..]).collect();
+        append_in_parallel(&mut self.contacts, &contacts);
+        let penetrating: Vec<&[[u32; 2]]> = parts.iter().map(|p| &p.penetrating[..]).collect();
+        append_in_parallel(&mut self.penetrating, &penetrating);
     }
-}
 
-impl SystemContacts {
     /// This output with the answers of some of its candidate pairs replaced: `changed`
     /// holds those pairs, sorted and distinct, with their new answers; every other pair
     /// keeps its answer. A step of [`super::ContactTracker`] that queries few pairs reads the
@@ -236,11 +204,12 @@ pub(super) fn ask_ahead(
     }
 }
 
-/// Candidate pairs per slice of the narrow phase: each slice runs in parallel, its outcomes
+/// Candidate pairs per slice of the narrow phase (and queried pairs per slice of a
+/// [`super::ContactTracker`] step): each slice runs in parallel, its outcomes
 /// are kept in pair order, and progress is reported between slices. Small enough that the
 /// per-slice buffer stays in the caches (and a cancellation is quick), large enough that
 /// the threads rarely wait for each other.
-const SLICE: usize = 1 << 16;
+pub(super) const SLICE: usize = 1 << 16;
 
 /// Runs `query` on every candidate pair, in parallel within each slice of [`SLICE`] pairs,
 /// and hands each slice's pairs and outcomes (in pair order) to `keep`: the memory beyond

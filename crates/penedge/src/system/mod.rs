@@ -220,3 +220,31 @@ impl BlockSystem {
         a
     }
 }
+
+/// Appends `parts` to `out`, in order, each copied by one thread into its own stretch of
+/// `out`'s new room: the system output and the broad phase's pairs run to 10^7 entries,
+/// whose copy (and fresh pages) from one thread took a fifth of a broad phase and up to
+/// 0.9 s of a detection.
+fn append_in_parallel<T: Copy + Send + Sync>(out: &mut Vec<T>, parts: &[&[T]]) {
+    use rayon::prelude::*;
+    let total = parts.iter().map(|p| p.len()).sum();
+    out.reserve(total);
+    let mut spare = &mut out.spare_capacity_mut()[..total];
+    let mut stretches = Vec::with_capacity(parts.len());
+    for part in parts {
+        let (here, rest) = std::mem::take(&mut spare).split_at_mut(part.len());
+        stretches.push(here);
+        spare = rest;
+    }
+    stretches
+        .into_par_iter()
+        .zip(parts)
+        .for_each(|(stretch, part)| {
+            for (slot, &x) in stretch.iter_mut().zip(*part) {
+                slot.write(x);
+            }
+        });
+    // SAFETY: the stretches have the parts' lengths and together cover the first `total`
+    // slots of the new room, each written exactly once above.
+    unsafe { out.set_len(out.len() + total) };
+}

@@ -29,7 +29,7 @@
 //! the pairs it queries, are scattered through memory: each is asked for (prefetched) a few
 //! places ahead of its turn, which made a small step of a 50^3 grid a quarter faster.
 
-use super::detect::{ask_ahead, SystemContacts};
+use super::detect::{ask_ahead, SystemContacts, SLICE};
 use super::{BlockSystem, BroadPhase, WideBoxes};
 use crate::block::{ConvexBlock, Pose, Prefetch};
 use crate::classify::PairResult;
@@ -415,28 +415,25 @@ impl ContactTracker {
             (result, deadline)
         };
         let mut changed: Vec<([u32; 2], PairResult)> = Vec::new();
-        let mut answers: Vec<Vec<(PairResult, f64)>> = Vec::new();
+        let mut answers = Vec::new();
         for slice in queried.chunks(SLICE) {
             slice
-                .par_chunks(64)
+                .par_iter()
+                .enumerate()
                 .map_init(
                     || Detector::new(tol),
-                    |det, run| {
-                        let mut out = Vec::with_capacity(run.len());
-                        for (n, &k) in run.iter().enumerate() {
-                            if !dense {
-                                // Scattered pairs: both blocks asked for (in a dense step
-                                // consecutive pairs share blocks, which are then in cache).
-                                let pair_at = |m: usize| run.get(m).map(|&k| pairs[k as usize]);
-                                ask_ahead(blocks, pair_at, n, true);
-                            }
-                            out.push(answer(det, k));
+                    |det, (n, &k)| {
+                        if !dense {
+                            // Scattered pairs: both blocks asked for (in a dense step
+                            // consecutive pairs share blocks, which are then in cache).
+                            let pair_at = |m: usize| slice.get(m).map(|&k| pairs[k as usize]);
+                            ask_ahead(blocks, pair_at, n, true);
                         }
-                        out
+                        answer(det, k)
                     },
                 )
                 .collect_into_vec(&mut answers);
-            for (&k, &(result, deadline)) in slice.iter().zip(answers.iter().flatten()) {
+            for (&k, &(result, deadline)) in slice.iter().zip(&answers) {
                 let k = k as usize;
                 self.results[k] = result;
                 self.deadlines[k] = deadline;
@@ -455,9 +452,6 @@ impl ContactTracker {
         (self.pairs.len() - queried.len(), queried.len())
     }
 }
-
-/// Pairs queried per slice of a step (the answers of one slice are held at a time).
-const SLICE: usize = 1 << 16;
 
 /// How many steps like the last one an edge certificate is sized for (see
 /// [`edge_certificate`]): a wider gap costs nothing more but holds for fewer pairs.
