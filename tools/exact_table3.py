@@ -24,7 +24,7 @@ Conventions
   is a vertex (r = 3), an edge (2), a face (1) or the interior (0).
 
 Usage: ``python3 tools/exact_table3.py`` (report), ``--json`` (counts only),
-``--all`` (report plus every pair), ``--dev-cases ../shared/cases/dev-cases.json``
+``--all`` (report plus every pair), ``--dev-cases crates/penedge/tests/data/dev-cases.json``
 (the same classifier on the exact dev cases).
 """
 

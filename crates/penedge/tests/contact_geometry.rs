@@ -1,5 +1,5 @@
 //! Contact geometry (normal, points, area, signed distance) against the exact intersections
-//! of `shared/cases/dev-cases.json`, under swaps, rotations and motions along the normal,
+//! of `tests/data/dev-cases.json`, under swaps, rotations and motions along the normal,
 //! and the paper's examples against their shared face areas computed by hand.
 
 use glam::{DQuat, DVec3};
@@ -31,7 +31,7 @@ fn cases_path() -> PathBuf {
     if let Ok(dir) = std::env::var("PENEDGE_SHARED") {
         return PathBuf::from(dir).join("cases/dev-cases.json");
     }
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/cases/dev-cases.json")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/dev-cases.json")
 }
 
 fn numbers<T>(v: &Value, each: impl Fn(&Value) -> T) -> Vec<T> {

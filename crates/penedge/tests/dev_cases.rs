@@ -1,4 +1,4 @@
-//! Every case of `shared/cases/dev-cases.json` (contact types computed with exact rational
+//! Every case of `tests/data/dev-cases.json` (contact types computed with exact rational
 //! arithmetic) must get the same answer, in both orders.
 
 use penedge::{ConvexBlock, Detector, PairResult, Tolerance};
@@ -9,7 +9,7 @@ fn cases_path() -> PathBuf {
     if let Ok(dir) = std::env::var("PENEDGE_SHARED") {
         return PathBuf::from(dir).join("cases/dev-cases.json");
     }
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/cases/dev-cases.json")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/dev-cases.json")
 }
 
 fn block(v: &Value) -> ConvexBlock {
