@@ -61,6 +61,8 @@
 //!
 //! * [`block`]: convex blocks (vertices, edges, faces, planes) built and validated from
 //!   vertices + faces or from half-spaces;
+//! * [`body`]: a body's convex parts in its own frame (centroid, principal axes) and its
+//!   exact mass properties (`docs/bodies.md`);
 //! * [`tolerance`]: the one tolerance policy (gap and length thresholds relative to block size);
 //! * [`penetration`]: penetration edges of a pair (paper section 3.3, Table 1);
 //! * [`classify`]: contact decision and the seven contact types (paper sections 3.1, 3.4);
@@ -82,6 +84,7 @@
 #![warn(missing_docs)]
 
 pub mod block;
+pub mod body;
 pub mod classify;
 pub mod contact;
 pub mod contact_geometry;
