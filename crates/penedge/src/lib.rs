@@ -94,6 +94,7 @@ pub mod fuzzing;
 pub mod generation;
 pub mod geometry;
 pub mod io;
+pub mod mechanics;
 pub mod penetration;
 pub mod system;
 pub mod tolerance;

@@ -1,0 +1,261 @@
+//! The joint law: Mohr-Coulomb with tension cut-off and residual strength, per sub-contact,
+//! and the joint properties per set (docs/mechanics.md, "Joint law").
+
+use super::MechanicsError;
+use crate::block::{ConvexBlock, FaceOrigin};
+use crate::classify::Feature;
+use crate::geometry::DVec3;
+use std::collections::BTreeMap;
+
+/// The properties of a joint (any consistent units; SI: Pa/m, degrees, Pa).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointModel {
+    /// Normal stiffness, stress per displacement (> 0).
+    pub kn: f64,
+    /// Shear stiffness, stress per displacement (> 0).
+    pub ks: f64,
+    /// Friction angle in degrees, in [0, 90).
+    pub friction: f64,
+    /// Cohesion, a stress (≥ 0); 0 after failure.
+    pub cohesion: f64,
+    /// Tensile strength, a stress (≥ 0); 0 after failure.
+    pub tension: f64,
+}
+
+impl Default for JointModel {
+    /// A stiff frictional joint without bond: kn = ks = 1e10 Pa/m, 30°, no cohesion or tension.
+    fn default() -> Self {
+        JointModel {
+            kn: 1e10,
+            ks: 1e10,
+            friction: 30.0,
+            cohesion: 0.0,
+            tension: 0.0,
+        }
+    }
+}
+
+impl JointModel {
+    /// The model if every property is in range, else the error naming the first that is not.
+    pub fn validated(self) -> Result<JointModel, MechanicsError> {
+        let positive = |name: &'static str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(MechanicsError::Stiffness { name, value: v })
+            }
+        };
+        positive("kn", self.kn)?;
+        positive("ks", self.ks)?;
+        if !(self.friction.is_finite() && (0.0..90.0).contains(&self.friction)) {
+            return Err(MechanicsError::Friction(self.friction));
+        }
+        for (name, v) in [("cohesion", self.cohesion), ("tension", self.tension)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(MechanicsError::Strength { name, value: v });
+            }
+        }
+        Ok(self)
+    }
+
+    /// tan φ.
+    pub fn tan_friction(&self) -> f64 {
+        self.friction.to_radians().tan()
+    }
+}
+
+/// The joint properties of a simulation: a default, and properties per joint set.
+#[derive(Clone, Debug, Default)]
+pub struct JointTable {
+    default: JointModel,
+    sets: BTreeMap<u32, JointModel>,
+}
+
+impl JointTable {
+    /// The default model (contacts with no joint face, or of a set without its own).
+    pub fn default_model(&self) -> &JointModel {
+        &self.default
+    }
+
+    /// Sets the default model.
+    pub fn set_default(&mut self, model: JointModel) -> Result<(), MechanicsError> {
+        self.default = model.validated()?;
+        Ok(())
+    }
+
+    /// Sets the model of joint set `set` (the `set` of `FaceOrigin::Joint`).
+    pub fn set(&mut self, set: u32, model: JointModel) -> Result<(), MechanicsError> {
+        self.sets.insert(set, model.validated()?);
+        Ok(())
+    }
+
+    /// The model of set `set` (the default when it has none).
+    pub fn of_set(&self, set: Option<u32>) -> &JointModel {
+        set.and_then(|s| self.sets.get(&s)).unwrap_or(&self.default)
+    }
+
+    /// The largest stiffness of any model (for the critical time step).
+    pub fn max_stiffness(&self) -> f64 {
+        std::iter::once(&self.default)
+            .chain(self.sets.values())
+            .fold(0.0f64, |k, m| k.max(m.kn).max(m.ks))
+    }
+
+    /// The joint set of a contact from its features' face origins (docs/mechanics.md): a
+    /// face feature's set; for two faces of different sets, the weaker one; none without
+    /// a joint face.
+    pub fn set_of_contact(
+        &self,
+        a: &ConvexBlock,
+        fa: Feature,
+        b: &ConvexBlock,
+        fb: Feature,
+    ) -> Option<u32> {
+        let set = |block: &ConvexBlock, f: Feature| match f {
+            Feature::Face(i) => block
+                .face_origins()
+                .get(i as usize)
+                .copied()
+                .and_then(FaceOrigin::set),
+            _ => None,
+        };
+        match (set(a, fa), set(b, fb)) {
+            (Some(x), Some(y)) if x != y => {
+                let (mx, my) = (self.of_set(Some(x)), self.of_set(Some(y)));
+                let key = |m: &JointModel| (m.tan_friction(), m.cohesion);
+                Some(if key(my) < key(mx) { y } else { x })
+            }
+            (Some(x), _) => Some(x),
+            (None, y) => y,
+        }
+    }
+}
+
+/// The Mohr-Coulomb state of a sub-contact.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SubState {
+    /// In contact, within the strength.
+    #[default]
+    Elastic,
+    /// In contact, at the shear strength.
+    Sliding,
+    /// Apart, or failed in tension: no force.
+    Open,
+}
+
+impl SubState {
+    /// 0 elastic, 1 sliding, 2 open (for arrays).
+    pub fn code(self) -> u8 {
+        self as u8
+    }
+}
+
+/// The force of one sub-contact after a step of the law.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct LawOutcome {
+    pub normal_force: f64,
+    pub shear_force: DVec3,
+    pub state: SubState,
+    pub bonded: bool,
+}
+
+/// One step of the joint law for a sub-contact of area `area` and gap `gap`, with the shear
+/// force `shear` already on the contact plane plus its elastic increment (docs/mechanics.md,
+/// steps 2 to 4).
+pub(super) fn joint_law(
+    model: &JointModel,
+    area: f64,
+    gap: f64,
+    shear: DVec3,
+    bonded: bool,
+) -> LawOutcome {
+    let fn_ = -model.kn * area * gap;
+    let tension_held = bonded && -fn_ <= model.tension * area;
+    if fn_ < 0.0 && !tension_held || fn_ == 0.0 && !bonded {
+        // Apart, or a bond failed in tension: no force, and the bond is gone for good.
+        return LawOutcome {
+            normal_force: 0.0,
+            shear_force: DVec3::ZERO,
+            state: SubState::Open,
+            bonded: false,
+        };
+    }
+    let cohesion = if bonded { model.cohesion } else { 0.0 };
+    let limit = (cohesion * area + fn_ * model.tan_friction()).max(0.0);
+    let magnitude = shear.length();
+    if magnitude > limit {
+        // Shear failure: the force at the strength, and a bond loses cohesion and tension.
+        let scale = if magnitude > 0.0 {
+            limit / magnitude
+        } else {
+            0.0
+        };
+        LawOutcome {
+            normal_force: fn_,
+            shear_force: shear * scale,
+            state: SubState::Sliding,
+            bonded: false,
+        }
+    } else {
+        LawOutcome {
+            normal_force: fn_,
+            shear_force: shear,
+            state: SubState::Elastic,
+            bonded,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn model() -> JointModel {
+        JointModel {
+            kn: 100.0,
+            ks: 50.0,
+            friction: 45.0,
+            cohesion: 2.0,
+            tension: 3.0,
+        }
+    }
+
+    #[test]
+    fn the_law_follows_mohr_coulomb_with_residual_strength() {
+        let m = model();
+        // Compression 100 * 2 * 0.01 = 2; strength c A + Fn tan φ = 4 + 2 = 6.
+        let held = joint_law(&m, 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), true);
+        assert_eq!(held.state, SubState::Elastic);
+        assert!((held.normal_force - 2.0).abs() < 1e-12);
+        let slid = joint_law(&m, 2.0, -0.01, DVec3::new(7.0, 0.0, 0.0), true);
+        assert_eq!(slid.state, SubState::Sliding);
+        assert!((slid.shear_force.x - 6.0).abs() < 1e-12);
+        assert!(!slid.bonded, "a bond that slides loses its cohesion");
+        // Unbonded: friction only.
+        let residual = joint_law(&m, 2.0, -0.01, DVec3::new(7.0, 0.0, 0.0), false);
+        assert!((residual.shear_force.x - 2.0).abs() < 1e-12);
+        // Tension 100 * 2 * 0.02 = 4 < T A = 6 holds; 0.04 -> 8 > 6 fails.
+        let pulled = joint_law(&m, 2.0, 0.02, DVec3::ZERO, true);
+        assert!((pulled.normal_force + 4.0).abs() < 1e-12 && pulled.bonded);
+        let broken = joint_law(&m, 2.0, 0.04, DVec3::ZERO, true);
+        assert_eq!((broken.state, broken.bonded), (SubState::Open, false));
+        let apart = joint_law(&m, 2.0, 0.02, DVec3::ZERO, false);
+        assert_eq!(apart.state, SubState::Open);
+    }
+
+    #[test]
+    fn bad_properties_are_named() {
+        let bad = |f: fn(&mut JointModel)| {
+            let mut m = model();
+            f(&mut m);
+            m.validated().unwrap_err().to_string()
+        };
+        assert!(bad(|m| m.kn = 0.0).contains("kn"));
+        assert!(bad(|m| m.ks = -1.0).contains("ks"));
+        assert!(bad(|m| m.kn = f64::NAN).contains("kn"));
+        assert!(bad(|m| m.friction = 90.0).contains("friction"));
+        assert!(bad(|m| m.friction = -1.0).contains("friction"));
+        assert!(bad(|m| m.cohesion = -1.0).contains("cohesion"));
+        assert!(bad(|m| m.tension = f64::NAN).contains("tension"));
+    }
+}
