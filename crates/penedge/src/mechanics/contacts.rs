@@ -115,6 +115,8 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         .set_of_contact(a, found.contact.feature_a, b, found.contact.feature_b);
     let model = input.joints.of_set(set);
     let width = input.point_width * a.size().min(b.size());
+    // The rounding of a gap of zero, far above it: a bond at zero gap is not broken by it.
+    let slack = 1e-9 * a.size().min(b.size());
     let points = g.points();
     let areas = area_shares(g.shape(), n, width);
     let pose_a = input.bodies.pose[bodies[0] as usize];
@@ -158,7 +160,7 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         let du_s = du - n * du.dot(n);
         slip += du_s;
         shear -= du_s * (model.ks * area);
-        let out = joint_law(model, area, gap, shear, bonded);
+        let out = joint_law(model, area, gap, shear, bonded, slack);
         subs.push(SubContact {
             point: p,
             local,

@@ -161,16 +161,18 @@ pub(super) struct LawOutcome {
 
 /// One step of the joint law for a sub-contact of area `area` and gap `gap`, with the shear
 /// force `shear` already on the contact plane plus its elastic increment (docs/mechanics.md,
-/// steps 2 to 4).
+/// steps 2 to 4). A bond does not fail in tension while its gap is within `slack` (the
+/// rounding of a gap of zero) beyond its strength.
 pub(super) fn joint_law(
     model: &JointModel,
     area: f64,
     gap: f64,
     shear: DVec3,
     bonded: bool,
+    slack: f64,
 ) -> LawOutcome {
     let fn_ = -model.kn * area * gap;
-    let tension_held = bonded && -fn_ <= model.tension * area;
+    let tension_held = bonded && gap <= model.tension / model.kn + slack;
     if fn_ < 0.0 && !tension_held || fn_ == 0.0 && !bonded {
         // Apart, or a bond failed in tension: no force, and the bond is gone for good.
         return LawOutcome {
@@ -181,20 +183,17 @@ pub(super) fn joint_law(
         };
     }
     let cohesion = if bonded { model.cohesion } else { 0.0 };
-    let limit = (cohesion * area + fn_ * model.tan_friction()).max(0.0);
+    // Friction from compression only: tension on a bond leaves its cohesion.
+    let limit = cohesion * area + fn_.max(0.0) * model.tan_friction();
     let magnitude = shear.length();
     if magnitude > limit {
-        // Shear failure: the force at the strength, and a bond loses cohesion and tension.
-        let scale = if magnitude > 0.0 {
-            limit / magnitude
-        } else {
-            0.0
-        };
+        // Shear failure: the force at the strength; a bond with cohesion loses its cohesion
+        // and its tension (3DEC's residual); a bond of tension only keeps it.
         LawOutcome {
             normal_force: fn_,
-            shear_force: shear * scale,
+            shear_force: shear * (limit / magnitude),
             state: SubState::Sliding,
-            bonded: false,
+            bonded: bonded && cohesion == 0.0,
         }
     } else {
         LawOutcome {
@@ -224,22 +223,22 @@ mod tests {
     fn the_law_follows_mohr_coulomb_with_residual_strength() {
         let m = model();
         // Compression 100 * 2 * 0.01 = 2; strength c A + Fn tan φ = 4 + 2 = 6.
-        let held = joint_law(&m, 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), true);
+        let held = joint_law(&m, 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), true, 0.0);
         assert_eq!(held.state, SubState::Elastic);
         assert!((held.normal_force - 2.0).abs() < 1e-12);
-        let slid = joint_law(&m, 2.0, -0.01, DVec3::new(7.0, 0.0, 0.0), true);
+        let slid = joint_law(&m, 2.0, -0.01, DVec3::new(7.0, 0.0, 0.0), true, 0.0);
         assert_eq!(slid.state, SubState::Sliding);
         assert!((slid.shear_force.x - 6.0).abs() < 1e-12);
         assert!(!slid.bonded, "a bond that slides loses its cohesion");
         // Unbonded: friction only.
-        let residual = joint_law(&m, 2.0, -0.01, DVec3::new(7.0, 0.0, 0.0), false);
+        let residual = joint_law(&m, 2.0, -0.01, DVec3::new(7.0, 0.0, 0.0), false, 0.0);
         assert!((residual.shear_force.x - 2.0).abs() < 1e-12);
         // Tension 100 * 2 * 0.02 = 4 < T A = 6 holds; 0.04 -> 8 > 6 fails.
-        let pulled = joint_law(&m, 2.0, 0.02, DVec3::ZERO, true);
+        let pulled = joint_law(&m, 2.0, 0.02, DVec3::ZERO, true, 0.0);
         assert!((pulled.normal_force + 4.0).abs() < 1e-12 && pulled.bonded);
-        let broken = joint_law(&m, 2.0, 0.04, DVec3::ZERO, true);
+        let broken = joint_law(&m, 2.0, 0.04, DVec3::ZERO, true, 0.0);
         assert_eq!((broken.state, broken.bonded), (SubState::Open, false));
-        let apart = joint_law(&m, 2.0, 0.02, DVec3::ZERO, false);
+        let apart = joint_law(&m, 2.0, 0.02, DVec3::ZERO, false, 0.0);
         assert_eq!(apart.state, SubState::Open);
     }
 

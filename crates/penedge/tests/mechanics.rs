@@ -1,0 +1,524 @@
+//! Verification of the rigid-block mechanics against analytic solutions (issue 18,
+//! docs/verification.md). Every reference is a formula computed here, never a number copied
+//! from a run.
+
+use penedge::glam::{DQuat, DVec3, EulerRot};
+use penedge::mechanics::{Damping, JointModel, MechanicsError, Simulation, SubState};
+use penedge::{BlockSystem, ConvexBlock};
+
+const G: f64 = 9.81;
+
+/// A frame whose axes are not aligned with the world's: slope `theta` (radians) about a
+/// horizontal axis at azimuth 0.6 rad, then turned by 0.4 rad about the slope's normal.
+fn slope_frame(theta: f64) -> DQuat {
+    DQuat::from_rotation_z(0.6) * DQuat::from_rotation_x(theta) * DQuat::from_rotation_z(0.4)
+}
+
+/// A fixed base (top face the plane `z = 0` of `frame`) and a slab `lx × ly × h` on it,
+/// sunk by `sink` into it, both placed by `frame`.
+fn block_on_plane(frame: DQuat, size: [f64; 3], sink: f64, density: f64) -> Simulation {
+    let base = ConvexBlock::cuboid([-5.0, -5.0, -1.0], [5.0, 5.0, 0.0]).unwrap();
+    let [lx, ly, h] = size;
+    let slab = ConvexBlock::cuboid(
+        [-lx / 2.0, -ly / 2.0, -sink],
+        [lx / 2.0, ly / 2.0, h - sink],
+    )
+    .unwrap();
+    let offset = DVec3::new(100.0, -50.0, 20.0);
+    let system = BlockSystem::new(vec![
+        base.transformed(frame, offset, 1.0),
+        slab.transformed(frame, offset, 1.0),
+    ]);
+    let mut sim = Simulation::new(&system, density).unwrap();
+    sim.fix(0).unwrap();
+    sim
+}
+
+fn joint(kn: f64, friction: f64, cohesion: f64, tension: f64) -> JointModel {
+    JointModel {
+        kn,
+        ks: kn,
+        friction,
+        cohesion,
+        tension,
+    }
+}
+
+/// Downhill unit vector of the plane with normal `n` under gravity `-z`.
+fn downhill(n: DVec3) -> DVec3 {
+    let g = DVec3::new(0.0, 0.0, -1.0);
+    (g - n * g.dot(n)).normalize()
+}
+
+/// Verification 1: above the friction angle, the slab slides with acceleration
+/// a = g (sin θ − cos θ tan φ): displacement v₁ t + ½ a t² from a time t₁ once it slides
+/// (the elastic transient of the release is over), within 1 % over a window where the
+/// displacement is at least 100 times the elastic shear offset; three slopes, undamped.
+///
+/// Measured from rest, the displacement is ½ a t² plus the velocity gained while the shear
+/// spring loads up to the friction (the soft contact's transient): of the order of
+/// √(g u_el) t, a relative error ∝ √(u_el / d) √(g / a), which is why the window starts
+/// from a sliding state.
+#[test]
+fn a_block_slides_down_a_slope_steeper_than_its_friction_angle() {
+    let (phi, kn, density, size) = (30.0f64, 1e8, 2500.0, [1.0, 0.8, 0.3]);
+    let (m, area) = (density * size[0] * size[1] * size[2], size[0] * size[1]);
+    for theta_deg in [33.0f64, 40.0, 55.0] {
+        let theta = theta_deg.to_radians();
+        let frame = slope_frame(theta);
+        let d = downhill(frame * DVec3::Z);
+        // Start in normal equilibrium: sunk by m g cos θ / (kn A).
+        let sink = m * G * theta.cos() / (kn * area);
+        let mut sim = block_on_plane(frame, size, sink, density);
+        sim.set_default_joint(joint(kn, phi, 0.0, 0.0)).unwrap();
+        let a = G * (theta.sin() - theta.cos() * phi.to_radians().tan());
+        let elastic = m * G * theta.sin() / (kn * area);
+        sim.run_until(0.05).unwrap();
+        // The state at t₁: position, and the velocity at t₁ as the mean of the two
+        // half-step velocities around it.
+        let before = sim.bodies().velocities()[1];
+        sim.step().unwrap();
+        let (t1, x1) = (sim.time(), sim.bodies().poses()[1].translation);
+        let v1 = ((before + sim.bodies().velocities()[1]) * 0.5).dot(d);
+        assert!(v1 > 0.0);
+        let mut checked = 0;
+        while sim.time() < 0.6 {
+            sim.step().unwrap();
+            let t = sim.time() - t1;
+            let moved = (sim.bodies().poses()[1].translation - x1).dot(d);
+            let expected = v1 * t + 0.5 * a * t * t;
+            if expected > 100.0 * elastic {
+                assert!(
+                    (moved - expected).abs() < 0.01 * expected,
+                    "slope {theta_deg}°, t = {t}: moved {moved}, expected {expected}"
+                );
+                checked += 1;
+            }
+        }
+        assert!(
+            checked > 100,
+            "slope {theta_deg}°: window of {checked} steps"
+        );
+    }
+}
+
+/// Verification 1: below the friction angle the slab stays put: with gravity ramped up over
+/// many periods of the contact, it moves by the elastic shear offset only.
+#[test]
+fn a_block_stays_on_a_slope_below_its_friction_angle() {
+    let (phi, kn, density, size) = (30.0f64, 1e8, 2500.0, [1.0, 0.8, 0.3]);
+    let (m, area) = (density * size[0] * size[1] * size[2], size[0] * size[1]);
+    for theta_deg in [10.0f64, 25.0] {
+        let theta = theta_deg.to_radians();
+        let frame = slope_frame(theta);
+        let mut sim = block_on_plane(frame, size, 0.0, density);
+        sim.set_default_joint(joint(kn, phi, 0.0, 0.0)).unwrap();
+        let start = sim.bodies().poses()[1].translation;
+        let elastic = m * G * theta.sin() / (kn * area);
+        let ramp = ramp_gravity(&mut sim, 0.3, 0.5);
+        let moved = in_plane(sim.bodies().poses()[1].translation - start, frame);
+        assert!(
+            moved < 1.5 * elastic,
+            "slope {theta_deg}°: moved {moved}, elastic offset {elastic} ({ramp} steps)"
+        );
+    }
+}
+
+/// The length of `v`'s part in the plane `z = 0` of `frame`.
+fn in_plane(v: DVec3, frame: DQuat) -> f64 {
+    let n = frame * DVec3::Z;
+    (v - n * v.dot(n)).length()
+}
+
+/// Ramps gravity from 0 to g over `ramp` seconds, then holds it until `end`; the steps taken.
+fn ramp_gravity(sim: &mut Simulation, ramp: f64, end: f64) -> u64 {
+    while sim.time() < end {
+        let f = (sim.time() / ramp).min(1.0);
+        sim.set_gravity(DVec3::new(0.0, 0.0, -G * f)).unwrap();
+        sim.step().unwrap();
+    }
+    sim.steps()
+}
+
+/// Verification 1 with cohesion: the slab starts to slide at the slope where
+/// m g (sin θ − cos θ tan φ) = c A.
+#[test]
+fn cohesion_holds_a_block_up_to_the_analytic_slope() {
+    // A flat slab and a small friction angle: the overturning moment of the friction
+    // shifts the corners' normal forces, and with them their friction, little (each corner
+    // fails on its own; with φ = 10° the spread is under 1 % of the strength).
+    let (phi, kn, density, size) = (10.0f64, 1e8, 2500.0, [1.0, 0.8, 0.1]);
+    let (m, area) = (density * size[0] * size[1] * size[2], size[0] * size[1]);
+    let onset = 30.0f64.to_radians();
+    let cohesion = m * G * (onset.sin() - onset.cos() * phi.to_radians().tan()) / area;
+    for (theta_deg, slides) in [(28.5f64, false), (31.5, true)] {
+        let theta = theta_deg.to_radians();
+        let frame = slope_frame(theta);
+        let mut sim = block_on_plane(frame, size, 0.0, density);
+        sim.set_default_joint(joint(kn, phi, cohesion, 0.0))
+            .unwrap();
+        let start = sim.bodies().poses()[1].translation;
+        let elastic = m * G * theta.sin() / (kn * area);
+        ramp_gravity(&mut sim, 0.3, 0.6);
+        let moved = in_plane(sim.bodies().poses()[1].translation - start, frame);
+        if slides {
+            assert!(moved > 100.0 * elastic, "{theta_deg}°: moved only {moved}");
+        } else {
+            assert!(
+                moved < 1.5 * elastic,
+                "{theta_deg}°: moved {moved} > {elastic}"
+            );
+        }
+    }
+}
+
+/// Verification 4: free fall follows the parabola x0 + v0 t + ½ g t² at every step.
+#[test]
+fn free_fall_is_a_parabola() {
+    let block = ConvexBlock::cuboid([0.0; 3], [1.0, 2.0, 0.5])
+        .unwrap()
+        .transformed(DQuat::from_rotation_y(0.3), DVec3::ZERO, 1.0);
+    let mut sim = Simulation::new(&BlockSystem::new(vec![block]), 2000.0).unwrap();
+    sim.set_default_joint(joint(1.0, 30.0, 0.0, 0.0)).unwrap();
+    sim.set_timestep(Some(1e-3)).unwrap();
+    let v0 = DVec3::new(1.5, -0.5, 4.0);
+    sim.set_velocity(0, v0, DVec3::ZERO).unwrap();
+    let x0 = sim.bodies().poses()[0].translation;
+    let g = sim.gravity();
+    for _ in 0..1000 {
+        sim.step().unwrap();
+        let t = sim.time();
+        let expected = x0 + v0 * t + 0.5 * g * t * t;
+        let got = sim.bodies().poses()[0].translation;
+        assert!(
+            (got - expected).length() < 1e-12,
+            "t = {t}: {got} vs {expected}"
+        );
+    }
+}
+
+/// Euler's equations of a free rigid body, body frame: dπ/dt = π × (π / I), by RK4 (the
+/// reference for the free rotation, independent of the DLM splitting).
+fn euler_rk4(pi: DVec3, inertia: DVec3, h: f64) -> DVec3 {
+    let f = |p: DVec3| p.cross(p / inertia);
+    let k1 = f(pi);
+    let k2 = f(pi + k1 * (h / 2.0));
+    let k3 = f(pi + k2 * (h / 2.0));
+    let k4 = f(pi + k3 * h);
+    pi + (k1 + 2.0 * k2 + 2.0 * k3 + k4) * (h / 6.0)
+}
+
+/// A free box of three different principal moments spun with `spin` (body frame, mostly
+/// about one axis); returns the simulation and its principal moments.
+fn spinning_box(spin: DVec3) -> (Simulation, DVec3) {
+    let block = ConvexBlock::cuboid([0.0; 3], [1.0, 2.0, 3.0])
+        .unwrap()
+        .transformed(
+            DQuat::from_euler(EulerRot::XYZ, 0.3, 0.5, -0.2),
+            DVec3::ZERO,
+            1.0,
+        );
+    let mut sim = Simulation::new(&BlockSystem::new(vec![block]), 1000.0).unwrap();
+    sim.set_default_joint(joint(1e-6, 30.0, 0.0, 0.0)).unwrap();
+    sim.set_gravity(DVec3::ZERO).unwrap();
+    let q = sim.bodies().poses()[0].rotation;
+    sim.set_velocity(0, DVec3::ZERO, q * spin).unwrap();
+    let inertia = sim.bodies().principal_inertia()[0];
+    (sim, inertia)
+}
+
+/// The body-frame angular momentum of body 0.
+fn body_momentum(sim: &Simulation) -> DVec3 {
+    sim.bodies().poses()[0].rotation.conjugate() * sim.bodies().angular_momenta()[0]
+}
+
+/// Verification 4: free rotation of a box with three different principal moments, about
+/// its major axis with a perturbation, over 20 periods: the body-frame angular momentum
+/// follows Euler's equations (RK4 reference), |L| and the energy stay within 0.1 %.
+#[test]
+fn free_rotation_conserves_momentum_and_energy_and_follows_euler() {
+    let omega = 2.0;
+    let (mut sim, inertia) = spinning_box(DVec3::new(0.05, 0.1, omega));
+    let period = 2.0 * std::f64::consts::PI / omega;
+    let dt = period / 200.0;
+    sim.set_timestep(Some(dt)).unwrap();
+    let mut reference = body_momentum(&sim);
+    let (l0, e0) = (reference.length(), sim.bodies().kinetic_energy(0));
+    let world0 = sim.bodies().angular_momenta()[0];
+    for _ in 0..(20 * 200) {
+        sim.step().unwrap();
+        for _ in 0..20 {
+            reference = euler_rk4(reference, inertia, dt / 20.0);
+        }
+        let pi = body_momentum(&sim);
+        assert!((pi - reference).length() < 1e-3 * l0, "{pi} vs {reference}");
+        assert!((pi.length() - l0).abs() < 1e-3 * l0);
+        let e = sim.bodies().kinetic_energy(0);
+        assert!((e - e0).abs() < 1e-3 * e0, "energy {e} vs {e0}");
+    }
+    // No moment: the world angular momentum is unchanged.
+    assert!((sim.bodies().angular_momenta()[0] - world0).length() < 1e-9 * l0);
+}
+
+/// Verification 4: spun about the intermediate axis, the box flips (the body-frame momentum
+/// along that axis changes sign), as Euler's equations say, energy kept within 0.1 %;
+/// about the minor or major axis it does not.
+#[test]
+fn the_intermediate_axis_is_unstable() {
+    for (axis, flips) in [(0usize, false), (1, true), (2, false)] {
+        let mut spin = DVec3::splat(1e-3);
+        spin[axis] = 2.0;
+        let (mut sim, _) = spinning_box(spin);
+        sim.set_timestep(Some(0.005)).unwrap();
+        let start = body_momentum(&sim)[axis];
+        let e0 = sim.bodies().kinetic_energy(0);
+        let mut flipped = false;
+        for _ in 0..8000 {
+            sim.step().unwrap();
+            flipped |= body_momentum(&sim)[axis] * start < 0.0;
+            let e = sim.bodies().kinetic_energy(0);
+            assert!((e - e0).abs() < 1e-3 * e0);
+        }
+        assert_eq!(flipped, flips, "axis {axis}");
+    }
+}
+
+/// A unit cube on a fixed base, touching (gap 0) or `drop` above it.
+fn cube_on_base(drop: f64, density: f64) -> Simulation {
+    let base = ConvexBlock::cuboid([-2.0, -2.0, -1.0], [2.0, 2.0, 0.0]).unwrap();
+    let cube = ConvexBlock::cuboid([-0.5, -0.5, drop], [0.5, 0.5, 1.0 + drop]).unwrap();
+    let frame = DQuat::from_euler(EulerRot::ZXY, 0.7, 0.0, 0.0);
+    let system = BlockSystem::new(vec![
+        base.transformed(frame, DVec3::ZERO, 1.0),
+        cube.transformed(frame, DVec3::ZERO, 1.0),
+    ]);
+    let mut sim = Simulation::new(&system, density).unwrap();
+    sim.fix(0).unwrap();
+    sim
+}
+
+/// Verification 5: a block released on a face oscillates with period 2π √(m / (kn A)).
+#[test]
+fn a_block_on_a_face_oscillates_with_the_contact_period() {
+    let (kn, density) = (1e8, 2500.0);
+    let mut sim = cube_on_base(0.0, density);
+    sim.set_default_joint(joint(kn, 30.0, 0.0, 0.0)).unwrap();
+    let period = 2.0 * std::f64::consts::PI * (density / kn).sqrt();
+    sim.set_timestep(Some(period / 100.0)).unwrap();
+    let equilibrium = 0.5 - density * G / kn;
+    // Upward crossings of the equilibrium height, interpolated.
+    let mut crossings = Vec::new();
+    let mut last = sim.bodies().poses()[1].translation.z - equilibrium;
+    while crossings.len() < 6 {
+        sim.step().unwrap();
+        let z = sim.bodies().poses()[1].translation.z - equilibrium;
+        if last < 0.0 && z >= 0.0 {
+            crossings.push(sim.time() - sim.timestep().unwrap() * z / (z - last));
+        }
+        last = z;
+        assert!(sim.time() < 10.0 * period);
+    }
+    let measured = (crossings[5] - crossings[0]) / 5.0;
+    assert!(
+        (measured - period).abs() < 0.01 * period,
+        "{measured} vs {period}"
+    );
+}
+
+/// Verification 8: a cube dropped on a fixed base bounces, undamped and frictionless in
+/// effect; gravity, kinetic and contact energy (½ kn A overlap², the overlap from the
+/// height) sum to the initial energy within 1 % over several bounces.
+#[test]
+fn an_undamped_bounce_keeps_its_energy() {
+    let (kn, density, drop) = (1e9, 2500.0, 0.05);
+    let mut sim = cube_on_base(drop, density);
+    sim.set_gap(5e-3).unwrap();
+    sim.set_default_joint(joint(kn, 30.0, 0.0, 0.0)).unwrap();
+    let m = density;
+    let period = 2.0 * std::f64::consts::PI * (m / kn).sqrt();
+    sim.set_timestep(Some(period / 100.0)).unwrap();
+    let height = |sim: &Simulation| sim.bodies().poses()[1].translation.z - 0.5;
+    let e0 = m * G * height(&sim);
+    let mut previous = sim.bodies().velocities()[1];
+    let mut touched = 0;
+    let mut was_touching = false;
+    while sim.time() < 0.6 {
+        let z = height(&sim);
+        sim.step().unwrap();
+        let v = sim.bodies().velocities()[1];
+        // The leapfrog's velocities are at half steps: at the step's start, their mean.
+        let speed = (previous + v) * 0.5;
+        previous = v;
+        let overlap = (-z).max(0.0);
+        let e = m * G * z + 0.5 * m * speed.length_squared() + 0.5 * kn * overlap * overlap;
+        assert!(
+            (e - e0).abs() < 0.01 * e0,
+            "t = {}: {e} vs {e0}",
+            sim.time()
+        );
+        let touching = overlap > 0.0;
+        touched += (touching && !was_touching) as u32;
+        was_touching = touching;
+    }
+    assert!(touched >= 2, "{touched} bounces");
+}
+
+/// Verification 7: a block hanging from a bonded joint breaks when the load reaches T A;
+/// then it falls freely (residual tension 0).
+#[test]
+fn a_hanging_block_breaks_at_the_tensile_strength() {
+    let (kn, density, tension) = (1e9, 2500.0, 1e5);
+    let roof = ConvexBlock::cuboid([-2.0, -2.0, 0.0], [2.0, 2.0, 1.0]).unwrap();
+    let hanging = ConvexBlock::cuboid([-0.5, -0.5, -1.0], [0.5, 0.5, 0.0]).unwrap();
+    let mut sim = Simulation::new(&BlockSystem::new(vec![roof, hanging]), density).unwrap();
+    sim.fix(0).unwrap();
+    sim.set_default_joint(joint(kn, 30.0, 0.0, tension))
+        .unwrap();
+    sim.set_damping(Damping {
+        local: 0.8,
+        viscous: 0.0,
+    })
+    .unwrap();
+    let (m, area) = (density, 1.0);
+    // The pull grows slowly (quasi-static): from m g to beyond T A.
+    let rate = 5e5; // N/s
+    let mut broke_at = None;
+    while sim.time() < 0.2 {
+        let load = rate * sim.time();
+        sim.apply_force(1, DVec3::new(0.0, 0.0, -load)).unwrap();
+        sim.step().unwrap();
+        let subs = &sim.contacts().subs;
+        if broke_at.is_none() && (subs.is_empty() || subs.iter().any(|s| !s.bonded)) {
+            broke_at = Some(load + m * G);
+            break;
+        }
+    }
+    let broke_at = broke_at.expect("the bond broke");
+    let expected = tension * area;
+    assert!(
+        (broke_at - expected).abs() < 0.01 * expected,
+        "{broke_at} vs {expected}"
+    );
+    // Residual strength: it falls away with acceleration (load + m g) / m.
+    sim.set_damping(Damping::default()).unwrap();
+    let load = rate * sim.time();
+    sim.apply_force(1, DVec3::new(0.0, 0.0, -load)).unwrap();
+    sim.cycle(50).unwrap();
+    let v0 = sim.bodies().velocities()[1].z;
+    let t0 = sim.time();
+    sim.cycle(200).unwrap();
+    let a = (sim.bodies().velocities()[1].z - v0) / (sim.time() - t0);
+    let expected = -(load / m + G);
+    assert!(
+        (a - expected).abs() < 1e-6 * expected.abs(),
+        "{a} vs {expected}"
+    );
+    assert!(sim.contacts().subs.iter().all(|s| s.normal_force == 0.0));
+}
+
+/// Verification 7: a slab glued by cohesion and pushed sideways breaks at c A + N tan φ;
+/// after failure only friction resists: acceleration (F - N tan φ) / m.
+#[test]
+fn a_glued_block_breaks_at_the_cohesive_strength_then_slides_on_friction() {
+    // A flat, dense slab: the push at the centroid tilts the corners' normal forces by
+    // about 10 %, which moves the strength by about 1 % (each corner fails on its own).
+    let (kn, density, phi, cohesion) = (1e9, 25000.0, 15.0f64, 2e4);
+    let base = ConvexBlock::cuboid([-3.0, -3.0, -1.0], [3.0, 3.0, 0.0]).unwrap();
+    let size = [1.0, 1.0, 0.04];
+    let (m, area) = (density * size[2], 1.0);
+    let sink = m * G / (kn * area);
+    let slab = ConvexBlock::cuboid([-0.5, -0.5, -sink], [0.5, 0.5, size[2] - sink]).unwrap();
+    let mut sim = Simulation::new(&BlockSystem::new(vec![base, slab]), density).unwrap();
+    sim.fix(0).unwrap();
+    sim.set_default_joint(joint(kn, phi, cohesion, 0.0))
+        .unwrap();
+    sim.set_damping(Damping {
+        local: 0.8,
+        viscous: 0.0,
+    })
+    .unwrap();
+    let strength = cohesion * area + m * G * phi.to_radians().tan();
+    let push = DVec3::new(0.6, 0.8, 0.0);
+    let rate = 2e5;
+    let mut broke_at = None;
+    while sim.time() < 0.2 {
+        let load = rate * sim.time();
+        sim.apply_force(1, push * load).unwrap();
+        sim.step().unwrap();
+        // The first corner to fail passes its load to the others, which fail at once.
+        if sim.contacts().subs.iter().any(|s| !s.bonded) {
+            broke_at = Some(load);
+            break;
+        }
+    }
+    let broke_at = broke_at.expect("the bond broke");
+    assert!(
+        (broke_at - strength).abs() < 0.02 * strength,
+        "{broke_at} vs {strength}"
+    );
+    // The others follow at once: the load keeps growing until every bond has failed.
+    loop {
+        let load = rate * sim.time();
+        assert!(load < 1.02 * strength, "bonds still hold at {load}");
+        sim.apply_force(1, push * load).unwrap();
+        sim.step().unwrap();
+        if sim.contacts().subs.iter().all(|s| !s.bonded) {
+            break;
+        }
+    }
+    // After failure: a constant push of 1.5 × the friction, no damping.
+    sim.set_damping(Damping::default()).unwrap();
+    let friction = m * G * phi.to_radians().tan();
+    sim.apply_force(1, push * 1.5 * friction).unwrap();
+    sim.cycle(100).unwrap();
+    let v0 = sim.bodies().velocities()[1].dot(push);
+    let t0 = sim.time();
+    sim.cycle(400).unwrap();
+    let a = (sim.bodies().velocities()[1].dot(push) - v0) / (sim.time() - t0);
+    let expected = 0.5 * friction / m;
+    assert!(sim
+        .contacts()
+        .subs
+        .iter()
+        .all(|s| s.state == SubState::Sliding && !s.bonded));
+    assert!((a - expected).abs() < 0.01 * expected, "{a} vs {expected}");
+}
+
+/// Bad input is refused with an error that names it.
+#[test]
+fn bad_input_gets_clear_errors() {
+    let mut sim = cube_on_base(0.0, 2500.0);
+    let bad = JointModel {
+        kn: 0.0,
+        ..JointModel::default()
+    };
+    assert!(matches!(
+        sim.set_default_joint(bad),
+        Err(MechanicsError::Stiffness { name: "kn", .. })
+    ));
+    let bad = JointModel {
+        friction: 90.0,
+        ..JointModel::default()
+    };
+    assert_eq!(sim.set_joint(3, bad), Err(MechanicsError::Friction(90.0)));
+    let critical = sim.critical_timestep().unwrap();
+    assert!(matches!(
+        sim.set_timestep(Some(2.0 * critical)),
+        Err(MechanicsError::TimeStep { .. })
+    ));
+    assert!(sim.set_timestep(Some(-1.0)).is_err());
+    assert!(sim.set_gravity(DVec3::new(f64::NAN, 0.0, 0.0)).is_err());
+    assert!(sim
+        .set_velocity(1, DVec3::splat(f64::INFINITY), DVec3::ZERO)
+        .is_err());
+    assert!(matches!(
+        sim.fix(7),
+        Err(MechanicsError::UnknownBody { id: 7, .. })
+    ));
+    assert!(Simulation::new(&BlockSystem::new(vec![]), -1.0).is_err());
+    sim.fix(1).unwrap();
+    assert_eq!(sim.step(), Err(MechanicsError::NoFreeBody));
+    // Messages name the culprit.
+    let message = MechanicsError::Friction(95.0).to_string();
+    assert!(message.contains("friction") && message.contains("95"));
+}
