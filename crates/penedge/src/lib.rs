@@ -68,6 +68,7 @@
 //! * [`classify`]: contact decision and the seven contact types (paper sections 3.1, 3.4);
 //! * [`contact`]: the pair query that ties them together ([`detect_pair`], [`Detector`]);
 //! * [`contact_geometry`]: normal, contact points, area and signed distance of a contact;
+//! * [`overlap`]: normal, depth and region of two penetrating blocks (soft-contact mechanics);
 //! * [`cutting`]: splitting a block by a plane;
 //! * [`generation`]: rock domains cut into blocks by joint planes, joint sets and finite
 //!   joints, from a spec;
@@ -95,6 +96,7 @@ pub mod generation;
 pub mod geometry;
 pub mod io;
 pub mod mechanics;
+pub mod overlap;
 pub mod penetration;
 pub mod system;
 pub mod tolerance;

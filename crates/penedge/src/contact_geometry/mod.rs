@@ -26,7 +26,9 @@ mod normal;
 mod points;
 mod polygon;
 
+pub(crate) use distance::extent;
 pub use distance::ContactPlane;
+pub(crate) use polygon::convex_polygon;
 
 use crate::block::ConvexBlock;
 use crate::classify::{Contact, PairResult};
