@@ -59,6 +59,10 @@ impl From<GenerationError> for Error {
             GenerationError::Cut { ref source, .. } => {
                 Error::Block(variant_name(source), e.to_string())
             }
+            GenerationError::TooManyBlocks { .. } | GenerationError::Outgrew { .. } => {
+                Error::Spec("too_many_blocks".into(), "joints".into(), e.to_string())
+            }
+            GenerationError::Cancelled { .. } => Error::Input("cancelled".into(), e.to_string()),
         }
     }
 }

@@ -2,9 +2,13 @@
 //! are written in the shortest form that reads back to the same `f64`, and reading restores
 //! each block from its stored vertices, faces, planes and origins without refitting anything
 //! (edges, volume and centroid are derived by the same code as when the block was made).
+//!
+//! A file written by hand needs less: blocks of vertices and faces only (the planes are
+//! fitted and checked as [`ConvexBlock::new`] does, the origins are unknown), and no
+//! `frame`, `domain`, `sets` or `joints`.
 
-use super::{read_text, write_atomic, IoError};
-use crate::block::{ConvexBlock, FaceOrigin};
+use super::{messages, read_text, write_atomic, IoError};
+use crate::block::{BlockError, ConvexBlock, FaceOrigin};
 use crate::generation::{Attitude, JointRecord, JointShape, SetRecord};
 use crate::geometry::{Aabb, DVec3, Plane};
 use crate::system::BlockSystem;
@@ -25,25 +29,30 @@ pub const FRAME: &str = "x East, y North, z up";
 struct SystemFile {
     format: String,
     version: u32,
+    #[serde(default)]
     frame: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     length: Option<f64>,
+    #[serde(default)]
     domain: Vec<BlockFile>,
+    #[serde(default)]
     sets: Vec<SetRecord>,
+    #[serde(default)]
     joints: Vec<JointFile>,
     blocks: Vec<BlockFile>,
 }
 
+/// A block as stored; written in full, read with only `vertices` and `faces` required.
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct BlockFile {
-    id: u32,
+    id: Option<u32>,
     vertices: Vec<[f64; 3]>,
     faces: Vec<Vec<u32>>,
-    planes: Vec<[f64; 6]>,
-    origins: Vec<FaceOrigin>,
-    volume: f64,
-    centroid: [f64; 3],
+    planes: Option<Vec<[f64; 6]>>,
+    origins: Option<Vec<FaceOrigin>>,
+    volume: Option<f64>,
+    centroid: Option<[f64; 3]>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -81,7 +90,10 @@ pub fn write_json(system: &BlockSystem, path: &Path) -> Result<(), IoError> {
     })
 }
 
-/// Reads a system written by [`write_json`].
+/// Reads a system written by [`write_json`] (or by hand: see the module's documentation).
+///
+/// A file that is not a block file at all (a joint spec, a list, a ParaView file) is an
+/// [`IoError::Syntax`] that says what it looks like and what to do with it.
 pub fn read_json(path: &Path) -> Result<BlockSystem, IoError> {
     let text = read_text(path)?;
     from_json_str(&text).map_err(|e| match e {
@@ -97,7 +109,8 @@ pub fn read_json(path: &Path) -> Result<BlockSystem, IoError> {
 pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
     let file: SystemFile = serde_json::from_str(text).map_err(|e| IoError::Syntax {
         path: "<string>".into(),
-        message: e.to_string(),
+        message: messages::not_a_block_file(text)
+            .unwrap_or_else(|| messages::plain(&e.to_string())),
     })?;
     if file.format != FORMAT || file.version != VERSION {
         return Err(format_error(
@@ -212,20 +225,21 @@ fn off_planes(b: &ConvexBlock) -> f64 {
 
 fn block_file((id, b): (usize, &ConvexBlock)) -> BlockFile {
     BlockFile {
-        id: id as u32,
+        id: Some(id as u32),
         vertices: b.vertices().iter().map(|v| v.to_array()).collect(),
         faces: b.faces().map(<[u32]>::to_vec).collect(),
-        planes: b
-            .planes()
-            .iter()
-            .map(|p| {
-                let (n, q) = (p.normal, p.point);
-                [n.x, n.y, n.z, q.x, q.y, q.z]
-            })
-            .collect(),
-        origins: b.face_origins().to_vec(),
-        volume: b.volume(),
-        centroid: b.centroid().to_array(),
+        planes: Some(
+            b.planes()
+                .iter()
+                .map(|p| {
+                    let (n, q) = (p.normal, p.point);
+                    [n.x, n.y, n.z, q.x, q.y, q.z]
+                })
+                .collect(),
+        ),
+        origins: Some(b.face_origins().to_vec()),
+        volume: Some(b.volume()),
+        centroid: Some(b.centroid().to_array()),
     }
 }
 
@@ -251,22 +265,47 @@ fn blocks_of(
         .iter()
         .enumerate()
         .map(|(i, f)| {
-            if f.id as usize != i {
-                let msg = format!("ids must run 0, 1, 2, ... in order; found {}", f.id);
+            if let Some(id) = f.id.filter(|&id| id as usize != i) {
+                let msg = format!("ids must run 0, 1, 2, ... in order; found {id}");
                 return Err(format_error(format!("{field}[{i}].id"), msg));
             }
-            let planes: Vec<Plane> = f
-                .planes
-                .iter()
-                .map(|p| Plane {
-                    normal: DVec3::new(p[0], p[1], p[2]),
-                    point: DVec3::new(p[3], p[4], p[5]),
-                })
-                .collect();
-            ConvexBlock::from_parts_in(&f.vertices, &f.faces, &planes, &f.origins, tol, system)
+            block_of(f, tol, system)
                 .map_err(|e| format_error(format!("{field}[{i}]"), e.to_string()))
         })
         .collect()
+}
+
+/// A block as stored (planes kept as given, not refitted), or from its vertices and faces
+/// alone (planes fitted, origins unknown unless given).
+fn block_of(
+    f: &BlockFile,
+    tol: &Tolerance,
+    system: Option<&Aabb>,
+) -> Result<ConvexBlock, BlockError> {
+    let Some(planes) = &f.planes else {
+        let faces: Vec<Vec<usize>> = f
+            .faces
+            .iter()
+            .map(|face| face.iter().map(|&v| v as usize).collect())
+            .collect();
+        let block = ConvexBlock::with_tolerance(&f.vertices, &faces, tol)?;
+        return match &f.origins {
+            Some(origins) => block.with_face_origins(origins.clone()),
+            None => Ok(block),
+        };
+    };
+    let planes: Vec<Plane> = planes
+        .iter()
+        .map(|p| Plane {
+            normal: DVec3::new(p[0], p[1], p[2]),
+            point: DVec3::new(p[3], p[4], p[5]),
+        })
+        .collect();
+    let origins = f
+        .origins
+        .clone()
+        .unwrap_or_else(|| vec![FaceOrigin::Unknown; f.faces.len()]);
+    ConvexBlock::from_parts_in(&f.vertices, &f.faces, &planes, &origins, tol, system)
 }
 
 fn joint_file((id, r): (usize, &JointRecord)) -> JointFile {
