@@ -164,8 +164,7 @@ impl BlockSystem {
                 let (result, geometry) = det.detect_with_geometry(a, b);
                 match (result, geometry) {
                     (PairResult::Contact(contact), Some(g)) => {
-                        let concave =
-                            pair.iter().any(|&k| self.is_part_of_concave(k));
+                        let concave = pair.iter().any(|&k| self.is_part_of_concave(k));
                         let representative = if concave {
                             det.representative_points(a, b).to_vec()
                         } else {
@@ -239,14 +238,16 @@ impl BlockSystem {
         };
         for (region, members) in groups.iter().enumerate() {
             let members: Vec<&Piece> = members.iter().map(|&k| &pieces[k]).collect();
-            let kind = match members[..] {
-                [p] if !self.touches_glue(p) => p.contact.kind,
+            let (kind, face_normal) = match members[..] {
+                [p] if !self.touches_glue(p) => (p.contact.kind, Some(p.normal)),
                 _ => self.region_type(&members),
             };
             let faced: Vec<&&Piece> = members.iter().filter(|p| bears_face(p)).collect();
-            let normal = match faced.iter().max_by(|p, q| p.area.total_cmp(&q.area)) {
-                Some(p) => p.normal,
-                None => members
+            let largest = faced.iter().max_by(|p, q| p.area.total_cmp(&q.area));
+            let normal = match (face_normal, largest) {
+                (Some(n), _) => n,
+                (None, Some(p)) => p.normal,
+                (None, None) => members
                     .iter()
                     .map(|p| p.normal)
                     .sum::<DVec3>()
@@ -298,8 +299,10 @@ impl BlockSystem {
         })
     }
 
-    /// The type of a region from the real features of both bodies (module docs, step 3).
-    fn region_type(&self, members: &[&Piece]) -> ContactType {
+    /// The type of a region from the real features of both bodies (module docs, step 3),
+    /// and its normal when a body holds it with a face: that face's (from the first body to
+    /// the second), or `normalize(n0 - n1)` for two faces.
+    fn region_type(&self, members: &[&Piece]) -> (ContactType, Option<DVec3>) {
         let points: Vec<DVec3> = members
             .iter()
             .flat_map(|p| p.representative.iter().copied())
@@ -320,7 +323,14 @@ impl BlockSystem {
             let [a, b] = [&planes[0], &planes[1]].map(|n| n[0].cross(n[1]).normalize_or_zero());
             a.cross(b).length() <= PARALLEL_SINE && spread(&points) > length
         };
-        contact_type(feature(&planes[0]), feature(&planes[1]), superposed)
+        let kind = contact_type(feature(&planes[0]), feature(&planes[1]), superposed);
+        let normal = match (&planes[0][..], &planes[1][..]) {
+            ([n0], [n1]) => Some((*n0 - *n1).normalize()),
+            ([n0], _) => Some(*n0),
+            (_, [n1]) => Some(-*n1),
+            _ => None,
+        };
+        (kind, normal)
     }
 
     /// The normals of the distinct planes of the non-internal faces of `parts` that hold

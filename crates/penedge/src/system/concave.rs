@@ -66,6 +66,9 @@ pub enum ConcaveError {
     },
 }
 
+/// A face of a part: `(block, face)`.
+type PartFace = (u32, u32);
+
 /// The body ids and glue of a system with concave blocks (absent: each block its own body).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(super) struct Glue {
@@ -74,9 +77,9 @@ pub(super) struct Glue {
     /// The internal faces, sorted by parts.
     pub(super) internal: Vec<InternalFace>,
     /// `(block, face)` of the part faces covered entirely by internal faces, sorted.
-    pub(super) covered: Vec<(u32, u32)>,
+    pub(super) covered: Vec<PartFace>,
     /// `(block, face)` of every part face with some internal face on it, sorted.
-    pub(super) glued: Vec<(u32, u32)>,
+    pub(super) glued: Vec<PartFace>,
     /// Per block, whether its body has more than one part.
     pub(super) multi: Vec<bool>,
 }
@@ -240,14 +243,14 @@ impl BlockSystem {
         &self,
         internal: &[InternalFace],
         tol: &Tolerance,
-    ) -> (Vec<(u32, u32)>, Vec<(u32, u32)>) {
-        let mut sums: Vec<((u32, u32), f64)> = internal
+    ) -> (Vec<PartFace>, Vec<PartFace>) {
+        let mut sums: Vec<(PartFace, f64)> = internal
             .iter()
             .flat_map(|g| [0, 1].map(|s| ((g.parts[s], g.faces[s]), g.area)))
             .collect();
         sums.sort_unstable_by_key(|s| s.0);
         // Summed per face (the list is sorted by face).
-        let mut totals: Vec<((u32, u32), f64)> = Vec::new();
+        let mut totals: Vec<(PartFace, f64)> = Vec::new();
         for (key, area) in sums {
             match totals.last_mut() {
                 Some((k, total)) if *k == key => *total += area,

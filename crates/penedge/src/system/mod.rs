@@ -4,6 +4,8 @@
 mod body_contacts;
 mod broad_phase;
 mod concave;
+#[cfg(test)]
+mod concave_tests;
 mod detect;
 mod examples;
 mod geometry;
