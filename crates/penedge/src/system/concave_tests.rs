@@ -444,3 +444,73 @@ fn parts_that_do_not_touch_face_to_face_or_that_overlap_are_refused() {
         }
     );
 }
+
+#[test]
+fn block_files_keep_the_bodies_and_version_1_files_still_read() {
+    use crate::io::json::{from_json_str, to_json_string};
+    let tol = Tolerance::default();
+    let mut parts = with_body(3, l_block_decompositions().remove(0));
+    parts.push((1, cuboid([10.0, 0.0, 1.0], [11.0, 1.0, 2.0])));
+    let system = BlockSystem::new(parts.iter().map(|p| p.1.clone()).collect())
+        .with_bodies(parts.iter().map(|p| p.0).collect(), &tol)
+        .unwrap();
+    let text = to_json_string(&system);
+    assert!(
+        text.contains("\"version\":2") && text.contains("\"body\":3"),
+        "{text}"
+    );
+    assert!(
+        text.contains("\"internal_faces\":[{\"parts\":[0,1]"),
+        "{text}"
+    );
+    let back = from_json_str(&text).unwrap();
+    assert_eq!(back.body_ids(), [3, 3, 1]);
+    assert_eq!(back.internal_faces(), system.internal_faces());
+    assert_eq!(back.detect_bodies(&tol), system.detect_bodies(&tol));
+    // The same file as version 1 (no body ids): each block its own body.
+    let v1 = text
+        .replace("\"version\":2", "\"version\":1")
+        .replace("\"body\":3,", "")
+        .replace("\"body\":1,", "");
+    let v1 = &v1[..v1.find(",\"internal_faces\"").unwrap()];
+    let old = from_json_str(&format!("{v1}}}")).unwrap();
+    assert_eq!(old.body_ids(), [0, 1, 2]);
+    assert!(old.internal_faces().is_empty());
+    // Body ids in a version 1 file, or missing in version 2, or parts apart: named errors.
+    let bad = from_json_str(&text.replace("\"version\":2", "\"version\":1")).unwrap_err();
+    assert!(bad.to_string().contains("blocks[0].body"), "{bad}");
+    let bad = from_json_str(&text.replacen("\"body\":3,", "", 1)).unwrap_err();
+    assert!(bad.to_string().contains("blocks[0].body"), "{bad}");
+    let apart = from_json_str(&text.replace("\"body\":1,", "\"body\":3,")).unwrap_err();
+    assert!(apart.to_string().contains("glued face to face"), "{apart}");
+}
+
+#[test]
+fn the_vtu_files_carry_the_body_ids_and_the_internal_faces() {
+    let tol = Tolerance::default();
+    let system = BlockSystem::new(l_block_decompositions().remove(1))
+        .with_bodies(vec![4, 4], &tol)
+        .unwrap();
+    let mut cells = Vec::new();
+    crate::io::vtu::write_blocks_to(&system, &mut cells).unwrap();
+    let cells = String::from_utf8(cells).unwrap();
+    assert!(cells.contains("Name=\"body_id\""), "{cells}");
+    let mut faces = Vec::new();
+    crate::io::vtu::write_faces_to(&system, &mut faces).unwrap();
+    let faces = String::from_utf8(faces).unwrap();
+    // The column's bottom (face 0 of a cuboid: -z) lies on the floor: internal; the floor's
+    // top (face 1) is covered only where the column stands: a real face.
+    let internal = faces.split("Name=\"internal\"").nth(1).unwrap();
+    let values: Vec<&str> = internal
+        .split('>')
+        .nth(1)
+        .unwrap()
+        .split('<')
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .collect();
+    assert_eq!(values.len(), 12);
+    let ones: Vec<usize> = (0..12).filter(|&k| values[k] == "1").collect();
+    assert_eq!(ones, [6], "{values:?}");
+}
