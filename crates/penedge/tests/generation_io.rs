@@ -84,9 +84,9 @@ fn json_round_trip_is_lossless() {
 fn bad_block_files_are_named() {
     let system = mixed_system();
     let text = json::to_json_string(&system);
-    let v2 = text.replacen("\"version\":1", "\"version\":2", 1);
+    let v3 = text.replacen("\"version\":2", "\"version\":3", 1);
     assert!(
-        matches!(json::from_json_str(&v2), Err(IoError::Format { field, .. }) if field == "version")
+        matches!(json::from_json_str(&v3), Err(IoError::Format { field, .. }) if field == "version")
     );
     let mut value: serde_json::Value = serde_json::from_str(&text).unwrap();
     value["blocks"][3]["vertices"][0][2] = serde_json::json!(1000.0);

@@ -204,7 +204,11 @@ fn edges_parallel(a: &ConvexBlock, b: &ConvexBlock, fa: Feature, fb: Feature, si
     }
 }
 
-fn contact_type(fa: Feature, fb: Feature, has_length: impl FnOnce() -> bool) -> ContactType {
+pub(crate) fn contact_type(
+    fa: Feature,
+    fb: Feature,
+    has_length: impl FnOnce() -> bool,
+) -> ContactType {
     match (fa.rank().min(fb.rank()), fa.rank().max(fb.rank())) {
         (0, 0) => ContactType::VertexVertex,
         (0, 1) => ContactType::VertexEdge,

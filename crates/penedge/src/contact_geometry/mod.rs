@@ -65,6 +65,11 @@ impl ContactPolygon {
     pub fn area(&self) -> f64 {
         self.area
     }
+
+    /// A polygon of the given vertices and area (checked by its maker).
+    pub(crate) fn from_parts(vertices: Vec<DVec3>, area: f64) -> Self {
+        ContactPolygon { vertices, area }
+    }
 }
 
 impl ContactPoints {

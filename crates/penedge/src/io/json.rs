@@ -11,7 +11,7 @@ use super::{messages, read_text, write_atomic, IoError};
 use crate::block::{BlockError, ConvexBlock, FaceOrigin};
 use crate::generation::{Attitude, JointRecord, JointShape, SetRecord};
 use crate::geometry::{Aabb, DVec3, Plane};
-use crate::system::BlockSystem;
+use crate::system::{BlockSystem, InternalFace};
 use crate::tolerance::Tolerance;
 use serde::{Deserialize, Serialize};
 use std::io::Write;
@@ -19,8 +19,9 @@ use std::path::Path;
 
 /// The value of the `format` field.
 pub const FORMAT: &str = "penedge-blocks";
-/// The schema version written (and the only one read).
-pub const VERSION: u32 = 1;
+/// The schema version written. Version 2 adds body ids and internal faces (concave blocks);
+/// version 1 files are read too, each block its own body.
+pub const VERSION: u32 = 2;
 /// The value of the `frame` field.
 pub const FRAME: &str = "x East, y North, z up";
 
@@ -40,6 +41,9 @@ struct SystemFile {
     #[serde(default)]
     joints: Vec<JointFile>,
     blocks: Vec<BlockFile>,
+    /// Derived from the blocks and their body ids (ignored when reading).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    internal_faces: Option<Vec<InternalFace>>,
 }
 
 /// A block as stored; written in full, read with only `vertices` and `faces` required.
@@ -47,6 +51,9 @@ struct SystemFile {
 #[serde(deny_unknown_fields)]
 struct BlockFile {
     id: Option<u32>,
+    /// The body (concave block) the block is a part of; version 2 only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    body: Option<u32>,
     vertices: Vec<[f64; 3]>,
     faces: Vec<Vec<u32>>,
     planes: Option<Vec<[f64; 6]>>,
@@ -112,11 +119,11 @@ pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
         message: messages::not_a_block_file(text)
             .unwrap_or_else(|| messages::plain(&e.to_string())),
     })?;
-    if file.format != FORMAT || file.version != VERSION {
+    if file.format != FORMAT || !(1..=VERSION).contains(&file.version) {
         return Err(format_error(
             "version",
             format!(
-                "expected format `{FORMAT}` version {VERSION}, got `{}` version {}",
+                "expected format `{FORMAT}` version 1 to {VERSION}, got `{}` version {}",
                 file.format, file.version
             ),
         ));
@@ -137,9 +144,32 @@ pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
         .map(|(i, j)| record_of(i, j, file.sets.len()))
         .collect::<Result<Vec<_>, _>>()?;
     check_origins(&blocks, domain.len(), joints.len(), file.sets.len())?;
-    Ok(BlockSystem::with_provenance(
-        blocks, domain, joints, file.sets,
-    ))
+    let bodies = body_ids(file.version, &file.blocks)?;
+    let system = BlockSystem::with_provenance(blocks, domain, joints, file.sets);
+    system
+        .with_bodies(bodies, &tol)
+        .map_err(|e| format_error("blocks[..].body", e.to_string()))
+}
+
+/// The body id of each block: given by every block in version 2, none in version 1 (each
+/// block its own body).
+fn body_ids(version: u32, blocks: &[BlockFile]) -> Result<Vec<u32>, IoError> {
+    let mut ids = Vec::with_capacity(blocks.len());
+    for (i, b) in blocks.iter().enumerate() {
+        match (version, b.body) {
+            (1, None) => ids.push(i as u32),
+            (1, Some(_)) => {
+                let msg = "body ids need version 2 of the format".to_string();
+                return Err(format_error(format!("blocks[{i}].body"), msg));
+            }
+            (_, Some(body)) => ids.push(body),
+            (_, None) => {
+                let msg = format!("version {version} needs a body id for every block");
+                return Err(format_error(format!("blocks[{i}].body"), msg));
+            }
+        }
+    }
+    Ok(ids)
 }
 
 /// Every face origin points into the domain parts, joint table and sets that the file has.
@@ -177,7 +207,11 @@ fn format_error(field: impl Into<String>, message: String) -> IoError {
 
 fn file_of(system: &BlockSystem) -> SystemFile {
     let domain: Vec<BlockFile> = system.domain().iter().enumerate().map(block_file).collect();
-    let blocks: Vec<BlockFile> = system.blocks().iter().enumerate().map(block_file).collect();
+    let bodies = system.body_ids();
+    let mut blocks: Vec<BlockFile> = system.blocks().iter().enumerate().map(block_file).collect();
+    for (b, body) in blocks.iter_mut().zip(bodies) {
+        b.body = Some(body);
+    }
     let length = needed_length(system, system_box(domain.iter().chain(&blocks)));
     SystemFile {
         format: FORMAT.to_string(),
@@ -188,6 +222,7 @@ fn file_of(system: &BlockSystem) -> SystemFile {
         sets: system.sets().to_vec(),
         joints: system.joints().iter().enumerate().map(joint_file).collect(),
         blocks,
+        internal_faces: Some(system.internal_faces().to_vec()),
     }
 }
 
@@ -226,6 +261,7 @@ fn off_planes(b: &ConvexBlock) -> f64 {
 fn block_file((id, b): (usize, &ConvexBlock)) -> BlockFile {
     BlockFile {
         id: Some(id as u32),
+        body: None,
         vertices: b.vertices().iter().map(|v| v.to_array()).collect(),
         faces: b.faces().map(<[u32]>::to_vec).collect(),
         planes: Some(

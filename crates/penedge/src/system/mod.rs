@@ -1,7 +1,11 @@
 //! Block systems: a set of blocks with ids, built by cutting a domain with planes (see
 //! [`crate::generation`]), and the detection of every contact in it.
 
+mod body_contacts;
 mod broad_phase;
+mod concave;
+#[cfg(test)]
+mod concave_tests;
 mod detect;
 mod examples;
 mod geometry;
@@ -9,7 +13,9 @@ mod geometry;
 pub(crate) mod test_rng;
 mod tracker;
 
+pub use body_contacts::{BodyContact, BodyContacts};
 pub use broad_phase::{BroadPhase, WideBoxes};
+pub use concave::{ConcaveError, InternalFace};
 pub use detect::{count_types, Cancelled, DetectProgress, PairContact, SystemContacts};
 #[cfg(test)]
 pub(crate) use examples::paper_pairs;
@@ -26,6 +32,9 @@ use thiserror::Error;
 
 /// A system of blocks; a block's id is its index.
 ///
+/// Each block is a convex part of a body: by default its own body (id = block id); blocks
+/// given one body id by [`BlockSystem::with_bodies`] are the parts of one concave block.
+///
 /// A generated system also carries where it came from: the domain's convex parts, the joint
 /// table (every plane applied, in order) and one record per spec entry; each block's
 /// [`crate::block::FaceOrigin`]s point into them.
@@ -35,6 +44,8 @@ pub struct BlockSystem {
     domain: Vec<ConvexBlock>,
     joints: Vec<JointRecord>,
     sets: Vec<SetRecord>,
+    /// Body ids and internal faces when some block is made of several parts.
+    glue: Option<concave::Glue>,
 }
 
 /// Why a block system cannot be built.
@@ -75,6 +86,7 @@ impl BlockSystem {
             domain,
             joints,
             sets,
+            glue: None,
         }
     }
 
