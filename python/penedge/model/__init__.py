@@ -91,6 +91,7 @@ __all__ = [
     "parse_model",
     "prepare",
     "read_model",
+    "simulate",
 ]
 
 
@@ -145,3 +146,18 @@ def prepare(source: str | Path | Mapping[str, Any] | Model, progress: Any = None
     system, report = penedge.generate(model.spec, progress=progress)
     blocks = Blocks.of(system)
     return Setup(model, system, report, blocks, resolve(model, blocks))
+
+
+def simulate(
+    source: str | Path | Mapping[str, Any] | Model | Setup,
+    progress: Any = None,
+    frame: Any = None,
+) -> Any:
+    """Reads and checks a model (or takes a :class:`Setup`), runs its stages on the engine
+    and returns the :class:`~penedge.model.run.Outcome` (displacements and velocities as
+    numpy arrays, the history, the factor of safety if a stage asked for it)."""
+    from penedge.model.engine import Engine
+    from penedge.model.run import Runner
+
+    setup = source if isinstance(source, Setup) else prepare(source)
+    return Runner(setup, Engine, progress=progress, frame=frame).run()
