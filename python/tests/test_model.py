@@ -89,7 +89,7 @@ def test_wedge_example_frees_only_the_wedge():
 def test_water_example_has_pressures_per_set():
     m = pm.read_model(EXAMPLES / "wedge_water.toml")
     assert m.water is not None
-    assert m.water.pressures == {"A": 20e3, "B": 20e3}
+    assert m.water.pressures == {"A": 5e3, "B": 5e3}
     assert m.water.phreatic is None
 
 

@@ -82,31 +82,33 @@ class Engine:
         model = setup.model
         m = model.mechanics
         self.setup = setup
-        self.sim = simulation(setup.system, density=m.density)
-        self.sim.gravity = model.gravity
-        self.sim.damping = m.damping
-        self.sim.gap = m.gap
-        if m.time_step is not None:
-            self.sim.timestep = m.time_step
+        self.sim = simulation(setup.system, density=m.density, gap=m.gap)
+        self.sim.gravity = list(model.gravity)
+        self.sim.set_damping(local=m.damping)
         self.set_ids = {name: i for i, name in enumerate(model.set_names)}
         self.properties = dict(model.properties)
         self.default = model.default_properties
         self.apply_properties(self.properties)
         layout = setup.layout
         self.apply_boundary(layout.fixed, layout.velocity)
+        if m.time_step is not None:
+            self.sim.set_timestep(dt=m.time_step)  # checked against the critical step
         if layout.support_forces is not None:
-            if layout.support_moments is not None and np.abs(layout.support_moments).max() > 0:
-                moment = getattr(self.sim, "apply_moment", None)
-                if moment is None:
-                    raise ModelError(
-                        "support",
-                        "a support pressure off a block's centroid (a moment) is not supported "
-                        "yet by the engine",
-                    )
-            for i in np.flatnonzero(np.abs(layout.support_forces).sum(axis=1)):
-                self.sim.apply_force(int(i), layout.support_forces[i])
-                if layout.support_moments is not None and layout.support_moments[i].any():
-                    self.sim.apply_moment(int(i), layout.support_moments[i])
+            self.apply_support(layout.support_forces, layout.support_moments)
+
+    def apply_support(self, forces: np.ndarray, moments: np.ndarray | None) -> None:
+        """The support pressures as constant forces on the blocks' centroids. The engine
+        takes no applied moment yet: a pressure whose resultant is off the centroid is
+        refused (a face centred on its block, or symmetric faces, have none)."""
+        scale = float(np.abs(forces).max()) * self.setup.blocks.size
+        if moments is not None and np.abs(moments).max() > 1e-9 * scale:
+            raise ModelError(
+                "support",
+                "a support pressure whose resultant misses a block's centroid (a moment) is "
+                "not supported yet by the engine",
+            )
+        for i in np.flatnonzero(np.abs(forces).sum(axis=1)):
+            self.sim.apply_force(int(i), forces[i].tolist())
 
     # --- set-up ---------------------------------------------------------------------
 
@@ -129,23 +131,31 @@ class Engine:
 
     def apply_properties(self, properties: dict[str, JointProperties]) -> None:
         """Joint properties per set name (the default stays for contacts of no set)."""
-        self.sim.set_default_joint(**self.joint(self.default))
+        self.sim.set_joint(**self.joint(self.default), set=None)
         for name, props in properties.items():
             self.properties[name] = props
-            self.sim.set_joint(self.set_ids[name], **self.joint(props))
+            self.sim.set_joint(**self.joint(props), set=self.set_ids[name])
 
     def apply_boundary(self, fixed: np.ndarray, velocity: np.ndarray) -> None:
         """Fixes, frees or drives every block as the masks say."""
-        for i in range(len(fixed)):
-            if fixed[i]:
-                self.sim.fix(i)
-            elif not np.isnan(velocity[i, 0]):
-                self.sim.prescribe(i, velocity[i], (0.0, 0.0, 0.0))
-            else:
-                self.sim.free(i)
+        driven = ~np.isnan(velocity[:, 0])
+        free = ~fixed & ~driven
+        if fixed.any():
+            self.sim.fix(np.flatnonzero(fixed).tolist())
+        if free.any():
+            self.sim.free(np.flatnonzero(free).tolist())
+        for i in np.flatnonzero(driven):
+            self.sim.prescribe(int(i), velocity[i].tolist())
 
     def copy(self) -> Engine:
-        """An independent copy (state, contacts and shear histories included)."""
+        """An independent copy (state, contacts and shear histories included).
+
+        Raises
+        ------
+        NotImplementedError
+            The engine cannot copy a simulation (the runner then replays the stages)."""
+        if not hasattr(self.sim, "copy"):
+            raise NotImplementedError("penedge.Simulation has no copy()")
         twin = copy.copy(self)
         twin.sim = self.sim.copy()
         twin.properties = dict(self.properties)
@@ -155,7 +165,7 @@ class Engine:
 
     def cycle(self, steps: int) -> None:
         """`steps` steps."""
-        self.sim.cycle(steps)
+        self.sim.step(steps)
 
     @property
     def timestep(self) -> float:
@@ -189,7 +199,7 @@ class Engine:
 
     def kinetic_energy(self) -> float:
         """Total kinetic energy of the blocks (J)."""
-        return float(self.sim.kinetic_energy)
+        return float(self.sim.kinetic_energy())
 
     def system(self) -> Any:
         """The blocks at their current poses, as a :class:`penedge.BlockSystem`."""
@@ -197,5 +207,4 @@ class Engine:
 
     def contacts(self) -> Any:
         """The contacts now, for the ParaView series (None when the engine gives none)."""
-        contacts = getattr(self.sim, "contacts", None)
-        return contacts() if callable(contacts) else None
+        return self.sim.contacts()
