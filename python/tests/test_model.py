@@ -63,7 +63,12 @@ def error_of(text, prepare=False):
 
 def test_every_example_reads_and_checks():
     names = sorted(p.name for p in EXAMPLES.glob("*.toml"))
-    assert names == ["block_column.toml", "wedge_dry.toml", "wedge_water.toml"]
+    assert names == [
+        "block_column.toml",
+        "tunnel_roof_bolt.toml",
+        "wedge_dry.toml",
+        "wedge_water.toml",
+    ]
     for path in EXAMPLES.glob("*.toml"):
         setup = pm.prepare(path)
         assert len(setup.system) > 1, path
@@ -84,6 +89,20 @@ def test_wedge_example_frees_only_the_wedge():
     assert setup.blocks.volumes[free[0]] == pytest.approx(volume, rel=1e-9)
     assert setup.layout.monitors == {"wedge": int(free[0])}
     assert set(setup.model.properties) == {"A", "B"}
+
+
+def test_tunnel_example_bolt_ties_the_roof_wedge_to_the_rock_above():
+    setup = pm.prepare(EXAMPLES / "tunnel_roof_bolt.toml")
+    free = np.flatnonzero(~setup.layout.fixed)
+    assert len(free) == 1
+    # a pyramid of height 3 on an equilateral triangle of inradius 3 / tan 60
+    side = 2 * math.sqrt(3) * 3 / math.tan(math.radians(60))
+    volume = math.sqrt(3) / 4 * side**2 * 3 / 3
+    assert setup.blocks.volumes[free[0]] == pytest.approx(volume, rel=1e-9)
+    collar, anchor = setup.layout.bolts[0]
+    assert collar == free[0]
+    assert anchor == setup.blocks.containing([5, 5, 5])
+    assert setup.blocks.centroids[anchor, 2] > 3
 
 
 def test_water_example_has_pressures_per_set():
