@@ -110,6 +110,7 @@ class Outcome:
     steps: int
     time: float
     ratio: float
+    target: float = 1e-5  # the model's equilibrium ratio ([mechanics].ratio)
 
     @property
     def stable(self) -> bool:
@@ -118,9 +119,7 @@ class Outcome:
         solves = [s.converged for s in self.stages if s.kind == "solve"]
         if self.interrupted:
             return False
-        return all(solves) if solves else bool(self.ratio <= self._ratio_target)
-
-    _ratio_target: float = 1e-5
+        return all(solves) if solves else bool(self.ratio <= self.target)
 
     @property
     def max_displacement(self) -> tuple[float, int]:
@@ -210,8 +209,8 @@ class Runner:
             steps=e.steps,
             time=e.time,
             ratio=e.ratio,
+            target=self.model.mechanics.ratio,
         )
-        out._ratio_target = self.model.mechanics.ratio
         return out
 
     def record(self, stage: str) -> None:
