@@ -106,6 +106,19 @@ class InclineEngine:
     def system(self):
         return self.system_
 
+    def contacts(self):
+        """Two sub-contacts of one contact under the free block, the shape of the engine's."""
+        below = self.positions()[~self.fixed][0] - [0, 0, 1]
+        return {
+            "points": np.array([below, below + np.array([0.5, 0, 0])]),
+            "sub_offsets": np.array([0, 2]),
+            "normals": np.array([[0.0, 0.0, 1.0]]),
+            "normal_forces": np.array([1e3, 2e3]),
+            "shear_forces": np.zeros((2, 3)),
+            "states": np.array([0, 1], dtype=np.uint8),
+            "areas": np.array([0.5, 0.5]),
+        }
+
 
 def wedge(friction=40.0, stages=None, extra=""):
     text = WEDGE.read_text().replace("friction = 40", f"friction = {friction}")
@@ -256,6 +269,14 @@ def test_simulate_writes_results(tmp_path, stand_in, capsys):
     assert len(arrays["displacement"]) == 4 * 3
     assert len(arrays["moving"]) == 4
     assert arrays["types"] == ["42"] * 4
+    index = ET.parse(out / "series" / "subcontacts.pvd").getroot()
+    files = [d.get("file") for d in index.iter("DataSet")]
+    assert files == ["subcontacts_000000.vtp", "subcontacts_000001.vtp"]
+    frame = ET.parse(out / "series" / files[-1]).getroot()
+    arrays = {a.get("Name"): a.text.split() for a in frame.iter("DataArray")}
+    assert arrays["normal_force"] == ["1000", "2000"]
+    assert arrays["state"] == ["0", "1"]
+    assert arrays["contact"] == ["0", "0"]
 
 
 def test_simulate_check_runs_nothing(tmp_path, capsys):

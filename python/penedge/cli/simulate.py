@@ -138,7 +138,13 @@ def run_simulate(args: argparse.Namespace) -> int:
 
     def frame(engine: Any, displacement: Any) -> None:
         if series is not None:
-            series.write(engine.time, engine.system(), displacement, engine.velocities())
+            series.write(
+                engine.time,
+                engine.system(),
+                displacement,
+                engine.velocities(),
+                engine.contacts(),
+            )
 
     def report(engine: Any, stage: Any, done: int, total: int | None) -> None:
         if status is not None:
@@ -376,6 +382,8 @@ def write_results(
         written.append(str(picture))
     if series is not None and series.entries:
         written.append(str(series.index))
+    if series is not None and series.contact_entries:
+        written.append(str(series.contacts_index))
     summary_path = folder / OUTPUT_NAMES["summary"]
     written.insert(0, str(summary_path))
     return written

@@ -1,6 +1,8 @@
 """A ParaView time series of a simulation: the blocks of each frame as a VTU file (one
 polyhedron cell per block) with their displacement, velocity and a moving flag as cell
-data, listed by ``blocks.pvd`` (written with :func:`penedge.write_pvd`).
+data, listed by ``blocks.pvd``; and the sub-contacts of each frame as a VTP file (one
+vertex per sub-contact, with its normal and shear force, state and area), listed by
+``subcontacts.pvd`` (both indexes written with :func:`penedge.write_pvd`).
 
 Each frame's file is written (atomically) before the index that lists it, so ParaView can
 watch a running simulation, and a run stopped with Ctrl-C leaves a series of complete
@@ -90,6 +92,52 @@ def vtu_text(
     )
 
 
+#: Sub-contact states, by code (the engine's): elastic, sliding, open.
+STATES = ("elastic", "sliding", "open")
+
+
+def vtp_text(contacts: dict[str, Any]) -> str:
+    """The VTP file of the sub-contacts in the engine's `contacts` dict: one vertex per
+    sub-contact at its point; point data ``normal_force`` (N, compression positive),
+    ``shear_force`` (N, vector), ``state`` (0 elastic, 1 sliding, 2 open), ``area`` (m2),
+    ``contact`` (its contact's row) and the contact's ``normal``."""
+    points = np.asarray(contacts["points"], dtype=float).reshape(-1, 3)
+    k = len(points)
+    offsets = np.asarray(contacts["sub_offsets"], dtype=np.int64)
+    contact = np.repeat(np.arange(len(offsets) - 1), np.diff(offsets))
+    normals = np.asarray(contacts["normals"], dtype=float).reshape(-1, 3)[contact]
+    data = [
+        _array("Float64", "normal_force", _floats(contacts["normal_forces"])),
+        _array("Float64", "shear_force", _floats(contacts["shear_forces"]), 3),
+        _array("UInt8", "state", _ints(contacts["states"])),
+        _array("Float64", "area", _floats(contacts["areas"])),
+        _array("Int64", "contact", _ints(contact)),
+        _array("Float64", "normal", _floats(normals), 3),
+    ]
+    return "\n".join(
+        [
+            '<?xml version="1.0"?>',
+            '<VTKFile type="PolyData" version="1.0" byte_order="LittleEndian">',
+            "<PolyData>",
+            f'<Piece NumberOfPoints="{k}" NumberOfVerts="{k}">',
+            "<Points>",
+            _array("Float64", "points", _floats(points), 3),
+            "</Points>",
+            "<Verts>",
+            _array("Int64", "connectivity", _ints(np.arange(k))),
+            _array("Int64", "offsets", _ints(np.arange(1, k + 1))),
+            "</Verts>",
+            '<PointData Scalars="normal_force" Vectors="shear_force">',
+            *data,
+            "</PointData>",
+            "</Piece>",
+            "</PolyData>",
+            "</VTKFile>",
+            "",
+        ]
+    )
+
+
 def _array(kind: str, name: str, text: str, components: int = 1) -> str:
     """One ``<DataArray>`` element in ASCII."""
     return (
@@ -125,22 +173,48 @@ class Series:
         self.folder.mkdir(parents=True, exist_ok=True)
         self.speed = speed
         self.entries: list[tuple[float, Path]] = []
+        self.contact_entries: list[tuple[float, Path]] = []
 
     @property
     def index(self) -> Path:
-        """The ``.pvd`` file."""
+        """The blocks' ``.pvd`` file."""
         return self.folder / "blocks.pvd"
 
+    @property
+    def contacts_index(self) -> Path:
+        """The sub-contacts' ``.pvd`` file."""
+        return self.folder / "subcontacts.pvd"
+
     def write(
-        self, time: float, system: Any, displacement: np.ndarray, velocity: np.ndarray
+        self,
+        time: float,
+        system: Any,
+        displacement: np.ndarray,
+        velocity: np.ndarray,
+        contacts: dict[str, Any] | None = None,
     ) -> None:
-        """One frame, then the index. A frame at the time of the last one replaces it."""
+        """One frame, then the indexes. A frame at the time of the last one replaces it."""
+        moving = np.linalg.norm(velocity, axis=1) > self.speed
+        text = vtu_text(system, displacement, velocity, moving)
+        self._add(self.entries, self.index, "blocks", "vtu", time, text)
+        if contacts is not None:
+            text = vtp_text(contacts)
+            self._add(self.contact_entries, self.contacts_index, "subcontacts", "vtp", time, text)
+
+    def _add(
+        self,
+        entries: list[tuple[float, Path]],
+        index: Path,
+        stem: str,
+        suffix: str,
+        time: float,
+        text: str,
+    ) -> None:
         import penedge
 
-        if self.entries and time <= self.entries[-1][0]:
-            self.entries.pop()
-        name = self.folder / f"blocks_{len(self.entries):06d}.vtu"
-        moving = np.linalg.norm(velocity, axis=1) > self.speed
-        write_text_atomically(name, vtu_text(system, displacement, velocity, moving))
-        self.entries.append((time, Path(name.name)))
-        penedge.write_pvd(self.index, [(t, str(p)) for t, p in self.entries])
+        if entries and time <= entries[-1][0]:
+            entries.pop()
+        name = self.folder / f"{stem}_{len(entries):06d}.{suffix}"
+        write_text_atomically(name, text)
+        entries.append((time, Path(name.name)))
+        penedge.write_pvd(index, [(t, str(p)) for t, p in entries])
