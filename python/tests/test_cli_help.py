@@ -13,7 +13,7 @@ from penedge import cli
 from cli_run import run, squeeze
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-COMMANDS = ["example", "generate", "detect", "show"]
+COMMANDS = ["example", "generate", "detect", "show", "simulate"]
 
 
 def help_text(*args, cwd):
@@ -60,12 +60,13 @@ def test_the_top_level_help_lists_every_command_and_the_exit_statuses(tmp_path):
 def test_each_command_spells_the_shared_options_alike(command, tmp_path):
     text = help_text(command, cwd=tmp_path)
     assert f"usage: penedge {command}" in text
-    for option in ("-q, --quiet", "--json", "-o FILE, --output FILE"):
+    output = "-o FOLDER, --output FOLDER" if command == "simulate" else "-o FILE, --output FILE"
+    for option in ("-q, --quiet", "--json", output):
         assert option in text, option
     drawing = command in ("example", "show")
     for option in ("--force", "--colour-by {block,volume}", "--explode F", "--max-blocks N"):
         assert (option in text) == drawing, option
-    assert ("--gap G" in text) == (command != "generate")
+    assert ("--gap G" in text) == (command not in ("generate", "simulate"))
 
 
 @pytest.mark.parametrize("args", [[], *([c] for c in COMMANDS)])

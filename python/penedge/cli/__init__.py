@@ -7,7 +7,9 @@
 * ``penedge detect BLOCKS``: every contact of a block file, as CSV and ParaView files
   (:mod:`penedge.cli.detect`);
 * ``penedge show BLOCKS``: pictures of a block file: exploded view, interactive HTML
-  view, volume distribution, contacts by type (:mod:`penedge.cli.show`).
+  view, volume distribution, contacts by type (:mod:`penedge.cli.show`);
+* ``penedge simulate MODEL``: run a model file (docs/models.md) on the rigid-block engine:
+  summary, history, pictures, ParaView series (:mod:`penedge.cli.simulate`).
 
 Exit status: 0 success, 1 runtime error (a bad spec or block file, a file that cannot be
 read or written, a missing optional dependency), 2 usage error, 130 interrupted (Ctrl-C);
@@ -21,7 +23,7 @@ import os
 import sys
 
 import penedge
-from penedge.cli import detect, example, generate, show
+from penedge.cli import detect, example, generate, show, simulate
 from penedge.cli.common import PROG, CommandError, UsageError
 
 __all__ = ["build_parser", "main"]
@@ -93,6 +95,7 @@ def build_parser() -> argparse.ArgumentParser:
     generate.add_parser(commands)
     detect.add_parser(commands)
     show.add_parser(commands)
+    simulate.add_parser(commands)
     return parser
 
 
