@@ -441,6 +441,12 @@ impl Simulation {
         self.ratio
     }
 
+    /// The convex parts at the bodies' current poses, as a block system (for files and
+    /// pictures; the parts of one body are consecutive).
+    pub fn placed_system(&self) -> BlockSystem {
+        BlockSystem::new(self.placed.clone())
+    }
+
     /// Per body, the sum of its contact forces at the last step.
     pub fn contact_forces(&self) -> &[DVec3] {
         &self.forces
