@@ -522,3 +522,163 @@ fn bad_input_gets_clear_errors() {
     let message = MechanicsError::Friction(95.0).to_string();
     assert!(message.contains("friction") && message.contains("95"));
 }
+
+/// The angle of the rotation from `q0` to `q` (radians).
+fn turned(q0: DQuat, q: DQuat) -> f64 {
+    2.0 * q0.dot(q).abs().min(1.0).acos()
+}
+
+/// A block `b` wide downslope, `h` high (and 0.5 deep) on a 30° slope of friction angle
+/// `phi`, gravity ramped over 0.05 s, run to 0.4 s: how far its downhill bottom edge slid
+/// and how far it turned.
+fn block_on_a_slope(phi: f64, b: f64, h: f64) -> (f64, f64, Simulation, f64) {
+    let theta = 30f64.to_radians();
+    // Downhill along the frame's -y.
+    let frame = DQuat::from_rotation_z(0.6) * DQuat::from_rotation_x(theta);
+    let mut sim = block_on_plane(frame, [0.5, b, h], 0.0, 2500.0);
+    sim.set_default_joint(joint(1e9, phi, 0.0, 0.0)).unwrap();
+    let pose0 = sim.bodies().poses()[1];
+    let offset = DVec3::new(100.0, -50.0, 20.0);
+    let edge = frame * DVec3::new(0.0, -b / 2.0, 0.0) + offset;
+    let local = pose0.rotation.conjugate() * (edge - pose0.translation);
+    ramp_gravity(&mut sim, 0.05, 0.4);
+    let pose = sim.bodies().poses()[1];
+    let slid = (pose.apply(local) - edge).dot(frame * DVec3::NEG_Y);
+    let angle = turned(pose0.rotation, pose.rotation);
+    let m = sim.bodies().masses()[1];
+    (slid, angle, sim, m)
+}
+
+/// Verification 3 (Hoek and Bray's chart of a block on an incline): on a 30° slope, a
+/// block slides when φ < 30° and topples when b / h < tan 30°; one point in each region and
+/// one stable point.
+#[test]
+fn a_block_on_a_slope_slides_or_topples_as_hoek_and_bray_say() {
+    // Slides, does not topple: φ = 20°, b / h = 1 > tan 30°.
+    let (slid, angle, _, _) = block_on_a_slope(20.0, 1.0, 1.0);
+    let a = G * (30f64.to_radians().sin() - 30f64.to_radians().cos() * 20f64.to_radians().tan());
+    assert!(slid > 0.5 * 0.5 * a * 0.35 * 0.35, "slid {slid}");
+    assert!(angle < 1f64.to_radians(), "turned {angle}");
+    // Topples, does not slide: φ = 40°, b / h = 0.4 < tan 30°.
+    let (slid, angle, _, _) = block_on_a_slope(40.0, 0.4, 1.0);
+    assert!(angle > 5f64.to_radians(), "turned only {angle}");
+    assert!(slid.abs() < 1e-3, "slid {slid}");
+    // Neither: φ = 40°, b / h = 1.
+    let (slid, angle, _, _) = block_on_a_slope(40.0, 1.0, 1.0);
+    assert!(angle < 1e-3, "turned {angle}");
+    assert!(slid.abs() < 1e-4, "slid {slid}");
+}
+
+/// Verification 6: a block rocking from a face onto an edge (and a block falling back onto
+/// its face) has no jump of the total contact force or moment when the contact changes type:
+/// the change over the step of the switch is below 2 % of the weight (and of the weight
+/// times the block's size for the moment).
+#[test]
+fn no_force_jump_when_a_rocking_contact_changes_type() {
+    // Toppling: face-face, then edge-face.
+    let theta = 30f64.to_radians();
+    let frame = DQuat::from_rotation_z(0.6) * DQuat::from_rotation_x(theta);
+    let mut sim = block_on_plane(frame, [0.5, 0.4, 1.0], 0.0, 2500.0);
+    sim.set_default_joint(joint(1e9, 40.0, 0.0, 0.0)).unwrap();
+    let weight = sim.bodies().masses()[1] * G;
+    sim.set_gravity(DVec3::ZERO).unwrap();
+    // The contact's shape: its type and number of sub-contacts.
+    let mut last: Option<((penedge::ContactType, usize), DVec3, DVec3)> = None;
+    let mut switches = 0;
+    while sim.time() < 0.4 {
+        let f = (sim.time() / 0.05).min(1.0);
+        sim.set_gravity(DVec3::new(0.0, 0.0, -G * f)).unwrap();
+        sim.step().unwrap();
+        let Some(contact) = sim.contacts().list.first() else {
+            continue;
+        };
+        let now = (
+            (contact.kind, contact.count as usize),
+            sim.contact_forces()[1],
+            sim.contact_moments()[1],
+        );
+        if let Some((kind, force, moment)) = last {
+            if kind != now.0 {
+                switches += 1;
+                let jump = (now.1 - force).length();
+                let turn = (now.2 - moment).length();
+                assert!(
+                    jump < 0.02 * weight,
+                    "{kind:?} -> {:?}: force jumps {jump}",
+                    now.0
+                );
+                assert!(turn < 0.02 * weight * 1.0, "moment jumps {turn}");
+            }
+        }
+        last = Some(now);
+    }
+    assert!(switches >= 1, "the contact never changed type");
+}
+
+/// Determinism: a small jointed mass settling under gravity gives bitwise the same poses,
+/// velocities and sub-contact forces for 1, 2 and 4 threads.
+#[test]
+fn any_number_of_threads_gives_the_same_motion() {
+    let domain = ConvexBlock::cuboid([0.0; 3], [3.0, 3.0, 2.0]).unwrap();
+    let normals = [
+        [1.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.2, 1.0, 0.1],
+        [0.0, 0.0, 1.0],
+        [0.3, -0.2, 1.0],
+    ];
+    let offsets = [1.0, 2.0, 1.5, 0.4, 1.3];
+    let tol = penedge::Tolerance::default();
+    let system = BlockSystem::from_domain_cut(domain, &normals, &offsets, &tol).unwrap();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut sim = Simulation::new(&system, 2500.0).unwrap();
+            for (i, b) in system.blocks().iter().enumerate() {
+                if b.centroid().z < 0.4 {
+                    sim.fix(i).unwrap();
+                }
+            }
+            sim.set_default_joint(joint(1e9, 15.0, 0.0, 0.0)).unwrap();
+            sim.cycle(300).unwrap();
+            let b = sim.bodies();
+            let state: Vec<[f64; 10]> = (0..b.len())
+                .map(|i| {
+                    let (p, v) = (b.poses()[i], b.velocities()[i]);
+                    let mut row = [0.0; 10];
+                    row[..3].copy_from_slice(&p.translation.to_array());
+                    row[3..7].copy_from_slice(&p.rotation.to_array());
+                    row[7..].copy_from_slice(&v.to_array());
+                    row
+                })
+                .collect();
+            let forces: Vec<(f64, [f64; 3])> = sim
+                .contacts()
+                .subs
+                .iter()
+                .map(|s| (s.normal_force, s.shear_force.to_array()))
+                .collect();
+            (state, forces)
+        })
+    };
+    let one = run(1);
+    assert!(system.len() > 8 && !one.1.is_empty());
+    // Something moved.
+    assert!(one.0.iter().any(|r| r[7..].iter().any(|v| *v != 0.0)));
+    for threads in [2, 4] {
+        let other = run(threads);
+        // Bitwise: compare the bits, not within a tolerance.
+        let bits = |x: &(Vec<[f64; 10]>, Vec<(f64, [f64; 3])>)| {
+            let mut b: Vec<u64> = x.0.iter().flatten().map(|v| v.to_bits()).collect();
+            for (n, s) in &x.1 {
+                b.push(n.to_bits());
+                b.extend(s.iter().map(|v| v.to_bits()));
+            }
+            b
+        };
+        assert_eq!(bits(&other), bits(&one), "{threads} threads");
+    }
+}
