@@ -681,3 +681,83 @@ fn any_number_of_threads_gives_the_same_motion() {
         assert_eq!(run(threads).0, one.0, "{threads} threads");
     }
 }
+
+/// A wedge in a V-groove: two fixed blocks below the joint planes `nᵢ · x = 0` (normals
+/// out of the rock, towards the wedge) and a prism above both, bounded by `w · x ≤ h` and by
+/// two end planes normal to the planes' intersection line `d`.
+fn wedge(normals: [DVec3; 2], d: DVec3, w: DVec3, phi: f64) -> Simulation {
+    let box_planes = |planes: &mut Vec<[f64; 3]>, offsets: &mut Vec<f64>| {
+        for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+            for sign in [1.0, -1.0] {
+                planes.push((axis * sign).to_array());
+                offsets.push(3.0);
+            }
+        }
+    };
+    let mut blocks = Vec::new();
+    for n in normals {
+        let (mut planes, mut offsets) = (vec![n.to_array()], vec![0.0]);
+        box_planes(&mut planes, &mut offsets);
+        blocks.push(ConvexBlock::from_planes(&planes, &offsets).unwrap());
+    }
+    let planes = [
+        (-normals[0]).to_array(),
+        (-normals[1]).to_array(),
+        w.to_array(),
+        d.to_array(),
+        (-d).to_array(),
+    ];
+    blocks.push(ConvexBlock::from_planes(&planes, &[0.0, 0.0, 0.6, 0.5, 0.5]).unwrap());
+    let mut sim = Simulation::new(&BlockSystem::new(blocks), 2500.0).unwrap();
+    sim.fix(0).unwrap();
+    sim.fix(1).unwrap();
+    sim.set_default_joint(joint(1e9, phi, 0.0, 0.0)).unwrap();
+    sim
+}
+
+/// Verification 2 (Hoek and Bray's wedge): limit equilibrium of a wedge on two planes along
+/// their intersection line `d`, computed here: the weight W, the normal reactions N₁ n₁ +
+/// N₂ n₂ and the friction T along -d balance, `W + N₁ n₁ + N₂ n₂ - T d = 0` (a 3 × 3 linear
+/// system), and the critical friction angle is `atan(T / (N₁ + N₂))`. The simulated wedge
+/// stays 1° above it and slides 1° below it, for a symmetric and an asymmetric wedge.
+#[test]
+fn a_wedge_slides_below_its_limit_equilibrium_friction_angle() {
+    let plunge = 35f64.to_radians();
+    let d = DVec3::new(plunge.cos(), 0.0, -plunge.sin()); // down the intersection line
+    let w = DVec3::new(plunge.sin(), 0.0, plunge.cos()); // up, normal to d
+    for (b1, b2) in [(50.0f64, 50.0f64), (35.0, 65.0)] {
+        let (b1, b2) = (b1.to_radians(), b2.to_radians());
+        let n1 = w * b1.cos() + DVec3::Y * b1.sin();
+        let n2 = w * b2.cos() - DVec3::Y * b2.sin();
+        // Limit equilibrium by Cramer's rule: [n1 n2 -d] (N1, N2, T) = -W, W = (0, 0, -1).
+        let m = penedge::glam::DMat3::from_cols(n1, n2, -d);
+        let rhs = DVec3::new(0.0, 0.0, 1.0);
+        let det = m.determinant();
+        let solve = |k: usize| {
+            let mut cols = [n1, n2, -d];
+            cols[k] = rhs;
+            penedge::glam::DMat3::from_cols(cols[0], cols[1], cols[2]).determinant() / det
+        };
+        let (normal1, normal2, t) = (solve(0), solve(1), solve(2));
+        assert!(normal1 > 0.0 && normal2 > 0.0 && t > 0.0);
+        let critical = (t / (normal1 + normal2)).atan().to_degrees();
+        for (phi, slides) in [(critical + 1.0, false), (critical - 1.0, true)] {
+            let mut sim = wedge([n1, n2], d, w, phi);
+            let start = sim.bodies().poses()[2].translation;
+            ramp_gravity(&mut sim, 0.2, 0.5);
+            let slid = (sim.bodies().poses()[2].translation - start).dot(d);
+            println!("wedge critical {critical:.2}°, φ = {phi:.2}°: slid {slid:.2e} m");
+            if slides {
+                assert!(
+                    slid > 5e-3,
+                    "φ = {phi}° (critical {critical}°): slid only {slid}"
+                );
+            } else {
+                assert!(
+                    slid < 5e-4,
+                    "φ = {phi}° (critical {critical}°): slid {slid}"
+                );
+            }
+        }
+    }
+}
