@@ -21,6 +21,11 @@ Systems
 Time stepping
     :class:`ContactTracker` -- the contacts of moving blocks, step after step, reusing
     the broad phase within a skin and skipping pairs clearly apart or overlapping.
+Mechanics
+    :class:`Simulation` -- rigid-block DEM (3DEC-style) on a block system: gravity,
+    joint properties per set (Mohr-Coulomb with tension and cohesion), fixed and prescribed
+    blocks, damping, ``step`` / ``solve`` / ``run_until``, the state and the contact and
+    sub-contact forces as numpy arrays (``docs/mechanics.md``).
 Generation
     :func:`generate` -- a rock domain cut by joint planes, joint sets and finite joints
     (a spec file, TOML text or a dict) into a :class:`BlockSystem`; its blocks as flat
@@ -32,7 +37,8 @@ Files
     (``.pvd``), :func:`write_pvd` -- a time series index of any files.
 Errors
     :exc:`PenedgeError` and its subclasses :exc:`InputError`, :exc:`BlockError`,
-    :exc:`ToleranceError`, :exc:`SpecError`, :exc:`FileFormatError` (all also
+    :exc:`ToleranceError`, :exc:`SpecError`, :exc:`FileFormatError`,
+    :exc:`MechanicsError` (all also
     ``ValueError``); files that cannot be read or written raise ``OSError``.
 
 Conventions: right-handed frame; faces counter-clockwise seen from outside, normals
@@ -69,8 +75,10 @@ from penedge._core import (
     ContactTracker,
     FileFormatError,
     InputError,
+    MechanicsError,
     PairContact,
     PenedgeError,
+    Simulation,
     SpecError,
     SystemContacts,
     TimeSeries,
@@ -103,8 +111,10 @@ __all__ = [
     "ContactTracker",
     "FileFormatError",
     "InputError",
+    "MechanicsError",
     "PairContact",
     "PenedgeError",
+    "Simulation",
     "SpecError",
     "SystemContacts",
     "TimeSeries",

@@ -2,7 +2,7 @@
 //!
 //! Conversions only; every computation is in the core crate. The files mirror the core
 //! modules: [`block`], [`tolerance`], [`classify`], [`contact`], [`system`], [`generation`],
-//! [`io`], plus [`arrays`] (numpy in and out) and [`errors`] (the exception tree and the one
+//! [`io`], [`mechanics`], plus [`arrays`] (numpy in and out) and [`errors`] (the exception tree and the one
 //! conversion from core errors). The doc comments are the Python docstrings (numpydoc).
 
 #![warn(missing_docs)]
@@ -14,6 +14,7 @@ pub mod contact;
 pub mod errors;
 pub mod generation;
 pub mod io;
+pub mod mechanics;
 pub mod system;
 pub mod tolerance;
 
@@ -34,6 +35,8 @@ mod _core {
     use crate::generation::generate;
     #[pymodule_export]
     use crate::io::{write_pvd, TimeSeries};
+    #[pymodule_export]
+    use crate::mechanics::Simulation;
     #[pymodule_export]
     use crate::system::{
         paper_example, paper_example_planes, paper_table3, BlockArrays, BlockSystem,
