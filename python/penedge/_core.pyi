@@ -167,6 +167,7 @@ def detect_pair(
 class _UpdateReport(TypedDict):
     rebuilt: bool
     candidate_pairs: int
+    unmoved: int
     certified: int
     queried: int
 
