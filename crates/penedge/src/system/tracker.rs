@@ -1,12 +1,18 @@
 //! Contact detection over time steps, as DEM and DDA codes call it: the blocks move rigidly,
 //! and each step asks for the contacts at the new poses.
 //!
-//! Two things carry over from step to step:
+//! Three things carry over from step to step:
 //!
 //! - **The broad phase, with a skin.** Candidate pairs are found once with every box widened
 //!   by its gap plus half the skin. While no block has moved more than half the skin since,
 //!   every pair within its gap is still among them (each box moved at most that much), so
 //!   the broad phase is skipped; a block moving farther triggers a rebuild.
+//! - **Pairs whose blocks have not moved.** Each block records the update at which its pose
+//!   last changed (in any bit), each pair the update at which it was last queried. A pair
+//!   neither of whose blocks has moved since is placed exactly as then, and the query, a
+//!   deterministic function of the two blocks, would give the same answer: it is not asked
+//!   (touching pairs included). docs/mechanics.md proves, case by case, that the contacts
+//!   stay exactly those of a full detection.
 //! - **Certificates for pairs that are clearly apart or clearly overlapping.** A separated
 //!   pair keeps a face plane with every vertex of the other block at least `s` beyond it; a
 //!   penetrating pair keeps a point of an edge at least `D` inside the other block. Each
@@ -16,7 +22,7 @@
 //!   than the gap (or the point is still deeper than the gap) and the pair's answer is known
 //!   without a query. A pair separated without a separating face plane is queried again
 //!   with a wider gap, which certifies it for a travel a little under the widening
-//!   ([`edge_certificate`]). Every other pair, touching ones included, is queried anew.
+//!   ([`edge_certificate`]). Every other pair is queried anew.
 //!
 //! The contacts of each step are exactly those of [`BlockSystem::detect`] on the blocks at
 //! their new poses (the tests check it step by step).
