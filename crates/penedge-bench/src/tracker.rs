@@ -35,19 +35,21 @@ fn parse(args: &[String]) -> Result<Options, String> {
         runs: 3,
         threads: 2,
     };
-    let mut it = args.iter();
-    while let Some(flag) = it.next() {
-        let mut value = || it.next().ok_or(format!("{flag} needs a value"));
+    // Every option takes a value.
+    for pair in args.chunks(2) {
+        let [flag, value] = pair else {
+            return Err(format!("{} needs a value", pair[0]));
+        };
         match flag.as_str() {
-            "--grid" => o.grid = crate::number(value()?)?,
-            "--gap" => o.gap = value()?.parse().map_err(|e| format!("--gap: {e}"))?,
-            "--steps" => o.steps = crate::number(value()?)?,
-            "--runs" => o.runs = crate::number(value()?)?,
-            "--threads" => o.threads = crate::number(value()?)?,
+            "--grid" => o.grid = crate::number(value)?,
+            "--gap" => o.gap = value.parse().map_err(|e| format!("--gap: {e}"))?,
+            "--steps" => o.steps = crate::number(value)?,
+            "--runs" => o.runs = crate::number(value)?,
+            "--threads" => o.threads = crate::number(value)?,
             other => return Err(format!("unknown option {other}")),
         }
     }
-    if o.grid == 0 || o.runs == 0 || o.threads == 0 {
+    if [o.grid, o.runs, o.threads].contains(&0) {
         return Err("--grid, --runs and --threads must be positive".to_string());
     }
     Ok(o)

@@ -1,7 +1,7 @@
 //! Python bindings of penedge: the module `penedge._core`.
 //!
 //! Conversions only; every computation is in the core crate. The files mirror the core
-//! modules: [`block`], [`tolerance`], [`classify`], [`contact`], [`system`], [`generation`],
+//! modules: [`block`], [`tolerance`], [`classify`], [`contact`], [`overlap`], [`system`], [`generation`],
 //! [`io`], plus [`arrays`] (numpy in and out) and [`errors`] (the exception tree and the one
 //! conversion from core errors). The doc comments are the Python docstrings (numpydoc).
 
@@ -14,6 +14,7 @@ pub mod contact;
 pub mod errors;
 pub mod generation;
 pub mod io;
+pub mod overlap;
 pub mod system;
 pub mod tolerance;
 
@@ -34,6 +35,8 @@ mod _core {
     use crate::generation::generate;
     #[pymodule_export]
     use crate::io::{write_pvd, TimeSeries};
+    #[pymodule_export]
+    use crate::overlap::overlap;
     #[pymodule_export]
     use crate::system::{
         paper_example, paper_example_planes, paper_table3, BlockArrays, BlockSystem,
