@@ -12,7 +12,8 @@ Blocks
     :class:`Block` -- a convex polyhedron from vertices + faces, half-spaces
     (:meth:`Block.from_planes`) or corners (:meth:`Block.cuboid`).
 Pairs
-    :func:`detect_pair` -- the contact of two blocks, a :class:`PairContact`.
+    :func:`detect_pair` -- the contact of two blocks, a :class:`PairContact`;
+    :func:`overlap` -- normal, depth and region of two penetrating blocks (soft contact).
 Systems
     :class:`BlockSystem` -- many blocks; :meth:`BlockSystem.detect` returns every
     contact as numpy arrays (:class:`SystemContacts`), with ``geometry=True`` also normals,
@@ -20,7 +21,8 @@ Systems
     examples, :func:`paper_table3` gives its printed counts.
 Time stepping
     :class:`ContactTracker` -- the contacts of moving blocks, step after step, reusing
-    the broad phase within a skin and skipping pairs clearly apart or overlapping.
+    the broad phase within a skin and skipping pairs whose blocks did not move or that are
+    clearly apart or overlapping.
 Mechanics
     :class:`Simulation` -- rigid-block DEM (3DEC-style) on a block system: gravity,
     joint properties per set (Mohr-Coulomb with tension and cohesion), fixed and prescribed
@@ -86,6 +88,7 @@ from penedge._core import (
     __version__,
     detect_pair,
     generate,
+    overlap,
     paper_example,
     paper_example_planes,
     paper_table3,
@@ -122,6 +125,7 @@ __all__ = [
     "__version__",
     "detect_pair",
     "generate",
+    "overlap",
     "paper_example",
     "paper_example_planes",
     "paper_table3",

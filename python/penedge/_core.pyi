@@ -41,6 +41,7 @@ __all__ = [
     "__version__",
     "detect_pair",
     "generate",
+    "overlap",
     "paper_example",
     "paper_example_planes",
     "paper_table3",
@@ -167,9 +168,23 @@ def detect_pair(
     a: Block, b: Block, gap: float = 1e-12, length: float | None = None
 ) -> PairContact: ...
 
+class _Overlap(TypedDict):
+    normal: npt.NDArray[np.float64]
+    depth: float
+    min_translation: npt.NDArray[np.float64]
+    volume: float
+    centroid: npt.NDArray[np.float64]
+    points: npt.NDArray[np.float64]
+    area: float
+
+def overlap(
+    a: Block, b: Block, gap: float = 1e-12, length: float | None = None
+) -> _Overlap | None: ...
+
 class _UpdateReport(TypedDict):
     rebuilt: bool
     candidate_pairs: int
+    unmoved: int
     certified: int
     queried: int
 
