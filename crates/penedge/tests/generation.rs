@@ -210,3 +210,35 @@ fn progress_is_reported_per_plane() {
     assert_eq!(seen, [1, 2, 3]);
     assert_eq!(out.report.joint_planes, 3);
 }
+
+#[test]
+fn tiny_blocks_are_flagged_beside_the_median_block_though_not_slivers() {
+    // Planes at z = 5 and z = 5.001 in a 10 m cube: blocks of 500, 0.1 and 499.9 m^3. The
+    // 1 mm layer is 60 times thicker than the default sliver limit (1e-6 of the 17.3 m
+    // diagonal) but 1/4999 of the median block (499.9).
+    let spec = Spec::new(Domain::cuboid([0.0; 3], [10.0; 3]).unwrap())
+        .with(Discontinuity::plane(
+            [0.0, 0.0, 5.0],
+            Orientation::dip(0.0, 0.0),
+        ))
+        .with(Discontinuity::plane(
+            [0.0, 0.0, 5.001],
+            Orientation::dip(0.0, 0.0),
+        ));
+    let report = generate(&spec).unwrap().report;
+    assert_eq!(report.slivers.count, 0);
+    let tiny = &report.tiny;
+    assert_eq!(tiny.count, 1);
+    assert!((tiny.median_volume - 499.9).abs() < 1e-9, "{tiny:?}");
+    assert!(
+        (tiny.threshold - 499.9 * TINY_SHARE).abs() < 1e-12,
+        "{tiny:?}"
+    );
+    assert!((tiny.smallest - 0.1).abs() < 1e-9, "{tiny:?}");
+    // Without the thin layer, none.
+    let spec = Spec::new(Domain::cuboid([0.0; 3], [10.0; 3]).unwrap()).with(Discontinuity::plane(
+        [0.0, 0.0, 5.0],
+        Orientation::dip(0.0, 0.0),
+    ));
+    assert_eq!(generate(&spec).unwrap().report.tiny.count, 0);
+}
