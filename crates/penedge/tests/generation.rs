@@ -242,3 +242,37 @@ fn tiny_blocks_are_flagged_beside_the_median_block_though_not_slivers() {
     ));
     assert_eq!(generate(&spec).unwrap().report.tiny.count, 0);
 }
+
+#[test]
+fn the_estimate_is_within_a_small_factor_of_the_blocks_made() {
+    // Random specs (one to three sets with random orientations and deviations, single
+    // planes, boxes and tilted prisms) and the examples: the estimate errs high (oblique
+    // pairs counted by their share of the domain's box, deviated sets by their reach), and
+    // low only where planes are not in general position (three through one point).
+    let mut ratios = Vec::new();
+    for seed in 0..12 {
+        let spec = random_spec(seed);
+        let blocks = generate(&spec).unwrap().system.len() as f64;
+        ratios.push((
+            format!("seed {seed}"),
+            estimate(&spec).unwrap().blocks / blocks,
+        ));
+    }
+    let examples = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    for name in [
+        "joint_set_random",
+        "finite_disc",
+        "finite_polygon",
+        "domain_polyhedron",
+    ] {
+        let spec = penedge::io::spec::read_spec(&examples.join(format!("{name}.toml"))).unwrap();
+        let blocks = generate(&spec).unwrap().system.len() as f64;
+        ratios.push((name.to_string(), estimate(&spec).unwrap().blocks / blocks));
+    }
+    for (what, ratio) in ratios {
+        assert!(
+            (0.7..=6.0).contains(&ratio),
+            "{what}: estimate / blocks = {ratio}"
+        );
+    }
+}
