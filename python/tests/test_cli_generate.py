@@ -22,18 +22,26 @@ from penedge.cli.progress import ProgressBar
 from cli_run import run, squeeze, table_counts
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-BAD_SPEC = """\
+CUBE = """\
 [domain]
 type = "box"
 min = [0, 0, 0]
 max = [10, 10, 10]
+"""
 
+
+def plane(point, dip):
+    """A ``[[joints]]`` entry of a plane through `point`, dipping `dip` to the north."""
+    return f"""
 [[joints]]
 type = "plane"
-point = [5, 5, 5]
-dip = 120
+point = {list(point)}
+dip = {dip}
 dip_direction = 0
 """
+
+
+BAD_SPEC = CUBE + plane([5, 5, 5], 120)
 
 # Three sets at 1 cm in a 100 m box: 30,000 planes, about 10^12 blocks.
 RUNAWAY_SPEC = """\
@@ -480,24 +488,7 @@ def test_max_blocks(tmp_path):
         assert "argument --max-blocks" in result.stderr
 
 
-THIN_LAYER = """\
-[domain]
-type = "box"
-min = [0, 0, 0]
-max = [10, 10, 10]
-
-[[joints]]
-type = "plane"
-point = [0, 0, 5]
-dip = 0
-dip_direction = 0
-
-[[joints]]
-type = "plane"
-point = [0, 0, 5.001]
-dip = 0
-dip_direction = 0
-"""
+THIN_LAYER = CUBE + plane([0, 0, 5], 0) + plane([0, 0, 5.001], 0)
 
 
 def test_the_summary_flags_tiny_blocks(tmp_path):

@@ -71,26 +71,25 @@ def non_negative_float(text: str) -> float:
     return value
 
 
-def block_limit(text: str) -> int | None:
-    """An argparse type: a whole number >= 0, 0 meaning no limit (None)."""
+def whole_number(text: str, least: int, words: str) -> int:
+    """`text` as a whole number of at least `least` (else the argparse error `words`)."""
     try:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"invalid whole number: '{text}'") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be >= 0 (0: every block), got {text}")
-    return value or None
+    if value < least:
+        raise argparse.ArgumentTypeError(f"{words}, got {text}")
+    return value
+
+
+def block_limit(text: str) -> int | None:
+    """An argparse type: a whole number >= 0, 0 meaning no limit (None)."""
+    return whole_number(text, 0, "must be >= 0 (0: every block)") or None
 
 
 def positive_int(text: str) -> int:
     """An argparse type: a whole number >= 1."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"invalid whole number: '{text}'") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be 1 or more, got {text}")
-    return value
+    return whole_number(text, 1, "must be 1 or more")
 
 
 def add_gap(parser: argparse.ArgumentParser) -> None:
