@@ -173,7 +173,7 @@ def test_usage_errors_exit_2_and_write_nothing(args, message, blocks):
     ("setup", "message"),
     [
         ("missing", "penedge: error: none.json: No such file or directory"),
-        ("bad", "penedge: error: none.json: expected ident at line 1 column 2"),
+        ("bad", "penedge: error: none.json: this is not a block file (JSON): a block file is one"),
         ("empty", "penedge: error: none.json holds no blocks: nothing to draw"),
     ],
 )
