@@ -52,7 +52,7 @@ pub use domain::Domain;
 pub use error::{GenerationError, Problem, SpecError};
 pub use orientation::{Attitude, Frame};
 pub use record::{upward, JointRecord, JointShape, SetKind, SetRecord};
-pub use report::{thickness, GenerationReport, SliverReport};
+pub use report::{thickness, GenerationReport, SliverReport, TinyReport, TINY_SHARE};
 pub use spec::{
     Deviation, Discontinuity, JointKind, JointSet, Options, Orientation, SliverPolicy, Spec,
     DEFAULT_MIN_THICKNESS, MAX_PLANES,
