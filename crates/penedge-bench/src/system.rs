@@ -122,7 +122,7 @@ fn grid_pairs(n: usize) -> usize {
 }
 
 /// Wall-clock seconds of `f`, median of `runs`, with the last result.
-fn timed<T>(runs: usize, f: impl FnMut() -> T) -> (f64, T) {
+pub fn timed<T>(runs: usize, f: impl FnMut() -> T) -> (f64, T) {
     let (mut times, last) = timed_each(runs, f);
     (median(&mut times), last)
 }

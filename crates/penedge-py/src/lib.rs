@@ -36,7 +36,7 @@ mod _core {
     use crate::io::{write_pvd, TimeSeries};
     #[pymodule_export]
     use crate::system::{
-        paper_example, paper_example_planes, paper_table3, BlockArrays, BlockSystem,
+        paper_example, paper_example_planes, paper_table3, BlockArrays, BlockSystem, BodyContacts,
         ContactTracker, SystemContacts,
     };
 
