@@ -156,7 +156,7 @@ impl BlockSystem {
         let pool = thread_pool(threads)?;
         let inner = &self.inner;
         let (result, failure) = watched(py, progress.as_ref(), |report| {
-            let run = || inner.detect_bodies_with_progress(&tol, report);
+            let mut run = || inner.detect_bodies_with_progress(&tol, report);
             match &pool {
                 Some(pool) => pool.install(run),
                 None => run(),
@@ -201,20 +201,33 @@ impl BlockSystem {
 ///     Piece ``p`` has the points ``piece_points[piece_point_offsets[p]:...[p + 1]]``.
 /// piece_points : numpy.ndarray, shape (q, 3), float64
 ///     Contact points of the pieces (a point, a segment's ends or a convex polygon).
-#[pyclass(module = "penedge", name = "BodyContacts", frozen, get_all)]
+#[pyclass(module = "penedge", name = "BodyContacts", frozen)]
 pub struct BodyContacts {
+    #[pyo3(get)]
     bodies: Py<PyArray2<i64>>,
+    #[pyo3(get)]
     regions: Py<PyArray1<i64>>,
+    #[pyo3(get)]
     types: Py<PyArray1<i8>>,
+    #[pyo3(get)]
     normals: Py<PyArray2<f64>>,
+    #[pyo3(get)]
     distances: Py<PyArray1<f64>>,
+    #[pyo3(get)]
     areas: Py<PyArray1<f64>>,
+    #[pyo3(get)]
     penetrating: Py<PyArray2<i64>>,
+    #[pyo3(get)]
     piece_offsets: Py<PyArray1<i64>>,
+    #[pyo3(get)]
     piece_parts: Py<PyArray2<i64>>,
+    #[pyo3(get)]
     piece_types: Py<PyArray1<i8>>,
+    #[pyo3(get)]
     piece_point_offsets: Py<PyArray1<i64>>,
+    #[pyo3(get)]
     piece_points: Py<PyArray2<f64>>,
+    len: usize,
 }
 
 impl BodyContacts {
@@ -227,6 +240,7 @@ impl BodyContacts {
         let penetrating: Vec<[i64; 2]> = f.penetrating.iter().map(|&p| rows(p)).collect();
         let normals: Vec<[f64; 3]> = c.iter().map(|r| r.normal).collect();
         Ok(BodyContacts {
+            len: c.len(),
             bodies: arrays::read_only(arrays::pairs(py, &bodies))?.unbind(),
             regions: arrays::read_only(arrays::vector(
                 py,
@@ -270,11 +284,11 @@ impl BodyContacts {
 
 #[pymethods]
 impl BodyContacts {
-    fn __len__(&self, py: Python<'_>) -> usize {
-        self.regions.bind(py).len()
+    fn __len__(&self) -> usize {
+        self.len
     }
 
-    fn __repr__(&self, py: Python<'_>) -> String {
-        format!("BodyContacts({} regions)", self.regions.bind(py).len())
+    fn __repr__(&self) -> String {
+        format!("BodyContacts({} regions)", self.len)
     }
 }
