@@ -4,9 +4,9 @@
 //!
 //! The jointed rock mass of `examples/three_joint_sets.toml` (about 10^5 convex blocks).
 //! Blocks are glued into concave blocks in pairs along face-face contacts (taken in order,
-//! each block at most once) until `S` (default 0.25) of the blocks are glued: the system
+//! each block at most once) until `S` (default 0.5) of the blocks are glued: the system
 //! then has `N (1 - S / 2)` bodies, of which `N S / 2` have two parts (a third of the bodies
-//! for S = 0.25, above the fifth the issue asks). Whether the union of two glued blocks is
+//! for S = 0.5, above the fifth the issue asks), if enough such pairs are found. Whether the union of two glued blocks is
 //! convex or not does not change the work: their part contacts are grouped and typed the same.
 //!
 //! Times (wall clock, median of `R` runs, `T` threads):
@@ -29,7 +29,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
     let mut o = Options {
         runs: 5,
         threads: 2,
-        share: 0.25,
+        share: 0.5,
     };
     let mut it = args.iter();
     while let Some(flag) = it.next() {

@@ -76,6 +76,28 @@ pub struct BodyContacts {
 }
 
 impl BodyContacts {
+    /// No contact.
+    fn empty() -> Self {
+        BodyContacts {
+            piece_offsets: vec![0],
+            piece_point_offsets: vec![0],
+            ..BodyContacts::default()
+        }
+    }
+
+    /// Appends the contacts of `other` (their offsets moved past this one's).
+    fn append(&mut self, other: BodyContacts) {
+        let (pieces, points) = (self.pieces.len() as u64, self.piece_points.len() as u64);
+        self.contacts.extend(other.contacts);
+        self.pieces.extend(other.pieces);
+        self.piece_points.extend(other.piece_points);
+        let moved = |o: &[u64], by: u64| o[1..].iter().map(move |x| x + by).collect::<Vec<_>>();
+        self.piece_offsets
+            .extend(moved(&other.piece_offsets, pieces));
+        self.piece_point_offsets
+            .extend(moved(&other.piece_point_offsets, points));
+    }
+
     /// The pieces of region `i`.
     pub fn pieces_of(&self, i: usize) -> &[PairContact] {
         &self.pieces[self.piece_offsets[i] as usize..self.piece_offsets[i + 1] as usize]
@@ -170,6 +192,7 @@ impl BlockSystem {
                         } else {
                             Vec::new()
                         };
+                        let length = det.thresholds(a, b).length;
                         let piece = Piece {
                             bodies: pair.map(|k| self.body_of(k)),
                             parts: pair,
@@ -177,9 +200,9 @@ impl BlockSystem {
                             normal: g.normal(),
                             distance: g.distance(),
                             area: g.area(),
-                            points: g.shape().clone(),
+                            points: g.into_shape(),
                             representative,
-                            length: det.thresholds(a, b).length,
+                            length,
                         };
                         Outcome::Contact(Box::new(piece.oriented()))
                     }
@@ -193,9 +216,9 @@ impl BlockSystem {
             },
             |_, outcomes| {
                 for outcome in outcomes {
-                    match outcome {
-                        Outcome::Contact(piece) => pieces.push((**piece).clone()),
-                        Outcome::Penetrating(bodies) => penetrating.push(*bodies),
+                    match std::mem::replace(outcome, Outcome::Separated) {
+                        Outcome::Contact(piece) => pieces.push(*piece),
+                        Outcome::Penetrating(bodies) => penetrating.push(bodies),
                         Outcome::Separated => {}
                     }
                 }
@@ -204,39 +227,69 @@ impl BlockSystem {
         penetrating.sort_unstable();
         penetrating.dedup();
         if self.has_concave() {
-            pieces.par_sort_by_key(|p| (p.bodies, p.parts));
+            pieces = sorted(pieces);
         }
-        Ok(self.regions(pieces, penetrating))
+        Ok(self.regions(&pieces, penetrating))
     }
 
-    /// The regions of the pieces (sorted by bodies, then parts).
-    fn regions(&self, pieces: Vec<Piece>, penetrating: Vec<[u32; 2]>) -> BodyContacts {
-        let mut out = BodyContacts {
-            piece_offsets: vec![0],
-            piece_point_offsets: vec![0],
-            penetrating,
-            ..BodyContacts::default()
-        };
-        let mut start = 0;
-        while start < pieces.len() {
-            let bodies = pieces[start].bodies;
-            let end = start + pieces[start..].partition_point(|p| p.bodies == bodies);
-            if out.penetrating.binary_search(&bodies).is_err() {
-                self.add_pair(&pieces[start..end], &mut out);
+    /// The regions of the pieces (sorted by bodies, then parts): stretches of whole pairs of
+    /// bodies in parallel, then joined in order.
+    fn regions(&self, pieces: &[Piece], penetrating: Vec<[u32; 2]>) -> BodyContacts {
+        const STRETCH: usize = 1 << 12;
+        let mut bounds = vec![0];
+        while *bounds.last().expect("not empty") < pieces.len() {
+            let start = *bounds.last().expect("not empty");
+            let mut end = (start + STRETCH).min(pieces.len());
+            while end < pieces.len() && pieces[end].bodies == pieces[end - 1].bodies {
+                end += 1;
             }
-            start = end;
+            bounds.push(end);
+        }
+        let stretches: Vec<BodyContacts> = bounds
+            .par_windows(2)
+            .map(|w| {
+                let mut out = BodyContacts::empty();
+                let mut start = w[0];
+                while start < w[1] {
+                    let bodies = pieces[start].bodies;
+                    let end = start + pieces[start..w[1]].partition_point(|p| p.bodies == bodies);
+                    if penetrating.binary_search(&bodies).is_err() {
+                        self.add_pair(&pieces[start..end], &mut out);
+                    }
+                    start = end;
+                }
+                out
+            })
+            .collect();
+        let mut out = BodyContacts::empty();
+        out.penetrating = penetrating;
+        for part in stretches {
+            out.append(part);
         }
         out
     }
 
     /// Adds the regions of one pair of bodies.
     fn add_pair(&self, pieces: &[Piece], out: &mut BodyContacts) {
-        let groups = if pieces.len() == 1 {
-            vec![vec![0]]
-        } else {
-            group(pieces)
-        };
-        for (region, members) in groups.iter().enumerate() {
+        if let [p] = pieces {
+            if !self.touches_glue(p) {
+                // The common case (convex blocks): the piece is the region.
+                let area = if p.contact.kind == ContactType::FaceFace {
+                    p.area
+                } else {
+                    0.0
+                };
+                return push_region(
+                    out,
+                    std::slice::from_ref(&p),
+                    0,
+                    p.contact.kind,
+                    p.normal,
+                    area,
+                );
+            }
+        }
+        for (region, members) in group(pieces).iter().enumerate() {
             let members: Vec<&Piece> = members.iter().map(|&k| &pieces[k]).collect();
             let (kind, face_normal) = match members[..] {
                 [p] if !self.touches_glue(p) => (p.contact.kind, Some(p.normal)),
@@ -258,24 +311,7 @@ impl BlockSystem {
             } else {
                 0.0
             };
-            out.contacts.push(BodyContact {
-                bodies: members[0].bodies,
-                region: region as u32,
-                kind,
-                normal: normal.to_array(),
-                distance: members.iter().map(|p| p.distance).fold(f64::MAX, f64::min),
-                area,
-            });
-            for p in members {
-                out.pieces.push(PairContact {
-                    pair: p.parts,
-                    contact: p.contact,
-                });
-                let points = p.points.as_slice().iter().map(|x| x.to_array());
-                out.piece_points.extend(points);
-                out.piece_point_offsets.push(out.piece_points.len() as u64);
-            }
-            out.piece_offsets.push(out.pieces.len() as u64);
+            push_region(out, &members, region as u32, kind, normal, area);
         }
     }
 
@@ -391,6 +427,49 @@ impl Piece {
         }
         self
     }
+}
+
+/// Appends a region of the given pieces.
+fn push_region(
+    out: &mut BodyContacts,
+    members: &[&Piece],
+    region: u32,
+    kind: ContactType,
+    normal: DVec3,
+    area: f64,
+) {
+    out.contacts.push(BodyContact {
+        bodies: members[0].bodies,
+        region,
+        kind,
+        normal: normal.to_array(),
+        distance: members.iter().map(|p| p.distance).fold(f64::MAX, f64::min),
+        area,
+    });
+    for p in members {
+        out.pieces.push(PairContact {
+            pair: p.parts,
+            contact: p.contact,
+        });
+        let points = p.points.as_slice().iter().map(|x| x.to_array());
+        out.piece_points.extend(points);
+        out.piece_point_offsets.push(out.piece_points.len() as u64);
+    }
+    out.piece_offsets.push(out.pieces.len() as u64);
+}
+
+/// The pieces sorted by bodies, then parts (keys sorted, then the pieces moved into place).
+fn sorted(pieces: Vec<Piece>) -> Vec<Piece> {
+    let mut keys: Vec<([u32; 2], [u32; 2], u32)> = pieces
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (p.bodies, p.parts, k as u32))
+        .collect();
+    keys.par_sort_unstable();
+    let mut slots: Vec<Option<Piece>> = pieces.into_iter().map(Some).collect();
+    keys.iter()
+        .map(|&(_, _, k)| slots[k as usize].take().expect("each piece once"))
+        .collect()
 }
 
 /// A polygon of contact points (counter-clockwise about its normal) and its area.
