@@ -13,7 +13,7 @@
 //! 3. a region of one piece whose features touch no glue keeps the piece's type (so a system
 //!    of convex blocks gets exactly [`BlockSystem::detect_with_geometry`]'s answers); any other
 //!    region is typed by the real features of each body: the distinct planes of its
-//!    non-internal part faces that hold every representative point of the region's pieces
+//!    non-internal part faces that hold every contact point of the region's pieces
 //!    (one: a face, two: an edge, three or more: a vertex), so that a part edge lying inside a
 //!    real face of the block is not an edge of the block.
 //!
@@ -120,8 +120,6 @@ struct Piece {
     distance: f64,
     area: f64,
     points: ContactPoints,
-    /// The representative points (vertices of A ∩ B), kept for pieces of concave bodies.
-    representative: Vec<DVec3>,
     /// The pair's length threshold.
     length: f64,
 }
@@ -186,12 +184,6 @@ impl BlockSystem {
                 let (result, geometry) = det.detect_with_geometry(a, b);
                 match (result, geometry) {
                     (PairResult::Contact(contact), Some(g)) => {
-                        let concave = pair.iter().any(|&k| self.is_part_of_concave(k));
-                        let representative = if concave {
-                            det.representative_points(a, b).to_vec()
-                        } else {
-                            Vec::new()
-                        };
                         let length = det.thresholds(a, b).length;
                         let piece = Piece {
                             bodies: pair.map(|k| self.body_of(k)),
@@ -201,7 +193,6 @@ impl BlockSystem {
                             distance: g.distance(),
                             area: g.area(),
                             points: g.into_shape(),
-                            representative,
                             length,
                         };
                         Outcome::Contact(Box::new(piece.oriented()))
@@ -226,21 +217,24 @@ impl BlockSystem {
         )?;
         penetrating.sort_unstable();
         penetrating.dedup();
-        if self.has_concave() {
-            pieces = sorted(pieces);
-        }
-        Ok(self.regions(&pieces, penetrating))
+        let order = if self.has_concave() {
+            sorted(&pieces)
+        } else {
+            (0..pieces.len() as u32).collect()
+        };
+        Ok(self.regions(&pieces, &order, penetrating))
     }
 
-    /// The regions of the pieces (sorted by bodies, then parts): stretches of whole pairs of
-    /// bodies in parallel, then joined in order.
-    fn regions(&self, pieces: &[Piece], penetrating: Vec<[u32; 2]>) -> BodyContacts {
+    /// The regions of the pieces taken in `order` (by bodies, then parts): stretches of whole
+    /// pairs of bodies in parallel, then joined in order.
+    fn regions(&self, pieces: &[Piece], order: &[u32], penetrating: Vec<[u32; 2]>) -> BodyContacts {
+        let bodies_at = |k: usize| pieces[order[k] as usize].bodies;
         const STRETCH: usize = 1 << 12;
         let mut bounds = vec![0];
         while *bounds.last().expect("not empty") < pieces.len() {
             let start = *bounds.last().expect("not empty");
             let mut end = (start + STRETCH).min(pieces.len());
-            while end < pieces.len() && pieces[end].bodies == pieces[end - 1].bodies {
+            while end < pieces.len() && bodies_at(end) == bodies_at(end - 1) {
                 end += 1;
             }
             bounds.push(end);
@@ -249,12 +243,18 @@ impl BlockSystem {
             .par_windows(2)
             .map(|w| {
                 let mut out = BodyContacts::empty();
+                let mut group: Vec<&Piece> = Vec::new();
                 let mut start = w[0];
                 while start < w[1] {
-                    let bodies = pieces[start].bodies;
-                    let end = start + pieces[start..w[1]].partition_point(|p| p.bodies == bodies);
+                    let bodies = bodies_at(start);
+                    group.clear();
+                    let mut end = start;
+                    while end < w[1] && bodies_at(end) == bodies {
+                        group.push(&pieces[order[end] as usize]);
+                        end += 1;
+                    }
                     if penetrating.binary_search(&bodies).is_err() {
-                        self.add_pair(&pieces[start..end], &mut out);
+                        self.add_pair(&group, &mut out);
                     }
                     start = end;
                 }
@@ -270,7 +270,7 @@ impl BlockSystem {
     }
 
     /// Adds the regions of one pair of bodies.
-    fn add_pair(&self, pieces: &[Piece], out: &mut BodyContacts) {
+    fn add_pair(&self, pieces: &[&Piece], out: &mut BodyContacts) {
         if let [p] = pieces {
             if !self.touches_glue(p) {
                 // The common case (convex blocks): the piece is the region.
@@ -279,18 +279,11 @@ impl BlockSystem {
                 } else {
                     0.0
                 };
-                return push_region(
-                    out,
-                    std::slice::from_ref(&p),
-                    0,
-                    p.contact.kind,
-                    p.normal,
-                    area,
-                );
+                return push_region(out, pieces, 0, p.contact.kind, p.normal, area);
             }
         }
         for (region, members) in group(pieces).iter().enumerate() {
-            let members: Vec<&Piece> = members.iter().map(|&k| &pieces[k]).collect();
+            let members: Vec<&Piece> = members.iter().map(|&k| pieces[k]).collect();
             let (kind, face_normal) = match members[..] {
                 [p] if !self.touches_glue(p) => (p.contact.kind, Some(p.normal)),
                 _ => self.region_type(&members),
@@ -328,9 +321,13 @@ impl BlockSystem {
             match feature {
                 Feature::Face(_) => false,
                 Feature::Edge(e) => block.edges()[e as usize].faces.into_iter().any(glued),
-                Feature::Vertex(v) => (0..block.n_faces() as u32)
-                    .filter(|&f| block.face(f as usize).contains(&v))
-                    .any(glued),
+                Feature::Vertex(v) => match block.vertex_faces().get(v as usize) {
+                    // The faces at the vertex, from its mask (blocks of at most 64 faces).
+                    Some(&mask) => (0..64).filter(|f| mask >> f & 1 != 0).any(glued),
+                    None => (0..block.n_faces() as u32)
+                        .filter(|&f| block.face(f as usize).contains(&v))
+                        .any(glued),
+                },
             }
         })
     }
@@ -341,7 +338,7 @@ impl BlockSystem {
     fn region_type(&self, members: &[&Piece]) -> (ContactType, Option<DVec3>) {
         let points: Vec<DVec3> = members
             .iter()
-            .flat_map(|p| p.representative.iter().copied())
+            .flat_map(|p| p.points.as_slice().iter().copied())
             .collect();
         let length = members.iter().map(|p| p.length).fold(0.0, f64::max);
         let planes = [0, 1].map(|side| {
@@ -458,18 +455,15 @@ fn push_region(
     out.piece_offsets.push(out.pieces.len() as u64);
 }
 
-/// The pieces sorted by bodies, then parts (keys sorted, then the pieces moved into place).
-fn sorted(pieces: Vec<Piece>) -> Vec<Piece> {
+/// The order of the pieces by bodies, then parts (indices sorted; the pieces stay).
+fn sorted(pieces: &[Piece]) -> Vec<u32> {
     let mut keys: Vec<([u32; 2], [u32; 2], u32)> = pieces
         .iter()
         .enumerate()
         .map(|(k, p)| (p.bodies, p.parts, k as u32))
         .collect();
     keys.par_sort_unstable();
-    let mut slots: Vec<Option<Piece>> = pieces.into_iter().map(Some).collect();
-    keys.iter()
-        .map(|&(_, _, k)| slots[k as usize].take().expect("each piece once"))
-        .collect()
+    keys.into_iter().map(|(_, _, k)| k).collect()
 }
 
 /// A polygon of contact points (counter-clockwise about its normal) and its area.
@@ -486,7 +480,7 @@ fn bears_face(p: &Piece) -> bool {
 
 /// The pieces of one pair of bodies grouped into regions (module docs, steps 1 and 2), each
 /// group in piece order, groups by their first piece.
-fn group(pieces: &[Piece]) -> Vec<Vec<usize>> {
+fn group(pieces: &[&Piece]) -> Vec<Vec<usize>> {
     let n = pieces.len();
     let mut root: Vec<usize> = (0..n).collect();
     fn find(root: &mut [usize], mut k: usize) -> usize {
@@ -502,7 +496,7 @@ fn group(pieces: &[Piece]) -> Vec<Vec<usize>> {
     };
     for a in 0..n {
         for b in a + 1..n {
-            let (p, q) = (&pieces[a], &pieces[b]);
+            let (p, q) = (pieces[a], pieces[b]);
             let same_plane = bears_face(p)
                 && bears_face(q)
                 && p.normal.cross(q.normal).length() <= PARALLEL_SINE
@@ -515,12 +509,12 @@ fn group(pieces: &[Piece]) -> Vec<Vec<usize>> {
     }
     // Point-like groups join the first face-bearing piece they touch.
     for a in 0..n {
-        if bears_face(&pieces[a]) || find(&mut root, a) != a {
+        if bears_face(pieces[a]) || find(&mut root, a) != a {
             continue;
         }
         let members: Vec<usize> = (0..n).filter(|&k| find(&mut root, k) == a).collect();
         let host = (0..n).find(|&b| {
-            bears_face(&pieces[b]) && members.iter().any(|&k| touch(&pieces[k], &pieces[b]))
+            bears_face(pieces[b]) && members.iter().any(|&k| touch(pieces[k], pieces[b]))
         });
         if let Some(b) = host {
             join(&mut root, a, b);
