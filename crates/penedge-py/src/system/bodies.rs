@@ -36,7 +36,7 @@ impl BlockSystem {
     /// >>> system = penedge.BlockSystem([c([0, 0, 0], [2, 1, 1]), c([0, 0, 1], [1, 1, 2]),
     /// ...                               c([1, 0, 1], [2, 1, 2])])
     /// >>> l_block = system.with_bodies([0, 0, 1])
-    /// >>> l_block.body_ids.tolist(), l_block.internal_faces()["areas"].tolist()
+    /// >>> l_block.body_ids.tolist(), l_block.internal_faces()["areas"].round(9).tolist()
     /// ([0, 0, 1], [1.0])
     #[pyo3(signature = (body_ids, gap = 1e-12, length = None))]
     fn with_bodies(
@@ -141,7 +141,7 @@ impl BlockSystem {
     /// >>> u = [c([0, 0, 0], [3, 1, 1]), c([0, 0, 1], [1, 1, 2]), c([2, 0, 1], [3, 1, 2])]
     /// >>> system = penedge.BlockSystem(u + [c([1, 0, 1], [2, 1, 2])])
     /// >>> found = system.with_bodies([0, 0, 0, 1]).detect_bodies()
-    /// >>> found.bodies.tolist(), found.regions.tolist(), found.areas.tolist()
+    /// >>> found.bodies.tolist(), found.regions.tolist(), found.areas.round(9).tolist()
     /// ([[0, 1], [0, 1], [0, 1]], [0, 1, 2], [1.0, 1.0, 1.0])
     #[pyo3(signature = (gap = 1e-12, length = None, progress = None, threads = None))]
     fn detect_bodies(

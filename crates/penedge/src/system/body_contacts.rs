@@ -153,7 +153,7 @@ impl BlockSystem {
     /// // The box touches the top of part 2 only: one face-face region of area 0.5.
     /// assert_eq!(found.contacts.len(), 1);
     /// assert_eq!(found.contacts[0].kind, ContactType::FaceFace);
-    /// assert!((found.contacts[0].area - 0.5).abs() < 1e-12);
+    /// assert!((found.contacts[0].area - 0.5).abs() < 1e-9);
     /// ```
     pub fn detect_bodies(&self, tol: &Tolerance) -> BodyContacts {
         match self.detect_bodies_with_progress(tol, &mut |_| ControlFlow::Continue(())) {
