@@ -43,7 +43,7 @@ mod _core {
     use crate::overlap::overlap;
     #[pymodule_export]
     use crate::system::{
-        paper_example, paper_example_planes, paper_table3, BlockArrays, BlockSystem,
+        paper_example, paper_example_planes, paper_table3, BlockArrays, BlockSystem, BodyContacts,
         ContactTracker, SystemContacts,
     };
 

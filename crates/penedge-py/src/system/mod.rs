@@ -3,11 +3,13 @@
 //! `crate::io`.
 
 mod blocks;
+mod bodies;
 mod contacts;
 mod examples;
 mod tracker;
 
 pub use blocks::BlockArrays;
+pub use bodies::BodyContacts;
 pub use contacts::SystemContacts;
 pub use examples::{paper_example, paper_example_planes, paper_table3};
 pub use tracker::ContactTracker;

@@ -116,6 +116,11 @@ impl ContactGeometry {
         self.points.as_slice()
     }
 
+    /// The contact points, taken out of the geometry.
+    pub(crate) fn into_shape(self) -> ContactPoints {
+        self.points
+    }
+
     /// Area of a polygon contact, 0 for a point or a segment.
     pub fn area(&self) -> f64 {
         match &self.points {
