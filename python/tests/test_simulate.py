@@ -214,6 +214,40 @@ def test_boundary_stage_fixes_the_block():
     assert runner.engine.fixed.all()
 
 
+def test_engine_error_stops_the_run_and_keeps_what_it_did(tmp_path, monkeypatch, capsys):
+    class Overlapping(InclineEngine):
+        def cycle(self, steps):
+            super().cycle(steps)
+            if self.steps >= 40:
+                raise penedge.InputError("bodies 1 and 3 overlap deeper than the detection gap")
+
+    runner = Runner(wedge(20.0, '[[stages]]\ntype = "cycle"\nsteps = 1000\n'), Overlapping)
+    outcome = runner.run()
+    assert outcome.error == "bodies 1 and 3 overlap deeper than the detection gap"
+    assert not outcome.stable
+    assert outcome.steps == 40
+    monkeypatch.setattr(engines, "Engine", Overlapping)
+    monkeypatch.setattr(engines, "simulation_class", lambda: object)
+    out = tmp_path / "out"
+    assert cli.main(["simulate", str(WEDGE), "-o", str(out), "--no-pictures"]) == 1
+    captured = capsys.readouterr()
+    assert "the run stopped at step 40: bodies 1 and 3 overlap" in captured.err
+    assert "result stopped by an error (below)" in " ".join(captured.out.split())
+    assert json.loads((out / "summary.json").read_text())["error"].startswith("bodies 1 and 3")
+
+
+def test_engine_error_in_a_trial_is_a_failure():
+    class Overlapping(InclineEngine):
+        def cycle(self, steps):
+            super().cycle(steps)
+            if self.v > 0.05:  # sliding far: blocks driven into each other
+                raise penedge.InputError("overlap")
+
+    f = Runner(wedge(40.0, FOS.format(2000)), Overlapping).run().safety
+    exact = exact_factor(40.0)
+    assert f.stable < exact <= f.failing
+
+
 def test_interrupted_run_keeps_what_it_did():
     runner = Runner(wedge(20.0, '[[stages]]\ntype = "cycle"\nsteps = 1000\n'), InclineEngine)
     runner.engine.interrupt_after = 3

@@ -166,6 +166,13 @@ def run_simulate(args: argparse.Namespace) -> int:
     if outcome.interrupted:
         print(f"{PROG} simulate: interrupted; the results so far are written", file=sys.stderr)
         return 130
+    if outcome.error is not None:
+        print(
+            f"{PROG}: error: the run stopped at step {outcome.steps}: {outcome.error} "
+            "(the results so far are written)",
+            file=sys.stderr,
+        )
+        return 1
     return 0
 
 
@@ -270,6 +277,7 @@ def run_summary(
             "stages": stages,
             "stable": outcome.stable,
             "interrupted": outcome.interrupted,
+            "error": outcome.error,
             "steps": outcome.steps,
             "time": outcome.time,
             "ratio": outcome.ratio,
@@ -302,6 +310,15 @@ def stage_text(stage: dict[str, Any]) -> str:
     return text
 
 
+def result_text(summary: dict[str, Any]) -> str:
+    """``stable``, ``NOT stable``, ``interrupted`` or ``stopped by an error``."""
+    if summary["interrupted"]:
+        return "interrupted"
+    if summary["error"] is not None:
+        return "stopped by an error (below)"
+    return "stable" if summary["stable"] else "NOT stable"
+
+
 def format_run(summary: dict[str, Any]) -> str:
     title = f": {summary['title']}" if summary["title"] else ""
     threshold = summary["moved_threshold"] * 1e3
@@ -317,12 +334,7 @@ def format_run(summary: dict[str, Any]) -> str:
         f"{PROG} simulate {summary['model']}{title}",
         row("blocks", blocks_text(summary)),
         row("stages", "; ".join(stage_text(s) for s in summary["stages"])),
-        row(
-            "result",
-            "interrupted"
-            if summary["interrupted"]
-            else ("stable" if summary["stable"] else "NOT stable"),
-        ),
+        row("result", result_text(summary)),
         row("moved", moved_text),
         row(
             "largest displacement",

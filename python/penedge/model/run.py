@@ -5,7 +5,10 @@ blocks that moved, the largest displacement, the factor of safety).
 
 The runner steps in chunks of ``[results].history_every`` steps, so that progress, history
 points and Ctrl-C come between chunks: an interrupted run stops after the current chunk
-and keeps its outcome so far (``Outcome.interrupted``). The engine is anything with the
+and keeps its outcome so far (``Outcome.interrupted``). A run the engine stops with an
+error (two blocks overlapping deeper than the detection gap, a NaN) keeps its outcome so
+far too, with the error (``Outcome.error``); in a factor-of-safety trial such an error
+counts as a failure. The engine is anything with the
 interface of :class:`penedge.model.engine.Engine`.
 """
 
@@ -18,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from penedge._core import PenedgeError
 from penedge.model.check import apply_boundary
 from penedge.model.schema import JointProperties, Stage
 
@@ -111,13 +115,14 @@ class Outcome:
     time: float
     ratio: float
     target: float = 1e-5  # the model's equilibrium ratio ([mechanics].ratio)
+    error: str | None = None  # the engine's error that stopped the run
 
     @property
     def stable(self) -> bool:
         """Every solve stage reached equilibrium (a run without one: the final ratio is
-        below the model's equilibrium ratio); False if interrupted."""
+        below the model's equilibrium ratio); False if interrupted or stopped by an error."""
         solves = [s.converged for s in self.stages if s.kind == "solve"]
-        if self.interrupted:
+        if self.interrupted or self.error is not None:
             return False
         return all(solves) if solves else bool(self.ratio <= self.target)
 
@@ -191,9 +196,16 @@ class Runner:
             interrupted = True
             self.record("interrupted")
             self.write_frame()
+        except PenedgeError as e:
+            error = str(e)
+            self.record("error")
+            self.write_frame()
+            return self.outcome(results, interrupted, error)
         return self.outcome(results, interrupted)
 
-    def outcome(self, results: list[StageResult], interrupted: bool) -> Outcome:
+    def outcome(
+        self, results: list[StageResult], interrupted: bool, error: str | None = None
+    ) -> Outcome:
         e = self.engine
         displacement = e.positions() - self.reference
         threshold = self.model.results.moved
@@ -210,6 +222,7 @@ class Runner:
             time=e.time,
             ratio=e.ratio,
             target=self.model.mechanics.ratio,
+            error=error,
         )
         return out
 
@@ -342,9 +355,13 @@ class Runner:
                 e.default = default.reduced(factor)
             e.apply_properties({n: p.reduced(factor) for n, p in original.items()})
             before = e.positions()
-            converged = self.solve(stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e)
+            try:
+                converged = self.solve(stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e)
+                broke = False
+            except PenedgeError:  # blocks driven into each other: the model is failing
+                converged, broke = False, True
             speed = float(np.linalg.norm(e.velocities()[free], axis=1).max())
-            failed = not converged and speed > stage.velocity
+            failed = broke or (not converged and speed > stage.velocity)
             moved = np.flatnonzero(np.linalg.norm(e.positions() - before, axis=1) > threshold)
             t = Trial(factor, failed, e.steps, e.ratio, speed, moved.tolist())
             trials.append(t)
