@@ -158,6 +158,19 @@ def test_factor_of_safety_does_not_depend_on_the_budget():
     assert (once.stable, once.failing) == (twice.stable, twice.failing)
 
 
+def test_factor_of_safety_says_when_it_starts_out_of_equilibrium(tmp_path, stand_in, capsys):
+    f = Runner(wedge(40.0, FOS.format(1000)), InclineEngine).run().safety
+    assert f.in_equilibrium
+    stages = '[[stages]]\ntype = "factor_of_safety"\nmax_steps = 1000\n'
+    f = Runner(wedge(40.0, stages), InclineEngine).run().safety  # no solve first
+    assert not f.in_equilibrium
+    model = tmp_path / "wedge.toml"
+    text = WEDGE.read_text()
+    model.write_text(text[: text.index("[[stages]]")] + stages)
+    assert cli.main(["simulate", str(model), "-o", str(tmp_path / "out"), "--no-pictures"]) == 0
+    assert "from a state NOT in equilibrium: solve first" in capsys.readouterr().out
+
+
 def test_factor_of_safety_outside_the_range():
     stages = FOS.format(1000).rstrip("\n") + "\nhigh = 1.1\n"
     f = Runner(wedge(60.0, stages), InclineEngine).run().safety  # exact 2.47

@@ -268,6 +268,7 @@ def run_summary(
                 "stable": f.stable,
                 "failing": f.failing,
                 "failing_blocks": f.failing_blocks,
+                "from_equilibrium": f.in_equilibrium,
                 "trials": [t.__dict__ for t in f.trials],
             }
         stages.append(entry)
@@ -351,6 +352,10 @@ def format_run(summary: dict[str, Any]) -> str:
                     "factor of safety", f"{f['bound']} {f['factor']:.2f} (failing blocks: {blocks})"
                 )
             )
+            if not f["from_equilibrium"]:
+                lines.append(
+                    row("", "from a state NOT in equilibrium: solve first (docs/models.md)")
+                )
     if summary["written"]:
         lines.append(row("written", ", ".join(summary["written"])))
     return "\n".join(lines)

@@ -76,6 +76,8 @@ class SafetyFactor:
     failing: float | None  # ... and smallest failing factor
     failing_blocks: list[int]
     trials: list[Trial]
+    start_ratio: float = 0.0  # the unbalanced-force ratio of the state the trials start from
+    in_equilibrium: bool = True  # whether that state was below the equilibrium ratio
 
     @property
     def bounded(self) -> str:
@@ -401,6 +403,8 @@ class Runner:
                     stable = t
         factor = stable.factor if stable is not None else (failing.factor if failing else 1.0)
         return SafetyFactor(
+            start_ratio=self.engine.ratio,
+            in_equilibrium=bool(self.engine.ratio <= stage.ratio),
             factor=factor,
             stable=None if stable is None else stable.factor,
             failing=None if failing is None else failing.factor,
