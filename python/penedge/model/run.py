@@ -64,7 +64,8 @@ class Trial:
     steps: int
     ratio: float
     speed: float  # m/s, the largest speed of a free block at the end
-    moved: list[int]  # blocks that moved more than the threshold in the trial
+    moved: list[int]  # free blocks that moved more than the threshold, or still move faster
+    # than the stage's velocity, at the end of the trial
 
 
 @dataclass
@@ -362,9 +363,11 @@ class Runner:
                 broke = False
             except PenedgeError:  # blocks driven into each other: the model is failing
                 converged, broke = False, True
-            speed = float(np.linalg.norm(e.velocities()[free], axis=1).max())
+            speeds = np.linalg.norm(e.velocities(), axis=1)
+            speed = float(speeds[free].max())
             failed = broke or (not converged and speed > stage.velocity)
-            moved = np.flatnonzero(np.linalg.norm(e.positions() - before, axis=1) > threshold)
+            shifted = np.linalg.norm(e.positions() - before, axis=1) > threshold
+            moved = np.flatnonzero(free & (shifted | (speeds > stage.velocity)))
             t = Trial(factor, failed, e.steps, e.ratio, speed, moved.tolist())
             trials.append(t)
             if self.progress is not None:
