@@ -299,6 +299,7 @@ def test_simulate_writes_results(tmp_path, stand_in, capsys):
     )
     assert sorted(p.name for p in out.iterdir()) == [
         "displacement.png",
+        "failing.png",
         "history.csv",
         "history.png",
         "series",

@@ -54,6 +54,7 @@ OUTPUT_NAMES = {
     "history": "history.csv",
     "history_png": "history.png",
     "picture": "displacement.png",
+    "failing": "failing.png",
     "series": "series",
 }
 
@@ -377,7 +378,7 @@ def write_results(
     write_via_temp(history, True, lambda h: h.write(buffer.getvalue().encode()))
     written.append(str(history))
     if not no_pictures:
-        from penedge.pictures.simulation import save_displacement, save_history
+        from penedge.pictures.simulation import save_displacement, save_failing, save_history
 
         title = setup.model.title or None
         png = folder / OUTPUT_NAMES["history_png"]
@@ -397,6 +398,16 @@ def write_results(
 
         write_via_temp(picture, True, displacement_png)
         written.append(str(picture))
+        safety = outcome.safety
+        if safety is not None and safety.failing_blocks:
+            failing = folder / OUTPUT_NAMES["failing"]
+            label = f"failing at F = {safety.failing:.3f} (factor of safety {safety.factor:.2f})"
+
+            def failing_png(handle: IO[bytes]) -> None:
+                save_failing(final, safety.failing_blocks, handle, title=label)
+
+            write_via_temp(failing, True, failing_png)
+            written.append(str(failing))
     if series is not None and series.entries:
         written.append(str(series.index))
     if series is not None and series.contact_entries:

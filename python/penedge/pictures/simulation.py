@@ -1,6 +1,6 @@
 """Pictures of a simulation: the history (unbalanced-force ratio, kinetic energy, monitored
-displacements against the step) and the final state coloured by displacement, with axes in
-metres, a colour bar and a north arrow.
+displacements against the step), the final state coloured by displacement, and the blocks
+that fail in a factor-of-safety search; with axes in metres and a north arrow.
 """
 
 from __future__ import annotations
@@ -96,11 +96,7 @@ def save_displacement(
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(projection="3d")
     plot_system(system, ax=ax, explode=0.0, colors=list(colors), max_blocks=None)
-    ax.set_axis_on()
-    ax.set_xlabel("x, East (m)")
-    ax.set_ylabel("y, North (m)")
-    ax.set_zlabel("z, up (m)")
-    _north_arrow(ax)
+    _axes(ax)
     bar = fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, shrink=0.6, pad=0.08)
     label = "displacement (mm)"
     if threshold is not None:
@@ -111,6 +107,44 @@ def save_displacement(
         ax.set_title(title, fontsize=12)
     fig.savefig(path, dpi=dpi, format="png", facecolor="white")
     return fig
+
+
+def save_failing(
+    system: Any, failing: Any, path: Any, *, title: str | None = None, dpi: int = 120
+) -> Any:
+    """The blocks that fail at the smallest failing strength reduction factor (red), over
+    the others (grey), with axes in metres and a north arrow.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from penedge.pictures.blocks import plot_system
+
+    n = len(system)
+    colors = np.tile([0.78, 0.78, 0.78], (n, 1))
+    colors[np.asarray(failing, dtype=np.int64)] = [0.85, 0.1, 0.1]
+    fig = Figure(figsize=(8.0, 7.0), layout="constrained")
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(projection="3d")
+    plot_system(system, ax=ax, explode=0.0, colors=list(colors), max_blocks=None)
+    _axes(ax)
+    if title:
+        ax.set_title(title, fontsize=12)
+    fig.savefig(path, dpi=dpi, format="png", facecolor="white")
+    return fig
+
+
+def _axes(ax: Any) -> None:
+    """Axes in metres, named by direction, and a north arrow."""
+    ax.set_axis_on()
+    ax.set_xlabel("x, East (m)")
+    ax.set_ylabel("y, North (m)")
+    ax.set_zlabel("z, up (m)")
+    _north_arrow(ax)
 
 
 def _north_arrow(ax: Any) -> None:
