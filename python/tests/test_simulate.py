@@ -215,6 +215,22 @@ def test_stages_and_history():
     assert outcome.moved.tolist() == [free]
 
 
+def test_properties_stage_without_sets_changes_the_default_too():
+    stages = '[[stages]]\ntype = "properties"\nfriction = 20\ncohesion = 5\n'
+    runner = Runner(wedge(40.0, stages), InclineEngine)
+    runner.run()
+    assert (runner.engine.default.friction, runner.engine.default.cohesion) == (20, 5)
+    assert runner.engine.properties["A"].friction == 20
+    stages = '[[stages]]\ntype = "properties"\nsets = ["B"]\nfriction = 20\n'
+    runner = Runner(wedge(40.0, stages), InclineEngine)
+    runner.run()
+    assert runner.engine.default.friction == 40
+    assert (runner.engine.properties["A"].friction, runner.engine.properties["B"].friction) == (
+        40,
+        20,
+    )
+
+
 def test_boundary_stage_fixes_the_block():
     stages = (
         '[[stages]]\ntype = "properties"\nfriction = 20\n'

@@ -281,6 +281,8 @@ class Runner:
                 self.report(stage, done, total)
         elif stage.kind == "properties":
             names = stage.sets or tuple(self.model.set_names)
+            if not stage.sets:  # every set, and the contacts of no set
+                e.default = merge(e.default, stage.changes)
             changed = {name: merge(e.properties[name], stage.changes) for name in names}
             e.apply_properties(changed)
         elif stage.kind == "boundary":

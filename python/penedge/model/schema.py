@@ -723,7 +723,7 @@ def parse_stage(
         if not changes:
             raise ModelError(t.path, f"changes nothing: give some of {', '.join(PROPERTY_FIELDS)}")
         sub = Table({k: v for k, v in t.data.items() if k in PROPERTY_FIELDS}, t.path)
-        stage = Stage(name, kind, sets=sets, changes=parse_property_values(sub, mechanics_base()))
+        stage = Stage(name, kind, sets=sets, changes=parse_property_values(sub, any_base()))
         t.read.update(PROPERTY_FIELDS)
     elif kind == "excavate":
         stage = Stage(
@@ -762,7 +762,7 @@ def parse_stage(
     return stage
 
 
-def mechanics_base() -> JointProperties:
+def any_base() -> JointProperties:
     """A placeholder base, so that a properties stage may give any subset of fields."""
     return JointProperties(kn=1.0, ks=1.0, friction=0.0)
 
