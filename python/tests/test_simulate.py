@@ -343,6 +343,16 @@ def test_simulate_writes_results(tmp_path, stand_in, capsys):
     assert arrays["contact"] == ["0", "0"]
 
 
+def test_simulate_html_plays_the_frames(tmp_path, stand_in):
+    pytest.importorskip("plotly")
+    out = tmp_path / "out"
+    assert cli.main(["simulate", str(WEDGE), "-o", str(out), "--html", "-q", "--no-pictures"]) == 0
+    page = (out / "steps.html").read_text()
+    assert "Plotly.newPlot" in page
+    assert page.count('"name":"t = ') == 2  # the start and the end of the solve
+    assert '"label":"play"' in page
+
+
 def test_simulate_check_runs_nothing(tmp_path, capsys):
     out = tmp_path / "out"
     assert (

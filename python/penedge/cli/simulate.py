@@ -55,6 +55,7 @@ OUTPUT_NAMES = {
     "history_png": "history.png",
     "picture": "displacement.png",
     "failing": "failing.png",
+    "html": "steps.html",
     "series": "series",
 }
 
@@ -88,6 +89,11 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         "--no-pictures", action="store_true", help="write no PNG pictures (no matplotlib needed)"
     )
     simulate.add_argument("--no-series", action="store_true", help="write no ParaView time series")
+    simulate.add_argument(
+        "--html",
+        action="store_true",
+        help="also write steps.html: an interactive view (plotly) whose frames can be played",
+    )
     add_output_flags(simulate, force=False)
     return simulate
 
@@ -111,6 +117,11 @@ def run_simulate(args: argparse.Namespace) -> int:
             raise CommandError(
                 "the pictures need matplotlib: pip install 'penedge[plot]' (or --no-pictures)"
             ) from None
+    if args.html and not args.check:
+        try:
+            import plotly  # noqa: F401
+        except ImportError:
+            raise CommandError("--html needs plotly: pip install 'penedge[html]'") from None
     show = progress.wanted(args.quiet or args.json)
     model = pm.read_model(path)
     bar = ProgressBar(sys.stderr, f"{PROG} simulate: generating", unit="planes") if show else None
@@ -137,7 +148,11 @@ def run_simulate(args: argparse.Namespace) -> int:
 
         series = Series(folder / OUTPUT_NAMES["series"], speed=model.results.moved)
 
+    frames: list[tuple[float, Any, Any]] = []
+
     def frame(engine: Any, displacement: Any) -> None:
+        if args.html:
+            frames.append((engine.time, engine.system(), displacement))
         if series is not None:
             series.write(
                 engine.time,
@@ -161,6 +176,14 @@ def run_simulate(args: argparse.Namespace) -> int:
     seconds = time.perf_counter() - start
     with progress.activity(show, f"{PROG} simulate: writing"):
         written = write_results(folder, setup, runner, outcome, args.no_pictures, series)
+        if frames:
+            from penedge.pictures.simulation import write_steps_html
+
+            html = folder / OUTPUT_NAMES["html"]
+            text = io.StringIO()
+            write_steps_html(frames, text, title=model.title or None)
+            write_via_temp(html, True, lambda h: h.write(text.getvalue().encode()))
+            written.append(str(html))
     summary = run_summary(path, setup, outcome, seconds, written)
     write_summary_json(folder, summary)
     print_summary(args, summary, format_run(summary))
