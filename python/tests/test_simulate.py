@@ -261,7 +261,9 @@ def test_engine_error_stops_the_run_and_keeps_what_it_did(tmp_path, monkeypatch,
     assert cli.main(["simulate", str(WEDGE), "-o", str(out), "--no-pictures"]) == 1
     captured = capsys.readouterr()
     assert "the run stopped at step 40: bodies 1 and 3 overlap" in captured.err
-    assert "result stopped by an error (below)" in " ".join(captured.out.split())
+    printed = " ".join(captured.out.split())
+    assert "result stopped by an error (below)" in printed
+    assert "stages[0] solve: stopped by the engine after 40 steps" in printed
     assert json.loads((out / "summary.json").read_text())["error"].startswith("bodies 1 and 3")
 
 
@@ -285,6 +287,9 @@ def test_interrupted_run_keeps_what_it_did():
     assert not outcome.stable
     assert outcome.steps == 30  # three chunks of history_every = 10 steps
     assert outcome.history.stage[-1] == "interrupted"
+    assert [(s.name, s.steps, s.stopped) for s in outcome.stages] == [
+        ("stages[0]", 30, "interrupted")
+    ]
 
 
 # --- the command ---------------------------------------------------------------------

@@ -283,6 +283,7 @@ def run_summary(
             "time": s.time,
             "ratio": s.ratio,
             "converged": s.converged,
+            "stopped": s.stopped,
         }
         if s.safety is not None:
             f = s.safety
@@ -320,6 +321,10 @@ def run_summary(
 
 def stage_text(stage: dict[str, Any]) -> str:
     text = f"{stage['name']} {stage['kind']}"
+    if stage["stopped"] == "interrupted":
+        return f"{text}: interrupted after {stage['steps']:,} steps (ratio {stage['ratio']:.1e})"
+    if stage["stopped"] == "error":
+        return f"{text}: stopped by the engine after {stage['steps']:,} steps"
     if stage["kind"] == "solve":
         if stage["converged"]:
             return (

@@ -101,6 +101,7 @@ class StageResult:
     ratio: float
     converged: bool | None = None  # solve stages
     safety: SafetyFactor | None = None
+    stopped: str | None = None  # "interrupted" or the engine's error, if the stage was cut short
 
 
 @dataclass
@@ -191,20 +192,30 @@ class Runner:
         interrupted = False
         self.record("start")
         self.write_frame()
-        try:
-            for index, stage in enumerate(self.model.stages):
+        error = None
+        for index, stage in enumerate(self.model.stages):
+            start = (self.engine.steps, self.engine.time)
+            try:
                 results.append(self.run_stage(index, stage))
                 self.write_frame()
-        except KeyboardInterrupt:
-            interrupted = True
-            self.record("interrupted")
-            self.write_frame()
-        except PenedgeError as e:
-            error = str(e)
-            self.record("error")
-            self.write_frame()
-            return self.outcome(results, interrupted, error)
-        return self.outcome(results, interrupted)
+            except (KeyboardInterrupt, PenedgeError) as e:
+                interrupted = isinstance(e, KeyboardInterrupt)
+                error = None if interrupted else str(e)
+                e_ = self.engine
+                results.append(
+                    StageResult(
+                        stage.name,
+                        stage.kind,
+                        e_.steps - start[0],
+                        e_.time - start[1],
+                        e_.ratio,
+                        stopped="interrupted" if interrupted else "error",
+                    )
+                )
+                self.record("interrupted" if interrupted else "error")
+                self.write_frame()
+                break
+        return self.outcome(results, interrupted, error)
 
     def outcome(
         self, results: list[StageResult], interrupted: bool, error: str | None = None
