@@ -132,6 +132,9 @@ def test_defaults():
     assert m.default_properties.tension == 0
     assert [(s.kind, s.ratio) for s in m.stages] == [("solve", 1e-5)]
     assert m.results.moved == 1e-3
+    assert m.results.moving == 1e-4
+    fos = model('[results]\nmoving = 0.01\n[[stages]]\ntype = "factor_of_safety"\n').stages[0]
+    assert fos.velocity == 0.01
 
 
 def test_set_properties_override_only_what_they_give():

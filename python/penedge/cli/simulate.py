@@ -146,7 +146,7 @@ def run_simulate(args: argparse.Namespace) -> int:
     if not args.no_series:
         from penedge.model.series import Series
 
-        series = Series(folder / OUTPUT_NAMES["series"], speed=model.results.moved)
+        series = Series(folder / OUTPUT_NAMES["series"], speed=model.results.moving)
 
     frames: list[tuple[float, Any, Any]] = []
 
