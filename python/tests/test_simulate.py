@@ -358,6 +358,21 @@ def test_simulate_html_plays_the_frames(tmp_path, stand_in):
     assert '"label":"play"' in page
 
 
+def test_simulate_engine_refusal_writes_nothing(tmp_path, monkeypatch, capsys):
+    class Refusing(InclineEngine):
+        def __init__(self, setup):
+            raise penedge.InputError(
+                "the time step 1 is not in (0, 0.001] (the critical time step)"
+            )
+
+    monkeypatch.setattr(engines, "Engine", Refusing)
+    monkeypatch.setattr(engines, "simulation_class", lambda: object)
+    out = tmp_path / "out"
+    assert cli.main(["simulate", str(WEDGE), "-o", str(out)]) == 1
+    assert "the time step 1 is not in" in capsys.readouterr().err
+    assert not out.exists()
+
+
 def test_simulate_check_runs_nothing(tmp_path, capsys):
     out = tmp_path / "out"
     assert (

@@ -140,14 +140,8 @@ def run_simulate(args: argparse.Namespace) -> int:
         engines.simulation_class()
     except engines.EngineMissingError as e:
         raise CommandError(str(e)) from None
-    folder.mkdir(parents=True, exist_ok=True)
     status = StatusLine(sys.stderr) if show else None
-    series = None
-    if not args.no_series:
-        from penedge.model.series import Series
-
-        series = Series(folder / OUTPUT_NAMES["series"], speed=model.results.moving)
-
+    series: Any = None
     frames: list[tuple[float, Any, Any]] = []
 
     def frame(engine: Any, displacement: Any) -> None:
@@ -167,8 +161,14 @@ def run_simulate(args: argparse.Namespace) -> int:
             status.show(progress_text(engine, stage, done, total))
 
     start = time.perf_counter()
+    # the engine is built (and refuses a bad time step, say) before anything is written
+    runner = Runner(setup, engine_factory, progress=report, frame=frame)
+    folder.mkdir(parents=True, exist_ok=True)
+    if not args.no_series:
+        from penedge.model.series import Series
+
+        series = Series(folder / OUTPUT_NAMES["series"], speed=model.results.moving)
     try:
-        runner = Runner(setup, engine_factory, progress=report, frame=frame)
         outcome = runner.run()
     finally:
         if status is not None:
