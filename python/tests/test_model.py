@@ -65,6 +65,7 @@ def test_every_example_reads_and_checks():
     names = sorted(p.name for p in EXAMPLES.glob("*.toml"))
     assert names == [
         "block_column.toml",
+        "slope_planar.toml",
         "tunnel_roof_bolt.toml",
         "wedge_dry.toml",
         "wedge_water.toml",
@@ -131,6 +132,9 @@ def test_defaults():
     assert m.default_properties.tension == 0
     assert [(s.kind, s.ratio) for s in m.stages] == [("solve", 1e-5)]
     assert m.results.moved == 1e-3
+    assert m.results.moving == 1e-4
+    fos = model('[results]\nmoving = 0.01\n[[stages]]\ntype = "factor_of_safety"\n').stages[0]
+    assert fos.velocity == 0.01
 
 
 def test_set_properties_override_only_what_they_give():

@@ -158,6 +158,19 @@ def test_factor_of_safety_does_not_depend_on_the_budget():
     assert (once.stable, once.failing) == (twice.stable, twice.failing)
 
 
+def test_factor_of_safety_says_when_it_starts_out_of_equilibrium(tmp_path, stand_in, capsys):
+    f = Runner(wedge(40.0, FOS.format(1000)), InclineEngine).run().safety
+    assert f.in_equilibrium
+    stages = '[[stages]]\ntype = "factor_of_safety"\nmax_steps = 1000\n'
+    f = Runner(wedge(40.0, stages), InclineEngine).run().safety  # no solve first
+    assert not f.in_equilibrium
+    model = tmp_path / "wedge.toml"
+    text = WEDGE.read_text()
+    model.write_text(text[: text.index("[[stages]]")] + stages)
+    assert cli.main(["simulate", str(model), "-o", str(tmp_path / "out"), "--no-pictures"]) == 0
+    assert "from a state NOT in equilibrium: solve first" in capsys.readouterr().out
+
+
 def test_factor_of_safety_outside_the_range():
     stages = FOS.format(1000).rstrip("\n") + "\nhigh = 1.1\n"
     f = Runner(wedge(60.0, stages), InclineEngine).run().safety  # exact 2.47
@@ -202,6 +215,22 @@ def test_stages_and_history():
     assert outcome.moved.tolist() == [free]
 
 
+def test_properties_stage_without_sets_changes_the_default_too():
+    stages = '[[stages]]\ntype = "properties"\nfriction = 20\ncohesion = 5\n'
+    runner = Runner(wedge(40.0, stages), InclineEngine)
+    runner.run()
+    assert (runner.engine.default.friction, runner.engine.default.cohesion) == (20, 5)
+    assert runner.engine.properties["A"].friction == 20
+    stages = '[[stages]]\ntype = "properties"\nsets = ["B"]\nfriction = 20\n'
+    runner = Runner(wedge(40.0, stages), InclineEngine)
+    runner.run()
+    assert runner.engine.default.friction == 40
+    assert (runner.engine.properties["A"].friction, runner.engine.properties["B"].friction) == (
+        40,
+        20,
+    )
+
+
 def test_boundary_stage_fixes_the_block():
     stages = (
         '[[stages]]\ntype = "properties"\nfriction = 20\n'
@@ -214,6 +243,42 @@ def test_boundary_stage_fixes_the_block():
     assert runner.engine.fixed.all()
 
 
+def test_engine_error_stops_the_run_and_keeps_what_it_did(tmp_path, monkeypatch, capsys):
+    class Overlapping(InclineEngine):
+        def cycle(self, steps):
+            super().cycle(steps)
+            if self.steps >= 40:
+                raise penedge.InputError("bodies 1 and 3 overlap deeper than the detection gap")
+
+    runner = Runner(wedge(20.0, '[[stages]]\ntype = "cycle"\nsteps = 1000\n'), Overlapping)
+    outcome = runner.run()
+    assert outcome.error == "bodies 1 and 3 overlap deeper than the detection gap"
+    assert not outcome.stable
+    assert outcome.steps == 40
+    monkeypatch.setattr(engines, "Engine", Overlapping)
+    monkeypatch.setattr(engines, "simulation_class", lambda: object)
+    out = tmp_path / "out"
+    assert cli.main(["simulate", str(WEDGE), "-o", str(out), "--no-pictures"]) == 1
+    captured = capsys.readouterr()
+    assert "the run stopped at step 40: bodies 1 and 3 overlap" in captured.err
+    printed = " ".join(captured.out.split())
+    assert "result stopped by an error (below)" in printed
+    assert "stages[0] solve: stopped by the engine after 40 steps" in printed
+    assert json.loads((out / "summary.json").read_text())["error"].startswith("bodies 1 and 3")
+
+
+def test_engine_error_in_a_trial_is_a_failure():
+    class Overlapping(InclineEngine):
+        def cycle(self, steps):
+            super().cycle(steps)
+            if self.v > 0.05:  # sliding far: blocks driven into each other
+                raise penedge.InputError("overlap")
+
+    f = Runner(wedge(40.0, FOS.format(2000)), Overlapping).run().safety
+    exact = exact_factor(40.0)
+    assert f.stable < exact <= f.failing
+
+
 def test_interrupted_run_keeps_what_it_did():
     runner = Runner(wedge(20.0, '[[stages]]\ntype = "cycle"\nsteps = 1000\n'), InclineEngine)
     runner.engine.interrupt_after = 3
@@ -222,6 +287,9 @@ def test_interrupted_run_keeps_what_it_did():
     assert not outcome.stable
     assert outcome.steps == 30  # three chunks of history_every = 10 steps
     assert outcome.history.stage[-1] == "interrupted"
+    assert [(s.name, s.steps, s.stopped) for s in outcome.stages] == [
+        ("stages[0]", 30, "interrupted")
+    ]
 
 
 # --- the command ---------------------------------------------------------------------
@@ -252,6 +320,7 @@ def test_simulate_writes_results(tmp_path, stand_in, capsys):
     )
     assert sorted(p.name for p in out.iterdir()) == [
         "displacement.png",
+        "failing.png",
         "history.csv",
         "history.png",
         "series",
@@ -277,6 +346,31 @@ def test_simulate_writes_results(tmp_path, stand_in, capsys):
     assert arrays["normal_force"] == ["1000", "2000"]
     assert arrays["state"] == ["0", "1"]
     assert arrays["contact"] == ["0", "0"]
+
+
+def test_simulate_html_plays_the_frames(tmp_path, stand_in):
+    pytest.importorskip("plotly")
+    out = tmp_path / "out"
+    assert cli.main(["simulate", str(WEDGE), "-o", str(out), "--html", "-q", "--no-pictures"]) == 0
+    page = (out / "steps.html").read_text()
+    assert "Plotly.newPlot" in page
+    assert page.count('"name":"t = ') == 2  # the start and the end of the solve
+    assert '"label":"play"' in page
+
+
+def test_simulate_engine_refusal_writes_nothing(tmp_path, monkeypatch, capsys):
+    class Refusing(InclineEngine):
+        def __init__(self, setup):
+            raise penedge.InputError(
+                "the time step 1 is not in (0, 0.001] (the critical time step)"
+            )
+
+    monkeypatch.setattr(engines, "Engine", Refusing)
+    monkeypatch.setattr(engines, "simulation_class", lambda: object)
+    out = tmp_path / "out"
+    assert cli.main(["simulate", str(WEDGE), "-o", str(out)]) == 1
+    assert "the time step 1 is not in" in capsys.readouterr().err
+    assert not out.exists()
 
 
 def test_simulate_check_runs_nothing(tmp_path, capsys):

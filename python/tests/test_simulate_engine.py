@@ -121,3 +121,17 @@ def test_block_column_settles_by_its_elastic_closure():
     closure = sum((5 - k) * m_g / (1e9 * 1.0) for k in range(1, 5))
     assert outcome.displacement[top, 2] == pytest.approx(-closure, rel=0.01)
     assert np.abs(outcome.displacement[:, :2]).max() < 1e-3 * closure
+
+
+@needs_engine
+def test_planar_slope_failure_matches_limit_equilibrium():
+    """Hoek & Bray's planar failure, dry, no cohesion, a tension crack: F = tan phi / tan
+    psi_p whatever the block's shape (psi_p = 35 degrees, the bedding's dip)."""
+    outcome = pm.simulate(EXAMPLES / "slope_planar.toml")
+    assert outcome.stages[0].converged
+    safety = outcome.safety
+    exact = math.tan(math.radians(40)) / math.tan(math.radians(35))
+    assert safety.stable < exact + 0.01
+    assert safety.failing > exact - 0.01
+    free = ~pm.prepare(EXAMPLES / "slope_planar.toml").layout.fixed
+    assert safety.failing_blocks == np.flatnonzero(free).tolist()

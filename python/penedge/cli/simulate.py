@@ -54,6 +54,8 @@ OUTPUT_NAMES = {
     "history": "history.csv",
     "history_png": "history.png",
     "picture": "displacement.png",
+    "failing": "failing.png",
+    "html": "steps.html",
     "series": "series",
 }
 
@@ -87,6 +89,11 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         "--no-pictures", action="store_true", help="write no PNG pictures (no matplotlib needed)"
     )
     simulate.add_argument("--no-series", action="store_true", help="write no ParaView time series")
+    simulate.add_argument(
+        "--html",
+        action="store_true",
+        help="also write steps.html: an interactive view (plotly) whose frames can be played",
+    )
     add_output_flags(simulate, force=False)
     return simulate
 
@@ -110,6 +117,11 @@ def run_simulate(args: argparse.Namespace) -> int:
             raise CommandError(
                 "the pictures need matplotlib: pip install 'penedge[plot]' (or --no-pictures)"
             ) from None
+    if args.html and not args.check:
+        try:
+            import plotly  # noqa: F401
+        except ImportError:
+            raise CommandError("--html needs plotly: pip install 'penedge[html]'") from None
     show = progress.wanted(args.quiet or args.json)
     model = pm.read_model(path)
     bar = ProgressBar(sys.stderr, f"{PROG} simulate: generating", unit="planes") if show else None
@@ -128,15 +140,13 @@ def run_simulate(args: argparse.Namespace) -> int:
         engines.simulation_class()
     except engines.EngineMissingError as e:
         raise CommandError(str(e)) from None
-    folder.mkdir(parents=True, exist_ok=True)
     status = StatusLine(sys.stderr) if show else None
-    series = None
-    if not args.no_series:
-        from penedge.model.series import Series
-
-        series = Series(folder / OUTPUT_NAMES["series"], speed=model.results.moved)
+    series: Any = None
+    frames: list[tuple[float, Any, Any]] = []
 
     def frame(engine: Any, displacement: Any) -> None:
+        if args.html:
+            frames.append((engine.time, engine.system(), displacement))
         if series is not None:
             series.write(
                 engine.time,
@@ -151,8 +161,14 @@ def run_simulate(args: argparse.Namespace) -> int:
             status.show(progress_text(engine, stage, done, total))
 
     start = time.perf_counter()
+    # the engine is built (and refuses a bad time step, say) before anything is written
+    runner = Runner(setup, engine_factory, progress=report, frame=frame)
+    folder.mkdir(parents=True, exist_ok=True)
+    if not args.no_series:
+        from penedge.model.series import Series
+
+        series = Series(folder / OUTPUT_NAMES["series"], speed=model.results.moving)
     try:
-        runner = Runner(setup, engine_factory, progress=report, frame=frame)
         outcome = runner.run()
     finally:
         if status is not None:
@@ -160,12 +176,27 @@ def run_simulate(args: argparse.Namespace) -> int:
     seconds = time.perf_counter() - start
     with progress.activity(show, f"{PROG} simulate: writing"):
         written = write_results(folder, setup, runner, outcome, args.no_pictures, series)
+        if frames:
+            from penedge.pictures.simulation import write_steps_html
+
+            html = folder / OUTPUT_NAMES["html"]
+            text = io.StringIO()
+            write_steps_html(frames, text, title=model.title or None)
+            write_via_temp(html, True, lambda h: h.write(text.getvalue().encode()))
+            written.append(str(html))
     summary = run_summary(path, setup, outcome, seconds, written)
     write_summary_json(folder, summary)
     print_summary(args, summary, format_run(summary))
     if outcome.interrupted:
         print(f"{PROG} simulate: interrupted; the results so far are written", file=sys.stderr)
         return 130
+    if outcome.error is not None:
+        print(
+            f"{PROG}: error: the run stopped at step {outcome.steps}: {outcome.error} "
+            "(the results so far are written)",
+            file=sys.stderr,
+        )
+        return 1
     return 0
 
 
@@ -252,6 +283,7 @@ def run_summary(
             "time": s.time,
             "ratio": s.ratio,
             "converged": s.converged,
+            "stopped": s.stopped,
         }
         if s.safety is not None:
             f = s.safety
@@ -261,6 +293,7 @@ def run_summary(
                 "stable": f.stable,
                 "failing": f.failing,
                 "failing_blocks": f.failing_blocks,
+                "from_equilibrium": f.in_equilibrium,
                 "trials": [t.__dict__ for t in f.trials],
             }
         stages.append(entry)
@@ -270,6 +303,7 @@ def run_summary(
             "stages": stages,
             "stable": outcome.stable,
             "interrupted": outcome.interrupted,
+            "error": outcome.error,
             "steps": outcome.steps,
             "time": outcome.time,
             "ratio": outcome.ratio,
@@ -287,6 +321,10 @@ def run_summary(
 
 def stage_text(stage: dict[str, Any]) -> str:
     text = f"{stage['name']} {stage['kind']}"
+    if stage["stopped"] == "interrupted":
+        return f"{text}: interrupted after {stage['steps']:,} steps (ratio {stage['ratio']:.1e})"
+    if stage["stopped"] == "error":
+        return f"{text}: stopped by the engine after {stage['steps']:,} steps"
     if stage["kind"] == "solve":
         if stage["converged"]:
             return (
@@ -300,6 +338,15 @@ def stage_text(stage: dict[str, Any]) -> str:
     if stage["steps"]:
         return f"{text}: {stage['steps']:,} steps"
     return text
+
+
+def result_text(summary: dict[str, Any]) -> str:
+    """``stable``, ``NOT stable``, ``interrupted`` or ``stopped by an error``."""
+    if summary["interrupted"]:
+        return "interrupted"
+    if summary["error"] is not None:
+        return "stopped by an error (below)"
+    return "stable" if summary["stable"] else "NOT stable"
 
 
 def format_run(summary: dict[str, Any]) -> str:
@@ -317,12 +364,7 @@ def format_run(summary: dict[str, Any]) -> str:
         f"{PROG} simulate {summary['model']}{title}",
         row("blocks", blocks_text(summary)),
         row("stages", "; ".join(stage_text(s) for s in summary["stages"])),
-        row(
-            "result",
-            "interrupted"
-            if summary["interrupted"]
-            else ("stable" if summary["stable"] else "NOT stable"),
-        ),
+        row("result", result_text(summary)),
         row("moved", moved_text),
         row(
             "largest displacement",
@@ -339,6 +381,10 @@ def format_run(summary: dict[str, Any]) -> str:
                     "factor of safety", f"{f['bound']} {f['factor']:.2f} (failing blocks: {blocks})"
                 )
             )
+            if not f["from_equilibrium"]:
+                lines.append(
+                    row("", "from a state NOT in equilibrium: solve first (docs/models.md)")
+                )
     if summary["written"]:
         lines.append(row("written", ", ".join(summary["written"])))
     return "\n".join(lines)
@@ -360,7 +406,7 @@ def write_results(
     write_via_temp(history, True, lambda h: h.write(buffer.getvalue().encode()))
     written.append(str(history))
     if not no_pictures:
-        from penedge.pictures.simulation import save_displacement, save_history
+        from penedge.pictures.simulation import save_displacement, save_failing, save_history
 
         title = setup.model.title or None
         png = folder / OUTPUT_NAMES["history_png"]
@@ -380,6 +426,16 @@ def write_results(
 
         write_via_temp(picture, True, displacement_png)
         written.append(str(picture))
+        safety = outcome.safety
+        if safety is not None and safety.failing_blocks:
+            failing = folder / OUTPUT_NAMES["failing"]
+            label = f"failing at F = {safety.failing:.3f} (factor of safety {safety.factor:.2f})"
+
+            def failing_png(handle: IO[bytes]) -> None:
+                save_failing(final, safety.failing_blocks, handle, title=label)
+
+            write_via_temp(failing, True, failing_png)
+            written.append(str(failing))
     if series is not None and series.entries:
         written.append(str(series.index))
     if series is not None and series.contact_entries:

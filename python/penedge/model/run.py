@@ -5,7 +5,10 @@ blocks that moved, the largest displacement, the factor of safety).
 
 The runner steps in chunks of ``[results].history_every`` steps, so that progress, history
 points and Ctrl-C come between chunks: an interrupted run stops after the current chunk
-and keeps its outcome so far (``Outcome.interrupted``). The engine is anything with the
+and keeps its outcome so far (``Outcome.interrupted``). A run the engine stops with an
+error (two blocks overlapping deeper than the detection gap, a NaN) keeps its outcome so
+far too, with the error (``Outcome.error``); in a factor-of-safety trial such an error
+counts as a failure. The engine is anything with the
 interface of :class:`penedge.model.engine.Engine`.
 """
 
@@ -18,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from penedge._core import PenedgeError
 from penedge.model.check import apply_boundary
 from penedge.model.schema import JointProperties, Stage
 
@@ -60,7 +64,8 @@ class Trial:
     steps: int
     ratio: float
     speed: float  # m/s, the largest speed of a free block at the end
-    moved: list[int]  # blocks that moved more than the threshold in the trial
+    moved: list[int]  # free blocks that moved more than the threshold, or still move faster
+    # than the stage's velocity, at the end of the trial
 
 
 @dataclass
@@ -72,6 +77,8 @@ class SafetyFactor:
     failing: float | None  # ... and smallest failing factor
     failing_blocks: list[int]
     trials: list[Trial]
+    start_ratio: float = 0.0  # the unbalanced-force ratio of the state the trials start from
+    in_equilibrium: bool = True  # whether that state was below the equilibrium ratio
 
     @property
     def bounded(self) -> str:
@@ -94,6 +101,7 @@ class StageResult:
     ratio: float
     converged: bool | None = None  # solve stages
     safety: SafetyFactor | None = None
+    stopped: str | None = None  # "interrupted" or the engine's error, if the stage was cut short
 
 
 @dataclass
@@ -111,13 +119,14 @@ class Outcome:
     time: float
     ratio: float
     target: float = 1e-5  # the model's equilibrium ratio ([mechanics].ratio)
+    error: str | None = None  # the engine's error that stopped the run
 
     @property
     def stable(self) -> bool:
         """Every solve stage reached equilibrium (a run without one: the final ratio is
-        below the model's equilibrium ratio); False if interrupted."""
+        below the model's equilibrium ratio); False if interrupted or stopped by an error."""
         solves = [s.converged for s in self.stages if s.kind == "solve"]
-        if self.interrupted:
+        if self.interrupted or self.error is not None:
             return False
         return all(solves) if solves else bool(self.ratio <= self.target)
 
@@ -183,17 +192,34 @@ class Runner:
         interrupted = False
         self.record("start")
         self.write_frame()
-        try:
-            for index, stage in enumerate(self.model.stages):
+        error = None
+        for index, stage in enumerate(self.model.stages):
+            start = (self.engine.steps, self.engine.time)
+            try:
                 results.append(self.run_stage(index, stage))
                 self.write_frame()
-        except KeyboardInterrupt:
-            interrupted = True
-            self.record("interrupted")
-            self.write_frame()
-        return self.outcome(results, interrupted)
+            except (KeyboardInterrupt, PenedgeError) as e:
+                interrupted = isinstance(e, KeyboardInterrupt)
+                error = None if interrupted else str(e)
+                e_ = self.engine
+                results.append(
+                    StageResult(
+                        stage.name,
+                        stage.kind,
+                        e_.steps - start[0],
+                        e_.time - start[1],
+                        e_.ratio,
+                        stopped="interrupted" if interrupted else "error",
+                    )
+                )
+                self.record("interrupted" if interrupted else "error")
+                self.write_frame()
+                break
+        return self.outcome(results, interrupted, error)
 
-    def outcome(self, results: list[StageResult], interrupted: bool) -> Outcome:
+    def outcome(
+        self, results: list[StageResult], interrupted: bool, error: str | None = None
+    ) -> Outcome:
         e = self.engine
         displacement = e.positions() - self.reference
         threshold = self.model.results.moved
@@ -210,6 +236,7 @@ class Runner:
             time=e.time,
             ratio=e.ratio,
             target=self.model.mechanics.ratio,
+            error=error,
         )
         return out
 
@@ -265,6 +292,8 @@ class Runner:
                 self.report(stage, done, total)
         elif stage.kind == "properties":
             names = stage.sets or tuple(self.model.set_names)
+            if not stage.sets:  # every set, and the contacts of no set
+                e.default = merge(e.default, stage.changes)
             changed = {name: merge(e.properties[name], stage.changes) for name in names}
             e.apply_properties(changed)
         elif stage.kind == "boundary":
@@ -342,10 +371,16 @@ class Runner:
                 e.default = default.reduced(factor)
             e.apply_properties({n: p.reduced(factor) for n, p in original.items()})
             before = e.positions()
-            converged = self.solve(stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e)
-            speed = float(np.linalg.norm(e.velocities()[free], axis=1).max())
-            failed = not converged and speed > stage.velocity
-            moved = np.flatnonzero(np.linalg.norm(e.positions() - before, axis=1) > threshold)
+            try:
+                converged = self.solve(stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e)
+                broke = False
+            except PenedgeError:  # blocks driven into each other: the model is failing
+                converged, broke = False, True
+            speeds = np.linalg.norm(e.velocities(), axis=1)
+            speed = float(speeds[free].max())
+            failed = broke or (not converged and speed > stage.velocity)
+            shifted = np.linalg.norm(e.positions() - before, axis=1) > threshold
+            moved = np.flatnonzero(free & (shifted | (speeds > stage.velocity)))
             t = Trial(factor, failed, e.steps, e.ratio, speed, moved.tolist())
             trials.append(t)
             if self.progress is not None:
@@ -384,6 +419,8 @@ class Runner:
                     stable = t
         factor = stable.factor if stable is not None else (failing.factor if failing else 1.0)
         return SafetyFactor(
+            start_ratio=self.engine.ratio,
+            in_equilibrium=bool(self.engine.ratio <= stage.ratio),
             factor=factor,
             stable=None if stable is None else stable.factor,
             failing=None if failing is None else failing.factor,

@@ -241,6 +241,7 @@ class Results:
     history_every: int = 10  # steps between history points
     frame_every: int = 0  # steps between ParaView frames (0: the end of each stage only)
     moved: float = 1e-3  # m: a block moved when its displacement exceeds this
+    moving: float = 1e-4  # m/s: a block is moving when its speed exceeds this
 
 
 @dataclass
@@ -317,7 +318,9 @@ def parse(data: Any) -> Model:
     model.support = [parse_support(t, regions) for t in top.tables("support")]
     if top.has("seismic"):
         model.seismic = parse_seismic(top.table("seismic"))
-    model.stages = parse_stages(top.tables("stages"), set_names, regions, mechanics)
+    model.stages = parse_stages(
+        top.tables("stages"), set_names, regions, mechanics, model.results.moving
+    )
     top.done()
     return model
 
@@ -544,6 +547,7 @@ def parse_results(t: Table) -> Results:
         history_every=t.integer("history_every", 10, minimum=1),
         frame_every=t.integer("frame_every", 0),
         moved=t.number("moved", 1e-3, above=0),
+        moving=t.number("moving", 1e-4, above=0),
     )
     t.done()
     return results
@@ -702,7 +706,11 @@ def stage_sets(t: Table, set_names: list[str]) -> tuple[str, ...]:
 
 
 def parse_stage(
-    t: Table, set_names: list[str], regions: dict[str, Region], mechanics: Mechanics
+    t: Table,
+    set_names: list[str],
+    regions: dict[str, Region],
+    mechanics: Mechanics,
+    moving: float,
 ) -> Stage:
     kind = t.text("type", choices=STAGE_KINDS)
     name = t.text("name", t.path)
@@ -723,7 +731,7 @@ def parse_stage(
         if not changes:
             raise ModelError(t.path, f"changes nothing: give some of {', '.join(PROPERTY_FIELDS)}")
         sub = Table({k: v for k, v in t.data.items() if k in PROPERTY_FIELDS}, t.path)
-        stage = Stage(name, kind, sets=sets, changes=parse_property_values(sub, mechanics_base()))
+        stage = Stage(name, kind, sets=sets, changes=parse_property_values(sub, any_base()))
         t.read.update(PROPERTY_FIELDS)
     elif kind == "excavate":
         stage = Stage(
@@ -751,7 +759,7 @@ def parse_stage(
             sets=stage_sets(t, set_names),
             ratio=t.number("ratio", mechanics.ratio, above=0, below=1),
             max_steps=t.integer("max_steps", mechanics.max_steps, minimum=1),
-            velocity=t.number("velocity", 1e-4, above=0),
+            velocity=t.number("velocity", moving, above=0),
             tolerance=t.number("tolerance", 0.01, above=0),
             low=t.number("low", 0.1, above=0),
             high=t.number("high", 10.0, above=0),
@@ -762,14 +770,18 @@ def parse_stage(
     return stage
 
 
-def mechanics_base() -> JointProperties:
+def any_base() -> JointProperties:
     """A placeholder base, so that a properties stage may give any subset of fields."""
     return JointProperties(kn=1.0, ks=1.0, friction=0.0)
 
 
 def parse_stages(
-    tables: list[Table], set_names: list[str], regions: dict[str, Region], mechanics: Mechanics
+    tables: list[Table],
+    set_names: list[str],
+    regions: dict[str, Region],
+    mechanics: Mechanics,
+    moving: float,
 ) -> list[Stage]:
     if not tables:
         return [Stage("stages[0]", "solve", ratio=mechanics.ratio, max_steps=mechanics.max_steps)]
-    return [parse_stage(t, set_names, regions, mechanics) for t in tables]
+    return [parse_stage(t, set_names, regions, mechanics, moving) for t in tables]

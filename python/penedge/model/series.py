@@ -152,6 +152,9 @@ def write_text_atomically(path: Path, text: str) -> None:
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as handle:
             handle.write(text)
+        umask = os.umask(0)
+        os.umask(umask)
+        Path(tmp).chmod(0o666 & ~umask)  # mkstemp makes it private; a frame is an ordinary file
         Path(tmp).replace(path)
     finally:
         Path(tmp).unlink(missing_ok=True)
