@@ -17,8 +17,11 @@
 //! * `length`: the length below which a penetration edge "has no length" (paper Table 1),
 //!   and the distance within which a point counts as lying on a plane or two points as one.
 //!   It must be at least `10 * gap`: a penetration edge born of the gap widening is about
-//!   `gap / sin(angle)` long, and must read as a point for all but grazing angles.
-//!   Block validation (planarity, repeated vertices) uses it too.
+//!   `gap / sin(angle)` long, and reads as a point by its length for most angles. Over the
+//!   scale it also gives the one angle of "lies in": an edge lies in a face (or along an
+//!   edge) when the sine of their angle is at most the absolute length threshold over the scale
+//!   ([`Thresholds::sine`]), and the gap's stub of an edge that does not is a point however
+//!   long. Block validation (planarity, repeated vertices) uses it too.
 //!
 //! A floor keeps the thresholds above the rounding of the coordinates themselves: blocks far
 //! from the origin (mine-grid coordinates, x ~ 5e5, y ~ 4e6) carry a rounding error of about
@@ -106,9 +109,11 @@ impl Tolerance {
     /// `magnitude` (see the rounding floor in the module docs).
     pub fn at_scale(&self, scale: f64, magnitude: f64) -> Thresholds {
         let gap = (self.gap * scale).max(ROUNDING_FLOOR * magnitude);
+        let length = (self.length * scale).max(10.0 * gap);
         Thresholds {
             gap,
-            length: (self.length * scale).max(10.0 * gap),
+            length,
+            sine: lies_in_sine(length, scale),
         }
     }
 }
@@ -131,6 +136,18 @@ fn check_range(name: &'static str, value: f64, max: f64) -> Result<(), Tolerance
 /// 16 units of rounding (`2^-52` each) of a coordinate.
 pub const ROUNDING_FLOOR: f64 = 16.0 * f64::EPSILON;
 
+/// The sine of the largest angle at which an edge lies in a face, or along an edge, for the
+/// absolute length threshold `length` at the length scale `scale`: `length / scale` (at
+/// most 1), so that over the scale such an edge departs from the face's plane (or from the
+/// other edge's line) by at most the length threshold (docs/tolerance.md, "Lies in").
+pub fn lies_in_sine(length: f64, scale: f64) -> f64 {
+    if scale > 0.0 {
+        (length / scale).min(1.0)
+    } else {
+        1.0
+    }
+}
+
 /// Absolute thresholds (lengths) for one pair or one block.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Thresholds {
@@ -138,6 +155,9 @@ pub struct Thresholds {
     pub gap: f64,
     /// Absolute length threshold.
     pub length: f64,
+    /// The sine of the largest angle at which an edge lies in a face or along an edge
+    /// ([`lies_in_sine`]: the length threshold over the scale).
+    pub sine: f64,
 }
 
 #[cfg(test)]

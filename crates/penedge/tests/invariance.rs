@@ -11,9 +11,10 @@ use penedge::generation::rng::SplitMix64;
 use penedge::geometry::DVec3;
 use penedge::system::count_types;
 use penedge::system::{paper_example, PaperExample};
-use penedge::{BlockSystem, Detector, PairResult, Tolerance};
+use penedge::{BlockSystem, ContactType, ConvexBlock, Detector, Feature, PairResult, Tolerance};
 use support::{
-    answer, differences, jointed, pairs_of_every_type, rebuilt, rotation, sheared, transformed,
+    answer, dev_cases, differences, jointed, lies_in_sine, pairs_of_every_type, rebuilt, rotation,
+    sheared, transformed,
 };
 
 /// A map of every vertex.
@@ -156,4 +157,85 @@ fn blocks_rebuilt_in_the_moved_frame_are_invariant() {
             );
         }
     }
+}
+
+/// The sine of the angle between edge `ea` of `a` and edge `eb` of `b`.
+fn edges_sine(a: &ConvexBlock, ea: u32, b: &ConvexBlock, eb: u32) -> f64 {
+    let direction = |block: &ConvexBlock, e: u32| {
+        let [p, q] = block.edges()[e as usize].vertices;
+        block.vertices()[q as usize] - block.vertices()[p as usize]
+    };
+    let (u, v) = (direction(a, ea), direction(b, eb));
+    u.cross(v).length() / (u.length() * v.length())
+}
+
+/// The exact dev cases that touch, moved by exact translations (every coordinate stays
+/// representable, so the geometry is the same) to mine-grid coordinates up to 1e7, at their
+/// own size (about 1 to 20 m) and scaled by 2^-6 (2 to 30 cm), grazing families included: the
+/// same types and features as at the origin. The one change the rule allows (docs/tolerance.md,
+/// "Lies in"): two edges crossing at an angle whose sine is below the rule's sine at the new
+/// magnitude (the rounding floor's) lie along each other there, a superposition.
+#[test]
+fn touching_dev_cases_are_invariant_under_exact_translation() {
+    let tol = Tolerance::default();
+    let mut det = Detector::new(tol);
+    let offsets = [
+        DVec3::new(512345.5, 4012345.25, 1234.125),
+        DVec3::new(-9999999.5, 9999999.75, 3e6),
+        DVec3::new(1e7, 1e7, -1e7),
+    ];
+    let (mut compared, mut inexact, mut along) = (0, 0, 0);
+    for case in dev_cases::cases() {
+        let id = case["id"].as_str().unwrap();
+        if ["separated", "penetrating"].contains(&case["expected"].as_str().unwrap()) {
+            continue;
+        }
+        for scale in [1.0, 2f64.powi(-6)] {
+            let mut at = |offset: DVec3| {
+                let exact = [&case["a"], &case["b"]].iter().all(|v| {
+                    dev_cases::vertices(v)
+                        .iter()
+                        .all(|&p| (p * scale + offset) - offset == p * scale)
+                });
+                exact.then(|| {
+                    let f = |p: DVec3| p * scale + offset;
+                    let (a, b) = (
+                        dev_cases::block_moved(&case["a"], f),
+                        dev_cases::block_moved(&case["b"], f),
+                    );
+                    (det.detect(&a, &b), a, b)
+                })
+            };
+            let (expected, ..) = at(DVec3::ZERO).unwrap();
+            assert_eq!(expected.name(), case["expected"].as_str().unwrap(), "{id}");
+            for offset in offsets {
+                let Some((got, a, b)) = at(offset) else {
+                    inexact += 1;
+                    continue;
+                };
+                compared += 1;
+                if got == expected {
+                    continue;
+                }
+                // Only a crossing at an angle the rounding floor cannot tell from parallel.
+                let (PairResult::Contact(x), PairResult::Contact(y)) = (expected, got) else {
+                    panic!("{id} x {scale} at {offset}: {expected:?} became {got:?}");
+                };
+                let allowed = match (x.kind, x.feature_a, x.feature_b) {
+                    (ContactType::EdgeEdge, Feature::Edge(ea), Feature::Edge(eb)) => {
+                        y.kind == ContactType::EdgeEdgeSuperposition
+                            && (y.feature_a, y.feature_b) == (x.feature_a, x.feature_b)
+                            && edges_sine(&a, ea, &b, eb) <= lies_in_sine(&tol, &a, &b)
+                    }
+                    _ => false,
+                };
+                assert!(allowed, "{id} x {scale} at {offset}: {x:?} became {y:?}");
+                along += 1;
+            }
+        }
+    }
+    assert!(
+        compared > 500 && along < compared / 50,
+        "{compared} compared, {along} along, {inexact} inexact"
+    );
 }
