@@ -8,6 +8,7 @@ mod support;
 
 use glam::DQuat;
 use penedge::generation::rng::SplitMix64;
+use penedge::generation::{generate, Discontinuity, Domain, JointSet, Orientation, Spec};
 use penedge::geometry::DVec3;
 use penedge::system::count_types;
 use penedge::system::{paper_example, PaperExample};
@@ -238,4 +239,45 @@ fn touching_dev_cases_are_invariant_under_exact_translation() {
         compared > 500 && along < compared / 50,
         "{compared} compared, {along} along, {inexact} inexact"
     );
+}
+
+/// Three joint sets cutting a 20 x 15 x 10 m box with its corner at `corner` (set origins at
+/// the same place relative to it).
+fn far_spec(corner: DVec3) -> Spec {
+    let domain = Domain::cuboid(
+        corner.to_array(),
+        (corner + DVec3::new(20.0, 15.0, 10.0)).to_array(),
+    );
+    let mut spec = Spec::new(domain.unwrap());
+    for (dip, dip_direction, spacing) in [(60.0, 135.0, 1.7), (80.0, 20.0, 2.3), (10.0, 300.0, 1.1)]
+    {
+        let mut set = JointSet::new(Orientation::dip(dip, dip_direction), spacing);
+        set.origin = (corner + DVec3::new(0.25, 0.5, 0.125)).to_array();
+        spec = spec.with(Discontinuity::set(set));
+    }
+    spec
+}
+
+/// A system generated in mine-grid coordinates (the domain and the joint sets placed there,
+/// every coordinate of the spec moved exactly) has the same contacts, types and features as
+/// the same spec at the origin: the cuts far away keep the accuracy the rounding floor
+/// assumes (docs/tolerance.md, "Far from the origin"), with no local origin.
+#[test]
+fn systems_generated_far_from_the_origin_have_the_same_contacts() {
+    let tol = Tolerance::default();
+    let at_origin = generate(&far_spec(DVec3::ZERO)).unwrap().system;
+    let expected = answer(&at_origin.detect(&tol));
+    assert!(at_origin.len() > 500 && expected.0.len() > 5000);
+    for corner in [
+        DVec3::new(512345.5, 4012345.25, 1234.125),
+        DVec3::new(1e7, -1e7, 1e7),
+    ] {
+        let far = generate(&far_spec(corner)).unwrap().system;
+        let got = answer(&far.detect(&tol));
+        assert!(
+            got == expected,
+            "at {corner}: {}",
+            differences(&expected, &got)
+        );
+    }
 }
