@@ -141,6 +141,7 @@ def run_example(args: argparse.Namespace) -> int:
         "title": title,
         "explode": args.explode,
         "colour_by": args.colour_by,
+        "unit": args.unit,
         "max_blocks": args.max_blocks,
         "contacts": found if args.contacts else None,
     }

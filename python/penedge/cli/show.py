@@ -172,6 +172,7 @@ def run_show(args: argparse.Namespace) -> int:
         "title": title,
         "explode": args.explode,
         "colour_by": args.colour_by,
+        "unit": args.unit,
         "max_blocks": args.max_blocks,
         "contacts": found,
     }

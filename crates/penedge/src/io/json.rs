@@ -28,6 +28,8 @@ struct SystemFile {
     frame: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     length: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    unit: Option<String>,
     domain: Vec<BlockFile>,
     sets: Vec<SetRecord>,
     joints: Vec<JointFile>,
@@ -124,9 +126,7 @@ pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
         .map(|(i, j)| record_of(i, j, file.sets.len()))
         .collect::<Result<Vec<_>, _>>()?;
     check_origins(&blocks, domain.len(), joints.len(), file.sets.len())?;
-    Ok(BlockSystem::with_provenance(
-        blocks, domain, joints, file.sets,
-    ))
+    Ok(BlockSystem::with_provenance(blocks, domain, joints, file.sets).with_unit(file.unit))
 }
 
 /// Every face origin points into the domain parts, joint table and sets that the file has.
@@ -171,6 +171,7 @@ fn file_of(system: &BlockSystem) -> SystemFile {
         version: VERSION,
         frame: FRAME.to_string(),
         length,
+        unit: system.unit().map(str::to_string),
         domain,
         sets: system.sets().to_vec(),
         joints: system.joints().iter().enumerate().map(joint_file).collect(),
