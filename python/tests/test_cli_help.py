@@ -63,7 +63,8 @@ def test_each_command_spells_the_shared_options_alike(command, tmp_path):
     for option in ("-q, --quiet", "--json", "-o FILE, --output FILE"):
         assert option in text, option
     drawing = command in ("example", "show")
-    for option in ("--force", "--colour-by {block,volume}", "--explode F", "--max-blocks N"):
+    drawn_by = ("--force", "--colour-by {set,block,volume}", "--unit U", "--explode F")
+    for option in (*drawn_by, "--max-blocks N"):
         assert (option in text) == drawing, option
     assert ("--gap G" in text) == (command != "generate")
 

@@ -551,3 +551,20 @@ def test_too_many_contacts_are_cut_down_to_those_nearest_the_viewer():
     assert legend == [f"{name} ({n})" for name, n in counts.items() if n]  # all, not the drawn
     every = pictures.plot_system(system, contacts=found)
     assert [t.get_text() for t in every.texts] == ["1 m", "N"]  # under 3000: every contact
+
+
+def test_the_spec_unit_labels_the_pictures(tmp_path):
+    system, _ = penedge.generate({**SETS_SPEC, "unit": "ft"})
+    assert system.unit == "ft"
+    assert penedge.generate(SETS_SPEC)[0].unit is None
+    system.write_json(tmp_path / "blocks.json")
+    again = penedge.BlockSystem.read_json(tmp_path / "blocks.json")
+    assert again.unit == "ft"
+    ax = pictures.plot_system(again, explode=0)
+    assert ax.get_xlabel() == "x, east (ft)"
+    assert pictures.plot_system(again, explode=0, unit="yd").get_xlabel() == "x, east (yd)"
+    exploded = [t.get_text() for t in pictures.plot_system(again).texts]
+    assert "2 ft" in exploded
+    with pytest.raises(penedge.SpecError) as info:
+        penedge.generate({**SETS_SPEC, "unit": ""})
+    assert info.value.field == "unit"

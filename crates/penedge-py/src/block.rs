@@ -243,10 +243,13 @@ impl Block {
     /// >>> import numpy as np, penedge
     /// >>> box = penedge.Block.cuboid([0, 0, 0], [2, 1, 1])
     /// >>> quarter = [0, 0, np.sin(np.pi / 4), np.cos(np.pi / 4)]  # 90 degrees about z
-    /// >>> box.rotated(quarter).aabb.round(12).tolist()  # about the centroid (1, 0.5, 0.5)
-    /// [[0.5, -0.5, 0.0], [1.5, 1.5, 1.0]]
-    /// >>> box.rotated([[0, -1, 0], [1, 0, 0], [0, 0, 1]], about=[0, 0, 0]).aabb.round(12).tolist()
-    /// [[-1.0, 0.0, 0.0], [0.0, 2.0, 1.0]]
+    /// >>> box.rotated(quarter).aabb.round(12) + 0.0  # about the centroid (1, 0.5, 0.5)
+    /// array([[ 0.5, -0.5,  0. ],
+    ///        [ 1.5,  1.5,  1. ]])
+    /// >>> turned = box.rotated([[0, -1, 0], [1, 0, 0], [0, 0, 1]], about=[0, 0, 0])
+    /// >>> turned.aabb.round(12) + 0.0  # (+ 0.0: no negative zeros)
+    /// array([[-1.,  0.,  0.],
+    ///        [ 0.,  2.,  1.]])
     #[pyo3(signature = (rotation, about=None))]
     fn rotated(
         &self,

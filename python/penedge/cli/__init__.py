@@ -69,7 +69,8 @@ options every command spells the same way:
   -q/--quiet         print nothing           --gap G      the relative contact gap
   --force            example, show: replace a file at a default name (exampleN.png);
                      a file named on the command line is always replaced
-  --colour-by block|volume, --explode F, --max-blocks N    how pictures draw blocks
+  --colour-by set|block|volume, --unit U, --explode F, --max-blocks N
+                     how pictures draw blocks
 
 exit status:
   0    success

@@ -1,4 +1,4 @@
-"""Pictures: block systems in an exploded view, their contacts coloured by type, and the
+"""Pictures: block systems in an exploded view, their contacts by type, and the
 block volume distribution.
 
 * :func:`plot_system`, :func:`save_picture` (:mod:`penedge.pictures.blocks`): an exploded

@@ -299,7 +299,7 @@ def plot_system(
     >>> len(ax.collections), len(ax.collections[0].get_facecolor())  # 8 cubes, 3 faces seen
     (8, 3)
     >>> ax = plot_system(penedge.paper_example(1), explode=0)
-    >>> ax.get_xlabel(), ax.get_xlim()[0] <= 0 and ax.get_xlim()[1] >= 10
+    >>> ax.get_xlabel(), bool(ax.get_xlim()[0] <= 0 and ax.get_xlim()[1] >= 10)
     ('x, east (m)', True)
     """
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
