@@ -64,7 +64,7 @@ def test_each_command_spells_the_shared_options_alike(command, tmp_path):
     for option in ("-q, --quiet", "--json", output):
         assert option in text, option
     drawing = command in ("example", "show")
-    for option in ("--force", "--colour-by {block,volume}", "--explode F"):
+    for option in ("--force", "--colour-by {set,block,volume}", "--unit U", "--explode F"):
         assert (option in text) == drawing, option
     # The most blocks drawn (example, show) or made (generate).
     assert ("--max-blocks N" in text) == (command not in ("detect", "simulate"))

@@ -133,6 +133,10 @@ impl From<SystemError> for Error {
                 Error::Input("degenerate_plane".into(), e.to_string())
             }
             SystemError::Generation(g) => g.into(),
+            SystemError::Arrays { .. } => Error::Input("arrays".into(), e.to_string()),
+            SystemError::InvalidBlock { ref source, .. } => {
+                Error::Block(variant_name(source), e.to_string())
+            }
         }
     }
 }

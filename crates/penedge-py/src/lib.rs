@@ -54,6 +54,12 @@ mod _core {
     }
 }
 
+/// `n` followed by the noun, singular for 1 and plural otherwise ("1 contact", "2
+/// contacts"), for the `repr`s.
+pub fn counted(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
 fn add_constants(m: &Bound<'_, PyModule>) -> PyResult<()> {
     use crate::classify::{contact_type_names, FEATURE_KINDS, PENETRATING, SEPARATED};
     use pyo3::types::PyTuple;

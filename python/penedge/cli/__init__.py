@@ -72,7 +72,8 @@ options every command spells the same way:
   -q/--quiet         print nothing           --gap G      the relative contact gap
   --force            example, show: replace a file at a default name (exampleN.png);
                      a file named on the command line is always replaced
-  --colour-by block|volume, --explode F, --max-blocks N    how pictures draw blocks
+  --colour-by set|block|volume, --unit U, --explode F, --max-blocks N
+                     how pictures draw blocks
                      (generate --max-blocks N: the most blocks a run may make)
   --html             example, show: the interactive view at a default name;
                      --html-out FILE names it

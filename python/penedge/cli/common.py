@@ -104,16 +104,26 @@ def add_gap(parser: argparse.ArgumentParser) -> None:
 
 
 def add_picture_options(parser: argparse.ArgumentParser) -> None:
-    """``--colour-by``, ``--explode``, ``--max-blocks``: how blocks are drawn."""
+    """``--colour-by``, ``--unit``, ``--explode``, ``--max-blocks``: how blocks are
+    drawn."""
     from penedge.pictures.scene import DEFAULT_MAX_BLOCKS
 
     parser.add_argument(
         "--colour-by",
         "--color-by",
         dest="colour_by",
-        choices=("block", "volume"),
-        default="block",
-        help="colour each block its own colour (default), or by its volume with a colour bar",
+        choices=("set", "block", "volume"),
+        default=None,
+        help="colour each block by its joint set (the set of most of its face area; the "
+        "default for a system generated with joint sets), its own colour (the default "
+        "otherwise), or by its volume with a colour bar",
+    )
+    parser.add_argument(
+        "--unit",
+        default=None,
+        metavar="U",
+        help="the model's length unit, for the axes and the scale bar (default: the spec's "
+        "`unit`, kept in the block file, else m)",
     )
     parser.add_argument(
         "--explode",

@@ -47,8 +47,8 @@ worked example:
   example3.html in a web browser to turn and zoom it (it needs no network).
 
 more:
-  penedge example 3 --contacts       a second panel (and the HTML view) with the contacts,
-                                     coloured by type
+  penedge example 3 --contacts       a panel per contact type (and the HTML view) with
+                                     the contacts
   penedge example 3 --colour-by volume
                                      blocks coloured by volume, with a colour bar
   penedge example 2 -o ex2.svg       the picture as SVG (.png, .svg or .pdf)
@@ -97,7 +97,7 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
     example.add_argument(
         "--contacts",
         action="store_true",
-        help="draw the contacts too (points, segments, polygons coloured by type)",
+        help="draw the contacts too: points, segments, polygons, a panel per type",
     )
     add_gap(example)
     add_picture_options(example)
@@ -145,6 +145,7 @@ def run_example(args: argparse.Namespace) -> int:
         "title": title,
         "explode": args.explode,
         "colour_by": args.colour_by,
+        "unit": args.unit,
         "max_blocks": args.max_blocks,
         "contacts": found if args.contacts else None,
     }

@@ -46,8 +46,8 @@ worked example:
   picture: blocks.png
   interactive view: blocks.html
 
-  blocks.png shows the blocks in an exploded perspective view and, beside them, the
-  contacts coloured by type; open blocks.html in a web browser to turn, zoom, hide
+  blocks.png shows the blocks in an exploded perspective view and, beside them, one
+  panel per contact type; open blocks.html in a web browser to turn, zoom, hide
   groups of blocks or contact types, and hover for block ids and contact types.
 
 more:
@@ -100,7 +100,7 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
     show.add_argument(
         "--contacts",
         action="store_true",
-        help="find the contacts and draw them, coloured by type (a second panel of the "
+        help="find the contacts and draw them (a small panel per contact type in the "
         "picture; toggleable traces of the HTML view); print their counts",
     )
     add_gap(show)
@@ -165,6 +165,7 @@ def run_show(args: argparse.Namespace) -> int:
         "title": title,
         "explode": args.explode,
         "colour_by": args.colour_by,
+        "unit": args.unit,
         "max_blocks": args.max_blocks,
         "contacts": found,
     }

@@ -155,9 +155,9 @@ impl ContactTracker {
 
     fn __repr__(&self) -> String {
         format!(
-            "ContactTracker({} blocks, {} contacts)",
-            self.inner.len(),
-            self.inner.contacts().contacts.len()
+            "ContactTracker({}, {})",
+            crate::counted(self.inner.len(), "block", "blocks"),
+            crate::counted(self.inner.contacts().contacts.len(), "contact", "contacts")
         )
     }
 }
@@ -165,6 +165,6 @@ impl ContactTracker {
 fn contacts_of(py: Python<'_>, tracker: &system::ContactTracker) -> PyResult<Py<SystemContacts>> {
     Py::new(
         py,
-        SystemContacts::from_core(py, tracker.contacts().clone(), None)?,
+        SystemContacts::from_core(py, tracker.contacts().clone(), None, None)?,
     )
 }

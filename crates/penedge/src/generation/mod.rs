@@ -165,7 +165,8 @@ pub fn generate_with(
         ..report::summarise(&blocks, spec.domain.volume(), &plan, &counts, slivers)
     };
     let domain = spec.domain.parts().to_vec();
-    let system = BlockSystem::with_provenance(blocks, domain, plan.records, plan.sets);
+    let system = BlockSystem::with_provenance(blocks, domain, plan.records, plan.sets)
+        .with_unit(spec.unit.clone());
     Ok(Generated { system, report })
 }
 
