@@ -192,6 +192,8 @@ def plot_system(
         ax = Figure(figsize=(7.0, 7.0), layout="constrained").add_subplot(projection="3d")
     scene = build_scene(system, explode, max_blocks)
     base, norm = _base_colors(scene.volumes, color_by, colors)
+    if colors is None and color_by == "block":
+        base = base[scene.body_first]  # the parts of a concave block in one colour
     ghost = contacts is not None
     if ghost:
         faces = np.arange(scene.n_faces)
