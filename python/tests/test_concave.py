@@ -85,3 +85,24 @@ def test_json_keeps_the_bodies(tmp_path):
     back = penedge.BlockSystem.from_json(system.to_json())
     assert back.body_ids.tolist() == [2, 2, 2]
     assert len(back.internal_faces()["areas"]) == 2
+
+
+def test_pictures_draw_a_concave_block_as_one_block():
+    from penedge.pictures.scene import build_scene
+
+    system = penedge.BlockSystem([*u_block(), cuboid([5, 0, 0], [6, 1, 1])])
+    concave = system.with_bodies([0, 0, 0, 1])
+    a = concave.arrays()
+    assert a.body_ids.tolist() == [0, 0, 0, 1]
+    # The arms' bottoms lie on the slab: inside the block. The slab's top is covered only
+    # under the arms: a real face (the notch's floor).
+    assert a.face_internal.sum() == 2
+    assert a.face_internal[a.face_block == 0].sum() == 0
+    scene = build_scene(concave, explode=0.5)
+    assert scene.n_faces == 4 * 6 - 2
+    assert scene.body_first.tolist() == [0, 0, 0, 3]
+    # The parts move together: one offset for the whole U-block.
+    assert np.allclose(scene.offsets[:3], scene.offsets[0])
+    separate = build_scene(system, explode=0.5)
+    assert separate.n_faces == 4 * 6
+    assert not np.allclose(separate.offsets[1], separate.offsets[0])
