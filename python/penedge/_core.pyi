@@ -161,7 +161,11 @@ class PairContact:
     def table1_counts(self) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]: ...
 
 def detect_pair(
-    a: Block, b: Block, gap: float = 1e-12, length: float | None = None
+    a: Block,
+    b: Block,
+    gap: float = 1e-12,
+    length: float | None = None,
+    absolute_gap: float | None = None,
 ) -> PairContact: ...
 
 class _UpdateReport(TypedDict):
@@ -178,6 +182,7 @@ class ContactTracker:
         skin: float = 0.0,
         gap: float = 1e-12,
         length: float | None = None,
+        absolute_gap: float | None = None,
     ) -> Self: ...
     @property
     def contacts(self) -> SystemContacts: ...
@@ -262,6 +267,7 @@ class BlockSystem:
         geometry: bool = False,
         progress: Callable[[int, int], object] | None = None,
         threads: int | None = None,
+        absolute_gap: float | None = None,
     ) -> SystemContacts: ...
     def arrays(self) -> BlockArrays: ...
     def statistics(self) -> _Statistics | None: ...
