@@ -171,7 +171,11 @@ class PairContact:
     def table1_counts(self) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]: ...
 
 def detect_pair(
-    a: Block, b: Block, gap: float = 1e-12, length: float | None = None
+    a: Block,
+    b: Block,
+    gap: float = 1e-12,
+    length: float | None = None,
+    absolute_gap: float | None = None,
 ) -> PairContact: ...
 
 class _Overlap(TypedDict):
@@ -279,6 +283,7 @@ class ContactTracker:
         skin: float = 0.0,
         gap: float = 1e-12,
         length: float | None = None,
+        absolute_gap: float | None = None,
     ) -> Self: ...
     @property
     def contacts(self) -> SystemContacts: ...
@@ -408,6 +413,7 @@ class BlockSystem:
         geometry: bool = False,
         progress: Callable[[int, int], object] | None = None,
         threads: int | None = None,
+        absolute_gap: float | None = None,
     ) -> SystemContacts: ...
     def with_bodies(
         self, body_ids: Sequence[int], gap: float = 1e-12, length: float | None = None

@@ -153,6 +153,27 @@ def test_bad_tolerances(gap, length, kind):
 
 
 @pytest.mark.parametrize(
+    ("options", "kind"),
+    [
+        ({"absolute_gap": -1e-3}, "absolute_gap"),
+        ({"absolute_gap": math.nan}, "absolute_gap"),
+        ({"absolute_gap": math.inf}, "absolute_gap"),
+        ({"absolute_gap": 1e-3, "gap": 1e-6}, "both_gaps"),
+    ],
+)
+def test_bad_absolute_gaps(options, kind):
+    a, b = shapes.pair("face-face")
+    with pytest.raises(penedge.ToleranceError) as info:
+        penedge.detect_pair(a, b, **options)
+    assert info.value.kind == kind
+    system = penedge.paper_example(1)
+    with pytest.raises(penedge.ToleranceError):
+        system.detect(**options)
+    with pytest.raises(penedge.ToleranceError):
+        penedge.ContactTracker(system, **options)
+
+
+@pytest.mark.parametrize(
     "call",
     [
         lambda: penedge.detect_pair(CUBE, "block"),
