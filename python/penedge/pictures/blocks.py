@@ -361,7 +361,8 @@ def plot_system(
             shown_blocks=scene.shown,
             view=_view_direction(elev, azim),
             types=contact_types,
-            legend=legend,
+            # A panel of one type coloured by type says so in its title: no legend.
+            legend=legend and (by_set or contact_types is None),
             sets=scene.contact_sets(contacts) if by_set else None,
             set_names=scene.set_names,
         )
