@@ -49,8 +49,10 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 ///     ``blocks``, ``joint_planes``, ``splits``, ``partial_cuts_skipped`` (finite joints that
 ///     end inside a block, which is left whole), ``partial_cuts_by_entry``,
 ///     ``set_planes_outside``, ``retried_cuts``, ``domain_volume``, ``block_volume``,
-///     ``volume_error`` and ``slivers`` (``policy``, ``min_volume``, ``min_thickness``,
-///     ``count``, ``volume``, ``kept_ids``).
+///     ``volume_error``, ``slivers`` (``policy``, ``min_volume``, ``min_thickness``,
+///     ``count``, ``volume``, ``kept_ids``) and ``tiny`` (blocks below 1e-3 of the median
+///     block volume, slivers or not: ``median_volume``, ``threshold``, ``count``,
+///     ``smallest``).
 ///
 /// Raises
 /// ------

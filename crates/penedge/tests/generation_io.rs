@@ -81,6 +81,31 @@ fn json_round_trip_is_lossless() {
 }
 
 #[test]
+fn the_spec_unit_goes_into_the_system_and_its_block_file() {
+    let text = |unit: &str| {
+        format!(
+            "unit = {unit}\n[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [3, 3, 3]\n\
+             [[joints]]\ntype = \"plane\"\npoint = [1, 1, 1]\nnormal = [0, 0, 1]\n"
+        )
+    };
+    let spec = penedge::io::spec::parse_toml(&text("\" ft \"")).unwrap();
+    assert_eq!(spec.unit.as_deref(), Some("ft"));
+    let system = generate(&spec).unwrap().system;
+    assert_eq!(system.unit(), Some("ft"));
+    let file = json::to_json_string(&system);
+    assert!(file.contains("\"unit\":\"ft\""), "{file}");
+    assert_eq!(json::from_json_str(&file).unwrap().unit(), Some("ft"));
+    // Without a unit: none in the system, none in the file (older files read as before).
+    let plain = generate(&Spec { unit: None, ..spec }).unwrap().system;
+    assert_eq!(plain.unit(), None);
+    assert!(!json::to_json_string(&plain).contains("\"unit\""));
+    for bad in ["\"\"", "\"a very long name of a unit\"", "\"m\\u0007\""] {
+        let err = penedge::io::spec::parse_toml(&text(bad)).unwrap_err();
+        assert_eq!(err.field, "unit", "{bad}: {err}");
+    }
+}
+
+#[test]
 fn bad_block_files_are_named() {
     let system = mixed_system();
     let text = json::to_json_string(&system);

@@ -81,13 +81,14 @@ fn a_block_slides_down_a_slope_steeper_than_its_friction_angle() {
         let (t1, x1) = (sim.time(), sim.bodies().poses()[1].translation);
         let v1 = ((before + sim.bodies().velocities()[1]) * 0.5).dot(d);
         assert!(v1 > 0.0);
-        let mut checked = 0;
+        let (mut checked, mut worst) = (0, 0.0f64);
         while sim.time() < 0.6 {
             sim.step().unwrap();
             let t = sim.time() - t1;
             let moved = (sim.bodies().poses()[1].translation - x1).dot(d);
             let expected = v1 * t + 0.5 * a * t * t;
             if expected > 100.0 * elastic {
+                worst = worst.max((moved - expected).abs() / expected);
                 assert!(
                     (moved - expected).abs() < 0.01 * expected,
                     "slope {theta_deg}°, t = {t}: moved {moved}, expected {expected}"
@@ -99,6 +100,7 @@ fn a_block_slides_down_a_slope_steeper_than_its_friction_angle() {
             checked > 100,
             "slope {theta_deg}°: window of {checked} steps"
         );
+        println!("slope {theta_deg}°: largest error {worst:.2e} over {checked} steps");
     }
 }
 
@@ -319,6 +321,10 @@ fn a_block_on_a_face_oscillates_with_the_contact_period() {
         assert!(sim.time() < 10.0 * period);
     }
     let measured = (crossings[5] - crossings[0]) / 5.0;
+    println!(
+        "period {measured} vs {period}: {:.2e}",
+        measured / period - 1.0
+    );
     assert!(
         (measured - period).abs() < 0.01 * period,
         "{measured} vs {period}"
@@ -342,6 +348,7 @@ fn an_undamped_bounce_keeps_its_energy() {
     let mut previous = sim.bodies().velocities()[1];
     let mut touched = 0;
     let mut was_touching = false;
+    let mut worst = 0.0f64;
     while sim.time() < 0.6 {
         let z = height(&sim);
         sim.step().unwrap();
@@ -356,11 +363,13 @@ fn an_undamped_bounce_keeps_its_energy() {
             "t = {}: {e} vs {e0}",
             sim.time()
         );
+        worst = worst.max((e - e0).abs() / e0);
         let touching = overlap > 0.0;
         touched += (touching && !was_touching) as u32;
         was_touching = touching;
     }
     assert!(touched >= 2, "{touched} bounces");
+    println!("bounce: {touched} bounces, largest energy error {worst:.2e}");
 }
 
 /// Verification 7: a block hanging from a bonded joint breaks when the load reaches T A;
@@ -395,6 +404,7 @@ fn a_hanging_block_breaks_at_the_tensile_strength() {
     }
     let broke_at = broke_at.expect("the bond broke");
     let expected = tension * area;
+    println!("tension: broke at {broke_at} vs {expected}");
     assert!(
         (broke_at - expected).abs() < 0.01 * expected,
         "{broke_at} vs {expected}"
@@ -452,6 +462,7 @@ fn a_glued_block_breaks_at_the_cohesive_strength_then_slides_on_friction() {
         }
     }
     let broke_at = broke_at.expect("the bond broke");
+    println!("cohesion: first corner at {broke_at} vs {strength}");
     assert!(
         (broke_at - strength).abs() < 0.02 * strength,
         "{broke_at} vs {strength}"
@@ -476,6 +487,7 @@ fn a_glued_block_breaks_at_the_cohesive_strength_then_slides_on_friction() {
     sim.cycle(400).unwrap();
     let a = (sim.bodies().velocities()[1].dot(push) - v0) / (sim.time() - t0);
     let expected = 0.5 * friction / m;
+    println!("residual: acceleration {a} vs {expected}");
     assert!(sim
         .contacts()
         .subs
@@ -521,4 +533,231 @@ fn bad_input_gets_clear_errors() {
     // Messages name the culprit.
     let message = MechanicsError::Friction(95.0).to_string();
     assert!(message.contains("friction") && message.contains("95"));
+}
+
+/// The angle of the rotation from `q0` to `q` (radians).
+fn turned(q0: DQuat, q: DQuat) -> f64 {
+    2.0 * q0.dot(q).abs().min(1.0).acos()
+}
+
+/// A block `b` wide downslope, `h` high (and 0.5 deep) on a 30° slope of friction angle
+/// `phi`, gravity ramped over 0.05 s, run to 0.4 s: how far its downhill bottom edge slid
+/// and how far it turned.
+fn block_on_a_slope(phi: f64, b: f64, h: f64) -> (f64, f64, Simulation, f64) {
+    let theta = 30f64.to_radians();
+    // Downhill along the frame's -y.
+    let frame = DQuat::from_rotation_z(0.6) * DQuat::from_rotation_x(theta);
+    let mut sim = block_on_plane(frame, [0.5, b, h], 0.0, 2500.0);
+    sim.set_default_joint(joint(1e9, phi, 0.0, 0.0)).unwrap();
+    let pose0 = sim.bodies().poses()[1];
+    let offset = DVec3::new(100.0, -50.0, 20.0);
+    let edge = frame * DVec3::new(0.0, -b / 2.0, 0.0) + offset;
+    let local = pose0.rotation.conjugate() * (edge - pose0.translation);
+    ramp_gravity(&mut sim, 0.05, 0.4);
+    let pose = sim.bodies().poses()[1];
+    let slid = (pose.apply(local) - edge).dot(frame * DVec3::NEG_Y);
+    let angle = turned(pose0.rotation, pose.rotation);
+    let m = sim.bodies().masses()[1];
+    (slid, angle, sim, m)
+}
+
+/// Verification 3 (Hoek and Bray's chart of a block on an incline): on a 30° slope, a
+/// block slides when φ < 30° and topples when b / h < tan 30°; one point in each region and
+/// one stable point.
+#[test]
+fn a_block_on_a_slope_slides_or_topples_as_hoek_and_bray_say() {
+    // Slides, does not topple: φ = 20°, b / h = 1 > tan 30°.
+    let (slid, angle, _, _) = block_on_a_slope(20.0, 1.0, 1.0);
+    let a = G * (30f64.to_radians().sin() - 30f64.to_radians().cos() * 20f64.to_radians().tan());
+    assert!(slid > 0.5 * 0.5 * a * 0.35 * 0.35, "slid {slid}");
+    assert!(angle < 1f64.to_radians(), "turned {angle}");
+    // Topples, does not slide: φ = 40°, b / h = 0.4 < tan 30°.
+    let (slid, angle, _, _) = block_on_a_slope(40.0, 0.4, 1.0);
+    assert!(angle > 5f64.to_radians(), "turned only {angle}");
+    assert!(slid.abs() < 1e-3, "slid {slid}");
+    // Neither: φ = 40°, b / h = 1.
+    let (slid, angle, _, _) = block_on_a_slope(40.0, 1.0, 1.0);
+    assert!(angle < 1e-3, "turned {angle}");
+    assert!(slid.abs() < 1e-4, "slid {slid}");
+}
+
+/// Verification 6: a block rocking from a face onto an edge (and a block falling back onto
+/// its face) has no jump of the total contact force or moment when the contact changes type:
+/// the change over the step of the switch is below 2 % of the weight (and of the weight
+/// times the block's size for the moment).
+#[test]
+fn no_force_jump_when_a_rocking_contact_changes_type() {
+    // Toppling: face-face, then edge-face.
+    let theta = 30f64.to_radians();
+    let frame = DQuat::from_rotation_z(0.6) * DQuat::from_rotation_x(theta);
+    let mut sim = block_on_plane(frame, [0.5, 0.4, 1.0], 0.0, 2500.0);
+    sim.set_default_joint(joint(1e9, 40.0, 0.0, 0.0)).unwrap();
+    let weight = sim.bodies().masses()[1] * G;
+    sim.set_gravity(DVec3::ZERO).unwrap();
+    // The contact's shape: its type and number of sub-contacts.
+    let mut last: Option<((penedge::ContactType, usize), DVec3, DVec3)> = None;
+    let mut switches = 0;
+    while sim.time() < 0.4 {
+        let f = (sim.time() / 0.05).min(1.0);
+        sim.set_gravity(DVec3::new(0.0, 0.0, -G * f)).unwrap();
+        sim.step().unwrap();
+        let Some(contact) = sim.contacts().list.first() else {
+            continue;
+        };
+        let now = (
+            (contact.kind, contact.count as usize),
+            sim.contact_forces()[1],
+            sim.contact_moments()[1],
+        );
+        if let Some((kind, force, moment)) = last {
+            if kind != now.0 {
+                switches += 1;
+                let jump = (now.1 - force).length();
+                let turn = (now.2 - moment).length();
+                assert!(
+                    jump < 0.02 * weight,
+                    "{kind:?} -> {:?}: force jumps {jump}",
+                    now.0
+                );
+                assert!(turn < 0.02 * weight * 1.0, "moment jumps {turn}");
+            }
+        }
+        last = Some(now);
+    }
+    assert!(switches >= 1, "the contact never changed type");
+}
+
+/// Determinism: a small jointed mass settling under gravity gives bitwise the same poses,
+/// velocities and sub-contact forces for 1, 2 and 4 threads.
+#[test]
+fn any_number_of_threads_gives_the_same_motion() {
+    let domain = ConvexBlock::cuboid([0.0; 3], [3.0, 3.0, 2.0]).unwrap();
+    let normals = [
+        [1.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.2, 1.0, 0.1],
+        [0.0, 0.0, 1.0],
+        [0.3, -0.2, 1.0],
+    ];
+    let offsets = [1.0, 2.0, 1.5, 0.4, 1.3];
+    let tol = penedge::Tolerance::default();
+    let system = BlockSystem::from_domain_cut(domain, &normals, &offsets, &tol).unwrap();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut sim = Simulation::new(&system, 2500.0).unwrap();
+            for (i, b) in system.blocks().iter().enumerate() {
+                if b.centroid().z < 0.4 {
+                    sim.fix(i).unwrap();
+                }
+            }
+            sim.set_default_joint(joint(1e9, 15.0, 0.0, 0.0)).unwrap();
+            sim.cycle(100).unwrap();
+            // Bitwise: the bits of every pose, velocity and sub-contact force.
+            let b = sim.bodies();
+            let mut bits = Vec::new();
+            for i in 0..b.len() {
+                let (p, v) = (b.poses()[i], b.velocities()[i]);
+                let values = p.translation.to_array().into_iter();
+                let values = values.chain(p.rotation.to_array()).chain(v.to_array());
+                bits.extend(values.map(f64::to_bits));
+            }
+            let moved = b.velocities().iter().any(|v| *v != DVec3::ZERO);
+            let subs = sim.contacts().subs.len();
+            for s in &sim.contacts().subs {
+                bits.push(s.normal_force.to_bits());
+                bits.extend(s.shear_force.to_array().map(f64::to_bits));
+            }
+            (bits, moved, subs)
+        })
+    };
+    let one = run(1);
+    assert!(system.len() > 8 && one.2 > 0, "no contact");
+    assert!(one.1, "nothing moved");
+    for threads in [2, 4] {
+        assert_eq!(run(threads).0, one.0, "{threads} threads");
+    }
+}
+
+/// A wedge in a V-groove: two fixed blocks below the joint planes `nᵢ · x = 0` (normals
+/// out of the rock, towards the wedge) and a prism above both, bounded by `w · x ≤ h` and by
+/// two end planes normal to the planes' intersection line `d`.
+fn wedge(normals: [DVec3; 2], d: DVec3, w: DVec3, phi: f64) -> Simulation {
+    let box_planes = |planes: &mut Vec<[f64; 3]>, offsets: &mut Vec<f64>| {
+        for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+            for sign in [1.0, -1.0] {
+                planes.push((axis * sign).to_array());
+                offsets.push(3.0);
+            }
+        }
+    };
+    let mut blocks = Vec::new();
+    for n in normals {
+        let (mut planes, mut offsets) = (vec![n.to_array()], vec![0.0]);
+        box_planes(&mut planes, &mut offsets);
+        blocks.push(ConvexBlock::from_planes(&planes, &offsets).unwrap());
+    }
+    let planes = [
+        (-normals[0]).to_array(),
+        (-normals[1]).to_array(),
+        w.to_array(),
+        d.to_array(),
+        (-d).to_array(),
+    ];
+    blocks.push(ConvexBlock::from_planes(&planes, &[0.0, 0.0, 0.6, 0.5, 0.5]).unwrap());
+    let mut sim = Simulation::new(&BlockSystem::new(blocks), 2500.0).unwrap();
+    sim.fix(0).unwrap();
+    sim.fix(1).unwrap();
+    sim.set_default_joint(joint(1e9, phi, 0.0, 0.0)).unwrap();
+    sim
+}
+
+/// Verification 2 (Hoek and Bray's wedge): limit equilibrium of a wedge on two planes along
+/// their intersection line `d`, computed here: the weight W, the normal reactions N₁ n₁ +
+/// N₂ n₂ and the friction T along -d balance, `W + N₁ n₁ + N₂ n₂ - T d = 0` (a 3 × 3 linear
+/// system), and the critical friction angle is `atan(T / (N₁ + N₂))`. The simulated wedge
+/// stays 1° above it and slides 1° below it, for a symmetric and an asymmetric wedge.
+#[test]
+fn a_wedge_slides_below_its_limit_equilibrium_friction_angle() {
+    let plunge = 35f64.to_radians();
+    let d = DVec3::new(plunge.cos(), 0.0, -plunge.sin()); // down the intersection line
+    let w = DVec3::new(plunge.sin(), 0.0, plunge.cos()); // up, normal to d
+    for (b1, b2) in [(50.0f64, 50.0f64), (35.0, 65.0)] {
+        let (b1, b2) = (b1.to_radians(), b2.to_radians());
+        let n1 = w * b1.cos() + DVec3::Y * b1.sin();
+        let n2 = w * b2.cos() - DVec3::Y * b2.sin();
+        // Limit equilibrium by Cramer's rule: [n1 n2 -d] (N1, N2, T) = -W, W = (0, 0, -1).
+        let m = penedge::glam::DMat3::from_cols(n1, n2, -d);
+        let rhs = DVec3::new(0.0, 0.0, 1.0);
+        let det = m.determinant();
+        let solve = |k: usize| {
+            let mut cols = [n1, n2, -d];
+            cols[k] = rhs;
+            penedge::glam::DMat3::from_cols(cols[0], cols[1], cols[2]).determinant() / det
+        };
+        let (normal1, normal2, t) = (solve(0), solve(1), solve(2));
+        assert!(normal1 > 0.0 && normal2 > 0.0 && t > 0.0);
+        let critical = (t / (normal1 + normal2)).atan().to_degrees();
+        for (phi, slides) in [(critical + 1.0, false), (critical - 1.0, true)] {
+            let mut sim = wedge([n1, n2], d, w, phi);
+            let start = sim.bodies().poses()[2].translation;
+            ramp_gravity(&mut sim, 0.2, 0.5);
+            let slid = (sim.bodies().poses()[2].translation - start).dot(d);
+            println!("wedge critical {critical:.2}°, φ = {phi:.2}°: slid {slid:.2e} m");
+            if slides {
+                assert!(
+                    slid > 5e-3,
+                    "φ = {phi}° (critical {critical}°): slid only {slid}"
+                );
+            } else {
+                assert!(
+                    slid < 5e-4,
+                    "φ = {phi}° (critical {critical}°): slid {slid}"
+                );
+            }
+        }
+    }
 }

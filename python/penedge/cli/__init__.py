@@ -21,10 +21,11 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from typing import NoReturn
 
 import penedge
 from penedge.cli import detect, example, generate, show, simulate
-from penedge.cli.common import PROG, CommandError, UsageError
+from penedge.cli.common import PROG, CommandError, Interrupted, UsageError
 
 __all__ = ["build_parser", "main"]
 
@@ -71,7 +72,11 @@ options every command spells the same way:
   -q/--quiet         print nothing           --gap G      the relative contact gap
   --force            example, show: replace a file at a default name (exampleN.png);
                      a file named on the command line is always replaced
-  --colour-by block|volume, --explode F, --max-blocks N    how pictures draw blocks
+  --colour-by set|block|volume, --unit U, --explode F, --max-blocks N
+                     how pictures draw blocks
+                     (generate --max-blocks N: the most blocks a run may make)
+  --html             example, show: the interactive view at a default name;
+                     --html-out FILE names it
 
 exit status:
   0    success
@@ -81,9 +86,20 @@ exit status:
   130  interrupted (Ctrl-C)"""
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse's parser, with a hint for a file name left over after ``--html`` (which
+    takes none since the block file could be taken for it)."""
+
+    def error(self, message: str) -> NoReturn:
+        _, _, extra = message.partition("unrecognized arguments: ")
+        if any(word.lower().endswith(".html") for word in extra.split()):
+            message += " (--html takes no file name: name the view with --html-out FILE)"
+        super().error(message)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``penedge`` command."""
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog=PROG,
         description=DESCRIPTION,
         epilog=EPILOG,
@@ -122,8 +138,9 @@ def main(argv: list[str] | None = None) -> int:
     except (CommandError, penedge.PenedgeError) as e:
         print(f"{PROG}: error: {e}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print(f"\n{PROG}: interrupted", file=sys.stderr)
+    except KeyboardInterrupt as e:
+        said = str(e) if isinstance(e, Interrupted) else "interrupted"
+        print(f"\n{PROG}: {said}", file=sys.stderr)
         return 130
 
 

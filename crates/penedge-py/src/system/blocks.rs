@@ -95,7 +95,11 @@ impl BlockArrays {
     fn __repr__(&self, py: Python<'_>) -> String {
         let len = |a: &Py<PyArray1<f64>>| a.bind(py).len().unwrap_or(0);
         let faces = self.face_block.bind(py).len().unwrap_or(0);
-        format!("BlockArrays({} blocks, {faces} faces)", len(&self.volumes))
+        format!(
+            "BlockArrays({}, {})",
+            crate::counted(len(&self.volumes), "block", "blocks"),
+            crate::counted(faces, "face", "faces")
+        )
     }
 }
 

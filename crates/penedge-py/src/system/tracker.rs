@@ -54,7 +54,9 @@ use pyo3::types::PyDict;
 #[pyclass(module = "penedge", name = "ContactTracker")]
 pub struct ContactTracker {
     inner: system::ContactTracker,
-    contacts: Py<SystemContacts>,
+    /// The contacts as a Python object, made when first asked for after an update (a step
+    /// of a DEM loop that does not read them pays no copy of a million contacts).
+    contacts: Option<Py<SystemContacts>>,
 }
 
 #[pymethods]
@@ -72,14 +74,21 @@ impl ContactTracker {
         let inner = py
             .detach(|| system::ContactTracker::new(&system.inner, tol, skin))
             .map_err(|e| input_error("skin", e.to_string()))?;
-        let contacts = contacts_of(py, &inner)?;
-        Ok(ContactTracker { inner, contacts })
+        Ok(ContactTracker {
+            inner,
+            contacts: None,
+        })
     }
 
     /// The contacts at the current poses (a :class:`SystemContacts`, without geometry).
     #[getter]
-    fn contacts(&self, py: Python<'_>) -> Py<SystemContacts> {
-        self.contacts.clone_ref(py)
+    fn contacts(&mut self, py: Python<'_>) -> PyResult<Py<SystemContacts>> {
+        if let Some(made) = &self.contacts {
+            return Ok(made.clone_ref(py));
+        }
+        let made = contacts_of(py, &self.inner)?;
+        self.contacts = Some(made.clone_ref(py));
+        Ok(made)
     }
 
     /// Moves every block to a new pose and updates the contacts.
@@ -98,7 +107,8 @@ impl ContactTracker {
     /// -------
     /// dict
     ///     ``rebuilt`` (whether the broad phase ran again), ``candidate_pairs``,
-    ///     ``certified`` (pairs answered without a query) and ``queried``.
+    ///     ``unmoved`` (pairs answered because neither block moved since their last
+    ///     query), ``certified`` (pairs answered by a certificate) and ``queried``.
     ///
     /// Raises
     /// ------
@@ -133,10 +143,11 @@ impl ContactTracker {
         let report: UpdateReport = py
             .detach(|| inner.update(&poses))
             .map_err(|e| input_error("pose", e.to_string()))?;
-        self.contacts = contacts_of(py, &self.inner)?;
+        self.contacts = None;
         let out = PyDict::new(py);
         out.set_item("rebuilt", report.rebuilt)?;
         out.set_item("candidate_pairs", report.candidate_pairs)?;
+        out.set_item("unmoved", report.unmoved)?;
         out.set_item("certified", report.certified)?;
         out.set_item("queried", report.queried)?;
         Ok(out)
@@ -144,9 +155,9 @@ impl ContactTracker {
 
     fn __repr__(&self) -> String {
         format!(
-            "ContactTracker({} blocks, {} contacts)",
-            self.inner.len(),
-            self.inner.contacts().contacts.len()
+            "ContactTracker({}, {})",
+            crate::counted(self.inner.len(), "block", "blocks"),
+            crate::counted(self.inner.contacts().contacts.len(), "contact", "contacts")
         )
     }
 }
@@ -154,6 +165,6 @@ impl ContactTracker {
 fn contacts_of(py: Python<'_>, tracker: &system::ContactTracker) -> PyResult<Py<SystemContacts>> {
     Py::new(
         py,
-        SystemContacts::from_core(py, tracker.contacts().clone(), None)?,
+        SystemContacts::from_core(py, tracker.contacts().clone(), None, None)?,
     )
 }

@@ -37,6 +37,7 @@ pub(crate) use points::{representative_points, spread_exceeds};
 
 use crate::block::ConvexBlock;
 use crate::geometry::DVec3;
+use crate::tolerance::Thresholds;
 
 /// The seven contact types of two touching convex blocks.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
@@ -165,19 +166,19 @@ impl PairResult {
 }
 /// The contact from the features of both blocks (`None`: the points reach the block's
 /// interior); `spread_exceeds(length)` tells whether the representative points span more
-/// than `length`, asked only for two parallel edges.
+/// than `length`, asked only for two parallel edges (`th.sine`, the one sine of "lies
+/// along" and "lies in": docs/tolerance.md).
 pub(crate) fn decide(
     a: &ConvexBlock,
     b: &ConvexBlock,
     features: (Option<Feature>, Option<Feature>),
-    length: f64,
+    th: Thresholds,
     spread_exceeds: impl FnOnce(f64) -> bool,
 ) -> PairResult {
     let (Some(fa), Some(fb)) = features else {
         return PairResult::Penetrating;
     };
-    let superposed =
-        || edges_parallel(a, b, fa, fb, length / a.size().min(b.size())) && spread_exceeds(length);
+    let superposed = || edges_parallel(a, b, fa, fb, th.sine) && spread_exceeds(th.length);
     let kind = contact_type(fa, fb, superposed);
     PairResult::Contact(Contact {
         kind,
@@ -297,15 +298,15 @@ mod tests {
         a: &ConvexBlock,
         b: &ConvexBlock,
         edges: &[PenetrationEdge],
-        length: f64,
+        th: Thresholds,
     ) -> PairResult {
         let mut points = Vec::new();
-        representative_points(a, b, edges, &mut points);
+        representative_points(a, b, edges, false, &mut points);
         let features = (
-            feature_of(a, &points, length),
-            feature_of(b, &points, length),
+            feature_of(a, &points, th.length),
+            feature_of(b, &points, th.length),
         );
-        decide(a, b, features, length, |l| spread(&points) > l)
+        decide(a, b, features, th, |l| spread(&points) > l)
     }
 
     /// A unit cube turned by `rotation` and moved so that its lowest feature (vertex, edge
@@ -385,8 +386,8 @@ mod tests {
                     if edges.is_empty() || result == PairResult::Penetrating {
                         continue;
                     }
-                    let length = det.thresholds(a, b).length;
-                    assert_eq!(result, by_points(a, b, edges, length), "round {round}");
+                    let th = det.thresholds(a, b);
+                    assert_eq!(result, by_points(a, b, edges, th), "round {round}");
                     contacts[result.contact_type().map_or(0, |t| t.code() as usize)] += 1;
                 }
             }

@@ -52,7 +52,7 @@ pub use domain::Domain;
 pub use error::{GenerationError, Problem, SpecError};
 pub use orientation::{Attitude, Frame};
 pub use record::{upward, JointRecord, JointShape, SetKind, SetRecord};
-pub use report::{thickness, GenerationReport, SliverReport};
+pub use report::{thickness, GenerationReport, SliverReport, TinyReport, TINY_SHARE};
 pub use spec::{
     Deviation, Discontinuity, JointKind, JointSet, Options, Orientation, SliverPolicy, Spec,
     DEFAULT_MIN_THICKNESS, MAX_PLANES,
@@ -165,7 +165,8 @@ pub fn generate_with(
         ..report::summarise(&blocks, spec.domain.volume(), &plan, &counts, slivers)
     };
     let domain = spec.domain.parts().to_vec();
-    let system = BlockSystem::with_provenance(blocks, domain, plan.records, plan.sets);
+    let system = BlockSystem::with_provenance(blocks, domain, plan.records, plan.sets)
+        .with_unit(spec.unit.clone());
     Ok(Generated { system, report })
 }
 

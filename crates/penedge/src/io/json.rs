@@ -34,6 +34,8 @@ struct SystemFile {
     frame: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     length: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    unit: Option<String>,
     #[serde(default)]
     domain: Vec<BlockFile>,
     #[serde(default)]
@@ -145,7 +147,8 @@ pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
         .collect::<Result<Vec<_>, _>>()?;
     check_origins(&blocks, domain.len(), joints.len(), file.sets.len())?;
     let bodies = body_ids(file.version, &file.blocks)?;
-    let system = BlockSystem::with_provenance(blocks, domain, joints, file.sets);
+    let system =
+        BlockSystem::with_provenance(blocks, domain, joints, file.sets).with_unit(file.unit);
     system
         .with_bodies(bodies, &tol)
         .map_err(|e| format_error("blocks[..].body", e.to_string()))
@@ -218,6 +221,7 @@ fn file_of(system: &BlockSystem) -> SystemFile {
         version: VERSION,
         frame: FRAME.to_string(),
         length,
+        unit: system.unit().map(str::to_string),
         domain,
         sets: system.sets().to_vec(),
         joints: system.joints().iter().enumerate().map(joint_file).collect(),

@@ -29,7 +29,10 @@ pub(crate) fn plain(message: &str) -> String {
         ("expected f64", "expected a number"),
         ("expected f32", "expected a number"),
         ("expected u64", "expected a whole number, 0 or more"),
-        ("expected u32", "expected a whole number, 0 or more"),
+        (
+            "expected u32",
+            "expected a whole number from 0 to 4294967295",
+        ),
         ("expected usize", "expected a whole number, 0 or more"),
         ("expected i64", "expected a whole number"),
         ("expected i32", "expected a whole number"),
@@ -239,7 +242,7 @@ mod tests {
             ),
             (
                 "invalid value: integer `-1`, expected u32",
-                "got the whole number `-1`, expected a whole number, 0 or more",
+                "got the whole number `-1`, expected a whole number from 0 to 4294967295",
             ),
         ];
         for (rust, plain_words) in cases {

@@ -33,6 +33,7 @@ struct RawSpec {
     joints: Vec<RawJoint>,
     #[serde(default)]
     options: RawOptions,
+    unit: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -156,7 +157,27 @@ fn convert(raw: RawSpec) -> Result<Spec, SpecError> {
         domain,
         joints,
         options,
+        unit: raw.unit.map(unit).transpose()?,
     })
+}
+
+/// The most characters of a length unit's name.
+const MAX_UNIT_CHARS: usize = 16;
+
+/// A length unit's name: a short label without control characters, trimmed.
+fn unit(text: String) -> Result<String, SpecError> {
+    let trimmed = text.trim();
+    let bad = trimmed.is_empty()
+        || trimmed.chars().count() > MAX_UNIT_CHARS
+        || trimmed.chars().any(char::is_control);
+    if bad {
+        let why = format!(
+            "must be a short name of a length unit (1 to {MAX_UNIT_CHARS} characters, such as \
+             \"m\" or \"ft\"), got {text:?}"
+        );
+        return Err(SpecError::new("unit", Problem::Invalid(why)));
+    }
+    Ok(trimmed.to_string())
 }
 
 fn need<T: Clone>(field: String, value: &Option<T>) -> Result<T, SpecError> {

@@ -114,23 +114,59 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         .joints
         .set_of_contact(a, found.contact.feature_a, b, found.contact.feature_b);
     let model = input.joints.of_set(set);
-    let width = input.point_width * a.size().min(b.size());
+    // The smaller body's diameter (twice its radius about the centroid): the same whatever
+    // its orientation, unlike a bounding box.
+    let diameter = 2.0
+        * input
+            .bodies
+            .shape(bodies[0] as usize)
+            .radius()
+            .min(input.bodies.shape(bodies[1] as usize).radius());
+    let width = input.point_width * diameter;
     // The rounding of a gap of zero, far above it: a bond at zero gap is not broken by it.
     let slack = 1e-9 * a.size().min(b.size());
-    let points = g.points();
     let areas = area_shares(g.shape(), n, width);
     let pose_a = input.bodies.pose[bodies[0] as usize];
     let previous = input.previous.find(found.parts);
-    let mut subs = Vec::with_capacity(points.len());
-    for (&p, &area) in points.iter().zip(&areas) {
-        let gap = match g.shape() {
-            ContactPoints::Point(_) => g.distance(),
-            _ => {
+    let mut gaps: Vec<f64> = match g.shape() {
+        ContactPoints::Point(_) => vec![g.distance()],
+        _ => g
+            .points()
+            .iter()
+            .map(|&p| {
                 let sa = feature_height(a, found.contact.feature_a, p, n);
                 let sb = feature_height(b, found.contact.feature_b, p, n);
                 sb - sa
-            }
+            })
+            .collect(),
+    };
+    let mut points = g.points().to_vec();
+    if found.contact.kind == ContactType::FaceFace && gaps.len() == 2 {
+        // A face-face polygon narrower than the length threshold, given as a segment: a
+        // strip along an edge (a block rocking onto it), whose two points the detection
+        // gives to within the threshold, one of them possibly across the strip where the
+        // faces have opened. The shallower end is moved across the strip, along the gap's
+        // gradient on the contact plane, to the deeper end's depth: both ends then lie on
+        // the edge, as the segment of the edge-face contact the strip becomes.
+        let (Feature::Face(fa), Feature::Face(fb)) =
+            (found.contact.feature_a, found.contact.feature_b)
+        else {
+            unreachable!("a face-face contact has two face features")
         };
+        let (na, nb) = (
+            a.planes()[fa as usize].normal,
+            b.planes()[fb as usize].normal,
+        );
+        let grad = na / na.dot(n) - nb / nb.dot(n);
+        let grad = grad - n * grad.dot(n);
+        let (deep, shallow) = if gaps[0] <= gaps[1] { (0, 1) } else { (1, 0) };
+        if grad.length_squared() > 0.0 {
+            points[shallow] -= grad * ((gaps[shallow] - gaps[deep]) / grad.length_squared());
+        }
+        gaps[shallow] = gaps[deep];
+    }
+    let mut subs = Vec::with_capacity(points.len());
+    for ((&p, &area), &gap) in points.iter().zip(&areas).zip(&gaps) {
         let local = to_body(&pose_a, p);
         // History: the nearest sub-contact of the same pair at the last step; its shear
         // stress carries over (the area shares change as the polygon does).
@@ -208,20 +244,31 @@ fn onto_plane(v: DVec3, n: DVec3) -> DVec3 {
     }
 }
 
-/// The area share of each contact point (docs/mechanics.md, "Areas of sub-contacts").
+/// The area share of each contact point (docs/mechanics.md, "Areas of sub-contacts"): a
+/// polygon's corners share its area, each at least `w max(e₁, e₂) / 4` (`e₁`, `e₂` its two
+/// edges); a segment's ends `w l / 4` each; a point `w² / 2`. A polygon narrowing to a
+/// segment (a block rocking onto an edge) thus keeps the stiffness of its corners on that
+/// edge, and a segment shrinking to a point tends to the point's.
 fn area_shares(shape: &ContactPoints, n: DVec3, width: f64) -> Vec<f64> {
     match shape {
-        ContactPoints::Point(_) => vec![width * width],
-        ContactPoints::Segment([p, q]) => vec![0.5 * width * p.distance(*q); 2],
+        ContactPoints::Point(_) => vec![0.5 * width * width],
+        ContactPoints::Segment([p, q]) => vec![0.25 * width * p.distance(*q); 2],
         ContactPoints::Polygon(poly) => {
             let v = poly.vertices();
             let c = v.iter().copied().sum::<DVec3>() / v.len() as f64;
             let mut shares = vec![0.0; v.len()];
+            let mut floors = vec![0.0; v.len()];
             for i in 0..v.len() {
                 let j = (i + 1) % v.len();
                 let half = 0.25 * (v[i] - c).cross(v[j] - c).dot(n).abs();
                 shares[i] += half;
                 shares[j] += half;
+                let edge = 0.25 * width * v[i].distance(v[j]);
+                floors[i] = f64::max(floors[i], edge);
+                floors[j] = f64::max(floors[j], edge);
+            }
+            for (s, f) in shares.iter_mut().zip(floors) {
+                *s = s.max(f);
             }
             shares
         }
@@ -288,8 +335,17 @@ mod tests {
         };
         let g = geometry.unwrap();
         assert_eq!(contact.kind, ContactType::FaceFace);
+        // A face of 1 m²: the corners' shares (0.25 each) are above the floor
+        // (0.1 × 1 / 4 = 0.025) and sum to the area.
         let shares = area_shares(g.shape(), g.normal(), 0.1);
         assert!((shares.iter().sum::<f64>() - g.area()).abs() < 1e-12);
+        // A segment's ends get w l / 4, as the corners of a thin strip l × s do.
+        let strip = area_shares(
+            &ContactPoints::Segment([DVec3::ZERO, DVec3::X]),
+            DVec3::Z,
+            0.1,
+        );
+        assert_eq!(strip, vec![0.025; 2]);
         assert!((g.area() - 1.0).abs() < 1e-6);
         for &p in g.points() {
             let sa = feature_height(&a, contact.feature_a, p, g.normal());

@@ -242,6 +242,49 @@ mod tests {
         assert_eq!(apart.state, SubState::Open);
     }
 
+    /// A contact takes its faces' joint set; between two sets, the weaker; with no joint
+    /// face, none (the default).
+    #[test]
+    fn a_contact_takes_the_set_of_its_faces_and_the_weaker_of_two() {
+        let joint = |set| FaceOrigin::Joint { set, joint: 0 };
+        let tagged = |b: ConvexBlock, set| {
+            let n = b.n_faces();
+            b.with_face_origins(vec![joint(set); n]).unwrap()
+        };
+        let a = tagged(ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap(), 1);
+        let b = tagged(
+            ConvexBlock::cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0]).unwrap(),
+            2,
+        );
+        let plain = ConvexBlock::cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0]).unwrap();
+        let mut table = JointTable::default();
+        let weak = JointModel {
+            friction: 20.0,
+            ..JointModel::default()
+        };
+        table.set(2, weak).unwrap();
+        let (f, e, v) = (Feature::Face(0), Feature::Edge(0), Feature::Vertex(0));
+        // Set 2 is weaker than set 1 (which has the default 30°).
+        assert_eq!(table.set_of_contact(&a, f, &b, f), Some(2));
+        assert_eq!(table.set_of_contact(&b, f, &a, f), Some(2));
+        table
+            .set(
+                1,
+                JointModel {
+                    friction: 10.0,
+                    ..weak
+                },
+            )
+            .unwrap();
+        assert_eq!(table.set_of_contact(&a, f, &b, f), Some(1));
+        // One joint face: its set; edges and vertices have none.
+        assert_eq!(table.set_of_contact(&a, f, &plain, f), Some(1));
+        assert_eq!(table.set_of_contact(&plain, f, &b, e), None);
+        assert_eq!(table.set_of_contact(&a, e, &b, v), None);
+        assert_eq!(table.of_set(Some(2)).friction, 20.0);
+        assert_eq!(table.of_set(Some(7)), table.default_model());
+    }
+
     #[test]
     fn bad_properties_are_named() {
         let bad = |f: fn(&mut JointModel)| {

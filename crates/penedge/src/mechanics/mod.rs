@@ -441,6 +441,12 @@ impl Simulation {
         self.ratio
     }
 
+    /// The convex parts at the bodies' current poses, as a block system (for files and
+    /// pictures; the parts of one body are consecutive).
+    pub fn placed_system(&self) -> BlockSystem {
+        BlockSystem::new(self.placed.clone())
+    }
+
     /// Per body, the sum of its contact forces at the last step.
     pub fn contact_forces(&self) -> &[DVec3] {
         &self.forces
@@ -704,5 +710,27 @@ impl Simulation {
         };
         self.synced = false;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The bytes docs/mechanics.md ("Memory") states: a body's state, a contact and a
+    /// sub-contact.
+    #[test]
+    fn the_memory_figures_of_the_docs_hold() {
+        use std::mem::size_of;
+        // One entry per array of `Bodies`.
+        let body = size_of::<std::sync::Arc<crate::body::Shape>>() // shape
+            + 2 * size_of::<f64>() // density, mass
+            + 4 * size_of::<DVec3>() // inertia, velocity, angular momentum, applied force
+            + size_of::<Pose>()
+            + size_of::<Fixity>()
+            + size_of::<[f64; 2]>(); // stiffness bounds
+        assert_eq!(body, 248);
+        assert_eq!(size_of::<BodyContact>(), 64);
+        assert_eq!(size_of::<SubContact>(), 128);
     }
 }

@@ -13,7 +13,7 @@
 //! 3. a region of one piece whose features touch no glue keeps the piece's type (so a system
 //!    of convex blocks gets exactly [`BlockSystem::detect_with_geometry`]'s answers); any other
 //!    region is typed by the real features of each body: the distinct planes of its
-//!    non-internal part faces that hold every representative point of the region's pieces
+//!    non-internal part faces that hold every contact point of the region's pieces
 //!    (one: a face, two: an edge, three or more: a vertex), so that a part edge lying inside a
 //!    real face of the block is not an edge of the block.
 //!
@@ -76,6 +76,28 @@ pub struct BodyContacts {
 }
 
 impl BodyContacts {
+    /// No contact.
+    fn empty() -> Self {
+        BodyContacts {
+            piece_offsets: vec![0],
+            piece_point_offsets: vec![0],
+            ..BodyContacts::default()
+        }
+    }
+
+    /// Appends the contacts of `other` (their offsets moved past this one's).
+    fn append(&mut self, other: BodyContacts) {
+        let (pieces, points) = (self.pieces.len() as u64, self.piece_points.len() as u64);
+        self.contacts.extend(other.contacts);
+        self.pieces.extend(other.pieces);
+        self.piece_points.extend(other.piece_points);
+        let moved = |o: &[u64], by: u64| o[1..].iter().map(move |x| x + by).collect::<Vec<_>>();
+        self.piece_offsets
+            .extend(moved(&other.piece_offsets, pieces));
+        self.piece_point_offsets
+            .extend(moved(&other.piece_point_offsets, points));
+    }
+
     /// The pieces of region `i`.
     pub fn pieces_of(&self, i: usize) -> &[PairContact] {
         &self.pieces[self.piece_offsets[i] as usize..self.piece_offsets[i + 1] as usize]
@@ -98,8 +120,6 @@ struct Piece {
     distance: f64,
     area: f64,
     points: ContactPoints,
-    /// The representative points (vertices of A ∩ B), kept for pieces of concave bodies.
-    representative: Vec<DVec3>,
     /// The pair's length threshold.
     length: f64,
 }
@@ -133,7 +153,7 @@ impl BlockSystem {
     /// // The box touches the top of part 2 only: one face-face region of area 0.5.
     /// assert_eq!(found.contacts.len(), 1);
     /// assert_eq!(found.contacts[0].kind, ContactType::FaceFace);
-    /// assert!((found.contacts[0].area - 0.5).abs() < 1e-12);
+    /// assert!((found.contacts[0].area - 0.5).abs() < 1e-9);
     /// ```
     pub fn detect_bodies(&self, tol: &Tolerance) -> BodyContacts {
         match self.detect_bodies_with_progress(tol, &mut |_| ControlFlow::Continue(())) {
@@ -164,12 +184,7 @@ impl BlockSystem {
                 let (result, geometry) = det.detect_with_geometry(a, b);
                 match (result, geometry) {
                     (PairResult::Contact(contact), Some(g)) => {
-                        let concave = pair.iter().any(|&k| self.is_part_of_concave(k));
-                        let representative = if concave {
-                            det.representative_points(a, b).to_vec()
-                        } else {
-                            Vec::new()
-                        };
+                        let length = det.thresholds(a, b).length;
                         let piece = Piece {
                             bodies: pair.map(|k| self.body_of(k)),
                             parts: pair,
@@ -177,9 +192,8 @@ impl BlockSystem {
                             normal: g.normal(),
                             distance: g.distance(),
                             area: g.area(),
-                            points: g.shape().clone(),
-                            representative,
-                            length: det.thresholds(a, b).length,
+                            points: g.into_shape(),
+                            length,
                         };
                         Outcome::Contact(Box::new(piece.oriented()))
                     }
@@ -193,9 +207,9 @@ impl BlockSystem {
             },
             |_, outcomes| {
                 for outcome in outcomes {
-                    match outcome {
-                        Outcome::Contact(piece) => pieces.push((**piece).clone()),
-                        Outcome::Penetrating(bodies) => penetrating.push(*bodies),
+                    match std::mem::replace(outcome, Outcome::Separated) {
+                        Outcome::Contact(piece) => pieces.push(*piece),
+                        Outcome::Penetrating(bodies) => penetrating.push(bodies),
                         Outcome::Separated => {}
                     }
                 }
@@ -203,41 +217,73 @@ impl BlockSystem {
         )?;
         penetrating.sort_unstable();
         penetrating.dedup();
-        if self.has_concave() {
-            pieces.par_sort_by_key(|p| (p.bodies, p.parts));
-        }
-        Ok(self.regions(pieces, penetrating))
+        let order = if self.has_concave() {
+            sorted(&pieces)
+        } else {
+            (0..pieces.len() as u32).collect()
+        };
+        Ok(self.regions(&pieces, &order, penetrating))
     }
 
-    /// The regions of the pieces (sorted by bodies, then parts).
-    fn regions(&self, pieces: Vec<Piece>, penetrating: Vec<[u32; 2]>) -> BodyContacts {
-        let mut out = BodyContacts {
-            piece_offsets: vec![0],
-            piece_point_offsets: vec![0],
-            penetrating,
-            ..BodyContacts::default()
-        };
-        let mut start = 0;
-        while start < pieces.len() {
-            let bodies = pieces[start].bodies;
-            let end = start + pieces[start..].partition_point(|p| p.bodies == bodies);
-            if out.penetrating.binary_search(&bodies).is_err() {
-                self.add_pair(&pieces[start..end], &mut out);
+    /// The regions of the pieces taken in `order` (by bodies, then parts): stretches of whole
+    /// pairs of bodies in parallel, then joined in order.
+    fn regions(&self, pieces: &[Piece], order: &[u32], penetrating: Vec<[u32; 2]>) -> BodyContacts {
+        let bodies_at = |k: usize| pieces[order[k] as usize].bodies;
+        const STRETCH: usize = 1 << 12;
+        let mut bounds = vec![0];
+        while *bounds.last().expect("not empty") < pieces.len() {
+            let start = *bounds.last().expect("not empty");
+            let mut end = (start + STRETCH).min(pieces.len());
+            while end < pieces.len() && bodies_at(end) == bodies_at(end - 1) {
+                end += 1;
             }
-            start = end;
+            bounds.push(end);
+        }
+        let stretches: Vec<BodyContacts> = bounds
+            .par_windows(2)
+            .map(|w| {
+                let mut out = BodyContacts::empty();
+                let mut group: Vec<&Piece> = Vec::new();
+                let mut start = w[0];
+                while start < w[1] {
+                    let bodies = bodies_at(start);
+                    group.clear();
+                    let mut end = start;
+                    while end < w[1] && bodies_at(end) == bodies {
+                        group.push(&pieces[order[end] as usize]);
+                        end += 1;
+                    }
+                    if penetrating.binary_search(&bodies).is_err() {
+                        self.add_pair(&group, &mut out);
+                    }
+                    start = end;
+                }
+                out
+            })
+            .collect();
+        let mut out = BodyContacts::empty();
+        out.penetrating = penetrating;
+        for part in stretches {
+            out.append(part);
         }
         out
     }
 
     /// Adds the regions of one pair of bodies.
-    fn add_pair(&self, pieces: &[Piece], out: &mut BodyContacts) {
-        let groups = if pieces.len() == 1 {
-            vec![vec![0]]
-        } else {
-            group(pieces)
-        };
-        for (region, members) in groups.iter().enumerate() {
-            let members: Vec<&Piece> = members.iter().map(|&k| &pieces[k]).collect();
+    fn add_pair(&self, pieces: &[&Piece], out: &mut BodyContacts) {
+        if let [p] = pieces {
+            if !self.touches_glue(p) {
+                // The common case (convex blocks): the piece is the region.
+                let area = if p.contact.kind == ContactType::FaceFace {
+                    p.area
+                } else {
+                    0.0
+                };
+                return push_region(out, pieces, 0, p.contact.kind, p.normal, area);
+            }
+        }
+        for (region, members) in group(pieces).iter().enumerate() {
+            let members: Vec<&Piece> = members.iter().map(|&k| pieces[k]).collect();
             let (kind, face_normal) = match members[..] {
                 [p] if !self.touches_glue(p) => (p.contact.kind, Some(p.normal)),
                 _ => self.region_type(&members),
@@ -258,24 +304,7 @@ impl BlockSystem {
             } else {
                 0.0
             };
-            out.contacts.push(BodyContact {
-                bodies: members[0].bodies,
-                region: region as u32,
-                kind,
-                normal: normal.to_array(),
-                distance: members.iter().map(|p| p.distance).fold(f64::MAX, f64::min),
-                area,
-            });
-            for p in members {
-                out.pieces.push(PairContact {
-                    pair: p.parts,
-                    contact: p.contact,
-                });
-                let points = p.points.as_slice().iter().map(|x| x.to_array());
-                out.piece_points.extend(points);
-                out.piece_point_offsets.push(out.piece_points.len() as u64);
-            }
-            out.piece_offsets.push(out.pieces.len() as u64);
+            push_region(out, &members, region as u32, kind, normal, area);
         }
     }
 
@@ -292,9 +321,13 @@ impl BlockSystem {
             match feature {
                 Feature::Face(_) => false,
                 Feature::Edge(e) => block.edges()[e as usize].faces.into_iter().any(glued),
-                Feature::Vertex(v) => (0..block.n_faces() as u32)
-                    .filter(|&f| block.face(f as usize).contains(&v))
-                    .any(glued),
+                Feature::Vertex(v) => match block.vertex_faces().get(v as usize) {
+                    // The faces at the vertex, from its mask (blocks of at most 64 faces).
+                    Some(&mask) => (0..64).filter(|f| mask >> f & 1 != 0).any(glued),
+                    None => (0..block.n_faces() as u32)
+                        .filter(|&f| block.face(f as usize).contains(&v))
+                        .any(glued),
+                },
             }
         })
     }
@@ -305,7 +338,7 @@ impl BlockSystem {
     fn region_type(&self, members: &[&Piece]) -> (ContactType, Option<DVec3>) {
         let points: Vec<DVec3> = members
             .iter()
-            .flat_map(|p| p.representative.iter().copied())
+            .flat_map(|p| p.points.as_slice().iter().copied())
             .collect();
         let length = members.iter().map(|p| p.length).fold(0.0, f64::max);
         let planes = [0, 1].map(|side| {
@@ -393,6 +426,46 @@ impl Piece {
     }
 }
 
+/// Appends a region of the given pieces.
+fn push_region(
+    out: &mut BodyContacts,
+    members: &[&Piece],
+    region: u32,
+    kind: ContactType,
+    normal: DVec3,
+    area: f64,
+) {
+    out.contacts.push(BodyContact {
+        bodies: members[0].bodies,
+        region,
+        kind,
+        normal: normal.to_array(),
+        distance: members.iter().map(|p| p.distance).fold(f64::MAX, f64::min),
+        area,
+    });
+    for p in members {
+        out.pieces.push(PairContact {
+            pair: p.parts,
+            contact: p.contact,
+        });
+        let points = p.points.as_slice().iter().map(|x| x.to_array());
+        out.piece_points.extend(points);
+        out.piece_point_offsets.push(out.piece_points.len() as u64);
+    }
+    out.piece_offsets.push(out.pieces.len() as u64);
+}
+
+/// The order of the pieces by bodies, then parts (indices sorted; the pieces stay).
+fn sorted(pieces: &[Piece]) -> Vec<u32> {
+    let mut keys: Vec<([u32; 2], [u32; 2], u32)> = pieces
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (p.bodies, p.parts, k as u32))
+        .collect();
+    keys.par_sort_unstable();
+    keys.into_iter().map(|(_, _, k)| k).collect()
+}
+
 /// A polygon of contact points (counter-clockwise about its normal) and its area.
 fn polygon_of(vertices: Vec<DVec3>, area: f64) -> ContactPoints {
     ContactPoints::Polygon(crate::contact_geometry::ContactPolygon::from_parts(
@@ -407,7 +480,7 @@ fn bears_face(p: &Piece) -> bool {
 
 /// The pieces of one pair of bodies grouped into regions (module docs, steps 1 and 2), each
 /// group in piece order, groups by their first piece.
-fn group(pieces: &[Piece]) -> Vec<Vec<usize>> {
+fn group(pieces: &[&Piece]) -> Vec<Vec<usize>> {
     let n = pieces.len();
     let mut root: Vec<usize> = (0..n).collect();
     fn find(root: &mut [usize], mut k: usize) -> usize {
@@ -423,7 +496,7 @@ fn group(pieces: &[Piece]) -> Vec<Vec<usize>> {
     };
     for a in 0..n {
         for b in a + 1..n {
-            let (p, q) = (&pieces[a], &pieces[b]);
+            let (p, q) = (pieces[a], pieces[b]);
             let same_plane = bears_face(p)
                 && bears_face(q)
                 && p.normal.cross(q.normal).length() <= PARALLEL_SINE
@@ -436,12 +509,12 @@ fn group(pieces: &[Piece]) -> Vec<Vec<usize>> {
     }
     // Point-like groups join the first face-bearing piece they touch.
     for a in 0..n {
-        if bears_face(&pieces[a]) || find(&mut root, a) != a {
+        if bears_face(pieces[a]) || find(&mut root, a) != a {
             continue;
         }
         let members: Vec<usize> = (0..n).filter(|&k| find(&mut root, k) == a).collect();
         let host = (0..n).find(|&b| {
-            bears_face(&pieces[b]) && members.iter().any(|&k| touch(&pieces[k], &pieces[b]))
+            bears_face(pieces[b]) && members.iter().any(|&k| touch(pieces[k], pieces[b]))
         });
         if let Some(b) = host {
             join(&mut root, a, b);

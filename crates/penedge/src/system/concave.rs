@@ -101,7 +101,7 @@ impl BlockSystem {
     /// let system = system.with_bodies(vec![0, 0, 1], &Tolerance::default()).unwrap();
     /// assert_eq!(system.body_parts(), vec![(0, vec![0, 1]), (1, vec![2])]);
     /// assert_eq!(system.internal_faces().len(), 1); // the top of part 0 under part 1
-    /// assert!((system.internal_faces()[0].area - 1.0).abs() < 1e-12);
+    /// assert!((system.internal_faces()[0].area - 1.0).abs() < 1e-9);
     /// ```
     pub fn with_bodies(mut self, ids: Vec<u32>, tol: &Tolerance) -> Result<Self, ConcaveError> {
         if ids.len() != self.len() {

@@ -514,3 +514,31 @@ fn the_vtu_files_carry_the_body_ids_and_the_internal_faces() {
     let ones: Vec<usize> = (0..12).filter(|&k| values[k] == "1").collect();
     assert_eq!(ones, [6], "{values:?}");
 }
+
+#[test]
+fn the_csv_and_vtp_files_of_body_contacts_carry_the_regions() {
+    let tol = Tolerance::default();
+    let mut parts = with_body(0, u_block_decompositions().remove(1));
+    parts.push((1, cuboid([1.0, 0.0, 1.0], [2.0, 1.0, 2.5])));
+    let system = BlockSystem::new(parts.iter().map(|p| p.1.clone()).collect())
+        .with_bodies(parts.iter().map(|p| p.0).collect(), &tol)
+        .unwrap();
+    let found = system.detect_bodies(&tol);
+    let mut csv = Vec::new();
+    crate::io::csv::write_body_contacts_to(&found, &mut csv).unwrap();
+    let csv = String::from_utf8(csv).unwrap();
+    let rows: Vec<&str> = csv.lines().collect();
+    assert_eq!(rows[0], crate::io::csv::BODY_CONTACTS_HEADER);
+    let regions: Vec<&str> = rows[1..].iter().map(|r| r.split(',').nth(2).unwrap()).collect();
+    assert_eq!(regions, ["0", "1", "2"]);
+    assert!(rows[1..].iter().all(|r| r.starts_with("0,1,") && r.contains(",face-face,")));
+    let mut vtp = Vec::new();
+    crate::io::vtp::write_body_contacts_vtp_to(&found, &mut vtp).unwrap();
+    let vtp = String::from_utf8(vtp).unwrap();
+    assert!(vtp.contains("NumberOfPolys=\"3\""), "{vtp}");
+    let region = vtp.split("Name=\"region\"").nth(1).unwrap();
+    let region = &region[region.find('>').unwrap() + 1..region.find("</DataArray>").unwrap()];
+    let mut values: Vec<&str> = region.split_whitespace().collect();
+    values.sort();
+    assert_eq!(values, ["0", "1", "2"]);
+}

@@ -212,7 +212,8 @@ pub(super) fn ask_ahead(
 pub(super) const SLICE: usize = 1 << 16;
 
 /// Runs `query` on every candidate pair (given its block ids and blocks), in parallel within each slice of [`SLICE`] pairs,
-/// and hands each slice's pairs and outcomes (in pair order) to `keep`: the memory beyond
+/// and hands each slice's pairs and outcomes (in pair order; `keep` may move them out) to
+/// `keep`: the memory beyond
 /// the output is one slice's outcomes, and the output is the same for any number of threads.
 pub(super) fn narrow_phase<T: Send>(
     system: &BlockSystem,
@@ -220,7 +221,7 @@ pub(super) fn narrow_phase<T: Send>(
     tol: &Tolerance,
     progress: &mut dyn FnMut(DetectProgress) -> ControlFlow<()>,
     query: impl Fn(&mut Detector, [u32; 2], &ConvexBlock, &ConvexBlock) -> T + Sync,
-    mut keep: impl FnMut(&[[u32; 2]], &[T]),
+    mut keep: impl FnMut(&[[u32; 2]], &mut [T]),
 ) -> Result<(), Cancelled> {
     let blocks = system.blocks();
     let mut outcomes = Vec::with_capacity(SLICE.min(pairs.len()));
@@ -237,7 +238,7 @@ pub(super) fn narrow_phase<T: Send>(
                 },
             )
             .collect_into_vec(&mut outcomes);
-        keep(slice, &outcomes);
+        keep(slice, &mut outcomes);
         let done = (k * SLICE + slice.len()).min(pairs.len());
         if progress(DetectProgress {
             pairs_done: done,

@@ -8,6 +8,7 @@ mod concave;
 mod concave_tests;
 mod detect;
 mod examples;
+mod flat;
 mod geometry;
 #[cfg(test)]
 pub(crate) mod test_rng;
@@ -20,6 +21,7 @@ pub use detect::{count_types, Cancelled, DetectProgress, PairContact, SystemCont
 #[cfg(test)]
 pub(crate) use examples::paper_pairs;
 pub use examples::{paper_example, paper_spec, paper_table3, PaperExample};
+pub use flat::FlatBlocks;
 pub use geometry::ContactGeometries;
 pub use tracker::{ContactTracker, TrackerError, UpdateReport};
 
@@ -46,6 +48,7 @@ pub struct BlockSystem {
     sets: Vec<SetRecord>,
     /// Body ids and internal faces when some block is made of several parts.
     glue: Option<concave::Glue>,
+    unit: Option<String>,
 }
 
 /// Why a block system cannot be built.
@@ -63,6 +66,20 @@ pub enum SystemError {
     /// Generation failed.
     #[error("{0}")]
     Generation(#[from] GenerationError),
+    /// Flat arrays ([`FlatBlocks`]) whose offsets or indices do not fit together.
+    #[error("{message}")]
+    Arrays {
+        /// What is wrong, naming the array.
+        message: String,
+    },
+    /// Block `block` of flat arrays is not a valid block.
+    #[error("block {block}: {source}")]
+    InvalidBlock {
+        /// The block's id.
+        block: usize,
+        /// Why.
+        source: BlockError,
+    },
 }
 
 impl BlockSystem {
@@ -87,7 +104,20 @@ impl BlockSystem {
             joints,
             sets,
             glue: None,
+            unit: None,
         }
+    }
+
+    /// The system with the length unit of its coordinates named (see [`BlockSystem::unit`]).
+    pub fn with_unit(mut self, unit: Option<String>) -> Self {
+        self.unit = unit;
+        self
+    }
+
+    /// The length unit of the coordinates, when named (the generation spec's `unit`): a
+    /// label for pictures and reports; penedge computes in whatever unit the numbers are.
+    pub fn unit(&self) -> Option<&str> {
+        self.unit.as_deref()
     }
 
     /// The blocks, indexed by id.
