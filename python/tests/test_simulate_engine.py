@@ -23,12 +23,13 @@ def plane_normal(dip, dip_direction):
     return np.array([math.sin(d) * math.sin(a), math.sin(d) * math.cos(a), math.cos(d)])
 
 
-def wedge_limit_equilibrium(friction, pressure=0.0):
+def wedge_limit_equilibrium(friction, pressure=0.0, seismic=0.0):
     """Hoek & Bray's factor of safety of the wedge of examples/models/wedge_*.toml, by
     vectors: the weight W of the tetrahedron cut from the box corner region by the two
     joints, split into the reactions N_A n_A + N_B n_B normal to the joints and the driving
     force along their line of intersection; F = (N_A' + N_B') tan phi / D with N' = N - u A
-    (a uniform water pressure u on each joint)."""
+    (a uniform water pressure u on each joint); `seismic` adds a pseudo-static force
+    kh W towards East (out of the slope face)."""
     na, nb = plane_normal(45, 45), plane_normal(45, 135)
     apex = np.array([10.0, 5.0, 5.0])  # both planes pass through it
     # the corners on the top (z = 10) and the slope face (x = 10)
@@ -45,7 +46,7 @@ def wedge_limit_equilibrium(friction, pressure=0.0):
 
     corners = np.array([apex, top_on_line, on_top_and_face(na), on_top_and_face(nb)])
     volume = abs(np.linalg.det(corners[1:] - corners[0])) / 6
-    weight = 2600 * 9.81 * volume * np.array([0.0, 0.0, -1.0])
+    weight = 2600 * 9.81 * volume * np.array([seismic, 0.0, -1.0])
     # W + N_A n_A + N_B n_B + S line = 0 (S the shear resistance needed, along the line)
     matrix = np.column_stack([na, nb, line])
     n_a, n_b, _ = np.linalg.solve(matrix, -weight)
@@ -135,3 +136,19 @@ def test_planar_slope_failure_matches_limit_equilibrium():
     assert safety.failing > exact - 0.01
     free = ~pm.prepare(EXAMPLES / "slope_planar.toml").layout.fixed
     assert safety.failing_blocks == np.flatnonzero(free).tolist()
+
+
+@needs_engine
+def test_seismic_coefficient_lowers_the_wedge_factor_as_limit_equilibrium_does():
+    """The pseudo-static load kh g towards the slope face (East) in limit equilibrium and
+    in the model, as critical friction angles within 1 degree."""
+    text = (EXAMPLES / "wedge_dry.toml").read_text()
+    text = text.replace(
+        "[regions.wedge]", "[seismic]\ncoefficient = 0.1\nazimuth = 90\n\n[regions.wedge]"
+    )
+    safety = pm.simulate(text).safety
+    reference, _ = wedge_limit_equilibrium(40.0, seismic=0.1)
+    assert reference < wedge_limit_equilibrium(40.0)[0]
+    found = math.degrees(math.atan(math.tan(math.radians(40)) / safety.factor))
+    exact = math.degrees(math.atan(math.tan(math.radians(40)) / reference))
+    assert found == pytest.approx(exact, abs=1.0)

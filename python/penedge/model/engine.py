@@ -41,7 +41,16 @@ NOT_SUPPORTED = {
     "water": "water pressure in the joints is not supported yet by the engine",
     "bolts": "rock bolts are not supported yet by the engine",
     "excavate": "excavation is not supported yet by the engine",
+    "residual": "residual values other than the defaults (residual_friction = friction, "
+    "residual cohesion and tension 0) are not supported yet by the engine",
 }
+
+
+def has_residual(props: JointProperties) -> bool:
+    """Whether `props` has residual values other than the engine's (friction unchanged,
+    cohesion and tension lost)."""
+    residual = props.friction if props.residual_friction is None else props.residual_friction
+    return residual != props.friction or bool(props.residual_cohesion or props.residual_tension)
 
 
 def unsupported(model: Model) -> list[tuple[str, str]]:
@@ -56,6 +65,13 @@ def unsupported(model: Model) -> list[tuple[str, str]]:
     for i, stage in enumerate(model.stages):
         if stage.kind == "excavate":
             found.append((f"stages[{i}]", NOT_SUPPORTED["excavate"]))
+        if stage.kind == "properties" and any(k.startswith("residual_") for k in stage.changes):
+            found.append((f"stages[{i}]", NOT_SUPPORTED["residual"]))
+    named = {"default": model.default_properties, **model.properties}
+    for name, props in named.items():
+        if has_residual(props):
+            found.append((f"joint_properties.{name}", NOT_SUPPORTED["residual"]))
+            break
     return found
 
 
@@ -114,13 +130,8 @@ class Engine:
 
     def joint(self, props: JointProperties) -> dict[str, float]:
         """The engine's joint model of `props`."""
-        residual = props.friction if props.residual_friction is None else props.residual_friction
-        if residual != props.friction or props.residual_cohesion or props.residual_tension:
-            raise ModelError(
-                "joint_properties",
-                "residual values other than the defaults (residual_friction = friction, "
-                "residual cohesion and tension 0) are not supported yet by the engine",
-            )
+        if has_residual(props):
+            raise ModelError("joint_properties", NOT_SUPPORTED["residual"])
         return {
             "kn": props.kn,
             "ks": props.ks,
