@@ -212,7 +212,13 @@ class _JointProperties(TypedDict):
 
 @final
 class Simulation:
-    def __new__(cls, system: BlockSystem, density: float = 2700.0, gap: float = 1e-3) -> Self: ...
+    def __new__(
+        cls,
+        system: BlockSystem,
+        density: float = 2700.0,
+        gap: float = 1e-3,
+        point_width: float = 0.2,
+    ) -> Self: ...
     def __len__(self) -> int: ...
     def set_joint(
         self,

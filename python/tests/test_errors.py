@@ -16,7 +16,7 @@ V, F = CUBE.vertices, CUBE.faces
 def test_exception_tree():
     assert issubclass(penedge.PenedgeError, Exception)
     classes = (penedge.InputError, penedge.BlockError, penedge.ToleranceError)
-    for cls in (*classes, penedge.SpecError, penedge.FileFormatError):
+    for cls in (*classes, penedge.SpecError, penedge.FileFormatError, penedge.MechanicsError):
         assert issubclass(cls, penedge.PenedgeError)
         assert issubclass(cls, ValueError)
         assert cls.__module__ == "penedge"
