@@ -60,6 +60,9 @@ pub enum SetKind {
     Disc,
     /// A finite convex polygonal joint.
     Polygon,
+    /// An excavation (tunnel, cavern, shaft): its faces are free faces of the rock, one
+    /// joint record per face of its convex regions.
+    Excavation,
 }
 
 /// A discontinuity of the spec, as recorded in the system: its name and kind.

@@ -8,6 +8,7 @@ mod concave;
 mod concave_tests;
 mod detect;
 mod examples;
+mod excavate;
 mod flat;
 mod geometry;
 #[cfg(test)]
@@ -21,6 +22,7 @@ pub use detect::{count_types, Cancelled, DetectProgress, PairContact, SystemCont
 #[cfg(test)]
 pub(crate) use examples::paper_pairs;
 pub use examples::{paper_example, paper_spec, paper_table3, PaperExample};
+pub use excavate::ExcavationReport;
 pub use flat::FlatBlocks;
 pub use geometry::ContactGeometries;
 pub use tracker::{ContactTracker, TrackerError, UpdateReport};

@@ -1,0 +1,473 @@
+//! Excavating a block system: the rock inside an excavation's convex regions is removed, the
+//! blocks its boundary crosses are cut, and what is left of a block stays one block (a
+//! concave body of convex parts) while it is in one piece.
+//!
+//! A block minus a convex region `R` of faces `0..m` is the union of the convex pieces
+//! `block ∩ outside(i) ∩ inside(0..i-1)`: the block is split by face 0's plane, the part
+//! outside kept, the part inside split by face 1's, and so on; what is inside every face
+//! is inside `R` and removed. When some plane leaves the rest wholly outside, the block and
+//! `R` do not overlap and the block is kept as it was (no needless cuts). Splitting conserves
+//! volume up to rounding (see [`crate::cutting`]), so the volume removed is the volume of
+//! `R` within the blocks.
+
+use super::BlockSystem;
+use crate::block::{ConvexBlock, FaceOrigin};
+use crate::classify::{Feature, PairResult};
+use crate::contact::Detector;
+use crate::cutting::{Side, Splitter};
+use crate::generation::{
+    upward, Excavation, GenerationError, JointRecord, JointShape, Problem, SetKind, SetRecord,
+    SpecError,
+};
+use crate::geometry::{Aabb, Plane};
+use crate::tolerance::Tolerance;
+
+/// What an excavation did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ExcavationReport {
+    /// Blocks wholly inside the excavation, removed.
+    pub removed_blocks: usize,
+    /// Blocks cut by the excavation's boundary.
+    pub cut_blocks: usize,
+    /// The convex parts the cut blocks left.
+    pub parts: usize,
+    /// The volume removed: blocks' volume before less after.
+    pub volume_removed: f64,
+}
+
+impl BlockSystem {
+    /// This system with `excavation` removed: blocks inside it are removed, blocks its
+    /// boundary crosses are cut into convex parts glued as one body per connected piece,
+    /// with faces of origin `Joint { set, joint }` for a new entry of kind
+    /// [`SetKind::Excavation`] and one joint record per face of its regions. Body ids are
+    /// renumbered `0..` in the order of each body's first part.
+    ///
+    /// ```
+    /// use penedge::generation::{Excavation, ExcavationShape};
+    /// use penedge::{BlockSystem, ConvexBlock, Tolerance};
+    /// let tol = Tolerance::default();
+    /// let rock = BlockSystem::new(vec![ConvexBlock::cuboid([0.0; 3], [10.0; 3]).unwrap()]);
+    /// let cavern = Excavation::new(ExcavationShape::Cavern {
+    ///     center: [5.0, 5.0, 5.0], trend: 0.0, length: 20.0, width: 2.0, height: 3.0,
+    /// });
+    /// let (out, report) = rock.excavate(&cavern, &tol).unwrap();
+    /// assert!((report.volume_removed - 60.0).abs() < 1e-9); // 10 x 2 x 3 within the rock
+    /// assert_eq!(out.body_parts().len(), 1); // one block (a ring), in parts
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// A bad excavation (the error names its field under `excavation`); one that removes no
+    /// rock (outside the blocks, or in rock already excavated); a cut that cannot be made.
+    pub fn excavate(
+        &self,
+        excavation: &Excavation,
+        tol: &Tolerance,
+    ) -> Result<(BlockSystem, ExcavationReport), GenerationError> {
+        self.excavate_at(excavation, "excavation", tol)
+    }
+
+    /// [`BlockSystem::excavate`], naming fields under `prefix` (`excavations[2]`).
+    pub(crate) fn excavate_at(
+        &self,
+        excavation: &Excavation,
+        prefix: &str,
+        tol: &Tolerance,
+    ) -> Result<(BlockSystem, ExcavationReport), GenerationError> {
+        let regions = excavation.regions_at(prefix)?;
+        let set = self.sets.len() as u32;
+        let first_joint = self.joints.len() as u32;
+        let mut joints = self.joints.clone();
+        for region in &regions {
+            for f in 0..region.n_faces() {
+                joints.push(face_record(
+                    region,
+                    f,
+                    set,
+                    joints.len() as u32 - first_joint,
+                ));
+            }
+        }
+        let mut sets = self.sets.clone();
+        sets.push(SetRecord {
+            name: excavation
+                .name
+                .clone()
+                .unwrap_or_else(|| prefix.to_string()),
+            kind: SetKind::Excavation,
+        });
+        let Some(world) = self.blocks.iter().map(ConvexBlock::aabb).reduce(union) else {
+            return Err(misses(prefix));
+        };
+        let eps = tol.for_box(&world).length;
+        let mut splitter = Splitter::default();
+        let mut report = ExcavationReport::default();
+        // The pieces, each with the block it comes from.
+        let mut pieces: Vec<(u32, ConvexBlock)> = Vec::with_capacity(self.len());
+        for (k, block) in self.blocks.iter().enumerate() {
+            let mut parts = vec![block.clone()];
+            let mut touched = false;
+            let mut joint = first_joint;
+            for region in &regions {
+                let mut next = Vec::with_capacity(parts.len());
+                for part in parts {
+                    match subtract(&part, region, set, joint, eps, &mut splitter) {
+                        Ok(Some(left)) => {
+                            touched = true;
+                            next.extend(left);
+                        }
+                        Ok(None) => next.push(part),
+                        Err(source) => return Err(GenerationError::Cut { set, joint, source }),
+                    }
+                }
+                parts = next;
+                joint += region.n_faces() as u32;
+            }
+            if touched {
+                if parts.is_empty() {
+                    report.removed_blocks += 1;
+                } else {
+                    report.cut_blocks += 1;
+                    report.parts += parts.len();
+                }
+            }
+            pieces.extend(parts.into_iter().map(|p| (k as u32, p)));
+        }
+        if report.removed_blocks + report.cut_blocks == 0 {
+            return Err(misses(prefix));
+        }
+        let before: f64 = self.blocks.iter().map(ConvexBlock::volume).sum();
+        let after: f64 = pieces.iter().map(|p| p.1.volume()).sum();
+        report.volume_removed = before - after;
+        let bodies: Vec<u32> = pieces.iter().map(|p| self.body_of(p.0)).collect();
+        let blocks: Vec<ConvexBlock> = pieces.into_iter().map(|p| p.1).collect();
+        let out = BlockSystem::with_provenance(blocks, self.domain.clone(), joints, sets)
+            .with_unit(self.unit.clone());
+        let ids = connected_bodies(&out, &bodies, tol);
+        let out = out
+            .with_bodies(ids, tol)
+            .map_err(|e| SpecError::new(prefix, Problem::Invalid(e.to_string())))?;
+        Ok((out, report))
+    }
+}
+
+fn misses(prefix: &str) -> GenerationError {
+    let msg = "the excavation removes no rock: it lies outside the domain (outside every \
+               block), or in rock already excavated";
+    SpecError::new(prefix, Problem::Invalid(msg.to_string())).into()
+}
+
+fn union(a: Aabb, b: Aabb) -> Aabb {
+    Aabb {
+        min: a.min.min(b.min),
+        max: a.max.max(b.max),
+    }
+}
+
+/// The joint record of face `f` of a region: its plane (upward normal) and its polygon
+/// (counter-clockwise about that normal).
+fn face_record(region: &ConvexBlock, f: usize, set: u32, member: u32) -> JointRecord {
+    let plane = region.planes()[f];
+    let normal = upward(plane.normal);
+    let mut vertices: Vec<_> = region
+        .face(f)
+        .iter()
+        .map(|&k| region.vertices()[k as usize])
+        .collect();
+    if normal != plane.normal {
+        vertices.reverse();
+    }
+    JointRecord {
+        set,
+        member,
+        plane: Plane {
+            normal,
+            point: plane.point,
+        },
+        shape: JointShape::Polygon { vertices },
+    }
+}
+
+/// `part` minus the convex `region` (faces' joints numbered from `joint`): `None` when they
+/// do not overlap, else the convex pieces left (none when `part` is inside `region`).
+fn subtract(
+    part: &ConvexBlock,
+    region: &ConvexBlock,
+    set: u32,
+    joint: u32,
+    eps: f64,
+    splitter: &mut Splitter,
+) -> Result<Option<Vec<ConvexBlock>>, crate::BlockError> {
+    if !part.aabb().overlaps(&region.aabb(), -eps) {
+        return Ok(None);
+    }
+    let mut rest = part.clone();
+    let mut left = Vec::new();
+    for (f, plane) in region.planes().iter().enumerate() {
+        match splitter.prepare(&rest, plane, eps)? {
+            Side::Below => {}
+            Side::Above => return Ok(None),
+            Side::Across => {
+                let origin = FaceOrigin::Joint {
+                    set,
+                    joint: joint + f as u32,
+                };
+                let [below, above] = splitter.finish(origin)?;
+                left.push(above);
+                rest = below;
+            }
+        }
+    }
+    Ok(Some(left))
+}
+
+/// Body ids after a cut: the parts of one body (`bodies`, per block) that are connected
+/// through face-face contacts of positive area stay one body; a body cut in two becomes two.
+/// Ids are renumbered `0..` in the order of each body's first part.
+fn connected_bodies(system: &BlockSystem, bodies: &[u32], tol: &Tolerance) -> Vec<u32> {
+    let n = bodies.len();
+    let mut root: Vec<usize> = (0..n).collect();
+    fn find(root: &mut [usize], mut k: usize) -> usize {
+        while root[k] != k {
+            root[k] = root[root[k]];
+            k = root[k];
+        }
+        k
+    }
+    let mut det = Detector::new(*tol);
+    for [i, j] in system.candidate_pairs(tol) {
+        let (i, j) = (i as usize, j as usize);
+        if bodies[i] != bodies[j] {
+            continue;
+        }
+        let glued = match det.detect_with_geometry(&system.blocks[i], &system.blocks[j]) {
+            (PairResult::Contact(c), Some(g)) => {
+                g.area() > 0.0
+                    && matches!(
+                        (c.feature_a, c.feature_b),
+                        (Feature::Face(_), Feature::Face(_))
+                    )
+            }
+            _ => false,
+        };
+        if glued {
+            let (a, b) = (find(&mut root, i), find(&mut root, j));
+            root[a.max(b)] = a.min(b);
+        }
+    }
+    let mut ids = vec![u32::MAX; n];
+    let mut next = 0;
+    for k in 0..n {
+        let r = find(&mut root, k);
+        if ids[r] == u32::MAX {
+            ids[r] = next;
+            next += 1;
+        }
+        ids[k] = ids[r];
+    }
+    ids
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generation::{ExcavationShape, Profile};
+
+    fn grid(n: usize, size: f64) -> BlockSystem {
+        let h = size / n as f64;
+        let mut blocks = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                for k in 0..n {
+                    let lo = [i as f64 * h, j as f64 * h, k as f64 * h];
+                    let hi = [lo[0] + h, lo[1] + h, lo[2] + h];
+                    blocks.push(ConvexBlock::cuboid(lo, hi).unwrap());
+                }
+            }
+        }
+        BlockSystem::new(blocks)
+    }
+
+    fn volume(s: &BlockSystem) -> f64 {
+        s.blocks().iter().map(ConvexBlock::volume).sum()
+    }
+
+    /// A box tunnel 2 wide, 1.5 high, along y (trend 0), longer than the domain.
+    fn box_tunnel(x: f64, z: f64) -> Excavation {
+        Excavation::new(ExcavationShape::Tunnel {
+            profile: Profile::Polygon {
+                vertices: vec![[-1.0, -0.75], [1.0, -0.75], [1.0, 0.75], [-1.0, 0.75]],
+            },
+            start: [x, -5.0, z],
+            trend: 0.0,
+            plunge: 0.0,
+            length: 30.0,
+        })
+    }
+
+    #[test]
+    fn a_box_tunnel_through_a_box_removes_its_section_times_the_width() {
+        let tol = Tolerance::default();
+        let rock = grid(3, 9.0); // 27 blocks of 3 m
+        let (out, report) = rock.excavate(&box_tunnel(4.2, 4.6), &tol).unwrap();
+        // Exact: section 2 x 1.5 times the domain's 9 m along y.
+        let exact = 2.0 * 1.5 * 9.0;
+        assert!((volume(&rock) - volume(&out) - exact).abs() < 1e-9 * exact);
+        assert!((report.volume_removed - exact).abs() < 1e-9 * exact);
+        // The tunnel lies within the middle column of blocks (x, z in 3..6): those three
+        // blocks are each cut into a ring of parts; none is removed.
+        assert_eq!((report.removed_blocks, report.cut_blocks), (0, 3));
+        assert_eq!(out.body_parts().len(), 27, "every block stays one block");
+        assert!(out.has_concave());
+        // No part lies inside the tunnel.
+        for b in out.blocks() {
+            let c = b.centroid();
+            assert!(
+                !((c.x - 4.2).abs() < 1.0 && (c.z - 4.6).abs() < 0.75),
+                "{c}"
+            );
+        }
+        // The tunnel's faces are free faces of an excavation entry.
+        assert_eq!(out.sets().last().unwrap().kind, SetKind::Excavation);
+    }
+
+    #[test]
+    fn blocks_inside_are_removed_and_a_block_cut_through_becomes_two() {
+        let tol = Tolerance::default();
+        let rock = grid(3, 9.0);
+        // A 3.5 m wide tunnel through x in 2.5..6: removes nothing whole (blocks are 3 m),
+        // and a 4 m high one through the middle layer z in 2.5..6.5 cuts the middle column
+        // through: each of its blocks (z in 3..6) is removed, the blocks above and below are
+        // cut, and the side columns' middle blocks lose a slab.
+        let tunnel = Excavation::new(ExcavationShape::Cavern {
+            center: [4.5, 4.5, 4.5],
+            trend: 0.0,
+            length: 20.0,
+            width: 3.5,
+            height: 4.0,
+        });
+        let (out, report) = rock.excavate(&tunnel, &tol).unwrap();
+        let exact = 3.5 * 4.0 * 9.0;
+        assert!((volume(&rock) - volume(&out) - exact).abs() < 1e-9 * exact);
+        assert_eq!(report.removed_blocks, 3);
+        // A block of the middle column's left neighbour (x 0..3, z 3..6) loses x 2.75..3:
+        // still one piece. The bodies: 27 - 3 removed.
+        assert_eq!(out.body_parts().len(), 24);
+        // Now a thin slot through a block cuts it in two separate bodies.
+        let slot = Excavation::new(ExcavationShape::Cavern {
+            center: [1.5, 4.5, 1.5],
+            trend: 0.0,
+            length: 20.0,
+            width: 3.5,
+            height: 0.5,
+        });
+        let (cut, _) = out.excavate(&slot, &tol).unwrap();
+        // The three blocks of x 0..3, z 0..3 are each split into a lower and an upper part,
+        // not glued: 3 more bodies.
+        assert_eq!(cut.body_parts().len(), 27);
+        // The slot: x from the domain's side (0) to 3.25, 0.5 high, 9 long.
+        let exact2 = 3.25 * 0.5 * 9.0;
+        assert!((volume(&out) - volume(&cut) - exact2).abs() < 1e-9 * exact2);
+    }
+
+    #[test]
+    fn excavating_in_stages_conserves_volume_and_a_repeat_removes_nothing() {
+        let tol = Tolerance::default();
+        let rock = grid(2, 10.0);
+        let circle = |x: f64, trend: f64| {
+            Excavation::new(ExcavationShape::Tunnel {
+                profile: Profile::Circle {
+                    radius: 1.2,
+                    segments: 12,
+                },
+                start: [x, 5.0, 5.0],
+                trend,
+                plunge: 0.0,
+                length: 4.0,
+            })
+        };
+        let first = circle(3.0, 0.0); // from y = 5 to 9: inside the domain
+        let (one, r1) = rock.excavate(&first, &tol).unwrap();
+        let v1 = first.volume().unwrap();
+        assert!((r1.volume_removed - v1).abs() < 1e-9 * v1);
+        // The second, from the first's start, at trend 180 (y from 5 to 1): disjoint.
+        let second = circle(3.0, 180.0);
+        let (two, r2) = one.excavate(&second, &tol).unwrap();
+        assert!((r2.volume_removed - v1).abs() < 1e-9 * v1);
+        assert!((volume(&rock) - volume(&two) - 2.0 * v1).abs() < 1e-9 * v1);
+        assert_eq!(two.sets().len(), 2);
+        let e = two.excavate(&first, &tol).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("excavation: the excavation removes no rock"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn an_excavation_outside_the_domain_is_refused() {
+        let tol = Tolerance::default();
+        let rock = grid(1, 1.0);
+        let e = rock.excavate(&box_tunnel(50.0, 0.5), &tol).unwrap_err();
+        assert!(e.to_string().contains("outside the domain"), "{e}");
+    }
+
+    #[test]
+    fn a_non_convex_profile_removes_its_area_times_the_length() {
+        let tol = Tolerance::default();
+        let rock = grid(2, 8.0);
+        // A U-shaped profile of area 3 * 3 - 1 * 2 = 7, along x (trend 90) through the domain.
+        let u = Profile::Polygon {
+            vertices: vec![
+                [-1.5, -1.5],
+                [1.5, -1.5],
+                [1.5, 1.5],
+                [0.5, 1.5],
+                [0.5, -0.5],
+                [-0.5, -0.5],
+                [-0.5, 1.5],
+                [-1.5, 1.5],
+            ],
+        };
+        let tunnel = Excavation::new(ExcavationShape::Tunnel {
+            profile: u,
+            start: [-1.0, 4.3, 3.9],
+            trend: 90.0,
+            plunge: 0.0,
+            length: 10.0,
+        });
+        let (out, _) = rock.excavate(&tunnel, &tol).unwrap();
+        let exact = 7.0 * 8.0;
+        assert!((volume(&rock) - volume(&out) - exact).abs() < 1e-9 * exact);
+        // The U's axis is at y 4.3, z 3.9, across the blocks' faces y = 4 and z = 4. The
+        // rock between its arms (y 3.8..4.8, z 3.4..5.4) is cut by the face z = 4: its
+        // lower part, in the two blocks below (z < 4) on either side of y = 4, is closed in by
+        // the arms, the U's floor and the blocks' faces, apart from the rest of its block. So
+        // each of those blocks becomes two, at both x: 8 + 4 bodies.
+        assert_eq!(out.body_parts().len(), 12);
+    }
+
+    #[test]
+    fn a_shaft_removes_its_area_times_the_depth() {
+        let tol = Tolerance::default();
+        let rock = grid(2, 8.0);
+        let shaft = Excavation::new(ExcavationShape::Shaft {
+            profile: Profile::Circle {
+                radius: 1.0,
+                segments: 10,
+            },
+            top: [4.0, 4.0, 8.0],
+            depth: 6.0,
+        });
+        let (out, report) = rock.excavate(&shaft, &tol).unwrap();
+        let exact = shaft.volume().unwrap();
+        let polygon = 0.5 * 10.0 * (std::f64::consts::TAU / 10.0).sin() * 6.0;
+        assert!((exact - polygon).abs() < 1e-12);
+        assert!((volume(&rock) - volume(&out) - exact).abs() < 1e-9 * exact);
+        assert_eq!(
+            report.cut_blocks, 8,
+            "the shaft at the centre cuts all 8 blocks"
+        );
+        assert_eq!(out.body_parts().len(), 8);
+    }
+}
