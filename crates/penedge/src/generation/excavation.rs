@@ -155,7 +155,7 @@ impl Excavation {
                     -plunge.sin(),
                 );
                 let u = DVec3::new(trend.cos(), -trend.sin(), 0.0);
-                let pieces = profile.pieces(&f("profile"))?;
+                let pieces = profile.pieces(prefix)?;
                 Ok(Prism::new(start, d, u, length, pieces))
             }
             ExcavationShape::Cavern {
@@ -190,7 +190,7 @@ impl Excavation {
             } => {
                 let top = check::point(&f("top"), *top)?;
                 let depth = check::positive(&f("depth"), *depth)?;
-                let pieces = profile.pieces(&f("profile"))?;
+                let pieces = profile.pieces(prefix)?;
                 Ok(Prism::new(top, -DVec3::Z, DVec3::X, depth, pieces))
             }
         }

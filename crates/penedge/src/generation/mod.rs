@@ -117,6 +117,9 @@ pub fn generate_with(
     progress: &mut dyn FnMut(Progress) -> ControlFlow<()>,
 ) -> Result<Generated, GenerationError> {
     let plan = expand::plan(spec)?;
+    for (k, excavation) in spec.excavations.iter().enumerate() {
+        excavation.regions_at(&format!("excavations[{k}]"))?;
+    }
     let estimate = work::estimate(spec, &plan);
     if estimate.blocks > limits.max_blocks as f64 {
         return Err(GenerationError::TooManyBlocks {
@@ -162,13 +165,24 @@ pub fn generate_with(
     }
     let (blocks, slivers) =
         report::sort_slivers(tree.into_blocks(), &spec.options, spec.domain.size());
-    let report = GenerationReport {
+    let mut report = GenerationReport {
         partial_cuts_by_entry: partial,
         ..report::summarise(&blocks, spec.domain.volume(), &plan, &counts, slivers)
     };
     let domain = spec.domain.parts().to_vec();
-    let system = BlockSystem::with_provenance(blocks, domain, plan.records, plan.sets)
+    let mut system = BlockSystem::with_provenance(blocks, domain, plan.records, plan.sets)
         .with_unit(spec.unit.clone());
+    for (k, excavation) in spec.excavations.iter().enumerate() {
+        let prefix = format!("excavations[{k}]");
+        let tol = &spec.options.tolerance;
+        let (excavated, done) = system.excavate_at(excavation, &prefix, tol)?;
+        report.excavated_volume += done.volume_removed;
+        system = excavated;
+    }
+    if !spec.excavations.is_empty() {
+        report.blocks = system.len();
+        report.block_volume = system.blocks().iter().map(|b| b.volume()).sum();
+    }
     Ok(Generated { system, report })
 }
 

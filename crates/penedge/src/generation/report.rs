@@ -34,6 +34,12 @@ pub struct GenerationReport {
     /// Blocks tiny beside the system's typical block (whatever the sliver limits).
     #[serde(default)]
     pub tiny: TinyReport,
+    /// Volume removed by the spec's excavations, applied after the joints and the slivers:
+    /// `blocks` and `block_volume` count the blocks (convex parts) left, `volume_error` and
+    /// the sliver and tiny reports are the joints' cut, before excavation (block ids there
+    /// are those before excavation).
+    #[serde(default)]
+    pub excavated_volume: f64,
 }
 
 /// Blocks whose volume is below [`TINY_SHARE`] of the median block volume: a spec's
@@ -164,5 +170,6 @@ pub(crate) fn summarise(
         volume_error: (block_volume + dropped - domain_volume).abs() / domain_volume,
         slivers,
         tiny: TinyReport::of(blocks),
+        excavated_volume: 0.0,
     }
 }

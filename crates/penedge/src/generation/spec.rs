@@ -5,6 +5,7 @@
 //! each error names the field as a path into the spec (`joints[2].dip`).
 
 use super::domain::Domain;
+use super::excavation::Excavation;
 use super::orientation::Attitude;
 use crate::tolerance::Tolerance;
 
@@ -15,6 +16,8 @@ pub struct Spec {
     pub domain: Domain,
     /// Discontinuities, applied in this order.
     pub joints: Vec<Discontinuity>,
+    /// Excavations (tunnels, caverns, shafts), applied in this order after the joints.
+    pub excavations: Vec<Excavation>,
     /// Tolerance and sliver options.
     pub options: Options,
     /// The length unit of the spec's coordinates and spacings (`"m"`, `"ft"`), for labels
@@ -29,9 +32,17 @@ impl Spec {
         Spec {
             domain,
             joints: Vec::new(),
+            excavations: Vec::new(),
             options: Options::default(),
             unit: None,
         }
+    }
+
+    /// The spec with one more excavation, applied after the joints and the other
+    /// excavations.
+    pub fn excavate(mut self, excavation: Excavation) -> Spec {
+        self.excavations.push(excavation);
+        self
     }
 
     /// The spec with one more discontinuity, applied after the others.

@@ -20,6 +20,7 @@
 
 use super::{messages, read_text, IoError};
 use crate::generation::{Attitude, Deviation, Discontinuity, Domain, JointKind, JointSet};
+use crate::generation::{Excavation, ExcavationShape, Profile};
 use crate::generation::{Options, Orientation, Problem, SliverPolicy, Spec, SpecError};
 use crate::tolerance::Tolerance;
 use serde::Deserialize;
@@ -31,6 +32,8 @@ struct RawSpec {
     domain: RawDomain,
     #[serde(default)]
     joints: Vec<RawJoint>,
+    #[serde(default)]
+    excavations: Vec<RawExcavation>,
     #[serde(default)]
     options: RawOptions,
     unit: Option<String>,
@@ -69,6 +72,28 @@ struct RawJoint {
     center: Option<[f64; 3]>,
     radius: Option<f64>,
     vertices: Option<Vec<[f64; 3]>>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawExcavation {
+    #[serde(rename = "type")]
+    kind: String,
+    name: Option<String>,
+    profile: Option<String>,
+    radius: Option<f64>,
+    segments: Option<i64>,
+    wall: Option<f64>,
+    vertices: Option<Vec<[f64; 2]>>,
+    start: Option<[f64; 3]>,
+    trend: Option<f64>,
+    plunge: Option<f64>,
+    length: Option<f64>,
+    center: Option<[f64; 3]>,
+    width: Option<f64>,
+    height: Option<f64>,
+    top: Option<[f64; 3]>,
+    depth: Option<f64>,
 }
 
 #[derive(Deserialize, Default)]
@@ -152,10 +177,17 @@ fn convert(raw: RawSpec) -> Result<Spec, SpecError> {
         .enumerate()
         .map(|(i, j)| joint(&format!("joints[{i}]"), j))
         .collect::<Result<_, _>>()?;
+    let excavations = raw
+        .excavations
+        .iter()
+        .enumerate()
+        .map(|(i, e)| excavation(&format!("excavations[{i}]"), e))
+        .collect::<Result<_, _>>()?;
     let options = options(&raw.options)?;
     Ok(Spec {
         domain,
         joints,
+        excavations,
         options,
         unit: raw.unit.map(unit).transpose()?,
     })
@@ -392,4 +424,112 @@ fn options(o: &RawOptions) -> Result<Options, SpecError> {
 
 fn tolerance_error(field: &'static str) -> impl Fn(crate::tolerance::ToleranceError) -> SpecError {
     move |e| SpecError::new(field, Problem::Invalid(e.to_string()))
+}
+
+/// An excavation entry: `type` (tunnel, cavern, shaft) and, for a tunnel or shaft, a
+/// `profile` (circle, horseshoe, polygon) with its fields flat in the entry.
+fn excavation(prefix: &str, e: &RawExcavation) -> Result<Excavation, SpecError> {
+    let given = [
+        ("profile", e.profile.is_some()),
+        ("radius", e.radius.is_some()),
+        ("segments", e.segments.is_some()),
+        ("wall", e.wall.is_some()),
+        ("vertices", e.vertices.is_some()),
+        ("start", e.start.is_some()),
+        ("trend", e.trend.is_some()),
+        ("plunge", e.plunge.is_some()),
+        ("length", e.length.is_some()),
+        ("center", e.center.is_some()),
+        ("width", e.width.is_some()),
+        ("height", e.height.is_some()),
+        ("top", e.top.is_some()),
+        ("depth", e.depth.is_some()),
+    ];
+    let field = |name: &str| format!("{prefix}.{name}");
+    let shape = match e.kind.as_str() {
+        "tunnel" => {
+            let mut allowed = vec!["start", "trend", "plunge", "length"];
+            let profile = profile(prefix, e, &mut allowed)?;
+            only(prefix, "tunnel", &given, &allowed)?;
+            ExcavationShape::Tunnel {
+                profile,
+                start: need(field("start"), &e.start)?,
+                trend: need(field("trend"), &e.trend)?,
+                plunge: e.plunge.unwrap_or(0.0),
+                length: need(field("length"), &e.length)?,
+            }
+        }
+        "cavern" => {
+            let allowed = ["center", "trend", "length", "width", "height"];
+            only(prefix, "cavern", &given, &allowed)?;
+            ExcavationShape::Cavern {
+                center: need(field("center"), &e.center)?,
+                trend: need(field("trend"), &e.trend)?,
+                length: need(field("length"), &e.length)?,
+                width: need(field("width"), &e.width)?,
+                height: need(field("height"), &e.height)?,
+            }
+        }
+        "shaft" => {
+            let mut allowed = vec!["top", "depth"];
+            let profile = profile(prefix, e, &mut allowed)?;
+            only(prefix, "shaft", &given, &allowed)?;
+            ExcavationShape::Shaft {
+                profile,
+                top: need(field("top"), &e.top)?,
+                depth: need(field("depth"), &e.depth)?,
+            }
+        }
+        other => {
+            let expected = "tunnel, cavern, shaft";
+            return Err(unknown_type(&field("type"), other, expected));
+        }
+    };
+    Ok(Excavation {
+        name: e.name.clone(),
+        shape,
+    })
+}
+
+/// The profile of a tunnel or shaft; adds the fields it takes to `allowed`.
+fn profile(
+    prefix: &str,
+    e: &RawExcavation,
+    allowed: &mut Vec<&str>,
+) -> Result<Profile, SpecError> {
+    let field = |name: &str| format!("{prefix}.{name}");
+    allowed.push("profile");
+    let segments = |default: i64| -> Result<u32, SpecError> {
+        let n = e.segments.unwrap_or(default);
+        u32::try_from(n).map_err(|_| {
+            SpecError::new(field("segments"), Problem::NotPositive { value: n as f64 })
+        })
+    };
+    Ok(match need(field("profile"), &e.profile)?.as_str() {
+        "circle" => {
+            allowed.extend(["radius", "segments"]);
+            Profile::Circle {
+                radius: need(field("radius"), &e.radius)?,
+                segments: segments(16)?,
+            }
+        }
+        "horseshoe" => {
+            allowed.extend(["radius", "segments", "wall"]);
+            Profile::Horseshoe {
+                radius: need(field("radius"), &e.radius)?,
+                wall: need(field("wall"), &e.wall)?,
+                segments: segments(8)?,
+            }
+        }
+        "polygon" => {
+            allowed.push("vertices");
+            Profile::Polygon {
+                vertices: need(field("vertices"), &e.vertices)?,
+            }
+        }
+        other => {
+            let expected = "circle, horseshoe, polygon";
+            return Err(unknown_type(&field("profile"), other, expected));
+        }
+    })
 }

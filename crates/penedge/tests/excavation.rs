@@ -1,0 +1,119 @@
+//! Excavations in the generation spec: the examples remove exactly the volume of their
+//! opening within the domain (worked out from the polygon's area, not from the code), bad
+//! entries name their field, and concave blocks are left glued.
+
+use penedge::generation::generate;
+use penedge::io::spec::{parse_toml, read_spec};
+use std::f64::consts::PI;
+use std::path::PathBuf;
+
+fn example(name: &str) -> penedge::generation::Generated {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name);
+    generate(&read_spec(&path).unwrap()).unwrap()
+}
+
+/// The area of a regular polygon of `n` sides inscribed in a circle of radius `r`.
+fn polygon_area(n: f64, r: f64) -> f64 {
+    0.5 * n * r * r * (2.0 * PI / n).sin()
+}
+
+fn left(out: &penedge::generation::Generated) -> f64 {
+    out.system.blocks().iter().map(|b| b.volume()).sum()
+}
+
+#[test]
+fn the_circular_tunnel_removes_its_section_times_the_domain_length() {
+    let out = example("tunnel_circular.toml");
+    let exact = polygon_area(16.0, 2.0) * 10.0; // right through the 10 m of the domain
+    assert!((out.report.excavated_volume - exact).abs() < 1e-9 * exact);
+    assert!((12.0 * 10.0 * 12.0 - left(&out) - exact).abs() < 1e-9 * exact);
+    assert!(out.system.has_concave());
+    assert_eq!(out.report.blocks, out.system.len());
+    // The block file keeps the bodies, the excavation's entry and its faces.
+    let text = penedge::io::json::to_json_string(&out.system);
+    let back = penedge::io::json::from_json_str(&text).unwrap();
+    assert_eq!(back.body_ids(), out.system.body_ids());
+    assert_eq!(
+        back.internal_faces().len(),
+        out.system.internal_faces().len()
+    );
+    assert_eq!(back.sets().last(), out.system.sets().last());
+}
+
+#[test]
+fn the_shaft_removes_its_section_times_its_depth() {
+    let out = example("shaft.toml");
+    let exact = polygon_area(8.0, 2.5) * 15.0;
+    assert!((out.report.excavated_volume - exact).abs() < 1e-9 * exact);
+    assert!((12.0 * 12.0 * 20.0 - left(&out) - exact).abs() < 1e-9 * exact);
+}
+
+#[test]
+fn the_cavern_and_its_access_remove_at_most_their_volumes() {
+    let out = example("cavern.toml");
+    let cavern = 20.0 * 6.0 * 8.0; // wholly inside the domain
+                                   // The horseshoe: a half 8-gon of radius 2 on walls 1.5 high, 4 wide; 13 m in the domain.
+    let shoe = 0.5 * 8.0 * 4.0 * (PI / 8.0).sin() + 4.0 * 1.5;
+    let v = out.report.excavated_volume;
+    assert!(v > cavern && v < cavern + shoe * 13.0, "{v}");
+    assert!((30.0 * 30.0 * 20.0 - left(&out) - v).abs() < 1e-9 * v);
+}
+
+#[test]
+fn bad_excavations_name_their_field() {
+    let spec = |entry: &str| {
+        let text = format!(
+            "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n\n\
+             [[excavations]]\n{entry}\n"
+        );
+        match parse_toml(&text) {
+            Err(e) => e.to_string(),
+            Ok(spec) => generate(&spec).unwrap_err().to_string(),
+        }
+    };
+    let tunnel = |extra: &str| {
+        spec(&format!(
+            "type = \"tunnel\"\nprofile = \"circle\"\nstart = [5, -1, 5]\ntrend = 0\n{extra}"
+        ))
+    };
+    let e = tunnel("radius = 1\nlength = 0");
+    assert!(
+        e.contains("excavations[0].length: must be greater than zero"),
+        "{e}"
+    );
+    let e = tunnel("radius = 0\nlength = 5");
+    assert!(
+        e.contains("excavations[0].radius: must be greater than zero"),
+        "{e}"
+    );
+    let e = tunnel("radius = nan\nlength = 5");
+    assert!(
+        e.contains("excavations[0].radius: must be a finite number"),
+        "{e}"
+    );
+    let e = tunnel("radius = 1\nlength = 5\nplunge = 90");
+    assert!(e.contains("excavations[0].plunge"), "{e}");
+    let e = tunnel("radius = 1\nlength = 5\ndepth = 3");
+    assert!(
+        e.contains("excavations[0].depth: not a field of a `tunnel` entry"),
+        "{e}"
+    );
+    let e = spec(
+        "type = \"tunnel\"\nprofile = \"polygon\"\nvertices = [[0, 0], [1, 1], [1, 0], [0, 1]]\n\
+         start = [5, -1, 5]\ntrend = 0\nlength = 5",
+    );
+    assert!(
+        e.contains("excavations[0].vertices: the profile crosses itself"),
+        "{e}"
+    );
+    let e =
+        spec("type = \"shaft\"\nprofile = \"circle\"\nradius = 1\ntop = [50, 50, 10]\ndepth = 5");
+    assert!(
+        e.contains("excavations[0]: the excavation removes no rock"),
+        "{e}"
+    );
+    let e = spec("type = \"pit\"");
+    assert!(e.contains("excavations[0].type: unknown type `pit`"), "{e}");
+}
