@@ -196,7 +196,7 @@ fn run(
 }
 
 /// A spec given as a dict, written as TOML text.
-fn toml_text(spec: &Bound<'_, PyAny>) -> PyResult<String> {
+pub(crate) fn toml_text(spec: &Bound<'_, PyAny>) -> PyResult<String> {
     let value = toml_value(spec, "spec")?.unwrap_or(toml::Value::Table(toml::Table::new()));
     let toml::Value::Table(table) = value else {
         unreachable!("a mapping becomes a table")

@@ -6,6 +6,7 @@ mod blocks;
 mod bodies;
 mod contacts;
 mod examples;
+mod excavate;
 mod tracker;
 
 pub use blocks::BlockArrays;

@@ -426,6 +426,22 @@ fn tolerance_error(field: &'static str) -> impl Fn(crate::tolerance::ToleranceEr
     move |e| SpecError::new(field, Problem::Invalid(e.to_string()))
 }
 
+/// Parses one excavation entry, given as TOML (the fields of an `[[excavations]]` entry);
+/// errors name the fields under `excavation`.
+///
+/// ```
+/// let e = penedge::io::spec::parse_excavation_toml(
+///     "type = \"cavern\"\ncenter = [0, 0, 0]\ntrend = 0\nlength = 4\nwidth = 2\nheight = 3",
+/// )
+/// .unwrap();
+/// assert_eq!(e.volume().unwrap(), 24.0);
+/// ```
+pub fn parse_excavation_toml(text: &str) -> Result<Excavation, SpecError> {
+    let raw: RawExcavation = toml::from_str(text)
+        .map_err(|e| SpecError::new("excavation", Problem::Syntax(toml_message(text, &e))))?;
+    excavation("excavation", &raw)
+}
+
 /// An excavation entry: `type` (tunnel, cavern, shaft) and, for a tunnel or shaft, a
 /// `profile` (circle, horseshoe, polygon) with its fields flat in the entry.
 fn excavation(prefix: &str, e: &RawExcavation) -> Result<Excavation, SpecError> {
@@ -492,11 +508,7 @@ fn excavation(prefix: &str, e: &RawExcavation) -> Result<Excavation, SpecError> 
 }
 
 /// The profile of a tunnel or shaft; adds the fields it takes to `allowed`.
-fn profile(
-    prefix: &str,
-    e: &RawExcavation,
-    allowed: &mut Vec<&str>,
-) -> Result<Profile, SpecError> {
+fn profile(prefix: &str, e: &RawExcavation, allowed: &mut Vec<&str>) -> Result<Profile, SpecError> {
     let field = |name: &str| format!("{prefix}.{name}");
     allowed.push("profile");
     let segments = |default: i64| -> Result<u32, SpecError> {

@@ -23,7 +23,7 @@ use crate::geometry::{Aabb, Plane};
 use crate::tolerance::Tolerance;
 
 /// What an excavation did.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct ExcavationReport {
     /// Blocks wholly inside the excavation, removed.
     pub removed_blocks: usize,
