@@ -346,7 +346,7 @@ def set_key(path, new):
         (set_key(["blocks", 0, "faces"], [[0, -1, 2]]), "syntax", None, "invalid value"),
         (set_key(["blocks", 0, "id"], 2**40), "syntax", None, "u32"),
         (set_key(["blocks", 0, "extra"], 1), "syntax", None, "unknown field"),
-        (set_key(["version"], 2), "format", "version", "version 2"),
+        (set_key(["version"], 3), "format", "version", "version 3"),
         (set_key(["blocks", 0, "origins"], []), "format", "blocks[0]", "one entry per face"),
     ],
     ids=[
