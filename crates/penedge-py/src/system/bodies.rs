@@ -228,6 +228,8 @@ pub struct BodyContacts {
     #[pyo3(get)]
     piece_points: Py<PyArray2<f64>>,
     len: usize,
+    /// The core result, kept for the file writers.
+    pub found: CoreBodyContacts,
 }
 
 impl BodyContacts {
@@ -278,6 +280,7 @@ impl BodyContacts {
             ))?
             .unbind(),
             piece_points: arrays::read_only(arrays::rows3(py, &f.piece_points))?.unbind(),
+            found: f,
         })
     }
 }
