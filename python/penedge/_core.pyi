@@ -27,6 +27,7 @@ __all__ = [
     "BlockArrays",
     "BlockError",
     "BlockSystem",
+    "BodyContacts",
     "ContactTracker",
     "FileFormatError",
     "InputError",
@@ -353,6 +354,8 @@ class BodyContacts:
     def piece_point_offsets(self) -> npt.NDArray[np.int64]: ...
     @property
     def piece_points(self) -> npt.NDArray[np.float64]: ...
+    def write_csv(self, path: _Path) -> None: ...
+    def write_vtp(self, path: _Path) -> None: ...
     def __len__(self) -> int: ...
 
 @final
