@@ -520,6 +520,7 @@ fn bad_input_gets_clear_errors() {
     ));
     assert!(sim.set_timestep(Some(-1.0)).is_err());
     assert!(sim.set_gravity(DVec3::new(f64::NAN, 0.0, 0.0)).is_err());
+    assert!(sim.run_until(f64::INFINITY).is_err());
     assert!(sim
         .set_velocity(1, DVec3::splat(f64::INFINITY), DVec3::ZERO)
         .is_err());

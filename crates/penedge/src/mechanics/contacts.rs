@@ -143,18 +143,18 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
             .collect(),
     };
     let mut points = g.points().to_vec();
-    if found.contact.kind == ContactType::FaceFace && gaps.len() == 2 {
+    if let (ContactType::FaceFace, 2, Feature::Face(fa), Feature::Face(fb)) = (
+        found.contact.kind,
+        gaps.len(),
+        found.contact.feature_a,
+        found.contact.feature_b,
+    ) {
         // A face-face polygon narrower than the length threshold, given as a segment: a
         // strip along an edge (a block rocking onto it), whose two points the detection
         // gives to within the threshold, one of them possibly across the strip where the
         // faces have opened. The shallower end is moved across the strip, along the gap's
         // gradient on the contact plane, to the deeper end's depth: both ends then lie on
         // the edge, as the segment of the edge-face contact the strip becomes.
-        let (Feature::Face(fa), Feature::Face(fb)) =
-            (found.contact.feature_a, found.contact.feature_b)
-        else {
-            unreachable!("a face-face contact has two face features")
-        };
         let (na, nb) = (
             a.planes()[fa as usize].normal,
             b.planes()[fb as usize].normal,

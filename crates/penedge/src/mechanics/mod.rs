@@ -517,7 +517,7 @@ impl Simulation {
 
     /// Steps until the time reaches `t` (the last step may pass it by less than a step).
     pub fn run_until(&mut self, t: f64) -> Result<(), MechanicsError> {
-        if t.is_nan() {
+        if !t.is_finite() {
             return Err(MechanicsError::NotFinite("the end time"));
         }
         while self.time < t {
