@@ -162,3 +162,17 @@ def test_mass_scaling_raises_the_time_step_of_slivers():
     assert sim.timestep > 2 * plain
     assert sim.solve(ratio=1e-6)["converged"]
     assert sim.positions[2, 2] == pytest.approx(0.01 - 2500 * G * 0.02 / 1e9, abs=1e-9)
+
+
+def test_a_copy_runs_on_its_own():
+    sim = cube_on_base()
+    sim.step(10)
+    trial = sim.copy()
+    trial.set_joint(kn=1e9, ks=1e9, friction=10.0)
+    trial.step(20)
+    assert trial.steps == 30
+    assert sim.steps == 10
+    assert sim.joint()["friction"] == 30.0
+    sim.step(20)
+    # Same state, same steps: the same motion.
+    assert sim.positions.tolist() == trial.positions.tolist()

@@ -481,6 +481,15 @@ impl Simulation {
         Ok(out)
     }
 
+    /// An independent copy of the simulation in its current state (settings, bodies,
+    /// contacts and their history): trials from one state, as a factor of safety by strength
+    /// reduction runs them.
+    fn copy(&self) -> Simulation {
+        Simulation {
+            inner: self.inner.clone(),
+        }
+    }
+
     /// The blocks at their current poses, as a :class:`BlockSystem` (for files and
     /// pictures).
     fn system(&self) -> BlockSystem {
