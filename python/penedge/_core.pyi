@@ -171,7 +171,11 @@ class PairContact:
     def table1_counts(self) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]: ...
 
 def detect_pair(
-    a: Block, b: Block, gap: float = 1e-12, length: float | None = None
+    a: Block,
+    b: Block,
+    gap: float = 1e-12,
+    length: float | None = None,
+    absolute_gap: float | None = None,
 ) -> PairContact: ...
 
 class _Overlap(TypedDict):
@@ -208,7 +212,13 @@ class _JointProperties(TypedDict):
 
 @final
 class Simulation:
-    def __new__(cls, system: BlockSystem, density: float = 2700.0, gap: float = 1e-3) -> Self: ...
+    def __new__(
+        cls,
+        system: BlockSystem,
+        density: float = 2700.0,
+        gap: float = 1e-3,
+        point_width: float = 0.2,
+    ) -> Self: ...
     def __len__(self) -> int: ...
     def set_joint(
         self,
@@ -279,6 +289,7 @@ class ContactTracker:
         skin: float = 0.0,
         gap: float = 1e-12,
         length: float | None = None,
+        absolute_gap: float | None = None,
     ) -> Self: ...
     @property
     def contacts(self) -> SystemContacts: ...
@@ -366,6 +377,10 @@ class BlockArrays:
     def volumes(self) -> npt.NDArray[np.float64]: ...
     @property
     def centroids(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def body_ids(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def face_internal(self) -> npt.NDArray[np.int8]: ...
 
 @final
 class BlockSystem:
@@ -404,6 +419,7 @@ class BlockSystem:
         geometry: bool = False,
         progress: Callable[[int, int], object] | None = None,
         threads: int | None = None,
+        absolute_gap: float | None = None,
     ) -> SystemContacts: ...
     def with_bodies(
         self, body_ids: Sequence[int], gap: float = 1e-12, length: float | None = None

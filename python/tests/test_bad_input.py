@@ -351,7 +351,7 @@ def set_key(path, new):
         ),
         (set_key(["blocks", 0, "id"], 2**40), "syntax", None, "from 0 to 4294967295"),
         (set_key(["blocks", 0, "extra"], 1), "syntax", None, "unknown field `extra` (a typo?)"),
-        (set_key(["version"], 2), "format", "version", "version 2"),
+        (set_key(["version"], 3), "format", "version", "version 3"),
         (set_key(["blocks", 0, "origins"], []), "format", "blocks[0]", "one entry per face"),
     ],
     ids=[

@@ -170,11 +170,14 @@ def test_hover_shows_the_block_id_and_volume(page):
     blocks = [(name, data) for name, data, _ in hovers if name.startswith("block ")]
     assert blocks, f"no block under the mouse: {hovers}"
     volumes = penedge.paper_example(3).volumes
-    for name, (block, volume) in blocks:
+    for name, (block, volume, *real) in blocks:
         assert name == f"block {int(block)}"
         assert volume == pytest.approx(volumes[int(block)], rel=1e-6)
+        assert all(-1e-6 <= x <= 10 + 1e-6 for x in real)  # where it lies, not exploded
     labels = {label for _, _, shown in hovers for label in shown}
-    assert any(re.fullmatch(r"block \d+volume [\d.]+", label) for label in labels), labels
+    number = r"[-\u2212]?[\d.]+(?:e[-+\u2212]?\d+)?"  # d3 writes minus as U+2212
+    hover = rf"block \d+volume [\d.]+ m³vertex at x {number}, y {number}, z {number} m"
+    assert any(re.fullmatch(hover, label) for label in labels), labels
     assert severe(driver) == []
 
 

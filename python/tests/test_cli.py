@@ -163,6 +163,15 @@ def test_gap_option(tmp_path):
     assert "relative gap 1e-06" in result.stdout
 
 
+def test_absolute_gap_option(tmp_path):
+    result = run("example", "1", "--absolute-gap", "0.001", "--no-picture", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "absolute gap 0.001" in result.stdout
+    result = run("example", "1", "--absolute-gap", "0.001", "--no-picture", "--json", cwd=tmp_path)
+    summary = json.loads(result.stdout)
+    assert (summary["gap"], summary["absolute_gap"]) == (None, 0.001)
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [
@@ -173,6 +182,8 @@ def test_gap_option(tmp_path):
         (["example", "1", "--gap", "-1"], "argument --gap"),
         (["example", "1", "--gap", "nan"], "argument --gap"),
         (["example", "1", "--gap", "abc"], "invalid float value"),
+        (["example", "1", "--absolute-gap", "-1"], "argument --absolute-gap"),
+        (["example", "1", "--gap", "1e-6", "--absolute-gap", "1e-3"], "not allowed with"),
         (["example", "1", "-o", "x.jpg"], "picture format"),
         (["example", "1", "-o", "x.html"], "use --html-out x.html for the interactive view"),
         (["example", "1", "--html-out", "x.png"], "should end in .html"),

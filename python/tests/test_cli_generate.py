@@ -569,3 +569,46 @@ def test_detect_reads_a_block_file_written_by_hand(tmp_path):
     assert (summary["blocks"], summary["contacts"]) == (2, 1)
     assert summary["counts"]["face-face"] == 1
     assert summary["face_face_area"] == pytest.approx(1.0)
+
+
+def test_ctrl_c_while_a_block_file_is_read_stops_at_once(tmp_path):
+    # A named pipe that nobody writes to: reading it never ends, as reading a huge block file
+    # takes long. Ctrl-C is sent once the command has opened the pipe (it then opens for
+    # writing); the command used to take it only after the read.
+    import errno
+    import os
+    import signal
+    import subprocess
+
+    if not hasattr(os, "mkfifo"):
+        pytest.skip("no named pipes here")
+    pipe = tmp_path / "pipe.json"
+    os.mkfifo(pipe)
+    process = subprocess.Popen(
+        [sys.executable, "-m", "penedge", "detect", "pipe.json"],
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    writer = None
+    try:
+        deadline = time.monotonic() + 120
+        while writer is None:
+            try:
+                writer = os.open(pipe, os.O_WRONLY | os.O_NONBLOCK)
+            except OSError as e:  # ENXIO: no reader yet
+                if e.errno != errno.ENXIO:
+                    raise
+                assert process.poll() is None, process.communicate()
+                assert time.monotonic() < deadline, "the command never opened the pipe"
+                time.sleep(0.05)
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=60)
+    finally:
+        process.kill()
+        if writer is not None:
+            os.close(writer)
+    assert process.returncode == 130, err
+    assert err.splitlines()[-1] == "penedge: interrupted"
+    assert "Traceback" not in err

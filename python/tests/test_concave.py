@@ -11,7 +11,11 @@ cuboid = penedge.Block.cuboid
 
 def u_block():
     """A U-block [0, 3] x [0, 1] x [0, 2] less the notch [1, 2] x [0, 1] x [1, 2], in 3 parts."""
-    return [cuboid([0, 0, 0], [3, 1, 1]), cuboid([0, 0, 1], [1, 1, 2]), cuboid([2, 0, 1], [3, 1, 2])]
+    return [
+        cuboid([0, 0, 0], [3, 1, 1]),
+        cuboid([0, 0, 1], [1, 1, 2]),
+        cuboid([2, 0, 1], [3, 1, 2]),
+    ]
 
 
 def test_a_block_in_a_notch_touches_it_in_three_regions():
@@ -35,7 +39,8 @@ def test_a_face_face_contact_across_a_glue_face_is_one_region_of_the_total_area(
     system = penedge.BlockSystem([*parts, cuboid([1, 0, 1], [2, 1, 2])])
     assert len(system.detect()) == 3  # as separate blocks: three part contacts
     found = system.with_bodies([0, 0, 1]).detect_bodies()
-    assert len(found) == 1 and found.types.tolist() == [penedge.FACE_FACE]
+    assert len(found) == 1
+    assert found.types.tolist() == [penedge.FACE_FACE]
     assert found.areas.tolist() == pytest.approx([1.0])
     assert found.piece_offsets.tolist() == [0, 2]
     assert found.piece_point_offsets[-1] == len(found.piece_points) == 8
@@ -60,10 +65,12 @@ def test_body_ids_internal_faces_and_mass_properties():
 
 def test_bad_parts_are_named():
     apart = penedge.BlockSystem([cuboid([0, 0, 0], [1, 1, 1]), cuboid([2, 0, 0], [3, 1, 1])])
-    with pytest.raises(penedge.InputError, match="body 0.*glued face to face") as e:
+    with pytest.raises(penedge.InputError, match=r"body 0.*glued face to face") as e:
         apart.with_bodies([0, 0])
     assert e.value.kind == "concave"
-    overlapping = penedge.BlockSystem([cuboid([0, 0, 0], [1, 1, 1]), cuboid([0.5, 0, 0], [2, 1, 1])])
+    overlapping = penedge.BlockSystem(
+        [cuboid([0, 0, 0], [1, 1, 1]), cuboid([0.5, 0, 0], [2, 1, 1])]
+    )
     with pytest.raises(penedge.InputError, match="overlap"):
         overlapping.with_bodies([0, 0])
     with pytest.raises(penedge.InputError) as e:
@@ -78,3 +85,24 @@ def test_json_keeps_the_bodies(tmp_path):
     back = penedge.BlockSystem.from_json(system.to_json())
     assert back.body_ids.tolist() == [2, 2, 2]
     assert len(back.internal_faces()["areas"]) == 2
+
+
+def test_pictures_draw_a_concave_block_as_one_block():
+    from penedge.pictures.scene import build_scene
+
+    system = penedge.BlockSystem([*u_block(), cuboid([5, 0, 0], [6, 1, 1])])
+    concave = system.with_bodies([0, 0, 0, 1])
+    a = concave.arrays()
+    assert a.body_ids.tolist() == [0, 0, 0, 1]
+    # The arms' bottoms lie on the slab: inside the block. The slab's top is covered only
+    # under the arms: a real face (the notch's floor).
+    assert a.face_internal.sum() == 2
+    assert a.face_internal[a.face_block == 0].sum() == 0
+    scene = build_scene(concave, explode=0.5)
+    assert scene.n_faces == 4 * 6 - 2
+    assert scene.body_first.tolist() == [0, 0, 0, 3]
+    # The parts move together: one offset for the whole U-block.
+    assert np.allclose(scene.offsets[:3], scene.offsets[0])
+    separate = build_scene(system, explode=0.5)
+    assert separate.n_faces == 4 * 6
+    assert not np.allclose(separate.offsets[1], separate.offsets[0])

@@ -25,13 +25,17 @@ use pyo3::types::PyDict;
 /// density : float, default 2700.0
 ///     Density of every block (mass per volume; :meth:`set_density` per block).
 /// gap : float, default 1e-3
-///     Relative detection gap: the deepest overlap a contact can carry (a deeper one stops
-///     the run with an error).
+///     Relative detection gap (up to 0.01): the deepest overlap a contact can carry, relative
+///     to the smaller block's size (a deeper one stops the run with an error).
+/// point_width : float, default 0.2
+///     Width of point and edge contacts relative to the smaller body's diameter: a point
+///     contact is a patch of ``w² / 2``, a segment of length ``l`` a strip of ``w l / 2``
+///     (``docs/mechanics.md``). The softer they are, the deeper they sink under a load.
 ///
 /// Raises
 /// ------
 /// MechanicsError
-///     A density that is not a finite number > 0.
+///     A density that is not a finite number > 0, a point width not in (0, 1].
 /// ToleranceError
 ///     An impossible gap.
 ///
@@ -73,10 +77,11 @@ fn motion(
 #[pymethods]
 impl Simulation {
     #[new]
-    #[pyo3(signature = (system, density = 2700.0, gap = 1e-3))]
-    fn new(system: &BlockSystem, density: f64, gap: f64) -> PyResult<Self> {
+    #[pyo3(signature = (system, density = 2700.0, gap = 1e-3, point_width = 0.2))]
+    fn new(system: &BlockSystem, density: f64, gap: f64, point_width: f64) -> PyResult<Self> {
         let mut inner = mechanics::Simulation::new(&system.inner, density).map_err(to_py_err)?;
         inner.set_gap(gap).map_err(to_py_err)?;
+        inner.set_point_width(point_width).map_err(to_py_err)?;
         Ok(Simulation { inner })
     }
 

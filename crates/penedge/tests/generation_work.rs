@@ -178,3 +178,21 @@ fn the_default_limit_comes_from_the_memory_available() {
         None => assert_eq!(limits.max_blocks, FALLBACK_MAX_BLOCKS),
     }
 }
+
+#[test]
+fn a_network_of_small_discs_is_not_counted_as_infinite_planes() {
+    // 400 discs of radius 1 at random in a 20 m cube: as infinite planes they would make
+    // about 400^3 / 6 = 10^7 blocks; as discs they meet a few times, and none crosses the
+    // cube, so none cuts it (a finite joint cuts only the blocks it crosses completely).
+    let mut r = penedge::generation::rng::SplitMix64::new(7);
+    let mut spec = cube(20.0);
+    for _ in 0..400 {
+        let center = [20.0 * r.unit(), 20.0 * r.unit(), 20.0 * r.unit()];
+        let orientation = Orientation::dip(90.0 * r.unit(), 360.0 * r.unit());
+        spec = spec.with(Discontinuity::disc(center, orientation, 1.0));
+    }
+    let e = estimate(&spec).unwrap();
+    let blocks = generate(&spec).unwrap().system.len() as f64;
+    assert_eq!(blocks, 1.0);
+    assert!(e.blocks < 100.0, "{e:?}");
+}

@@ -159,6 +159,12 @@ fn answer(det: &mut Detector, a: &ConvexBlock, b: &ConvexBlock) -> PairResult {
     ab
 }
 
+/// The contact points of the pair's geometry.
+fn contact_points(det: &mut Detector, a: &ConvexBlock, b: &ConvexBlock) -> Vec<DVec3> {
+    let (_, geometry) = det.detect_with_geometry(a, b);
+    geometry.map_or(Vec::new(), |g| g.points().to_vec())
+}
+
 /// Angles from 0.1° to 10°, evenly on a log scale, with the rule's angle at the DEM gap
 /// (asin 0.01) approached from both sides.
 fn angles() -> Vec<f64> {
@@ -232,14 +238,21 @@ fn grazing_types_are_invariant_under_exact_translation() {
                     let (a, b, _) = placement(family, theta, u, at_origin);
                     let expected = answer(&mut det, &a, &b);
                     assert!(kind(expected).is_some(), "{label}, {family:?} at origin");
+                    let points = contact_points(&mut det, &a, &b);
                     for offset in offsets {
                         let (a, b, _) = placement(family, theta, u, Frame::Exact { offset, grid });
-                        assert_eq!(
-                            answer(&mut det, &a, &b),
-                            expected,
+                        let what = format!(
                             "{label}, {family:?}, {u} m at {:.4}°, moved by {offset}",
                             theta.to_degrees()
                         );
+                        assert_eq!(answer(&mut det, &a, &b), expected, "{what}");
+                        // As many contact points (one for a point contact: no second point
+                        // at the end of a stub), each moved by the offset.
+                        let moved = contact_points(&mut det, &a, &b);
+                        assert_eq!(moved.len(), points.len(), "{what}");
+                        for (p, q) in points.iter().zip(&moved) {
+                            assert!((*q - offset - *p).length() <= 1e-6 * u, "{what}: {p} {q}");
+                        }
                     }
                 }
             }

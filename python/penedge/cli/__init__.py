@@ -70,6 +70,7 @@ your own rock mass:
 options every command spells the same way:
   -o/--output FILE   the main output         --json       the result as JSON on stdout
   -q/--quiet         print nothing           --gap G      the relative contact gap
+                                             --absolute-gap D   or the gap as a length
   --force            example, show: replace a file at a default name (exampleN.png);
                      a file named on the command line is always replaced
   --colour-by set|block|volume, --unit U, --explode F, --max-blocks N

@@ -16,7 +16,7 @@ import os
 import tempfile
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import IO
+from typing import IO, Any
 
 PROG = "penedge"
 
@@ -93,14 +93,49 @@ def positive_int(text: str) -> int:
 
 
 def add_gap(parser: argparse.ArgumentParser) -> None:
-    """``--gap G``: the relative gap of the detection."""
-    parser.add_argument(
+    """``--gap G`` or ``--absolute-gap D``: the gap of the detection, relative to the blocks'
+    size or a length."""
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument(
         "--gap",
         type=float,
         default=1e-12,
         metavar="G",
         help="relative gap: blocks closer than G x block size touch (default 1e-12, rounding only)",
     )
+    group.add_argument(
+        "--absolute-gap",
+        type=float,
+        default=None,
+        metavar="D",
+        help="the gap as a length in the blocks' unit (0.001: 1 mm for blocks in metres), "
+        "the same for every pair, instead of --gap",
+    )
+
+
+def gap_options(args: argparse.Namespace) -> dict[str, float]:
+    """The gap keyword of ``detect``: ``{"absolute_gap": D}`` or ``{"gap": G}``."""
+    if args.absolute_gap is not None:
+        return {"absolute_gap": args.absolute_gap}
+    return {"gap": args.gap}
+
+
+def gap_flag(args: argparse.Namespace) -> str:
+    """The option that set the gap, for messages."""
+    return "--absolute-gap" if args.absolute_gap is not None else "--gap"
+
+
+def gap_fields(options: dict[str, float] | None) -> dict[str, float | None]:
+    """The gap of a summary: ``gap`` (relative) and ``absolute_gap``, one of them None."""
+    options = options or {}
+    return {"gap": options.get("gap"), "absolute_gap": options.get("absolute_gap")}
+
+
+def gap_text(summary: dict[str, Any]) -> str:
+    """``relative gap G`` or ``absolute gap D``, from a summary's gap fields."""
+    if summary.get("absolute_gap") is not None:
+        return f"absolute gap {summary['absolute_gap']:g}"
+    return f"relative gap {summary['gap']:g}"
 
 
 def add_picture_options(parser: argparse.ArgumentParser) -> None:

@@ -21,6 +21,10 @@ from penedge.cli.common import (
     add_picture_options,
     available,
     check_distinct,
+    gap_fields,
+    gap_flag,
+    gap_options,
+    gap_text,
     html_file,
     picture_file,
     require,
@@ -135,11 +139,11 @@ def run_example(args: argparse.Namespace) -> int:
     system = penedge.paper_example(n)
     try:
         found = progress.detect(
-            system, show, f"{PROG} example {n}", gap=args.gap, geometry=args.contacts
+            system, show, f"{PROG} example {n}", **gap_options(args), geometry=args.contacts
         )
     except penedge.ToleranceError as e:
-        raise UsageError(f"argument --gap: {e}") from None
-    result = summarize(n, system, found, args.gap)
+        raise UsageError(f"argument {gap_flag(args)}: {e}") from None
+    result = summarize(n, system, found, gap_options(args))
     title = f"penedge example {n}: {result['blocks']} blocks, {result['total']} contacts"
     options = {
         "title": title,
@@ -185,7 +189,7 @@ def plane_text(normal: Any, offset: float) -> str:
     return f"{text} = {offset:g}"
 
 
-def summarize(number: int, system: Any, found: Any, gap: float) -> dict[str, Any]:
+def summarize(number: int, system: Any, found: Any, gap: dict[str, float]) -> dict[str, Any]:
     """The result of an example as plain data (what ``--json`` prints)."""
     normals, offsets = penedge.paper_example_planes(number)
     counts = found.counts()
@@ -193,7 +197,7 @@ def summarize(number: int, system: Any, found: Any, gap: float) -> dict[str, Any
     return {
         "example": number,
         "planes": [plane_text(n, d) for n, d in zip(normals, offsets, strict=True)],
-        "gap": gap,
+        **gap_fields(gap),
         "blocks": len(system),
         "counts": counts,
         "total": sum(counts.values()),
@@ -210,7 +214,7 @@ def format_report(result: dict[str, Any]) -> str:
     """The human-readable report of an example."""
     lines = [
         f"penedge example {result['example']}: a 10 m cube cut by {', '.join(result['planes'])}",
-        f"{result['blocks']} blocks, {result['total']} contacts (relative gap {result['gap']:g})",
+        f"{result['blocks']} blocks, {result['total']} contacts ({gap_text(result)})",
         "",
         f"{'contact type':<25}{'penedge':>9}{'paper':>7}",
     ]

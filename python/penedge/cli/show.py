@@ -22,6 +22,10 @@ from penedge.cli.common import (
     add_output_flags,
     add_picture_options,
     check_distinct,
+    gap_fields,
+    gap_flag,
+    gap_options,
+    gap_text,
     html_file,
     output_file,
     picture_file,
@@ -152,12 +156,14 @@ def run_show(args: argparse.Namespace) -> int:
     found = None
     if args.contacts:
         try:
-            found = progress.detect(system, show, f"{PROG} show", gap=args.gap, geometry=True)
+            found = progress.detect(
+                system, show, f"{PROG} show", **gap_options(args), geometry=True
+            )
         except penedge.ToleranceError as e:
-            raise UsageError(f"argument --gap: {e}") from None
+            raise UsageError(f"argument {gap_flag(args)}: {e}") from None
         if len(found.penetrating):
             print(f"{PROG}: warning: {penetration_note(found)}", file=sys.stderr)
-    summary = summarize(blocks, system, found, args.gap, args.max_blocks)
+    summary = summarize(blocks, system, found, gap_options(args), args.max_blocks)
     title = f"{blocks.name}: {plural(len(system), 'block')}"
     if found is not None:
         title += f", {plural(len(found), 'contact')}"
@@ -200,7 +206,7 @@ def run_show(args: argparse.Namespace) -> int:
 
 
 def summarize(
-    blocks: Path, system: Any, found: Any, gap: float, max_blocks: int | None
+    blocks: Path, system: Any, found: Any, gap: dict[str, float], max_blocks: int | None
 ) -> dict[str, Any]:
     """The result as plain data (what ``--json`` prints)."""
     n = len(system)
@@ -208,7 +214,7 @@ def summarize(
         "blocks_file": str(blocks),
         "blocks": n,
         "shown_blocks": n if max_blocks is None else min(n, max_blocks),
-        "gap": gap if found is not None else None,
+        **gap_fields(gap if found is not None else None),
         "contacts": None if found is None else len(found),
         "counts": None if found is None else found.counts(),
         "penetrating": None if found is None else len(found.penetrating),
@@ -226,7 +232,7 @@ def format_summary(summary: dict[str, Any]) -> str:
         lines.append(head)
     else:
         lines += [
-            f"{head}, {plural(summary['contacts'], 'contact')} (relative gap {summary['gap']:g})",
+            f"{head}, {plural(summary['contacts'], 'contact')} ({gap_text(summary)})",
             "",
             *counts_table(summary["counts"]),
             "",

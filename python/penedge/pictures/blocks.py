@@ -312,6 +312,8 @@ def plot_system(
     color_by = resolve_color_by(color_by, scene)
     unit = length_unit(system, unit)
     base, norm = _base_colors(scene, color_by, colors)
+    if colors is None and color_by == "block":
+        base = base[scene.body_first]  # the parts of a concave block in one colour
     ghost = contacts is not None
     if ghost:
         faces = np.arange(scene.n_faces)
@@ -359,7 +361,8 @@ def plot_system(
             shown_blocks=scene.shown,
             view=_view_direction(elev, azim),
             types=contact_types,
-            legend=legend,
+            # A panel of one type coloured by type says so in its title: no legend.
+            legend=legend and (by_set or contact_types is None),
             sets=scene.contact_sets(contacts) if by_set else None,
             set_names=scene.set_names,
         )

@@ -9,7 +9,10 @@
 //!    length (Table 1 types 1, 2, 4); its original vertex if it is a type 3 (no length, one
 //!    original vertex: the gap widening cut a stub off an edge at a vertex in contact); its
 //!    middle if it is a type 5 (no length, two cuts: an edge crossing the other block's
-//!    boundary at a point);
+//!    boundary at a point); a piece with length is first read as the part of it that stands
+//!    for the contact ([`crate::penetration::PenetrationEdge::stands_for`]: without the gap's
+//!    band at a face plane that its edge crosses rather than lies in), a type 3 or 5 when
+//!    nothing with length is left (docs/tolerance.md, "Lies in");
 //! 2. the feature of block X holding the contact is found from the faces of X whose planes
 //!    pass within the length threshold of every representative point: none means the
 //!    contact reaches X's interior (penetrating), one a face, two an edge, three or more a
@@ -18,7 +21,8 @@
 //! 3. the pair of features gives the type: (vertex, vertex) vertex-vertex, (vertex, edge)
 //!    vertex-edge, (vertex, face) vertex-face, (edge, face) edge-face, (face, face)
 //!    face-face; (edge, edge) is an edge-edge superposition when the two edges are parallel
-//!    (the sine of their angle at most the relative length threshold) and the representative
+//!    (lie along each other: the sine of their angle at most the length threshold over the
+//!    pair's scale, [`crate::tolerance::Thresholds::sine`]) and the representative
 //!    points span more than the length threshold, else an edge-edge crossing. Parallelism is
 //!    tested on the edges themselves because two edges crossing at a small angle `θ` stay
 //!    within the gap `g` of each other over a length `2g/θ`, which would read as an overlap.

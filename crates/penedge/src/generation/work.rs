@@ -22,8 +22,10 @@
 //! * a set with random orientation deviations is a class of its own whose planes also meet
 //!   each other: the lines of neighbours that the tilt `2 (dip + dip direction deviation)`
 //!   makes meet within the domain's size, and the points of three such planes;
-//! * a finite joint (disc, polygon) counts as a plane of weight `extent / domain size`
-//!   (at most 1): it cuts only the blocks it crosses completely.
+//! * a finite joint (disc, polygon) of weight `w = extent / domain size` (at most 1) meets
+//!   about `w` of the infinite planes and holds `w^2` of their lines' points; two finite
+//!   joints meet when they are near each other (`(w_a w_b)^1.5`). So a network of many
+//!   small discs is not counted as so many infinite planes.
 //!
 //! Pairs and triples of different classes are all counted as if they met inside the domain,
 //! so the estimate is an upper bound for sets that fill a box (exact for orthogonal sets) and
@@ -135,7 +137,7 @@ const PARALLEL: f64 = 1e-9;
 /// The estimate of a checked and expanded spec.
 pub(crate) fn estimate(spec: &Spec, plan: &Plan) -> Estimate {
     let size = spec.domain.size();
-    let classes = classes(spec, plan, size);
+    let (classes, finite) = classes(spec, plan, size);
     let single: f64 = classes.iter().map(|c| c.weight).sum();
     let mut lines: f64 = classes.iter().map(|c| c.lines).sum();
     let mut points: f64 = classes.iter().map(|c| c.points).sum();
@@ -165,11 +167,24 @@ pub(crate) fn estimate(spec: &Spec, plan: &Plan) -> Estimate {
         lines += (s1 * s1 - s2) / 2.0;
         points += (s1.powi(3) - 3.0 * s1 * s2 + 2.0 * s3) / 6.0;
     }
+    // A finite joint of weight `w` (its extent over the domain's size) meets about `w` of
+    // the infinite planes, holds about `w^2` of their lines' points, and meets another
+    // finite joint when both are near each other, about `(w_a w_b)^1.5` (two discs of radius
+    // `r` meet where their centres are within `2r`: `(r / size)^3`), in a segment that
+    // crosses about `w` of the infinite planes.
+    let w1: f64 = finite.iter().sum();
+    let w2: f64 = finite.iter().map(|w| w * w).sum();
+    let w15: f64 = finite.iter().map(|w| w.powf(1.5)).sum();
+    let w3: f64 = finite.iter().map(|w| w.powi(3)).sum();
+    let among_finite = (w15 * w15 - w3) / 2.0;
+    let typical = if w1 > 0.0 { w2 / w1 } else { 0.0 };
+    points += w2 * lines + among_finite * single * typical;
+    lines += w1 * single + among_finite;
     Estimate {
         planes: plan.records.len(),
         lines,
         points,
-        blocks: 1.0 + single + lines + points,
+        blocks: 1.0 + single + w1 + lines + points,
     }
 }
 
@@ -278,8 +293,9 @@ fn hull_area(mut points: Vec<[f64; 2]>) -> f64 {
         / 2.0
 }
 
-/// The orientation classes of the plan's joints.
-fn classes(spec: &Spec, plan: &Plan, size: f64) -> Vec<Class> {
+/// The orientation classes of the plan's infinite joints, and the weights of its finite
+/// ones.
+fn classes(spec: &Spec, plan: &Plan, size: f64) -> (Vec<Class>, Vec<f64>) {
     let mut classes: Vec<Class> = Vec::new();
     let mut add_parallel = |normal: DVec3, weight: f64| match classes
         .iter_mut()
@@ -294,6 +310,7 @@ fn classes(spec: &Spec, plan: &Plan, size: f64) -> Vec<Class> {
         }),
     };
     let mut deviated = Vec::new();
+    let mut finite = Vec::new();
     let mut start = 0;
     while start < plan.records.len() {
         let set = plan.records[start].set;
@@ -334,13 +351,16 @@ fn classes(spec: &Spec, plan: &Plan, size: f64) -> Vec<Class> {
         }
         for r in members {
             let extent = match &r.shape {
-                JointShape::Infinite => size,
+                JointShape::Infinite => {
+                    add_parallel(r.plane.normal, 1.0);
+                    continue;
+                }
                 JointShape::Disc { radius, .. } => 2.0 * radius,
                 JointShape::Polygon { vertices } => Aabb::of_points(vertices).diagonal(),
             };
-            add_parallel(r.plane.normal, (extent / size).min(1.0));
+            finite.push((extent / size).min(1.0));
         }
     }
     classes.extend(deviated);
-    classes
+    (classes, finite)
 }

@@ -123,8 +123,10 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
             .radius()
             .min(input.bodies.shape(bodies[1] as usize).radius());
     let width = input.point_width * diameter;
-    // The rounding of a gap of zero, far above it: a bond at zero gap is not broken by it.
-    let slack = 1e-9 * a.size().min(b.size());
+    // The rounding of a gap of zero, far above it (and above the rounding of coordinates
+    // far from the origin): a bond at zero gap is not broken by it.
+    let magnitude = a.magnitude().max(b.magnitude());
+    let slack = (1e-9 * diameter).max(crate::tolerance::ROUNDING_FLOOR * magnitude);
     let areas = area_shares(g.shape(), n, width);
     let pose_a = input.bodies.pose[bodies[0] as usize];
     let previous = input.previous.find(found.parts);
@@ -186,7 +188,9 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
                     o.bonded,
                 )
             }
-            None => (DVec3::ZERO, DVec3::ZERO, input.initial),
+            // Bonds on the initial configuration's touching sub-contacts only: a joint open
+            // at the start has no bond.
+            None => (DVec3::ZERO, DVec3::ZERO, input.initial && gap <= slack),
         };
         shear = onto_plane(shear, n);
         slip = onto_plane(slip, n);

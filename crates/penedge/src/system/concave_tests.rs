@@ -529,9 +529,14 @@ fn the_csv_and_vtp_files_of_body_contacts_carry_the_regions() {
     let csv = String::from_utf8(csv).unwrap();
     let rows: Vec<&str> = csv.lines().collect();
     assert_eq!(rows[0], crate::io::csv::BODY_CONTACTS_HEADER);
-    let regions: Vec<&str> = rows[1..].iter().map(|r| r.split(',').nth(2).unwrap()).collect();
+    let regions: Vec<&str> = rows[1..]
+        .iter()
+        .map(|r| r.split(',').nth(2).unwrap())
+        .collect();
     assert_eq!(regions, ["0", "1", "2"]);
-    assert!(rows[1..].iter().all(|r| r.starts_with("0,1,") && r.contains(",face-face,")));
+    assert!(rows[1..]
+        .iter()
+        .all(|r| r.starts_with("0,1,") && r.contains(",face-face,")));
     let mut vtp = Vec::new();
     crate::io::vtp::write_body_contacts_vtp_to(&found, &mut vtp).unwrap();
     let vtp = String::from_utf8(vtp).unwrap();
@@ -541,4 +546,110 @@ fn the_csv_and_vtp_files_of_body_contacts_carry_the_regions() {
     let mut values: Vec<&str> = region.split_whitespace().collect();
     values.sort();
     assert_eq!(values, ["0", "1", "2"]);
+}
+
+/// Blocks touching the box `[0, 4] x [0, 4] x [0, 2]` from outside: boxes lying on its top
+/// at random places (face-face, some reaching over its rim: face-face of a smaller area),
+/// cubes standing on a vertex and bars lying on an edge at random points of the top, a box
+/// against its side, and boxes meeting its top edges and corners.
+fn around_the_box(rng: &mut super::test_rng::Rng) -> Vec<ConvexBlock> {
+    let mut out = Vec::new();
+    // Placed apart from each other: each in its own cell of a 4 x 4 grid on the top.
+    for cell in 0..12 {
+        let (cx, cy) = ((cell % 4) as f64 + 0.2, (cell / 4) as f64 + 0.2);
+        let (x, y) = (cx + 0.6 * rng.unit(), cy + 0.6 * rng.unit());
+        let block = match cell % 3 {
+            0 => cuboid([x - 0.15, y - 0.15, 2.0], [x + 0.15, y + 0.15, 2.4]),
+            1 => {
+                let tilt = DQuat::from_rotation_arc(DVec3::ONE.normalize(), -DVec3::Z);
+                let spin = DQuat::from_rotation_z(6.0 * rng.unit());
+                let cube = cuboid([0.0; 3], [0.2; 3]).transformed(spin * tilt, DVec3::ZERO, 1.0);
+                let low = *cube
+                    .vertices()
+                    .iter()
+                    .min_by(|p, q| p.z.total_cmp(&q.z))
+                    .unwrap();
+                cube.transformed(DQuat::IDENTITY, DVec3::new(x, y, 2.0) - low, 1.0)
+            }
+            _ => {
+                let turn = DQuat::from_rotation_z(3.0 * rng.unit())
+                    * DQuat::from_rotation_x(std::f64::consts::FRAC_PI_4);
+                cuboid([-0.15, -0.05, -0.05], [0.15, 0.05, 0.05]).transformed(
+                    turn,
+                    DVec3::new(x, y, 2.0 + 0.05 * 2f64.sqrt()),
+                    1.0,
+                )
+            }
+        };
+        out.push(block);
+    }
+    out.push(cuboid([3.6, 3.6, 2.0], [4.3, 4.3, 2.5])); // over the corner: face-face
+    out.push(cuboid([4.0, 1.0, 0.5], [4.5, 2.0, 1.5])); // against the side
+    out.push(cuboid([4.0, 0.5, 2.0], [4.5, 0.9, 2.5])); // on the top edge: edge-edge sup.
+    out.push(cuboid([4.0, -0.5, 2.0], [4.3, 0.0, 2.3])); // at a top corner: vertex-vertex
+    out
+}
+
+#[test]
+fn a_box_cut_into_random_parts_has_the_contacts_of_the_uncut_box() {
+    // Reference: the same blocks against the uncut box, a convex block whose contacts the
+    // ordinary detection finds (exact on convex blocks). Glued back, the parts must give the
+    // same contacts: one region per block, same type, area and normal.
+    let tol = Tolerance::default();
+    let mut rng = super::test_rng::Rng(20);
+    let domain = cuboid([0.0; 3], [4.0, 4.0, 2.0]);
+    let mut merged = 0;
+    for round in 0..6 {
+        let others = around_the_box(&mut rng);
+        let reference = {
+            let mut blocks = vec![domain.clone()];
+            blocks.extend(others.iter().cloned());
+            let ids: Vec<u32> = (0..blocks.len() as u32).collect();
+            let system = BlockSystem::new(blocks);
+            let mut found = regions(
+                &ids.iter()
+                    .map(|&k| (k, system.blocks()[k as usize].clone()))
+                    .collect::<Vec<_>>(),
+            );
+            found.retain(|r| r.0[0] == 0);
+            found
+        };
+        assert_eq!(
+            reference.len(),
+            others.len(),
+            "round {round}: every block touches the box"
+        );
+        // Cuts: vertical planes through random points of the top (some through the
+        // contacts), at random angles, and a horizontal one.
+        let mut normals = vec![[0.0, 0.0, 1.0]];
+        let mut offsets = vec![0.5 + rng.unit()];
+        for _ in 0..4 {
+            let angle = 6.0 * rng.unit();
+            let n = [angle.cos(), angle.sin(), 0.0];
+            let p = [4.0 * rng.unit(), 4.0 * rng.unit()];
+            normals.push(n);
+            offsets.push(n[0] * p[0] + n[1] * p[1]);
+        }
+        let cut = BlockSystem::from_domain_cut(domain.clone(), &normals, &offsets, &tol).unwrap();
+        assert!(cut.len() >= 4, "round {round}: {} parts", cut.len());
+        let mut parts: Vec<(u32, ConvexBlock)> =
+            cut.blocks().iter().map(|b| (0, b.clone())).collect();
+        parts.extend(
+            others
+                .iter()
+                .enumerate()
+                .map(|(k, b)| (k as u32 + 1, b.clone())),
+        );
+        assert_eq!(regions(&parts), reference, "round {round}");
+        // Not vacuous: some regions are made of several part contacts.
+        let system = BlockSystem::new(parts.iter().map(|p| p.1.clone()).collect())
+            .with_bodies(parts.iter().map(|p| p.0).collect(), &tol)
+            .unwrap();
+        let found = system.detect_bodies(&tol);
+        merged += found.pieces.len() - found.contacts.len();
+    }
+    assert!(
+        merged >= 10,
+        "{merged} pieces merged into regions of others"
+    );
 }

@@ -230,6 +230,10 @@ pub struct SystemArrays {
     pub volumes: Vec<f64>,
     /// Per block, its centroid.
     pub centroids: Vec<[f64; 3]>,
+    /// Per block, its body id (the concave block it is a part of; its own id by default).
+    pub body_ids: Vec<i64>,
+    /// Per face, 1 if it lies inside its body (covered entirely by internal faces), else 0.
+    pub face_internal: Vec<u8>,
 }
 
 impl BlockSystem {
@@ -253,12 +257,15 @@ impl BlockSystem {
                 a.origin_kind.push(origin.code());
                 a.origin_set.push(origin.ids().0);
                 a.origin_index.push(origin.ids().1);
+                a.face_internal
+                    .push(self.is_internal_face(a.volumes.len() as u32, f as u32) as u8);
             }
             a.vertex_offsets.push(a.vertices.len() as u64);
             a.face_offsets.push(a.origin_kind.len() as u64);
             a.volumes.push(b.volume());
             a.centroids.push(b.centroid().to_array());
         }
+        a.body_ids = self.body_ids().into_iter().map(i64::from).collect();
         a
     }
 }
