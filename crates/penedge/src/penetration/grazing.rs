@@ -34,7 +34,7 @@ pub(super) fn may_graze(piece_length_squared: f64, th: Thresholds) -> bool {
 /// The type the piece `c` of `parent` (of Table 1 type 2 or 4 `kind`, parent's squared length
 /// `length_squared`) is read as, with the parameter of the point it stands for when a type 5
 /// (module docs): `kind` itself unless the gap's bands leave it without length.
-#[inline(never)]
+#[cold]
 pub(super) fn standing(
     table: &DistanceTable,
     parent: &Edge,

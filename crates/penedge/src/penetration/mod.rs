@@ -223,7 +223,7 @@ fn keep(
     out: &mut Vec<PenetrationEdge>,
     sink: &mut impl EdgeSink,
 ) {
-    let piece = piece(of, side, parent, c, masks, th, table);
+    let piece = piece(of, side, parent, c, masks, th, (!deep).then_some(table));
     if !deep {
         sink.edge(&piece, table);
     }
@@ -239,7 +239,7 @@ fn piece<'a>(
     c: Clipped,
     masks: [VertexMasks; 2],
     th: Thresholds,
-    table: &DistanceTable,
+    table: Option<&DistanceTable>,
 ) -> Piece<'a> {
     // Two original vertices make a type 1 whatever the length; a cut piece well below the
     // threshold at the block's diagonal (no edge is longer: the gap's stubs) has no length,
@@ -263,11 +263,13 @@ fn piece<'a>(
         standing: (PenetrationEdgeType::T1, 0.0),
     };
     piece.kind = PenetrationEdgeType::of(piece.ends(), has_length);
-    // A cut piece with length may be no more than the gap's bands at faces its edge crosses.
-    piece.standing = if has_length && grazing::may_graze(piece_squared, th) {
-        grazing::standing(table, parent, &c, piece.kind, length_squared, th)
-    } else {
-        (piece.kind, 0.5 * (c.t[0] + c.t[1]))
+    // A cut piece with length may be no more than the gap's bands at faces its edge crosses
+    // (not looked at once an edge deeper than the gap settles the pair: `table` is `None`).
+    piece.standing = match table {
+        Some(table) if has_length && grazing::may_graze(piece_squared, th) => {
+            grazing::standing(table, parent, &c, piece.kind, length_squared, th)
+        }
+        _ => (piece.kind, 0.5 * (c.t[0] + c.t[1])),
     };
     piece
 }
@@ -278,6 +280,8 @@ impl PenetrationEdge {
     /// in) leave without length reads as a type 3 (its original vertex) or a type 5; with the
     /// parameter of the point a type 5 stands for (the middle of a type 5 piece, the deepest
     /// point between the two cutting planes of a type 4 read so). docs/tolerance.md, "Lies in".
+    /// The pieces made after an edge deeper than the gap has settled the pair (penetrating:
+    /// no classification) keep their own type.
     pub fn stands_for(&self) -> (PenetrationEdgeType, f64) {
         self.standing
     }
