@@ -129,6 +129,7 @@ def test_save_picture_with_contacts_has_a_panel_per_contact_type():
     assert len(lines.collections) == 26 + 1
     assert len(polygons.collections) == 26 + 1
     assert polygons.collections[-1].get_facecolor()[:, 3].max() <= 0.25  # translucent
+    assert all(panel.get_legend() is None for panel in (dots, lines, polygons))  # titled
 
 
 def test_points_and_segments_are_drawn_over_translucent_polygons():
