@@ -566,6 +566,7 @@ def test_the_spec_unit_labels_the_pictures(tmp_path):
     assert pictures.plot_system(again, explode=0, unit="yd").get_xlabel() == "x, east (yd)"
     exploded = [t.get_text() for t in pictures.plot_system(again).texts]
     assert "2 ft" in exploded
+    assert pictures.plot_volume_distribution(again).get_xlabel() == "block volume v (ft³)"
     with pytest.raises(penedge.SpecError) as info:
         penedge.generate({**SETS_SPEC, "unit": ""})
     assert info.value.field == "unit"
