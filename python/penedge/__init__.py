@@ -12,7 +12,8 @@ Blocks
     :class:`Block` -- a convex polyhedron from vertices + faces, half-spaces
     (:meth:`Block.from_planes`) or corners (:meth:`Block.cuboid`).
 Pairs
-    :func:`detect_pair` -- the contact of two blocks, a :class:`PairContact`.
+    :func:`detect_pair` -- the contact of two blocks, a :class:`PairContact`;
+    :func:`overlap` -- normal, depth and region of two penetrating blocks (soft contact).
 Systems
     :class:`BlockSystem` -- many blocks; :meth:`BlockSystem.detect` returns every
     contact as numpy arrays (:class:`SystemContacts`), with ``geometry=True`` also normals,
@@ -20,7 +21,13 @@ Systems
     examples, :func:`paper_table3` gives its printed counts.
 Time stepping
     :class:`ContactTracker` -- the contacts of moving blocks, step after step, reusing
-    the broad phase within a skin and skipping pairs clearly apart or overlapping.
+    the broad phase within a skin and skipping pairs whose blocks did not move or that are
+    clearly apart or overlapping.
+Mechanics
+    :class:`Simulation` -- rigid-block DEM (3DEC-style) on a block system: gravity,
+    joint properties per set (Mohr-Coulomb with tension and cohesion), fixed and prescribed
+    blocks, damping, ``step`` / ``solve`` / ``run_until``, the state and the contact and
+    sub-contact forces as numpy arrays (``docs/mechanics.md``).
 Generation
     :func:`generate` -- a rock domain cut by joint planes, joint sets and finite joints
     (a spec file, TOML text or a dict) into a :class:`BlockSystem`; its blocks as flat
@@ -32,7 +39,8 @@ Files
     (``.pvd``), :func:`write_pvd` -- a time series index of any files.
 Errors
     :exc:`PenedgeError` and its subclasses :exc:`InputError`, :exc:`BlockError`,
-    :exc:`ToleranceError`, :exc:`SpecError`, :exc:`FileFormatError` (all also
+    :exc:`ToleranceError`, :exc:`SpecError`, :exc:`FileFormatError`,
+    :exc:`MechanicsError` (all also
     ``ValueError``); files that cannot be read or written raise ``OSError``.
 
 Conventions: right-handed frame; faces counter-clockwise seen from outside, normals
@@ -66,11 +74,14 @@ from penedge._core import (
     BlockArrays,
     BlockError,
     BlockSystem,
+    BodyContacts,
     ContactTracker,
     FileFormatError,
     InputError,
+    MechanicsError,
     PairContact,
     PenedgeError,
+    Simulation,
     SpecError,
     SystemContacts,
     TimeSeries,
@@ -78,6 +89,7 @@ from penedge._core import (
     __version__,
     detect_pair,
     generate,
+    overlap,
     paper_example,
     paper_example_planes,
     paper_table3,
@@ -100,11 +112,14 @@ __all__ = [
     "BlockArrays",
     "BlockError",
     "BlockSystem",
+    "BodyContacts",
     "ContactTracker",
     "FileFormatError",
     "InputError",
+    "MechanicsError",
     "PairContact",
     "PenedgeError",
+    "Simulation",
     "SpecError",
     "SystemContacts",
     "TimeSeries",
@@ -112,6 +127,7 @@ __all__ = [
     "__version__",
     "detect_pair",
     "generate",
+    "overlap",
     "paper_example",
     "paper_example_planes",
     "paper_table3",

@@ -54,7 +54,7 @@ def page(tmp_path_factory):
     except ImportError:
         pytest.skip("selenium is not installed (bash scripts/install-browser.sh installs it)")
     folder = tmp_path_factory.mktemp("browser")
-    made = run("example", "3", "--contacts", "--no-picture", "--html", "view.html", cwd=folder)
+    made = run("example", "3", "--contacts", "--no-picture", "--html-out", "view.html", cwd=folder)
     assert made.returncode == 0, made.stderr
     path = folder / "view.html"
     options = webdriver.ChromeOptions()

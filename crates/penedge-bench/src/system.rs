@@ -122,7 +122,7 @@ fn grid_pairs(n: usize) -> usize {
 }
 
 /// Wall-clock seconds of `f`, median of `runs`, with the last result.
-fn timed<T>(runs: usize, f: impl FnMut() -> T) -> (f64, T) {
+pub(crate) fn timed<T>(runs: usize, f: impl FnMut() -> T) -> (f64, T) {
     let (mut times, last) = timed_each(runs, f);
     (median(&mut times), last)
 }
@@ -352,7 +352,7 @@ fn broad_phases(o: &SystemOptions) -> Result<(), String> {
 /// A small random rigid step composed onto `pose`: a rotation by up to `angle` about the
 /// block's centroid `centre` (reference coordinates), then a shift of up to `shift` along
 /// each axis.
-fn step(
+pub(crate) fn step(
     pose: &Pose,
     centre: glam::DVec3,
     rng: &mut crate::rng::SplitMix64,

@@ -1,8 +1,9 @@
 //! Python bindings of penedge: the module `penedge._core`.
 //!
 //! Conversions only; every computation is in the core crate. The files mirror the core
-//! modules: [`block`], [`tolerance`], [`classify`], [`contact`], [`system`], [`generation`],
-//! [`io`], plus [`arrays`] (numpy in and out) and [`errors`] (the exception tree and the one
+//! modules: [`block`], [`tolerance`], [`classify`], [`contact`], [`overlap`], [`system`],
+//! [`generation`], [`io`], [`mechanics`], plus [`arrays`] (numpy in and out) and [`errors`]
+//! (the exception tree and the one
 //! conversion from core errors). The doc comments are the Python docstrings (numpydoc).
 
 #![warn(missing_docs)]
@@ -14,6 +15,8 @@ pub mod contact;
 pub mod errors;
 pub mod generation;
 pub mod io;
+pub mod mechanics;
+pub mod overlap;
 pub mod system;
 pub mod tolerance;
 
@@ -35,8 +38,12 @@ mod _core {
     #[pymodule_export]
     use crate::io::{write_pvd, TimeSeries};
     #[pymodule_export]
+    use crate::mechanics::Simulation;
+    #[pymodule_export]
+    use crate::overlap::overlap;
+    #[pymodule_export]
     use crate::system::{
-        paper_example, paper_example_planes, paper_table3, BlockArrays, BlockSystem,
+        paper_example, paper_example_planes, paper_table3, BlockArrays, BlockSystem, BodyContacts,
         ContactTracker, SystemContacts,
     };
 

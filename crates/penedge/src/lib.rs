@@ -68,11 +68,14 @@
 //! * [`classify`]: contact decision and the seven contact types (paper sections 3.1, 3.4);
 //! * [`contact`]: the pair query that ties them together ([`detect_pair`], [`Detector`]);
 //! * [`contact_geometry`]: normal, contact points, area and signed distance of a contact;
+//! * [`overlap`]: normal, depth and region of two penetrating blocks (soft-contact mechanics);
 //! * [`cutting`]: splitting a block by a plane;
 //! * [`generation`]: rock domains cut into blocks by joint planes, joint sets and finite
 //!   joints, from a spec;
 //! * [`system`]: block systems (a box cut by planes, the paper's examples) and all-pairs
 //!   detection;
+//! * [`mechanics`]: rigid-block mechanics (3DEC-style distinct elements) on the contacts:
+//!   bodies, sub-contacts with a Mohr-Coulomb joint law, time stepping (`docs/mechanics.md`);
 //! * [`io`]: files: the spec (TOML, JSON), the block file (JSON), ParaView (blocks VTU,
 //!   contacts VTP, time series PVD: [`io::pvd::TimeSeries`]) and CSV tables.
 //!
@@ -94,6 +97,8 @@ pub mod fuzzing;
 pub mod generation;
 pub mod geometry;
 pub mod io;
+pub mod mechanics;
+pub mod overlap;
 pub mod penetration;
 pub mod system;
 pub mod tolerance;

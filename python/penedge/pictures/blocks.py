@@ -312,6 +312,8 @@ def plot_system(
     color_by = resolve_color_by(color_by, scene)
     unit = length_unit(system, unit)
     base, norm = _base_colors(scene, color_by, colors)
+    if colors is None and color_by == "block":
+        base = base[scene.body_first]  # the parts of a concave block in one colour
     ghost = contacts is not None
     if ghost:
         faces = np.arange(scene.n_faces)

@@ -198,6 +198,9 @@ class Scene:
     face_offsets, face_sets : int arrays over every block and face of the system
         Block ``i`` has the faces ``face_offsets[i]:face_offsets[i + 1]``; the joint set of
         each face, -1 for none (the contacts' sets come from these).
+    body_first : (n,) int array
+        For each block, the first block (smallest id) of its body: the parts of a concave
+        block take its colour, so that the block is drawn as one.
     """
 
     vertices: np.ndarray
@@ -214,6 +217,7 @@ class Scene:
     set_kinds: list[str]
     face_offsets: np.ndarray
     face_sets: np.ndarray
+    body_first: np.ndarray
 
     @property
     def n_blocks(self) -> int:
@@ -332,7 +336,10 @@ def build_scene(
     max_blocks: int | None = DEFAULT_MAX_BLOCKS,
 ) -> Scene:
     """The system exploded (each block moved by ``explode * (its centroid - the system's
-    volume-weighted centroid)``) and cut down to at most `max_blocks` blocks."""
+    volume-weighted centroid)``) and cut down to at most `max_blocks` blocks.
+
+    A concave block (parts sharing a body id) is drawn as one block: its parts move together
+    (by the centroid of the whole body) and its internal faces are left out."""
     if max_blocks is not None and max_blocks < 1:
         raise ValueError(f"max_blocks must be at least 1, got {max_blocks}")
     a = _arrays(system)
@@ -341,7 +348,21 @@ def build_scene(
     n = len(volumes)
     total = volumes.sum()
     centre = volumes @ centroids / total if n and total > 0 else np.zeros(3)
-    offsets = explode * (centroids - centre)
+    body = np.asarray(getattr(a, "body_ids", np.arange(n)), dtype=np.int64)
+    ids, body_index = np.unique(body, return_inverse=True)
+    body_volume = np.bincount(body_index, weights=volumes, minlength=len(ids))
+    body_centroid = (
+        np.column_stack(
+            [
+                np.bincount(body_index, weights=volumes * centroids[:, k], minlength=len(ids))
+                for k in range(3)
+            ]
+        )
+        / np.where(body_volume > 0, body_volume, 1.0)[:, None]
+    )
+    offsets = explode * (body_centroid[body_index] - centre) if n else np.zeros((0, 3))
+    first = np.full(len(ids), n, dtype=np.int64)
+    np.minimum.at(first, body_index, np.arange(n))
     vertex_block = np.repeat(np.arange(n), np.diff(a.vertex_offsets))
     vertices = np.asarray(a.vertices, dtype=float).reshape(-1, 3) + offsets[vertex_block]
     shown = choose_blocks(a, max_blocks)
@@ -349,8 +370,9 @@ def build_scene(
     loop_offsets = np.asarray(a.loop_offsets)
     face_vertices = np.asarray(a.face_vertices)
     face_normals = np.asarray(a.face_normals, dtype=float).reshape(-1, 3)
-    if not shown.all():
-        keep = shown[face_block]
+    internal = np.asarray(getattr(a, "face_internal", np.zeros(len(face_block))), dtype=bool)
+    if not shown.all() or internal.any():
+        keep = shown[face_block] & ~internal
         sizes = np.diff(loop_offsets)
         face_vertices = face_vertices[np.repeat(keep, sizes)]
         loop_offsets = np.concatenate([[0], np.cumsum(sizes[keep])])
@@ -373,6 +395,7 @@ def build_scene(
         volumes=volumes,
         centroids=centroids + offsets,
         shown=shown,
+        body_first=first[body_index],
     )
 
 

@@ -3,11 +3,13 @@
 //! `crate::io`.
 
 mod blocks;
+mod bodies;
 mod contacts;
 mod examples;
 mod tracker;
 
 pub use blocks::BlockArrays;
+pub use bodies::BodyContacts;
 pub use contacts::SystemContacts;
 pub use examples::{paper_example, paper_example_planes, paper_table3};
 pub use tracker::ContactTracker;
@@ -235,6 +237,8 @@ impl BlockSystem {
     /// threads : int, optional
     ///     Number of threads (default: all cores, or ``RAYON_NUM_THREADS``). The result is
     ///     the same for any number.
+    /// absolute_gap : float, optional
+    ///     The gap as a length (model units) instead of `gap`, as in :func:`detect_pair`.
     ///
     /// Returns
     /// -------
@@ -246,7 +250,7 @@ impl BlockSystem {
     /// Raises
     /// ------
     /// ToleranceError
-    ///     Impossible `gap` or `length`.
+    ///     Impossible `gap`, `length` or `absolute_gap`.
     /// InputError
     ///     `threads` below 1 or above 1024.
     /// KeyboardInterrupt
@@ -262,7 +266,8 @@ impl BlockSystem {
     /// (array([[1., 0., 0.]]), array([1.]), array([0, 4]))
     /// >>> found.points_of(0).tolist()
     /// [[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [1.0, 1.0, 1.0], [1.0, 0.0, 1.0]]
-    #[pyo3(signature = (gap = 1e-12, length = None, geometry = false, progress = None, threads = None))]
+    #[pyo3(signature = (gap = 1e-12, length = None, geometry = false, progress = None, threads = None, absolute_gap = None))]
+    #[allow(clippy::too_many_arguments)] // Python's keyword arguments, one per option
     fn detect(
         slf: &Bound<'_, Self>,
         py: Python<'_>,
@@ -271,8 +276,9 @@ impl BlockSystem {
         geometry: bool,
         progress: Option<Py<PyAny>>,
         threads: Option<i64>,
+        absolute_gap: Option<f64>,
     ) -> PyResult<SystemContacts> {
-        let tol = tolerance(gap, length)?;
+        let tol = tolerance(gap, length, absolute_gap)?;
         let pool = thread_pool(threads)?;
         let inner = &slf.get().inner;
         let run = |report: &mut (dyn FnMut(DetectProgress) -> ControlFlow<()> + Send)| {

@@ -30,13 +30,15 @@ use pyo3::types::PyDict;
 ///     Relative gap, as in :func:`detect_pair`.
 /// length : float, optional
 ///     Relative length threshold, as in :func:`detect_pair`.
+/// absolute_gap : float, optional
+///     The gap as a length (model units) instead of `gap`, as in :func:`detect_pair`.
 ///
 /// Raises
 /// ------
 /// InputError
 ///     A negative, NaN or infinite `skin`.
 /// ToleranceError
-///     Impossible `gap` or `length`.
+///     Impossible `gap`, `length` or `absolute_gap`.
 ///
 /// Examples
 /// --------
@@ -54,32 +56,42 @@ use pyo3::types::PyDict;
 #[pyclass(module = "penedge", name = "ContactTracker")]
 pub struct ContactTracker {
     inner: system::ContactTracker,
-    contacts: Py<SystemContacts>,
+    /// The contacts as a Python object, made when first asked for after an update (a step
+    /// of a DEM loop that does not read them pays no copy of a million contacts).
+    contacts: Option<Py<SystemContacts>>,
 }
 
 #[pymethods]
 impl ContactTracker {
     #[new]
-    #[pyo3(signature = (system, skin = 0.0, gap = 1e-12, length = None))]
+    #[pyo3(signature = (system, skin = 0.0, gap = 1e-12, length = None, absolute_gap = None))]
     fn new(
         py: Python<'_>,
         system: &BlockSystem,
         skin: f64,
         gap: f64,
         length: Option<f64>,
+        absolute_gap: Option<f64>,
     ) -> PyResult<Self> {
-        let tol = tolerance(gap, length)?;
+        let tol = tolerance(gap, length, absolute_gap)?;
         let inner = py
             .detach(|| system::ContactTracker::new(&system.inner, tol, skin))
             .map_err(|e| input_error("skin", e.to_string()))?;
-        let contacts = contacts_of(py, &inner)?;
-        Ok(ContactTracker { inner, contacts })
+        Ok(ContactTracker {
+            inner,
+            contacts: None,
+        })
     }
 
     /// The contacts at the current poses (a :class:`SystemContacts`, without geometry).
     #[getter]
-    fn contacts(&self, py: Python<'_>) -> Py<SystemContacts> {
-        self.contacts.clone_ref(py)
+    fn contacts(&mut self, py: Python<'_>) -> PyResult<Py<SystemContacts>> {
+        if let Some(made) = &self.contacts {
+            return Ok(made.clone_ref(py));
+        }
+        let made = contacts_of(py, &self.inner)?;
+        self.contacts = Some(made.clone_ref(py));
+        Ok(made)
     }
 
     /// Moves every block to a new pose and updates the contacts.
@@ -98,7 +110,8 @@ impl ContactTracker {
     /// -------
     /// dict
     ///     ``rebuilt`` (whether the broad phase ran again), ``candidate_pairs``,
-    ///     ``certified`` (pairs answered without a query) and ``queried``.
+    ///     ``unmoved`` (pairs answered because neither block moved since their last
+    ///     query), ``certified`` (pairs answered by a certificate) and ``queried``.
     ///
     /// Raises
     /// ------
@@ -133,10 +146,11 @@ impl ContactTracker {
         let report: UpdateReport = py
             .detach(|| inner.update(&poses))
             .map_err(|e| input_error("pose", e.to_string()))?;
-        self.contacts = contacts_of(py, &self.inner)?;
+        self.contacts = None;
         let out = PyDict::new(py);
         out.set_item("rebuilt", report.rebuilt)?;
         out.set_item("candidate_pairs", report.candidate_pairs)?;
+        out.set_item("unmoved", report.unmoved)?;
         out.set_item("certified", report.certified)?;
         out.set_item("queried", report.queried)?;
         Ok(out)

@@ -33,6 +33,17 @@ impl ContactPlane {
         }
     }
 
+    /// The plane through `point` with unit normal `normal`, the blocks `distance` apart
+    /// along it (the overlap's common plane, [`crate::overlap`]).
+    pub(crate) fn through(point: DVec3, normal: DVec3, distance: f64) -> ContactPlane {
+        ContactPlane {
+            normal,
+            reference: point,
+            offset: 0.0,
+            distance,
+        }
+    }
+
     /// Unit normal from A to B.
     pub fn normal(&self) -> DVec3 {
         self.normal
@@ -67,7 +78,7 @@ fn reference(a: &ConvexBlock, b: &ConvexBlock) -> DVec3 {
 }
 
 /// Smallest and largest `n·(x - r)` over the block's vertices.
-fn extent(block: &ConvexBlock, n: DVec3, r: DVec3) -> (f64, f64) {
+pub(crate) fn extent(block: &ConvexBlock, n: DVec3, r: DVec3) -> (f64, f64) {
     block
         .vertices()
         .iter()

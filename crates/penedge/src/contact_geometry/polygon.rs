@@ -15,7 +15,7 @@ type P2 = [f64; 2];
 
 /// The convex polygon of `points` on `plane`; a point or a segment when it collapses below
 /// the length threshold `length`.
-pub(super) fn convex_polygon(points: &[DVec3], plane: &ContactPlane, length: f64) -> ContactPoints {
+pub(crate) fn convex_polygon(points: &[DVec3], plane: &ContactPlane, length: f64) -> ContactPoints {
     let n = plane.normal();
     let u = n.any_orthonormal_vector();
     let v = n.cross(u);

@@ -1,5 +1,6 @@
-//! Tables as CSV: the block table (one row per block) and the contact table (one row per
-//! contact); docs/tables.md describes both.
+//! Tables as CSV: the block table (one row per block), the contact table (one row per
+//! contact; docs/tables.md describes both) and the contact regions of bodies (concave
+//! blocks: one row per region, [`write_body_contacts_to`]).
 //!
 //! Block table columns: `id, volume, centroid_x, centroid_y, centroid_z, n_faces,
 //! n_free_faces` (`n_free_faces`: faces on the domain boundary). Numbers are written
@@ -10,7 +11,7 @@ use super::{write_atomic, IoError};
 use crate::block::{ConvexBlock, FaceOrigin};
 use crate::classify::Feature;
 use crate::contact::Detector;
-use crate::system::{BlockSystem, ContactGeometries, SystemContacts};
+use crate::system::{BlockSystem, BodyContacts, ContactGeometries, SystemContacts};
 use crate::tolerance::Tolerance;
 use glam::DVec3;
 use std::io::Write;
@@ -57,6 +58,29 @@ pub fn write_block_table_to(system: &BlockSystem, out: &mut dyn Write) -> std::i
 /// Writes the block table to a file, atomically.
 pub fn write_block_table(system: &BlockSystem, path: &Path) -> Result<(), IoError> {
     write_atomic(path, |w| write_block_table_to(system, w))
+}
+
+/// The header line of the contact regions of bodies.
+pub const BODY_CONTACTS_HEADER: &str =
+    "body_a,body_b,region,type,area,distance,normal_x,normal_y,normal_z,pieces";
+
+/// Writes the contact regions of bodies ([`crate::BlockSystem::detect_bodies`]) to `out`,
+/// one row per region: the two bodies (`body_a < body_b`), the region's index within the
+/// pair (two bodies can touch in several regions), its type by name, total area, distance,
+/// normal (from `body_a` to `body_b`) and its number of part contacts.
+pub fn write_body_contacts_to(found: &BodyContacts, out: &mut dyn Write) -> std::io::Result<()> {
+    writeln!(out, "{BODY_CONTACTS_HEADER}")?;
+    for (i, c) in found.contacts.iter().enumerate() {
+        let [a, b] = c.bodies;
+        let [x, y, z] = c.normal;
+        let pieces = found.piece_offsets[i + 1] - found.piece_offsets[i];
+        writeln!(
+            out,
+            "{a},{b},{},{},{},{},{x},{y},{z},{pieces}",
+            c.region, c.kind, c.area, c.distance
+        )?;
+    }
+    Ok(())
 }
 
 /// The header of the contact table.
@@ -106,6 +130,11 @@ pub fn write_contact_table_to(
         )?;
     }
     Ok(())
+}
+
+/// Writes the contact regions of bodies to a file, atomically.
+pub fn write_body_contacts(found: &BodyContacts, path: &Path) -> Result<(), IoError> {
+    write_atomic(path, |w| write_body_contacts_to(found, w))
 }
 
 /// Writes the contact table to a file, atomically ([`write_contact_table_to`]).

@@ -1,7 +1,11 @@
 //! Block systems: a set of blocks with ids, built by cutting a domain with planes (see
 //! [`crate::generation`]), and the detection of every contact in it.
 
+mod body_contacts;
 mod broad_phase;
+mod concave;
+#[cfg(test)]
+mod concave_tests;
 mod detect;
 mod examples;
 mod flat;
@@ -10,7 +14,9 @@ mod geometry;
 pub(crate) mod test_rng;
 mod tracker;
 
+pub use body_contacts::{BodyContact, BodyContacts};
 pub use broad_phase::{BroadPhase, WideBoxes};
+pub use concave::{ConcaveError, InternalFace};
 pub use detect::{count_types, Cancelled, DetectProgress, PairContact, SystemContacts};
 #[cfg(test)]
 pub(crate) use examples::paper_pairs;
@@ -28,6 +34,9 @@ use thiserror::Error;
 
 /// A system of blocks; a block's id is its index.
 ///
+/// Each block is a convex part of a body: by default its own body (id = block id); blocks
+/// given one body id by [`BlockSystem::with_bodies`] are the parts of one concave block.
+///
 /// A generated system also carries where it came from: the domain's convex parts, the joint
 /// table (every plane applied, in order) and one record per spec entry; each block's
 /// [`crate::block::FaceOrigin`]s point into them.
@@ -37,6 +46,8 @@ pub struct BlockSystem {
     domain: Vec<ConvexBlock>,
     joints: Vec<JointRecord>,
     sets: Vec<SetRecord>,
+    /// Body ids and internal faces when some block is made of several parts.
+    glue: Option<concave::Glue>,
     unit: Option<String>,
 }
 
@@ -92,6 +103,7 @@ impl BlockSystem {
             domain,
             joints,
             sets,
+            glue: None,
             unit: None,
         }
     }
@@ -218,6 +230,10 @@ pub struct SystemArrays {
     pub volumes: Vec<f64>,
     /// Per block, its centroid.
     pub centroids: Vec<[f64; 3]>,
+    /// Per block, its body id (the concave block it is a part of; its own id by default).
+    pub body_ids: Vec<i64>,
+    /// Per face, 1 if it lies inside its body (covered entirely by internal faces), else 0.
+    pub face_internal: Vec<u8>,
 }
 
 impl BlockSystem {
@@ -241,12 +257,15 @@ impl BlockSystem {
                 a.origin_kind.push(origin.code());
                 a.origin_set.push(origin.ids().0);
                 a.origin_index.push(origin.ids().1);
+                a.face_internal
+                    .push(self.is_internal_face(a.volumes.len() as u32, f as u32) as u8);
             }
             a.vertex_offsets.push(a.vertices.len() as u64);
             a.face_offsets.push(a.origin_kind.len() as u64);
             a.volumes.push(b.volume());
             a.centroids.push(b.centroid().to_array());
         }
+        a.body_ids = self.body_ids().into_iter().map(i64::from).collect();
         a
     }
 }

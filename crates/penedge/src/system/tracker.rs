@@ -1,12 +1,18 @@
 //! Contact detection over time steps, as DEM and DDA codes call it: the blocks move rigidly,
 //! and each step asks for the contacts at the new poses.
 //!
-//! Two things carry over from step to step:
+//! Three things carry over from step to step:
 //!
 //! - **The broad phase, with a skin.** Candidate pairs are found once with every box widened
 //!   by its gap plus half the skin. While no block has moved more than half the skin since,
 //!   every pair within its gap is still among them (each box moved at most that much), so
 //!   the broad phase is skipped; a block moving farther triggers a rebuild.
+//! - **Pairs whose blocks have not moved.** Each block records the update at which its pose
+//!   last changed (in any bit), each pair the update at which it was last queried. A pair
+//!   neither of whose blocks has moved since is placed exactly as then, and the query, a
+//!   deterministic function of the two blocks, would give the same answer: it is not asked
+//!   (touching pairs included). docs/mechanics.md proves, case by case, that the contacts
+//!   stay exactly those of a full detection.
 //! - **Certificates for pairs that are clearly apart or clearly overlapping.** A separated
 //!   pair keeps a face plane with every vertex of the other block at least `s` beyond it; a
 //!   penetrating pair keeps a point of an edge at least `D` inside the other block. Each
@@ -16,7 +22,7 @@
 //!   than the gap (or the point is still deeper than the gap) and the pair's answer is known
 //!   without a query. A pair separated without a separating face plane is queried again
 //!   with a wider gap, which certifies it for a travel a little under the widening
-//!   ([`edge_certificate`]). Every other pair, touching ones included, is queried anew.
+//!   ([`edge_certificate`]). Every other pair is queried anew.
 //!
 //! The contacts of each step are exactly those of [`BlockSystem::detect`] on the blocks at
 //! their new poses (the tests check it step by step).
@@ -69,6 +75,8 @@ pub struct UpdateReport {
     pub candidate_pairs: usize,
     /// Pairs answered by their certificate, without a query.
     pub certified: usize,
+    /// Pairs answered because neither block moved since the pair's last query.
+    pub unmoved: usize,
     /// Pairs queried.
     pub queried: usize,
 }
@@ -135,6 +143,12 @@ pub struct ContactTracker {
     contacts: SystemContacts,
     /// Per block, whether its geometry lags its pose.
     stale: Vec<bool>,
+    /// Updates so far.
+    step: u32,
+    /// Per block, the update at which its pose last changed (0: never).
+    moved_at: Vec<u32>,
+    /// Per pair, the update at which it was last queried.
+    asked_at: Vec<u32>,
     /// Per block, whether a query of this step needs its geometry (scratch).
     needed: Flags,
 }
@@ -201,6 +215,9 @@ impl ContactTracker {
             results: Vec::new(),
             contacts: SystemContacts::default(),
             stale: vec![false; n],
+            step: 0,
+            moved_at: vec![0; n],
+            asked_at: Vec::new(),
             needed: Flags::new(n),
         };
         tracker.rebuild();
@@ -250,43 +267,68 @@ impl ContactTracker {
         {
             return Err(TrackerError::Pose(i));
         }
+        self.step = match self.step.checked_add(1) {
+            Some(step) => step,
+            None => self.restart_steps(),
+        };
         let farthest = self.move_poses(poses);
         let rebuilt = farthest > 0.5 * self.skin;
         if rebuilt {
             self.place(Which::All);
             self.rebuild();
         }
-        let (certified, queried) = self.narrow_phase(rebuilt);
+        let (unmoved, certified, queried) = self.narrow_phase(rebuilt);
         Ok(UpdateReport {
             rebuilt,
             candidate_pairs: self.pairs.len(),
             certified,
+            unmoved,
             queried,
         })
+    }
+
+    /// After `u32::MAX` updates: every block counts as moved since every pair's last query
+    /// (each pair is queried or certified once more); returns the new update count.
+    fn restart_steps(&mut self) -> u32 {
+        self.moved_at.fill(1);
+        self.asked_at.fill(0);
+        1
     }
 
     /// Takes the new poses and adds each block's travel (the blocks are placed when needed,
     /// [`ContactTracker::place`]); returns the largest distance a block has moved since the
     /// broad phase was built.
     fn move_poses(&mut self, poses: &[Pose]) -> f64 {
-        let (centre, radius) = (&self.centre, &self.radius);
+        let (centre, radius, step) = (&self.centre, &self.radius, self.step);
         self.travel
             .par_iter_mut()
             .zip(&mut self.last_step)
             .zip(&mut self.poses)
             .zip(&mut self.stale)
+            .zip(&mut self.moved_at)
             .zip(&self.built_at)
             .zip(poses)
             .enumerate()
-            .map(|(i, (((((travel, last), pose), stale), built), given))| {
-                // Normalised again here rather than kept from the check: one pass, no buffer.
-                let new = &Pose::new(given.rotation, given.translation).unwrap_or(*pose);
-                *last = pose.displacement_bound(new, centre[i], radius[i]);
-                *travel += *last;
-                *stale |= new != pose;
-                *pose = *new;
-                built.displacement_bound(new, centre[i], radius[i])
-            })
+            .map(
+                |(i, ((((((travel, last), pose), stale), moved), built), given))| {
+                    // Normalised again here rather than kept from the check: one pass, no buffer.
+                    let new = &Pose::new(given.rotation, given.translation).unwrap_or(*pose);
+                    // A pose equal to the last one places the block exactly where it was.
+                    let changed = new != pose;
+                    *last = if changed {
+                        pose.displacement_bound(new, centre[i], radius[i])
+                    } else {
+                        0.0
+                    };
+                    *travel += *last;
+                    if changed {
+                        *stale = true;
+                        *moved = step;
+                    }
+                    *pose = *new;
+                    built.displacement_bound(new, centre[i], radius[i])
+                },
+            )
             .reduce(|| 0.0, f64::max)
     }
 
@@ -341,24 +383,51 @@ impl ContactTracker {
         holds(self.deadlines[k], travel)
     }
 
-    /// The pairs (indices, ascending) that their certificates do not answer, with their
-    /// blocks placed.
-    fn place_queried(&mut self) -> Vec<u32> {
-        let needed = &self.needed.0;
-        let queried = (0..self.pairs.len() as u32)
+    /// Whether neither block of pair `k` has moved since the pair's last query: both are
+    /// placed exactly as then, so its answer is the same.
+    #[inline]
+    fn unmoved(&self, k: usize) -> bool {
+        let asked = self.asked_at[k];
+        self.pairs[k]
+            .iter()
+            .all(|&b| self.moved_at[b as usize] <= asked)
+    }
+
+    /// The pairs (indices, ascending) that neither their blocks' stillness nor their
+    /// certificates answer (all of them when `fresh`: new pairs have no answer yet), with
+    /// their blocks placed; and how many were still.
+    fn place_queried(&mut self, fresh: bool) -> (Vec<u32>, usize) {
+        let queried: Vec<u32> = (0..self.pairs.len() as u32)
             .into_par_iter()
-            .filter(|&k| {
-                let answered = self.certified(k as usize);
-                if !answered {
-                    for b in self.pairs[k as usize] {
-                        needed[b as usize].store(true, Ordering::Relaxed);
-                    }
-                }
-                !answered
-            })
+            .filter(|&k| fresh || !self.unmoved(k as usize) && !self.certified(k as usize))
             .collect();
-        self.place(Which::Needed);
-        queried
+        let unmoved = if queried.len() == self.pairs.len() {
+            0
+        } else {
+            (0..self.pairs.len())
+                .into_par_iter()
+                .filter(|&k| self.unmoved(k))
+                .count()
+        };
+        if self.dense(queried.len()) {
+            // Most blocks are needed: placing the stale ones costs no more than marking.
+            self.place(Which::All);
+        } else {
+            let (pairs, needed) = (&self.pairs, &self.needed.0);
+            queried.par_iter().for_each(|&k| {
+                for b in pairs[k as usize] {
+                    needed[b as usize].store(true, Ordering::Relaxed);
+                }
+            });
+            self.place(Which::Needed);
+        }
+        (queried, unmoved)
+    }
+
+    /// Whether a step that queries `queried` pairs builds its output anew (over an eighth of
+    /// the pairs) rather than replacing the queried pairs' answers in the last one.
+    fn dense(&self, queried: usize) -> bool {
+        queried > self.pairs.len() / 8
     }
 
     fn rebuild(&mut self) {
@@ -371,10 +440,13 @@ impl ContactTracker {
         self.pairs = boxes.pairs(BroadPhase::default());
         self.deadlines = vec![f64::NEG_INFINITY; self.pairs.len()];
         self.results = vec![PairResult::Separated; self.pairs.len()];
+        // Queried at once: the narrow phase after a rebuild queries every pair.
+        self.asked_at = vec![0; self.pairs.len()];
         self.built_at.clone_from(&self.poses);
     }
 
-    /// Answers every candidate pair (by certificate or query); returns (certified, queried).
+    /// Answers every candidate pair (by stillness, certificate or query); returns (unmoved,
+    /// certified, queried).
     /// `fresh`: the candidate pairs are new (the output is built from every pair's answer;
     /// otherwise the last output is kept but for the queried pairs).
     ///
@@ -383,10 +455,9 @@ impl ContactTracker {
     /// touches only the queried ones after that (on a 50^3 grid of cubes, 10,000 of 1.5
     /// million pairs, whose blocks are asked for ahead of their queries), and its output is
     /// the last one with those pairs' answers replaced.
-    fn narrow_phase(&mut self, fresh: bool) -> (usize, usize) {
-        let queried = self.place_queried();
-        // A dense step (new pairs, or over an eighth of them queried) builds its output anew.
-        let dense = fresh || queried.len() > self.pairs.len() / 8;
+    fn narrow_phase(&mut self, fresh: bool) -> (usize, usize, usize) {
+        let (queried, unmoved) = self.place_queried(fresh);
+        let dense = fresh || self.dense(queried.len());
         let blocks = self.current.blocks();
         let (travel, last_step, radius) = (&self.travel, &self.last_step, &self.radius);
         let (pairs, tol) = (&self.pairs, self.tol);
@@ -437,6 +508,7 @@ impl ContactTracker {
                 let k = k as usize;
                 self.results[k] = result;
                 self.deadlines[k] = deadline;
+                self.asked_at[k] = self.step;
                 if !dense {
                     changed.push((self.pairs[k], result));
                 }
@@ -449,7 +521,8 @@ impl ContactTracker {
         } else if !changed.is_empty() {
             self.contacts = self.contacts.with_changes(&changed);
         }
-        (self.pairs.len() - queried.len(), queried.len())
+        let certified = self.pairs.len() - queried.len() - unmoved;
+        (unmoved, certified, queried.len())
     }
 }
 
@@ -653,6 +726,93 @@ mod tests {
         assert!(
             tracker.contacts().contacts.is_empty() && tracker.contacts().penetrating.is_empty()
         );
+    }
+
+    /// Steps of a touching grid at a wide gap (every candidate pair touches, so no pair has a
+    /// certificate), each moving a random share of the blocks by a jitter and leaving the
+    /// others exactly where they were: every step equals a full detection, and the pairs
+    /// skipped as unmoved are exactly those with neither block moved (counted here from the
+    /// moved blocks); the others are all queried.
+    fn check_partial_steps(n: usize, share: f64, steps: usize) -> Vec<UpdateReport> {
+        let system = grid(n);
+        let tol = Tolerance::with_gap(1e-3).unwrap();
+        let mut tracker = ContactTracker::new(&system, tol, 0.05).unwrap();
+        let mut rng = Rng(19);
+        let mut poses = vec![Pose::IDENTITY; system.len()];
+        let mut reports = Vec::new();
+        for _ in 0..steps {
+            let mut moved = vec![false; system.len()];
+            for (i, (pose, block)) in poses.iter_mut().zip(system.blocks()).enumerate() {
+                if rng.unit() < share {
+                    let step = rng.small_pose(1e-5, 1e-5);
+                    let c = pose.apply(block.centroid());
+                    *pose = Pose {
+                        rotation: (step.rotation * pose.rotation).normalize(),
+                        translation: step.rotation * (pose.translation - c) + c + step.translation,
+                    };
+                    moved[i] = true;
+                }
+            }
+            let report = tracker.update(&poses).unwrap();
+            let full = moved_system(&system, &poses).detect(&tol);
+            assert_eq!(tracker.contacts(), &full, "{report:?}");
+            assert_eq!(full.contacts.len(), tracker.pairs.len(), "all pairs touch");
+            let still = tracker
+                .pairs
+                .iter()
+                .filter(|p| p.iter().all(|&b| !moved[b as usize]))
+                .count();
+            assert_eq!(report.unmoved, still, "{report:?}");
+            assert_eq!(report.queried, tracker.pairs.len() - still, "{report:?}");
+            assert!(!report.rebuilt);
+            reports.push(report);
+        }
+        reports
+    }
+
+    #[test]
+    fn a_step_queries_only_the_pairs_of_moved_blocks() {
+        // 1 % of a 10^3 grid (about 10 blocks and 260 of 6,859 pairs per step), then 20 %.
+        let reports = check_partial_steps(10, 0.01, 4);
+        assert!(reports
+            .iter()
+            .all(|r| r.queried > 0 && r.queried * 10 < r.candidate_pairs));
+        check_partial_steps(6, 0.2, 4);
+    }
+
+    #[test]
+    fn every_block_jittered_or_none_moved_at_a_wide_gap() {
+        // Every block moved: every pair queried, nothing skipped.
+        let reports = check_partial_steps(5, 1.0, 3);
+        assert!(reports.iter().all(|r| r.unmoved == 0));
+        // No block moved: nothing queried.
+        let reports = check_partial_steps(5, 0.0, 3);
+        assert!(reports
+            .iter()
+            .all(|r| r.queried == 0 && r.unmoved == r.candidate_pairs));
+    }
+
+    /// A block moved and then put back at its former pose counts as moved: its pairs are
+    /// queried again (the skip compares update counts, not poses).
+    #[test]
+    fn unmoved_pairs_keep_their_answers_while_others_change() {
+        let system = grid(3);
+        let tol = Tolerance::default();
+        let mut tracker = ContactTracker::new(&system, tol, 0.1).unwrap();
+        let mut poses = vec![Pose::IDENTITY; system.len()];
+        // Block 13 (the centre) lifted off, then back, then left there: its pairs change
+        // in the first two steps, nothing in the third.
+        for (lift, moved) in [(1e-3, true), (0.0, true), (0.0, false)] {
+            poses[13].translation.z = lift;
+            let report = tracker.update(&poses).unwrap();
+            assert_eq!(
+                tracker.contacts(),
+                &moved_system(&system, &poses).detect(&tol)
+            );
+            let of_13 = tracker.pairs.iter().filter(|p| p.contains(&13)).count();
+            let still = tracker.pairs.len() - if moved { of_13 } else { 0 };
+            assert_eq!(report.unmoved, still, "{lift} {moved}");
+        }
     }
 
     #[test]
