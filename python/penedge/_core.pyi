@@ -188,7 +188,11 @@ class _Overlap(TypedDict):
     area: float
 
 def overlap(
-    a: Block, b: Block, gap: float = 1e-12, length: float | None = None
+    a: Block,
+    b: Block,
+    gap: float = 1e-12,
+    length: float | None = None,
+    absolute_gap: float | None = None,
 ) -> _Overlap | None: ...
 
 class _UpdateReport(TypedDict):
@@ -422,7 +426,11 @@ class BlockSystem:
         absolute_gap: float | None = None,
     ) -> SystemContacts: ...
     def with_bodies(
-        self, body_ids: Sequence[int], gap: float = 1e-12, length: float | None = None
+        self,
+        body_ids: Sequence[int],
+        gap: float = 1e-12,
+        length: float | None = None,
+        absolute_gap: float | None = None,
     ) -> BlockSystem: ...
     @property
     def body_ids(self) -> npt.NDArray[np.int64]: ...
@@ -434,6 +442,7 @@ class BlockSystem:
         length: float | None = None,
         progress: Callable[[int, int], object] | None = None,
         threads: int | None = None,
+        absolute_gap: float | None = None,
     ) -> BodyContacts: ...
     def arrays(self) -> BlockArrays: ...
     def statistics(self) -> _Statistics | None: ...

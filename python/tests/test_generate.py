@@ -310,8 +310,9 @@ def test_max_blocks_limits_the_run():
     assert len(penedge.generate(spec, max_blocks=64)[0]) == 64
     with pytest.raises(penedge.SpecError, match="the limit is 63 blocks \\(given\\)"):
         penedge.generate(spec, max_blocks=63)
-    with pytest.raises(penedge.InputError, match="max_blocks"):
-        penedge.generate(spec, max_blocks=0)
+    for bad in (0, -1):
+        with pytest.raises(penedge.InputError, match=f"max_blocks must be .* got {bad}"):
+            penedge.generate(spec, max_blocks=bad)
 
 
 def test_the_report_counts_tiny_blocks():

@@ -88,14 +88,14 @@ pub fn generate<'py>(
     py: Python<'py>,
     spec: &Bound<'py, PyAny>,
     progress: Option<Py<PyAny>>,
-    max_blocks: Option<u64>,
+    max_blocks: Option<i64>,
 ) -> PyResult<(BlockSystem, Bound<'py, PyAny>)> {
     let limits = match max_blocks {
-        Some(0) => {
-            let message = "max_blocks must be a whole number of 1 or more, got 0";
+        Some(n) if n < 1 => {
+            let message = format!("max_blocks must be a whole number of 1 or more, got {n}");
             return Err(crate::errors::input_error("out_of_range", message));
         }
-        Some(n) => Limits::blocks(n),
+        Some(n) => Limits::blocks(n as u64),
         None => Limits::from_memory(),
     };
     let (spec, file) = read(py, spec)?;

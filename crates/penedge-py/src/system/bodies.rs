@@ -19,8 +19,9 @@ impl BlockSystem {
     /// ----------
     /// body_ids : sequence of int, length ``len(system)``
     ///     The body of each block (any non-negative ids; by default a block is its own body).
-    /// gap, length : float
-    ///     The tolerance at which the parts must touch face to face.
+    /// gap, length, absolute_gap : float
+    ///     The tolerance at which the parts must touch face to face (as in
+    ///     :meth:`BlockSystem.detect`).
     ///
     /// Raises
     /// ------
@@ -38,15 +39,16 @@ impl BlockSystem {
     /// >>> l_block = system.with_bodies([0, 0, 1])
     /// >>> l_block.body_ids.tolist(), l_block.internal_faces()["areas"].round(9).tolist()
     /// ([0, 0, 1], [1.0])
-    #[pyo3(signature = (body_ids, gap = 1e-12, length = None))]
+    #[pyo3(signature = (body_ids, gap = 1e-12, length = None, absolute_gap = None))]
     fn with_bodies(
         &self,
         py: Python<'_>,
         body_ids: Vec<i64>,
         gap: f64,
         length: Option<f64>,
+        absolute_gap: Option<f64>,
     ) -> PyResult<BlockSystem> {
-        let tol = tolerance(gap, length)?;
+        let tol = tolerance(gap, length, absolute_gap)?;
         let ids = body_ids
             .iter()
             .map(|&b| u32::try_from(b))
@@ -127,7 +129,7 @@ impl BlockSystem {
     ///
     /// Parameters
     /// ----------
-    /// gap, length, progress, threads
+    /// gap, length, progress, threads, absolute_gap
     ///     As in :meth:`BlockSystem.detect`.
     ///
     /// Returns
@@ -143,7 +145,7 @@ impl BlockSystem {
     /// >>> found = system.with_bodies([0, 0, 0, 1]).detect_bodies()
     /// >>> found.bodies.tolist(), found.regions.tolist(), found.areas.round(9).tolist()
     /// ([[0, 1], [0, 1], [0, 1]], [0, 1, 2], [1.0, 1.0, 1.0])
-    #[pyo3(signature = (gap = 1e-12, length = None, progress = None, threads = None))]
+    #[pyo3(signature = (gap = 1e-12, length = None, progress = None, threads = None, absolute_gap = None))]
     fn detect_bodies(
         &self,
         py: Python<'_>,
@@ -151,8 +153,9 @@ impl BlockSystem {
         length: Option<f64>,
         progress: Option<Py<PyAny>>,
         threads: Option<i64>,
+        absolute_gap: Option<f64>,
     ) -> PyResult<BodyContacts> {
-        let tol = tolerance(gap, length)?;
+        let tol = tolerance(gap, length, absolute_gap)?;
         let pool = thread_pool(threads)?;
         let inner = &self.inner;
         let (result, failure) = watched(py, progress.as_ref(), |report| {
