@@ -27,6 +27,7 @@ __all__ = [
     "BlockArrays",
     "BlockError",
     "BlockSystem",
+    "BodyContacts",
     "ContactTracker",
     "FileFormatError",
     "InputError",
