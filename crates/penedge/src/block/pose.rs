@@ -118,7 +118,7 @@ impl ConvexBlock {
         // computing their distances, in every query of the pairs of this block. Leaving it
         // unknown made each query of a placed block dearer than of a built one (a tracker
         // step querying every pair of a 50^3 grid: 1.2 times a full detection of built
-        // blocks instead of less).
+        // blocks; about 1 with it, docs/benchmarks.md "Tracker steps").
         self.clearance = Clearance::of(&self.vertices, &self.planes, &self.vertex_faces);
         self.local.fill(&self.vertices);
     }
