@@ -23,6 +23,11 @@ Time stepping
     :class:`ContactTracker` -- the contacts of moving blocks, step after step, reusing
     the broad phase within a skin and skipping pairs whose blocks did not move or that are
     clearly apart or overlapping.
+Mechanics
+    :class:`Simulation` -- rigid-block DEM (3DEC-style) on a block system: gravity,
+    joint properties per set (Mohr-Coulomb with tension and cohesion), fixed and prescribed
+    blocks, damping, ``step`` / ``solve`` / ``run_until``, the state and the contact and
+    sub-contact forces as numpy arrays (``docs/mechanics.md``).
 Generation
     :func:`generate` -- a rock domain cut by joint planes, joint sets and finite joints
     (a spec file, TOML text or a dict) into a :class:`BlockSystem`; its blocks as flat
@@ -34,7 +39,8 @@ Files
     (``.pvd``), :func:`write_pvd` -- a time series index of any files.
 Errors
     :exc:`PenedgeError` and its subclasses :exc:`InputError`, :exc:`BlockError`,
-    :exc:`ToleranceError`, :exc:`SpecError`, :exc:`FileFormatError` (all also
+    :exc:`ToleranceError`, :exc:`SpecError`, :exc:`FileFormatError`,
+    :exc:`MechanicsError` (all also
     ``ValueError``); files that cannot be read or written raise ``OSError``.
 
 Conventions: right-handed frame; faces counter-clockwise seen from outside, normals
@@ -68,11 +74,14 @@ from penedge._core import (
     BlockArrays,
     BlockError,
     BlockSystem,
+    BodyContacts,
     ContactTracker,
     FileFormatError,
     InputError,
+    MechanicsError,
     PairContact,
     PenedgeError,
+    Simulation,
     SpecError,
     SystemContacts,
     TimeSeries,
@@ -103,11 +112,14 @@ __all__ = [
     "BlockArrays",
     "BlockError",
     "BlockSystem",
+    "BodyContacts",
     "ContactTracker",
     "FileFormatError",
     "InputError",
+    "MechanicsError",
     "PairContact",
     "PenedgeError",
+    "Simulation",
     "SpecError",
     "SystemContacts",
     "TimeSeries",

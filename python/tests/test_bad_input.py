@@ -342,11 +342,16 @@ def set_key(path, new):
             "joints[3].shape.vertices",
             "3 vertices",
         ),
-        (set_key(["blocks", 0, "vertices"], "abc"), "syntax", None, "invalid type"),
-        (set_key(["blocks", 0, "faces"], [[0, -1, 2]]), "syntax", None, "invalid value"),
-        (set_key(["blocks", 0, "id"], 2**40), "syntax", None, "u32"),
-        (set_key(["blocks", 0, "extra"], 1), "syntax", None, "unknown field"),
-        (set_key(["version"], 2), "format", "version", "version 2"),
+        (set_key(["blocks", 0, "vertices"], "abc"), "syntax", None, 'got the text "abc"'),
+        (
+            set_key(["blocks", 0, "faces"], [[0, -1, 2]]),
+            "syntax",
+            None,
+            "got the whole number `-1`",
+        ),
+        (set_key(["blocks", 0, "id"], 2**40), "syntax", None, "from 0 to 4294967295"),
+        (set_key(["blocks", 0, "extra"], 1), "syntax", None, "unknown field `extra` (a typo?)"),
+        (set_key(["version"], 3), "format", "version", "version 3"),
         (set_key(["blocks", 0, "origins"], []), "format", "blocks[0]", "one entry per face"),
     ],
     ids=[
@@ -672,9 +677,9 @@ def files(tmp_path):
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["detect", "truncated.json"], "truncated.json: EOF while parsing"),
+        (["detect", "truncated.json"], "truncated.json: the file ends in the middle of"),
         (["detect", "binary.json"], "binary.json: not UTF-8 text"),
-        (["detect", "empty.json"], "empty.json: EOF while parsing a value"),
+        (["detect", "empty.json"], "empty.json: the file is empty"),
         (["detect", "folder.json"], "folder.json: Is a directory"),
         (["detect", "broken_block.json"], "broken_block.json: domain[0]: face 0 is not a polygon"),
         (["generate", "huge.toml", "-o", "out.json"], "domain: invalid domain: the block's"),

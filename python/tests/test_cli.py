@@ -83,7 +83,7 @@ def test_other_picture_formats(tmp_path, suffix, start):
 
 def test_html_view(tmp_path):
     pytest.importorskip("plotly")
-    result = run("example", "1", "--html", "ex.html", "--no-picture", cwd=tmp_path)
+    result = run("example", "1", "--html-out", "ex.html", "--no-picture", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     assert "interactive view: ex.html" in squeeze(result.stdout)
     text = (tmp_path / "ex.html").read_text(encoding="utf-8")
@@ -163,6 +163,15 @@ def test_gap_option(tmp_path):
     assert "relative gap 1e-06" in result.stdout
 
 
+def test_absolute_gap_option(tmp_path):
+    result = run("example", "1", "--absolute-gap", "0.001", "--no-picture", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "absolute gap 0.001" in result.stdout
+    result = run("example", "1", "--absolute-gap", "0.001", "--no-picture", "--json", cwd=tmp_path)
+    summary = json.loads(result.stdout)
+    assert (summary["gap"], summary["absolute_gap"]) == (None, 0.001)
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [
@@ -173,13 +182,16 @@ def test_gap_option(tmp_path):
         (["example", "1", "--gap", "-1"], "argument --gap"),
         (["example", "1", "--gap", "nan"], "argument --gap"),
         (["example", "1", "--gap", "abc"], "invalid float value"),
+        (["example", "1", "--absolute-gap", "-1"], "argument --absolute-gap"),
+        (["example", "1", "--gap", "1e-6", "--absolute-gap", "1e-3"], "not allowed with"),
         (["example", "1", "-o", "x.jpg"], "picture format"),
-        (["example", "1", "-o", "x.html"], "use --html for the interactive view"),
-        (["example", "1", "--html", "x.png"], "should end in .html"),
+        (["example", "1", "-o", "x.html"], "use --html-out x.html for the interactive view"),
+        (["example", "1", "--html-out", "x.png"], "should end in .html"),
+        (["example", "1", "--html", "x.html"], "name the view with --html-out FILE"),
         (["example", "1", "--no-picture", "--contacts"], "argument --contacts"),
         (["example", "1", "--colour-by", "size"], "invalid choice"),
         (["example", "1", "--max-blocks", "-3"], "argument --max-blocks"),
-        (["example", "1", "-o", "same.png", "--html", "same.png"], "should end in .html"),
+        (["example", "1", "-o", "same.png", "--html-out", "same.png"], "should end in .html"),
         (["example", "1", "-o", "x.png", "--no-picture"], "not allowed with"),
         (["example", "1", "--explode", "-1"], "argument --explode"),
         (["example", "1", "--explode", "inf"], "argument --explode"),
@@ -215,3 +227,25 @@ def test_version(tmp_path):
     result = run("--version", cwd=tmp_path)
     assert result.returncode == 0
     assert result.stdout.strip() == f"penedge {penedge.__version__}"
+
+
+def test_example_without_matplotlib_prints_the_table_and_says_what_the_picture_needs(tmp_path):
+    # matplotlib made unimportable (None in sys.modules), as where the `plot` extra is not
+    # installed: the table is the result, the default picture a bonus.
+    code = (
+        "import sys; sys.modules['matplotlib'] = None; "
+        "from penedge.cli import main; sys.exit(main(sys.argv[1:]))"
+    )
+    result = run("example", "1", cwd=tmp_path, command=[sys.executable, "-c", code])
+    assert result.returncode == 0, result.stderr
+    lines = squeeze(result.stdout)
+    assert "total 28 28" in lines
+    assert (
+        "note: no picture: it needs matplotlib (pip install 'penedge[plot]'); the table above "
+        "is complete"
+    ) in lines
+    assert list(tmp_path.iterdir()) == []
+    # A picture named on the command line is an error still.
+    result = run("example", "1", "-o", "x.png", cwd=tmp_path, command=[sys.executable, "-c", code])
+    assert result.returncode == 1
+    assert "pip install 'penedge[plot]'" in result.stderr

@@ -6,6 +6,7 @@ import functools
 import inspect
 import io
 import json
+import re
 import sys
 import time
 from pathlib import Path
@@ -21,18 +22,44 @@ from penedge.cli.progress import ProgressBar
 from cli_run import run, squeeze, table_counts
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-BAD_SPEC = """\
+CUBE = """\
 [domain]
 type = "box"
 min = [0, 0, 0]
 max = [10, 10, 10]
+"""
 
+
+def plane(point, dip):
+    """A ``[[joints]]`` entry of a plane through `point`, dipping `dip` to the north."""
+    return f"""
 [[joints]]
 type = "plane"
-point = [5, 5, 5]
-dip = 120
+point = {list(point)}
+dip = {dip}
 dip_direction = 0
 """
+
+
+BAD_SPEC = CUBE + plane([5, 5, 5], 120)
+
+# Three sets at 1 cm in a 100 m box: 30,000 planes, about 10^12 blocks.
+RUNAWAY_SPEC = """\
+[domain]
+type = "box"
+min = [0, 0, 0]
+max = [100, 100, 100]
+"""
+RUNAWAY_SPEC += "".join(
+    f"""
+[[joints]]
+type = "set"
+dip = {dip}
+dip_direction = {direction}
+spacing = 0.01
+"""
+    for dip, direction in ((0, 0), (90, 0), (90, 90))
+)
 
 
 def test_generate_then_detect(tmp_path):
@@ -189,7 +216,23 @@ def test_an_input_named_through_another_path_is_not_overwritten(tmp_path):
         ),
         (None, ["generate", "none.toml"], "penedge: error: none.toml: No such file or directory"),
         (None, ["detect", "none.json"], "penedge: error: none.json: No such file or directory"),
-        ("bad", ["detect", "bad.toml"], "penedge: error: bad.toml: expected value"),
+        (
+            "bad",
+            ["detect", "bad.toml"],
+            "penedge: error: bad.toml: this looks like a joint spec (TOML), not a block file: "
+            "run `penedge generate` on it first",
+        ),
+        (
+            "numbers",
+            ["detect", "numbers.json"],
+            "penedge: error: numbers.json: this is a JSON list, not a block file: a block file "
+            'is one JSON object, {"format": "penedge-blocks"',
+        ),
+        (
+            "runaway",
+            ["generate", "runaway.toml", "-o", "out.json"],
+            "penedge: error: runaway.toml: the spec would make about 1.0e12 blocks",
+        ),
         (
             None,
             ["generate", str(EXAMPLES / "plane_dip.toml"), "-o", "no/dir/b.json"],
@@ -200,6 +243,10 @@ def test_an_input_named_through_another_path_is_not_overwritten(tmp_path):
 def test_runtime_errors_exit_1_without_traceback(setup, args, message, tmp_path):
     if setup == "bad":
         (tmp_path / "bad.toml").write_text(BAD_SPEC, encoding="utf-8")
+    if setup == "numbers":
+        (tmp_path / "numbers.json").write_text("[1, 2, 3]", encoding="utf-8")
+    if setup == "runaway":
+        (tmp_path / "runaway.toml").write_text(RUNAWAY_SPEC, encoding="utf-8")
     result = run(*args, cwd=tmp_path)
     assert result.returncode == 1
     assert result.stderr.splitlines()[0].startswith(message), result.stderr
@@ -415,3 +462,153 @@ def test_the_summary_table_is_the_apis_count(spec, tmp_path):
     assert table_counts(lines) == expected
     assert f"total {sum(expected.values())}" in lines
     assert sum(n > 0 for n in expected.values()) >= 2  # a table with several types
+
+
+def test_a_runaway_spec_says_how_to_proceed(tmp_path):
+    (tmp_path / "runaway.toml").write_text(RUNAWAY_SPEC, encoding="utf-8")
+    result = run("generate", "runaway.toml", "-o", "out.json", cwd=tmp_path)
+    assert result.returncode == 1
+    message = " ".join(result.stderr.split())
+    for words in ("about 1.0e12 blocks", "larger spacing", "sub-domain", "--max-blocks"):
+        assert words in message
+    assert [p.name for p in tmp_path.iterdir()] == ["runaway.toml"]
+
+
+def test_max_blocks(tmp_path):
+    spec = EXAMPLES / "paper_example_3.toml"  # 26 blocks
+    result = run("generate", spec, "--max-blocks", "20", "-o", "b.json", cwd=tmp_path)
+    assert result.returncode == 1
+    assert "the limit is 20 blocks (given)" in " ".join(result.stderr.split())
+    assert not (tmp_path / "b.json").exists()
+    result = run("generate", spec, "--max-blocks", "26", "-o", "b.json", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    for bad in ("0", "-3", "many"):
+        result = run("generate", spec, "--max-blocks", bad, cwd=tmp_path)
+        assert result.returncode == 2
+        assert "argument --max-blocks" in result.stderr
+
+
+THIN_LAYER = CUBE + plane([0, 0, 5], 0) + plane([0, 0, 5.001], 0)
+
+
+def test_the_summary_flags_tiny_blocks(tmp_path):
+    # Blocks of 500, 0.1 and 499.9 m^3: the 1 mm layer is no sliver (thicker than 1e-6 of
+    # the 17.3 m diagonal) but 1/4999 of the median block.
+    (tmp_path / "thin.toml").write_text(THIN_LAYER, encoding="utf-8")
+    result = run("generate", "thin.toml", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    lines = squeeze(result.stdout)
+    assert "slivers none (thinner than 1.73e-05 or smaller than 0)" in lines
+    assert "tiny blocks 1 (below 1e-3 of the median volume, 0.4999; smallest 0.1)" in lines
+
+
+def test_ctrl_c_stops_generate_where_it_is_and_writes_nothing(tmp_path):
+    # 100^3 = 10^6 blocks: several seconds. Ctrl-C is sent once the progress bar shows (on
+    # a terminal, after 1 s), so it reaches the run, not the start-up. The run stops there
+    # and says how far it got (it used to go on to the end, then stop).
+    pty = pytest.importorskip("pty")
+    import os
+    import select
+    import signal
+    import subprocess
+
+    spec = tmp_path / "million.toml"
+    spec.write_text(RUNAWAY_SPEC.replace("spacing = 0.01", "spacing = 1"), encoding="utf-8")
+    controller, terminal = pty.openpty()
+    process = subprocess.Popen(
+        [sys.executable, "-m", "penedge", "generate", "million.toml", "-o", "blocks.json"],
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=terminal,
+    )
+    os.close(terminal)
+    seen = b""
+    try:
+        while b"planes" not in seen:
+            ready, _, _ = select.select([controller], [], [], 120)
+            assert ready, f"no progress bar: {seen!r}"
+            seen += os.read(controller, 4096)
+        process.send_signal(signal.SIGINT)
+        assert process.wait(timeout=300) == 130
+        while select.select([controller], [], [], 1)[0]:
+            try:
+                chunk = os.read(controller, 4096)
+            except OSError:  # the terminal closed with the process
+                break
+            if not chunk:
+                break
+            seen += chunk
+    finally:
+        process.kill()
+        os.close(controller)
+    text = seen.decode(errors="replace")
+    found = re.search(
+        r"penedge: interrupted after (\d+) of (\d+) joint planes; nothing written", text
+    )
+    assert found, text
+    done, total = map(int, found.groups())
+    assert done < total == 297
+    assert [p.name for p in tmp_path.iterdir()] == ["million.toml"]
+
+
+def test_detect_reads_a_block_file_written_by_hand(tmp_path):
+    # Vertices and faces only (docs/block-file-format.md): two unit cubes side by side
+    # touch face to face over 1 m^2.
+    faces = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+
+    def cube(x):
+        corners = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]
+        vertices = [[x + a, b, z] for z in (0, 1) for a, b, _ in corners]
+        return {"vertices": vertices, "faces": faces}
+
+    text = json.dumps({"format": "penedge-blocks", "version": 1, "blocks": [cube(0), cube(1)]})
+    (tmp_path / "hand.json").write_text(text, encoding="utf-8")
+    result = run("detect", "hand.json", "--json", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    summary = json.loads(result.stdout)
+    assert (summary["blocks"], summary["contacts"]) == (2, 1)
+    assert summary["counts"]["face-face"] == 1
+    assert summary["face_face_area"] == pytest.approx(1.0)
+
+
+def test_ctrl_c_while_a_block_file_is_read_stops_at_once(tmp_path):
+    # A named pipe that nobody writes to: reading it never ends, as reading a huge block file
+    # takes long. Ctrl-C is sent once the command has opened the pipe (it then opens for
+    # writing); the command used to take it only after the read.
+    import errno
+    import os
+    import signal
+    import subprocess
+
+    if not hasattr(os, "mkfifo"):
+        pytest.skip("no named pipes here")
+    pipe = tmp_path / "pipe.json"
+    os.mkfifo(pipe)
+    process = subprocess.Popen(
+        [sys.executable, "-m", "penedge", "detect", "pipe.json"],
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    writer = None
+    try:
+        deadline = time.monotonic() + 120
+        while writer is None:
+            try:
+                writer = os.open(pipe, os.O_WRONLY | os.O_NONBLOCK)
+            except OSError as e:  # ENXIO: no reader yet
+                if e.errno != errno.ENXIO:
+                    raise
+                assert process.poll() is None, process.communicate()
+                assert time.monotonic() < deadline, "the command never opened the pipe"
+                time.sleep(0.05)
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=60)
+    finally:
+        process.kill()
+        if writer is not None:
+            os.close(writer)
+    assert process.returncode == 130, err
+    assert err.splitlines()[-1] == "penedge: interrupted"
+    assert "Traceback" not in err

@@ -13,7 +13,7 @@ from penedge import cli
 from cli_run import run, squeeze
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-COMMANDS = ["example", "generate", "detect", "show"]
+COMMANDS = ["example", "generate", "detect", "show", "simulate"]
 
 
 def help_text(*args, cwd):
@@ -60,12 +60,15 @@ def test_the_top_level_help_lists_every_command_and_the_exit_statuses(tmp_path):
 def test_each_command_spells_the_shared_options_alike(command, tmp_path):
     text = help_text(command, cwd=tmp_path)
     assert f"usage: penedge {command}" in text
-    for option in ("-q, --quiet", "--json", "-o FILE, --output FILE"):
+    output = "-o FOLDER, --output FOLDER" if command == "simulate" else "-o FILE, --output FILE"
+    for option in ("-q, --quiet", "--json", output):
         assert option in text, option
     drawing = command in ("example", "show")
-    for option in ("--force", "--colour-by {block,volume}", "--explode F", "--max-blocks N"):
+    for option in ("--force", "--colour-by {set,block,volume}", "--unit U", "--explode F"):
         assert (option in text) == drawing, option
-    assert ("--gap G" in text) == (command != "generate")
+    # The most blocks drawn (example, show) or made (generate).
+    assert ("--max-blocks N" in text) == (command not in ("detect", "simulate"))
+    assert ("--gap G" in text) == (command not in ("generate", "simulate"))
 
 
 @pytest.mark.parametrize("args", [[], *([c] for c in COMMANDS)])
@@ -139,9 +142,24 @@ def test_a_signal_during_a_run_exits_130_and_leaves_no_temporary_file(tmp_path):
     if process.returncode == 0:
         pytest.skip("the run ended before the signal came (a very fast machine)")
     assert process.returncode == 130, err
-    assert err.endswith("penedge: interrupted\n")
+    # "interrupted", and during the cutting "interrupted after k of N joint planes; ..."
+    assert err.splitlines()[-1].startswith("penedge: interrupted")
     assert "Traceback" not in err
     left = [p.name for p in tmp_path.iterdir()]
     assert [name for name in left if name != "blocks.json"] == []  # no temporary file
     if left:  # the signal came after the file was written: it is whole, never half
         assert len(penedge.BlockSystem.read_json(tmp_path / "blocks.json")) > 10**5
+
+
+@pytest.mark.parametrize("command", ["example", "show"])
+def test_html_takes_no_file_name_so_the_block_file_is_never_taken_for_it(command):
+    first = "3" if command == "example" else "blocks.json"
+    parse = cli.build_parser().parse_args
+    # The bug: `penedge show --html blocks.json` took blocks.json for the HTML file.
+    args = parse([command, "--html", first])
+    assert (args.html, args.html_out) == (True, None)
+    assert str(args.number if command == "example" else args.blocks) == first
+    args = parse([command, first, "--html-out", "view.html"])
+    assert (args.html, args.html_out) == (False, "view.html")
+    args = parse([command, "--html-out", "view.html", first, "--html"])
+    assert (args.html, args.html_out) == (True, "view.html")

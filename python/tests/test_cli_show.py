@@ -89,7 +89,7 @@ def test_html_and_volume_curve_without_the_picture(blocks):
         "show",
         "blocks.json",
         "--no-picture",
-        "--html",
+        "--html-out",
         "v.html",
         "--stats-png",
         "v.png",
@@ -138,9 +138,10 @@ def test_a_large_system_is_cut_down_and_says_so(blocks):
     ("args", "message"),
     [
         (["show"], "the following arguments are required: BLOCKS"),
-        (["show", "blocks.json", "-o", "x.html"], "use --html for the interactive view"),
+        (["show", "blocks.json", "-o", "x.html"], "use --html-out x.html for the interactive view"),
         (["show", "blocks.json", "-o", "x.jpg"], "picture format"),
-        (["show", "blocks.json", "--html", "x.htm"], "should end in .html"),
+        (["show", "blocks.json", "--html-out", "x.htm"], "should end in .html"),
+        (["show", "blocks.json", "--html", "v.html"], "name the view with --html-out FILE"),
         (["show", "blocks.json", "--stats-png", "x.svg"], "should end in .png"),
         (["show", "blocks.json", "--no-picture"], "nothing to draw"),
         (
@@ -153,7 +154,7 @@ def test_a_large_system_is_cut_down_and_says_so(blocks):
         (["show", "blocks.json", "--max-blocks", "many"], "argument --max-blocks"),
         (["show", "blocks.json", "--colour-by", "age"], "invalid choice"),
         (
-            ["show", "blocks.json", "--html", "v.html", "--stats-png", "v.html"],
+            ["show", "blocks.json", "--html-out", "v.html", "--stats-png", "v.html"],
             "should end in .png",
         ),
     ],
@@ -172,7 +173,7 @@ def test_usage_errors_exit_2_and_write_nothing(args, message, blocks):
     ("setup", "message"),
     [
         ("missing", "penedge: error: none.json: No such file or directory"),
-        ("bad", "penedge: error: none.json: expected ident at line 1 column 2"),
+        ("bad", "penedge: error: none.json: this is not a block file (JSON): a block file is one"),
         ("empty", "penedge: error: none.json holds no blocks: nothing to draw"),
     ],
 )

@@ -16,7 +16,7 @@ V, F = CUBE.vertices, CUBE.faces
 def test_exception_tree():
     assert issubclass(penedge.PenedgeError, Exception)
     classes = (penedge.InputError, penedge.BlockError, penedge.ToleranceError)
-    for cls in (*classes, penedge.SpecError, penedge.FileFormatError):
+    for cls in (*classes, penedge.SpecError, penedge.FileFormatError, penedge.MechanicsError):
         assert issubclass(cls, penedge.PenedgeError)
         assert issubclass(cls, ValueError)
         assert cls.__module__ == "penedge"
@@ -150,6 +150,27 @@ def test_bad_tolerances(gap, length, kind):
     assert info.value.kind == kind
     with pytest.raises(penedge.ToleranceError):
         penedge.paper_example(1).detect(gap=gap, length=length)
+
+
+@pytest.mark.parametrize(
+    ("options", "kind"),
+    [
+        ({"absolute_gap": -1e-3}, "absolute_gap"),
+        ({"absolute_gap": math.nan}, "absolute_gap"),
+        ({"absolute_gap": math.inf}, "absolute_gap"),
+        ({"absolute_gap": 1e-3, "gap": 1e-6}, "both_gaps"),
+    ],
+)
+def test_bad_absolute_gaps(options, kind):
+    a, b = shapes.pair("face-face")
+    with pytest.raises(penedge.ToleranceError) as info:
+        penedge.detect_pair(a, b, **options)
+    assert info.value.kind == kind
+    system = penedge.paper_example(1)
+    with pytest.raises(penedge.ToleranceError):
+        system.detect(**options)
+    with pytest.raises(penedge.ToleranceError):
+        penedge.ContactTracker(system, **options)
 
 
 @pytest.mark.parametrize(

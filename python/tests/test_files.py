@@ -217,8 +217,44 @@ def test_block_table_csv(generated, tmp_path):
     assert np.array_equal(table["n_free_faces"], free)
 
 
+def region_centroid(points, normal):
+    """The centroid of a point, a segment or a convex polygon (by the shoelace formula in the
+    polygon's plane), computed here independently of the writer."""
+    if len(points) < 3:
+        return points.mean(axis=0)
+    u = points[1] - points[0]
+    u /= np.linalg.norm(u)
+    v = np.cross(normal, u)
+    x, y = (points - points[0]) @ u, (points - points[0]) @ v
+    cross = x * np.roll(y, -1) - np.roll(x, -1) * y
+    area = cross.sum() / 2
+    cx = ((x + np.roll(x, -1)) * cross).sum() / (6 * area)
+    cy = ((y + np.roll(y, -1)) * cross).sum() / (6 * area)
+    return points[0] + cx * u + cy * v
+
+
+def feature_set_names(system, block, kind, index):
+    """The names of where the faces at a contact feature come from (the expected `set_a`)."""
+    arrays = system.arrays()
+    b = system[block]
+    if kind == 2:
+        faces = [index]
+    elif kind == 1:
+        faces = list(b.edge_faces[index])
+    else:
+        faces = [f for f, loop in enumerate(b.faces) if index in loop]
+    names = []
+    for f in faces:
+        g = arrays.face_offsets[block] + f
+        origin = arrays.face_origin_kind[g]
+        name = {1: "boundary", 2: system.sets[arrays.face_origin_set[g]]["name"]}.get(origin)
+        if name is not None and name not in names:
+            names.append(name)
+    return "|".join(names)
+
+
 def test_contacts_csv(example3, tmp_path):
-    _, found = example3
+    system, found = example3
     path = tmp_path / "contacts.csv"
     found.write_csv(path)
     with path.open(newline="", encoding="utf-8") as f:
@@ -228,12 +264,17 @@ def test_contacts_csv(example3, tmp_path):
         "block_b",
         "type",
         "type_code",
+        "point_x",
+        "point_y",
+        "point_z",
         "normal_x",
         "normal_y",
         "normal_z",
         "distance",
         "area",
         "n_points",
+        "set_a",
+        "set_b",
     ]
     assert len(rows) == len(found) == 325
     column = lambda name, kind=float: np.array([kind(r[name]) for r in rows])  # noqa: E731
@@ -243,6 +284,46 @@ def test_contacts_csv(example3, tmp_path):
     assert np.array_equal(column("normal_z"), found.normals[:, 2])  # exact: shortest repr
     assert np.array_equal(column("area"), found.areas)
     assert np.array_equal(column("n_points", int), np.diff(found.point_offsets))
+    points = np.column_stack([column(f"point_{k}") for k in "xyz"])
+    for i in range(len(found)):
+        expected = region_centroid(found.points_of(i), found.normals[i])
+        assert np.allclose(points[i], expected, rtol=0, atol=1e-12)
+    # Example 3's blocks touch exactly: every distance is rounding noise within the gap.
+    assert {r["distance"] for r in rows} == {"0"}
+    for r, (a, b), (ka, kb), (ia, ib) in zip(
+        rows, found.pairs, found.feature_kinds, found.feature_ids, strict=True
+    ):
+        assert r["set_a"] == feature_set_names(system, a, ka, ia)
+        assert r["set_b"] == feature_set_names(system, b, kb, ib)
+    face_face = [r for r in rows if r["type"] == "face-face"]
+    assert all(r["set_a"] == r["set_b"] and r["set_a"].startswith("plane ") for r in face_face)
+
+
+def test_contacts_csv_distances_and_sets_of_a_generated_system(tmp_path):
+    # Two cubes 1 mm apart, found with a gap of 0.5 %: the distance (1.001 - 1 in floating
+    # point) is written as it is, not snapped to 0 by the large gap; blocks made by hand
+    # have no joint sets.
+    pair = penedge.BlockSystem(
+        [penedge.Block.cuboid([0, 0, 0], [1, 1, 1]), penedge.Block.cuboid([1.001, 0, 0], [2, 1, 1])]
+    )
+    pair.detect(gap=5e-3, geometry=True).write_csv(tmp_path / "gap.csv")
+    with (tmp_path / "gap.csv").open(newline="", encoding="utf-8") as f:
+        (row,) = list(csv.DictReader(f))
+    assert float(row["distance"]) == pytest.approx(0.001, abs=1e-15)
+    # 1e-13 apart, with the default gap (1e-12 x size): rounding, written as 0.
+    near = penedge.BlockSystem(
+        [
+            penedge.Block.cuboid([0, 0, 0], [1, 1, 1]),
+            penedge.Block.cuboid([1 + 1e-13, 0, 0], [2, 1, 1]),
+        ]
+    )
+    near.detect(geometry=True).write_csv(tmp_path / "near.csv")
+    with (tmp_path / "near.csv").open(newline="", encoding="utf-8") as f:
+        (row_near,) = list(csv.DictReader(f))
+    assert row_near["distance"] == "0"
+    assert (row["set_a"], row["set_b"]) == ("", "")  # blocks made by hand: no provenance
+    assert (row["point_y"], row["point_z"]) == ("0.5", "0.5")
+    assert 1 <= float(row["point_x"]) <= 1.001
 
 
 def test_contact_files_need_the_geometry(tmp_path):

@@ -4,6 +4,7 @@ the report, statistics, flat arrays and progress."""
 import json
 import math
 import pickle
+import re
 import tomllib
 from pathlib import Path
 
@@ -186,7 +187,8 @@ BAD_SPECS = {
         "unknown_type",
         "unknown type `fault`",
     ),
-    "typo": (one_set(dipp=3), "spec", "syntax", "unknown field `dipp`"),
+    "typo": (one_set(dipp=3), "spec", "syntax", "unknown field `dipp` (a typo?)"),
+    "text for a number": (one_set(spacing="2.5"), "spec", "syntax", "expected a number"),
     "both orientations": (
         one_plane(dip=0, dip_direction=0, normal=[0, 0, 1]),
         "joints[0]",
@@ -255,12 +257,77 @@ def test_progress_is_called_and_ends_with_every_plane():
     assert len(calls) <= report["joint_planes"]
 
 
-def test_an_exception_in_progress_is_raised_after_the_run():
+def test_an_exception_in_progress_is_raised():
     def fail(done, total, blocks):
         raise RuntimeError(f"stop at {done}")
 
     with pytest.raises(RuntimeError, match="stop at"):
         penedge.generate(EXAMPLES / "joint_set_random.toml", progress=fail)
+
+
+def test_an_exception_in_progress_stops_the_run_where_it_is():
+    # About 10^5 blocks (0.3 s and more): the callback is first called after 0.1 s, long
+    # before the last plane; the run stops there, and the note says how far it got (the
+    # run used to go on to the end and raise then).
+    calls = []
+
+    def fail(done, total, blocks):
+        calls.append(done)
+        raise RuntimeError("no more")
+
+    with pytest.raises(RuntimeError, match="no more") as info:
+        penedge.generate(EXAMPLES / "three_joint_sets.toml", progress=fail)
+    assert len(calls) == 1
+    (note,) = info.value.__notes__
+    done, total = map(
+        int,
+        re.fullmatch(r"penedge.generate stopped after (\d+) of (\d+) joint planes", note).groups(),
+    )
+    assert done == calls[0] < total
+
+
+def three_sets(size, spacing):
+    """Three orthogonal sets from the origin: ``(size / spacing)^3`` blocks."""
+    joints = [
+        {"type": "set", "dip": dip, "dip_direction": direction, "spacing": spacing}
+        for dip, direction in ((0, 0), (90, 0), (90, 90))
+    ]
+    return {"domain": {"type": "box", "min": [0, 0, 0], "max": [size] * 3}, "joints": joints}
+
+
+def test_a_runaway_spec_is_refused_before_cutting():
+    # 10^4 planes a set: 30,000 planes but about 10^12 blocks (the issue's 24 GB run).
+    with pytest.raises(penedge.SpecError) as info:
+        penedge.generate(three_sets(100, 0.01))
+    e = info.value
+    assert (e.kind, e.field) == ("too_many_blocks", "joints")
+    for words in ("about 1.0e12 blocks", "PB of memory", "larger spacing", "max_blocks"):
+        assert words in str(e)
+
+
+def test_max_blocks_limits_the_run():
+    spec = three_sets(10, 2.5)  # 4 x 4 x 4 blocks
+    assert len(penedge.generate(spec, max_blocks=64)[0]) == 64
+    with pytest.raises(penedge.SpecError, match="the limit is 63 blocks \\(given\\)"):
+        penedge.generate(spec, max_blocks=63)
+    for bad in (0, -1):
+        with pytest.raises(penedge.InputError, match=f"max_blocks must be .* got {bad}"):
+            penedge.generate(spec, max_blocks=bad)
+
+
+def test_the_report_counts_tiny_blocks():
+    # z = 5 and z = 5.001 in a 10 m cube: 500, 0.1 and 499.9 m^3; not slivers (thicker than
+    # 1e-6 of the domain's size) but 1/4999 of the median block.
+    planes = [
+        {"type": "plane", "point": [0, 0, z], "dip": 0, "dip_direction": 0} for z in (5, 5.001)
+    ]
+    _, report = penedge.generate({"domain": BOX, "joints": planes})
+    assert report["slivers"]["count"] == 0
+    tiny = report["tiny"]
+    assert tiny["count"] == 1
+    assert tiny["median_volume"] == pytest.approx(499.9)
+    assert tiny["threshold"] == pytest.approx(0.4999)
+    assert tiny["smallest"] == pytest.approx(0.1)
 
 
 def test_statistics_and_volume_curve():

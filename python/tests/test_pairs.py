@@ -112,6 +112,20 @@ def test_gap_turns_a_small_distance_into_contact():
     assert penedge.detect_pair(a, b, gap=1e-3, length=1e-2).outcome == "face-face"
 
 
+def test_absolute_gap_is_a_length():
+    # 2 mm apart: an absolute gap of 3 mm makes blocks of 1 m and of 10 m touch, 1 mm does
+    # not; a relative gap of 1e-3 (of the 1.7 m or 17 m diagonal) only the larger ones.
+    for size, relative in ((1.0, "separated"), (10.0, "face-face")):
+        a = penedge.Block.cuboid([0, 0, 0], [size, size, size])
+        b = penedge.Block.cuboid([size + 0.002, 0, 0], [2 * size, size, size])
+        assert penedge.detect_pair(a, b, absolute_gap=0.003).outcome == "face-face"
+        assert penedge.detect_pair(a, b, absolute_gap=0.001).outcome == "separated"
+        assert penedge.detect_pair(a, b, gap=1e-3).outcome == relative
+        system = penedge.BlockSystem([a, b])
+        assert len(system.detect(absolute_gap=0.003)) == 1
+        assert len(penedge.ContactTracker(system, absolute_gap=0.003).contacts.pairs) == 1
+
+
 def test_repr_names_outcome_and_features():
     text = repr(penedge.detect_pair(*shapes.pair("vertex-face")))
     assert text.startswith("PairContact('vertex-face', feature_a=('face', 1)")

@@ -43,7 +43,7 @@ def test_plot_system_draws_one_collection_per_block():
 def test_plot_accepts_a_list_of_blocks_and_colours():
     ax = pictures.plot_system([shapes.cube()], colors=["red"], labels=True)
     assert len(ax.collections) == 1
-    assert len(ax.texts) == 1
+    assert [t.get_text() for t in ax.texts if t.get_text() not in ("0.2 m", "N")] == ["0"]
 
 
 def test_save_picture_png_to_a_file_object():
@@ -108,17 +108,182 @@ def test_plot_system_with_contacts_draws_them_over_faint_blocks():
     assert ax.collections[0].get_facecolor()[:, 3].max() < 0.2
 
 
-def test_save_picture_with_contacts_has_two_panels():
-    system = penedge.paper_example(2)
+def test_save_picture_with_contacts_has_a_panel_per_contact_type():
+    system = penedge.paper_example(3)
+    found = system.detect(geometry=True)
     figure = pictures.save_picture(
-        system,
-        io.BytesIO(),
-        format="png",
-        title="Example 2",
-        contacts=system.detect(geometry=True),
+        system, io.BytesIO(), format="png", title="Example 3", contacts=found
     )
-    assert len(figure.axes) == 2
-    assert figure.get_suptitle() == "Example 2"
+    titles = [ax.get_title() for ax in figure.axes]
+    assert titles == [
+        "blocks",
+        "vertex-vertex (205)",
+        "edge-edge-superposition (78)",
+        "face-face (42)",
+    ]
+    assert figure.get_suptitle() == "Example 3"
+    dots, lines, polygons = figure.axes[1:]
+    # Each panel holds the 26 faint blocks and its own type only: no polygon hides a point.
+    assert len(dots.collections) == 26 + 1
+    assert len(dots.collections[-1].get_offsets()) == 205
+    assert len(lines.collections) == 26 + 1
+    assert len(polygons.collections) == 26 + 1
+    assert polygons.collections[-1].get_facecolor()[:, 3].max() <= 0.25  # translucent
+
+
+def test_points_and_segments_are_drawn_over_translucent_polygons():
+    system = penedge.paper_example(1)
+    ax = pictures.plot_system(system, contacts=system.detect(geometry=True))
+    by_kind = {type(c).__name__: c for c in ax.collections[8:]}
+    polygons = by_kind["Poly3DCollection"]
+    lines, dots = by_kind["Line3DCollection"], by_kind["Path3DCollection"]
+    assert polygons.get_facecolor()[:, 3].max() <= 0.25
+    assert polygons.get_zorder() < lines.get_zorder() < dots.get_zorder()
+    assert ax.computed_zorder is False
+
+
+def test_blocks_as_they_lie_have_real_coordinate_axes_in_the_unit():
+    ax = pictures.plot_system(penedge.paper_example(1), explode=0, unit="ft")
+    assert ax._axis3don  # what Axes3D.set_axis_on / set_axis_off set (no public getter)
+    assert (ax.get_xlabel(), ax.get_ylabel(), ax.get_zlabel()) == (
+        "x, east (ft)",
+        "y, north (ft)",
+        "z, up (ft)",
+    )
+    for lo, hi in (ax.get_xlim(), ax.get_ylim(), ax.get_zlim()):
+        assert lo <= 0 <= 10 <= hi < lo + 11  # the 10 ft cube, where it lies
+    assert "N" not in [t.get_text() for t in ax.texts]
+
+
+def test_an_exploded_view_has_a_scale_bar_and_a_north_arrow():
+    ax = pictures.plot_system(penedge.paper_example(1), explode=0.5, unit="m")
+    assert not ax._axis3don  # the moved positions are not coordinates
+    texts = [t.get_text() for t in ax.texts]
+    # The exploded cube spans 15 m (each 5 m block moved out by 2.5 m): a 2 m bar.
+    assert "2 m" in texts
+    assert "N" in texts
+    north = next(t for t in ax.texts if t.get_text() == "N")
+    bar = next(t for t in ax.texts if t.get_text() == "2 m")
+    assert north.get_position()[1] > bar.get_position()[1]  # the arrow points to +y
+    assert pictures.blocks.nice_length(15) == 2
+    assert pictures.blocks.nice_length(100) == 20
+    assert pictures.blocks.nice_length(0.3) == 0.05
+
+
+SETS_SPEC = {
+    "domain": {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]},
+    "joints": [
+        {
+            "name": "bedding",
+            "type": "set",
+            "dip": 0,
+            "dip_direction": 0,
+            "spacing": 2,
+            "origin": [0, 0, 2],
+        },
+        {
+            "name": "joints",
+            "type": "set",
+            "dip": 90,
+            "dip_direction": 90,
+            "spacing": 5,
+            "origin": [5, 0, 0],
+        },
+    ],
+}
+
+
+def test_blocks_are_coloured_by_their_dominant_joint_set_with_a_legend():
+    system, _ = penedge.generate(SETS_SPEC)
+    # 5 bedding layers (z) by 2 slabs (x): each block is 5 x 10 x 2 m. Its bedding faces
+    # (z) are 50 m² each, its joint face (x) 20 m²: bedding dominates every block; the
+    # top and bottom layers have one bedding face (50 m²) against one joint face (20 m²).
+    assert len(system) == 10
+    assert pictures.dominant_sets(system.arrays()).tolist() == [0] * 10
+    ax = pictures.plot_system(system)  # a generated system: by set
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert labels == ["bedding (10 blocks)"]
+    rgb = np.array([int(pictures.SET_COLORS[0][k : k + 2], 16) / 255 for k in (1, 3, 5)])
+    for collection in ax.collections:
+        shade = collection.get_facecolor()[:, :3] / rgb
+        assert np.allclose(shade, shade[:, :1], atol=1e-9)  # the set colour, shaded
+
+
+def test_dominant_set_follows_the_larger_area():
+    spec = {
+        **SETS_SPEC,
+        "joints": [
+            {
+                "name": "bedding",
+                "type": "set",
+                "dip": 0,
+                "dip_direction": 0,
+                "spacing": 5,
+                "origin": [0, 0, 5],
+            },
+            {
+                "name": "joints",
+                "type": "set",
+                "dip": 90,
+                "dip_direction": 90,
+                "spacing": 1,
+                "origin": [1, 0, 0],
+            },
+        ],
+    }
+    system, _ = penedge.generate(spec)
+    # 2 layers by 10 slabs, each 1 x 10 x 5 m: their joint faces (10 x 5 = 50 m²) outweigh
+    # their bedding face (1 x 10 = 10 m²), the end slabs' one joint face too: all joints.
+    expected = []
+    for block in system.blocks:
+        normals = block.face_normals
+        areas = [polygon_area(block.vertices[f]) for f in block.faces]
+        inner = [not on_box(block.vertices[f]) for f in block.faces]
+        bedding = sum(
+            a for a, n, j in zip(areas, normals, inner, strict=True) if j and abs(n[2]) > 0.5
+        )
+        joints = sum(
+            a for a, n, j in zip(areas, normals, inner, strict=True) if j and abs(n[2]) < 0.5
+        )
+        expected.append(1 if joints > bedding else 0)
+    assert len(system) == 20
+    assert pictures.dominant_sets(system.arrays()).tolist() == expected == [1] * 20
+
+
+def polygon_area(points):
+    total = np.zeros(3)
+    for k in range(1, len(points) - 1):
+        total += np.cross(points[k] - points[0], points[k + 1] - points[0])
+    return np.linalg.norm(total) / 2
+
+
+def on_box(points):
+    return any(np.allclose(points[:, k], v) for k in range(3) for v in (0, 10))
+
+
+def test_contacts_are_coloured_by_the_joint_set_of_their_faces():
+    system, _ = penedge.generate(SETS_SPEC)
+    found = system.detect(geometry=True)
+    scene = build_scene(system)
+    sets = scene.contact_sets(found)
+    a = system.arrays()
+    for i, ((x, y), (kx, ky), (fx, fy)) in enumerate(
+        zip(found.pairs, found.feature_kinds, found.feature_ids, strict=True)
+    ):
+        if kx == 2:
+            assert sets[i] == a.face_origin_set[a.face_offsets[x] + fx]
+        elif ky == 2:
+            assert sets[i] == a.face_origin_set[a.face_offsets[y] + fy]
+        else:
+            assert sets[i] == -1
+    face_face = found.types == 7
+    counts = {0: int((sets[face_face] == 0).sum()), 1: int((sets[face_face] == 1).sum())}
+    assert counts == {0: 8, 1: 5}  # 4 bedding planes x 2 slabs; 1 joint plane x 5 layers
+    ax = pictures.plot_system(system, contacts=found)
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert ax.get_legend().get_title().get_text() == "joint set of the contact's face"
+    assert labels[:2] == ["bedding (8)", "joints (5)"]
+    assert len(labels) == 2 or labels[2].startswith("no joint face (")
 
 
 def test_volume_distribution_marks_v10_v50_v90():
@@ -236,7 +401,7 @@ def test_many_blocks_share_one_collection_and_a_cut_down_system_says_so():
     assert len(ax.collections) == 1
     faces = len(ax.collections[0].get_facecolor())
     assert faces == 1600 * 3  # the +x, -y and +z faces of each cube face the viewer
-    notes = [t.get_text() for t in ax.texts]
+    notes = [t.get_text() for t in ax.texts if t.get_text() not in ("2 m", "N")]
     assert notes == [
         "showing 1600 of 1728 blocks: those on the outside of the rock mass first, then the largest"
     ]
@@ -257,10 +422,13 @@ def test_html_figure_has_a_mesh_and_edges_per_block_with_hover():
         corners = np.unique(np.vstack(parts[i][0]), axis=0)
         assert np.allclose(np.unique(xyz, axis=0), corners)
         assert len(mesh.i) == 12  # six squares, two triangles each
-        assert np.asarray(mesh.customdata).tolist() == [[i, 125.0]] * 8
-        assert (
-            mesh.hovertemplate
-            == "block %{customdata[0]}<br>volume %{customdata[1]:.4g}<extra></extra>"
+        custom = np.asarray(mesh.customdata)
+        assert custom[:, :2].tolist() == [[i, 125.0]] * 8
+        # The hover gives where each vertex really is, not where the exploded view put it.
+        real = np.unique(system[i].vertices, axis=0)
+        assert np.array_equal(np.unique(custom[:, 2:], axis=0), real)
+        assert mesh.hovertemplate.startswith(
+            "block %{customdata[0]}<br>volume %{customdata[1]:.4g} m³<br>vertex at x "
         )
     segments = np.column_stack([edges[0].x, edges[0].y, edges[0].z])
     assert len(segments) == 12 * 3  # 12 edges, each two points and a break
@@ -289,6 +457,31 @@ def test_html_figure_draws_each_contact_type_in_its_own_legend():
     assert {t.opacity for t in blocks} == {0.3}  # translucent over the contacts
 
 
+def test_html_axes_are_real_coordinates_or_hidden_when_exploded():
+    pytest.importorskip("plotly")
+    system = penedge.paper_example(1)
+    fig = pictures.html_figure(system, explode=0, unit="km")
+    scene = fig.layout.scene
+    assert scene.xaxis.title.text == "x, east (km)"
+    assert scene.zaxis.title.text == "z, up (km)"
+    assert scene.xaxis.showticklabels is not False
+    meshes = [t for t in fig.data if t.type == "mesh3d"]
+    xyz = np.vstack([np.column_stack([m.x, m.y, m.z]) for m in meshes])
+    assert (xyz.min(), xyz.max()) == (0, 10)  # real coordinates
+    exploded = pictures.html_figure(system, explode=0.5).layout.scene
+    assert exploded.xaxis.showticklabels is False
+    assert exploded.xaxis.title.text == "x, east (exploded)"
+
+
+def test_html_groups_blocks_by_joint_set():
+    pytest.importorskip("plotly")
+    system, _ = penedge.generate(SETS_SPEC)
+    fig = pictures.html_figure(system)
+    meshes = [t for t in fig.data if t.type == "mesh3d"]
+    assert [m.name for m in meshes] == ["bedding (10)"]
+    assert meshes[0].color == pictures.SET_COLORS[0]
+
+
 def test_html_figure_groups_many_blocks():
     pytest.importorskip("plotly")
     system = grid(4)  # 64 blocks
@@ -313,7 +506,9 @@ def test_html_stays_small_for_thousands_of_blocks(tmp_path):
     path = tmp_path / "big.html"
     pictures.write_html(system, path, include_plotlyjs=False)
     size = path.stat().st_size
-    assert size < 8000 * 600  # bytes per block: binary arrays, no edges above 5000 blocks
+    # Bytes per block: binary arrays, no edges above 5000 blocks; about 130 of them are
+    # the hover's real coordinates (three float32 per vertex, base64).
+    assert size < 8000 * 700
     text = path.read_text(encoding="utf-8")
     assert '"bdata"' in text
     cut = tmp_path / "cut.html"
@@ -349,10 +544,27 @@ def test_too_many_contacts_are_cut_down_to_those_nearest_the_viewer():
         else:
             drawn += len(c.get_paths())
     assert drawn == 100
-    notes = [t.get_text() for t in ax.texts]
+    notes = [t.get_text() for t in ax.texts if t.get_text() not in ("1 m", "N")]  # scale, north
     assert notes == [f"showing 100 of {len(found)} contacts: those nearest the viewer"]
     legend = [t.get_text() for t in ax.get_legend().get_texts()]
     counts = found.counts()
     assert legend == [f"{name} ({n})" for name, n in counts.items() if n]  # all, not the drawn
     every = pictures.plot_system(system, contacts=found)
-    assert [t.get_text() for t in every.texts] == []  # under 3000: every contact
+    assert [t.get_text() for t in every.texts] == ["1 m", "N"]  # under 3000: every contact
+
+
+def test_the_spec_unit_labels_the_pictures(tmp_path):
+    system, _ = penedge.generate({**SETS_SPEC, "unit": "ft"})
+    assert system.unit == "ft"
+    assert penedge.generate(SETS_SPEC)[0].unit is None
+    system.write_json(tmp_path / "blocks.json")
+    again = penedge.BlockSystem.read_json(tmp_path / "blocks.json")
+    assert again.unit == "ft"
+    ax = pictures.plot_system(again, explode=0)
+    assert ax.get_xlabel() == "x, east (ft)"
+    assert pictures.plot_system(again, explode=0, unit="yd").get_xlabel() == "x, east (yd)"
+    exploded = [t.get_text() for t in pictures.plot_system(again).texts]
+    assert "2 ft" in exploded
+    with pytest.raises(penedge.SpecError) as info:
+        penedge.generate({**SETS_SPEC, "unit": ""})
+    assert info.value.field == "unit"

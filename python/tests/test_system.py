@@ -103,6 +103,14 @@ def test_blocks_getitem_and_repr():
     assert repr(system.detect()).startswith("SystemContacts(28 contacts: vertex-vertex 4")
 
 
+def test_reprs_say_one_in_the_singular():
+    pair = penedge.BlockSystem([shapes.cube(), penedge.Block.cuboid([1, 0, 0], [2, 1, 1])])
+    assert repr(pair.detect()) == "SystemContacts(1 contact: face-face 1; 0 penetrating)"
+    assert repr(penedge.ContactTracker(pair)) == "ContactTracker(2 blocks, 1 contact)"
+    assert repr(penedge.BlockSystem([shapes.cube()])) == "BlockSystem(1 block)"
+    assert repr(penedge.BlockSystem([shapes.cube()]).arrays()) == "BlockArrays(1 block, 6 faces)"
+
+
 def test_gap_is_passed_through():
     system = penedge.BlockSystem([shapes.cube(), penedge.Block.cuboid([1.001, 0, 0], [2, 1, 1])])
     assert len(system.detect()) == 0
@@ -121,3 +129,75 @@ def test_detect_from_many_threads_gives_one_answer():
         results = list(pool.map(lambda _: system.detect(), range(8)))
     for found in results:
         assert np.array_equal(found.pairs, expected)
+
+
+def flat(arrays):
+    return (
+        arrays.vertices,
+        arrays.vertex_offsets,
+        arrays.face_offsets,
+        arrays.loop_offsets,
+        arrays.face_vertices,
+    )
+
+
+def test_system_from_flat_arrays_round_trip():
+    system = penedge.paper_example(3)
+    a = system.arrays()
+    back = penedge.BlockSystem.from_arrays(*flat(a))
+    assert len(back) == 26
+    assert all(x == y for x, y in zip(back.blocks, system.blocks, strict=True))
+    assert back.detect().counts() == system.detect().counts()
+    assert np.array_equal(back.arrays().face_origin_kind, np.zeros(len(a.face_block)))
+    with_origins = penedge.BlockSystem.from_arrays(
+        *flat(a), a.face_origin_kind, a.face_origin_set, a.face_origin_index
+    )
+    for name in ("face_origin_kind", "face_origin_set", "face_origin_index"):
+        assert np.array_equal(getattr(with_origins.arrays(), name), getattr(a, name))
+
+
+def test_system_from_flat_arrays_of_a_grid_built_with_numpy():
+    # A 3 x 2 x 1 grid of unit cubes from arrays made here: 7 face-face contacts
+    # (4 along x, 3 along y), as a DEM code would hand its blocks over.
+    cube = penedge.Block.cuboid([0, 0, 0], [1, 1, 1])
+    loops = np.concatenate(cube.faces)
+    shifts = np.array([[i, j, 0] for i in range(3) for j in range(2)], dtype=float)
+    vertices = (cube.vertices[None] + shifts[:, None]).reshape(-1, 3)
+    n = len(shifts)
+    system = penedge.BlockSystem.from_arrays(
+        vertices,
+        np.arange(n + 1) * 8,
+        np.arange(n + 1) * 6,
+        np.arange(6 * n + 1) * 4,
+        (loops[None] + 8 * np.arange(n)[:, None]).ravel(),
+    )
+    assert len(system) == 6
+    assert system.detect().counts()["face-face"] == 7
+
+
+def test_system_from_flat_arrays_names_what_is_wrong():
+    a = penedge.paper_example(1).arrays()
+    args = list(flat(a))
+    bad = list(args)
+    bad[1] = a.vertex_offsets[:-1]
+    with pytest.raises(penedge.InputError, match="vertex_offsets ends at 56, but vertices has 64"):
+        penedge.BlockSystem.from_arrays(*bad)
+    bad = list(args)
+    bad[4] = a.face_vertices.astype(float)
+    with pytest.raises(penedge.InputError, match="face_vertices must hold integers"):
+        penedge.BlockSystem.from_arrays(*bad)
+    bad = list(args)
+    loops = a.face_vertices.copy()
+    loops[a.loop_offsets[a.face_offsets[3]]] = 0
+    bad[4] = loops
+    with pytest.raises(penedge.InputError, match=r"\(of block 3\) refers to vertex 0"):
+        penedge.BlockSystem.from_arrays(*bad)
+    bad = list(args)
+    flipped = a.vertices.copy()
+    flipped[a.vertex_offsets[5] : a.vertex_offsets[6], 2] *= -1  # block 5 mirrored
+    bad[0] = flipped
+    with pytest.raises(penedge.BlockError, match=r"^block 5: ") as info:
+        penedge.BlockSystem.from_arrays(*bad)
+    assert info.value.kind == "wrong_orientation"
+    with pytest.raises(penedge.InputError, match="all three"):
+        penedge.BlockSystem.from_arrays(*args, a.face_origin_kind)

@@ -175,9 +175,10 @@ def test_contact_tracker_matches_a_full_detection_step_by_step(jointed):
         )
         expected = moved.detect()
         for name in ("pairs", "types", "penetrating"):
-            assert np.array_equal(
-                getattr(tracker.contacts, name), getattr(expected, name)
-            ), (step, name)
+            assert np.array_equal(getattr(tracker.contacts, name), getattr(expected, name)), (
+                step,
+                name,
+            )
 
 
 def test_contact_tracker_refuses_bad_poses_and_keeps_its_state(jointed):

@@ -23,11 +23,16 @@
 //! [--runs R] [--threads T]` times `ContactTracker` steps (every block jittered, 1 % of them,
 //! none) beside full detections (see `tracker.rs`).
 //!
+//! `cargo run --release -p penedge-bench -- concave [--runs R] [--threads T] [--share S]`
+//! times the detection of a jointed mass with concave blocks (pairs of blocks glued) beside
+//! the same parts as separate blocks (see `concave.rs`).
+//!
 //! `cargo run --release -p penedge-bench -- profile --scenario NAME --family cube|rock
 //! [--pairs N] [--seconds S] [--geometry]` runs penedge alone on one set for a while
 //! (`detect`, or `detect_with_geometry` with `--geometry`), to be watched by a profiler
 //! (`perf record`). NAME is a row of the narrow or the geometry tables.
 
+mod concave;
 mod export;
 mod family;
 mod generation;
@@ -305,10 +310,11 @@ fn main() -> ExitCode {
         Some("generate-one") => generation::run_one(&args[1..]),
         Some("system") => system::run(&args[1..]),
         Some("tracker") => tracker::run(&args[1..]),
+        Some("concave") => concave::run(&args[1..]),
         Some("outcomes") => outcomes::run(&args[1..]),
         Some("profile") => parse(&args[1..]).and_then(|o| profile(&o)),
         _ => Err(
-            "usage: penedge-bench narrow|geometry|generate|system|tracker|profile [options] (see the crate docs)"
+            "usage: penedge-bench narrow|geometry|generate|system|tracker|concave|profile [options] (see the crate docs)"
                 .to_string(),
         ),
     };

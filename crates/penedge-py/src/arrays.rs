@@ -11,7 +11,18 @@ use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayDescrMethods, PyReadonlyArrayDyn, PyUntypedArray,
     PyUntypedArrayMethods,
 };
+use penedge::glam::{DMat3, DQuat};
 use pyo3::prelude::*;
+
+/// `numpy.asarray(obj)`, as an `InputError` naming `name` and what it should hold when
+/// numpy cannot make an array of it.
+fn as_array<'py>(obj: &Bound<'py, PyAny>, name: &str, what: &str) -> PyResult<Bound<'py, PyAny>> {
+    obj.py()
+        .import("numpy")?
+        .getattr("asarray")?
+        .call1((obj,))
+        .map_err(|e| input_error("dtype", format!("{name} must be an array of {what}: {e}")))
+}
 
 /// `obj` as float64 values with the given shape (`None` = any length along that axis).
 fn float_array<'py>(
@@ -19,12 +30,7 @@ fn float_array<'py>(
     name: &str,
     shape: &[Option<usize>],
 ) -> PyResult<Vec<f64>> {
-    let py = obj.py();
-    let array = py
-        .import("numpy")?
-        .getattr("asarray")?
-        .call1((obj,))
-        .map_err(|e| input_error("dtype", format!("{name} must be an array of numbers: {e}")))?;
+    let array = as_array(obj, name, "numbers")?;
     let untyped = array.cast::<PyUntypedArray>()?;
     let dtype = untyped.dtype();
     if !matches!(dtype.kind(), b'i' | b'u' | b'f') {
@@ -74,6 +80,73 @@ pub fn quads(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<[f64; 4]>> {
 pub fn point(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<[f64; 3]> {
     let flat = float_array(obj, name, &[Some(3)])?;
     Ok([flat[0], flat[1], flat[2]])
+}
+
+/// A rotation given as a quaternion `x, y, z, w` (shape (4,), normalised here) or a
+/// rotation matrix (shape (3, 3), orthonormal with determinant 1 within 1e-9).
+pub fn rotation(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<DQuat> {
+    let shape: Vec<usize> = obj
+        .py()
+        .import("numpy")?
+        .getattr("shape")?
+        .call1((obj,))?
+        .extract()?;
+    if shape == [3, 3] {
+        let m = float_array(obj, name, &[Some(3), Some(3)])?;
+        // Rows in, columns for glam.
+        let matrix = DMat3::from_cols_slice(&m).transpose();
+        let off = (matrix.transpose() * matrix - DMat3::IDENTITY)
+            .to_cols_array()
+            .iter()
+            .fold(0.0f64, |worst, x| worst.max(x.abs()));
+        let det = matrix.determinant();
+        if !(off <= 1e-9 && (det - 1.0).abs() <= 1e-9) {
+            let msg = format!(
+                "{name} must be a rotation matrix (orthonormal, determinant 1), got \
+                 max |R^T R - I| = {off:.3e} and determinant {det}"
+            );
+            return Err(input_error("not_a_rotation", msg));
+        }
+        return Ok(DQuat::from_mat3(&matrix).normalize());
+    }
+    let q = float_array(obj, name, &[Some(4)]).map_err(|_| {
+        let msg = format!(
+            "{name} must be a quaternion x, y, z, w (shape (4,)) or a rotation matrix \
+             (shape (3, 3)), got shape {shape:?}"
+        );
+        input_error("shape", msg)
+    })?;
+    let q = DQuat::from_xyzw(q[0], q[1], q[2], q[3]);
+    let len = q.length();
+    if !(q.is_finite() && len > 0.0) {
+        let msg = format!("{name} must be a non-zero finite quaternion, got {q:?}");
+        return Err(input_error("not_a_rotation", msg));
+    }
+    Ok(q / len)
+}
+
+/// An `(n,)` array-like of non-negative whole numbers (offsets, indices); any integer
+/// dtype, no floats.
+pub fn indices(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<u64>> {
+    let array = as_array(obj, name, "integers")?;
+    let untyped = array.cast::<PyUntypedArray>()?;
+    let dtype = untyped.dtype();
+    let empty = untyped.shape() == [0];
+    if !(matches!(dtype.kind(), b'i' | b'u') || empty) {
+        let msg = format!("{name} must hold integers, got dtype {dtype}");
+        return Err(input_error("dtype", msg));
+    }
+    check_shape(name, untyped.shape(), &[None])?;
+    let ints = array.call_method1("astype", ("int64",))?;
+    let ints: PyReadonlyArrayDyn<'_, i64> = ints.extract()?;
+    ints.as_array()
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| {
+            u64::try_from(v)
+                .map_err(|_| input_error("negative", format!("{name}[{i}] is {v}, below 0")))
+        })
+        .collect()
 }
 
 /// An `(n,)` array-like as numbers.

@@ -158,6 +158,134 @@ impl Block {
         cuboid(lo, hi).map(Block::wrap)
     }
 
+    /// The convex hull of points.
+    ///
+    /// The block's vertices are the hull's corners among `points`, in the order given;
+    /// points inside, on a face or an edge, or within 1e-9 x size of another point are left
+    /// out. Coplanar hull triangles make one face.
+    ///
+    /// Parameters
+    /// ----------
+    /// points : array_like, shape (n, 3)
+    ///     At least 4 points, not all in one plane.
+    ///
+    /// Returns
+    /// -------
+    /// Block
+    ///
+    /// Raises
+    /// ------
+    /// InputError
+    ///     `points` is not an (n, 3) array of real numbers.
+    /// BlockError
+    ///     Fewer than 4 points (``kind == "too_small"``), points all in one plane or on one
+    ///     line (``kind == "zero_volume"``), a NaN or infinite coordinate.
+    ///
+    /// Examples
+    /// --------
+    /// >>> import itertools, penedge
+    /// >>> lattice = list(itertools.product([0, 1, 2], repeat=3))  # and edge, face midpoints
+    /// >>> cube = penedge.Block.from_hull(lattice)
+    /// >>> len(cube.vertices), len(cube.faces), round(cube.volume, 12)
+    /// (8, 6, 8.0)
+    #[staticmethod]
+    fn from_hull(points: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let points = arrays::points(points, "points")?;
+        ConvexBlock::hull(&points)
+            .map(Block::wrap)
+            .map_err(to_py_err)
+    }
+
+    /// A copy moved by `offset`.
+    ///
+    /// Parameters
+    /// ----------
+    /// offset : array_like, shape (3,)
+    ///
+    /// Returns
+    /// -------
+    /// Block
+    ///     The same faces and face origins, every vertex moved by `offset`.
+    ///
+    /// Examples
+    /// --------
+    /// >>> import penedge
+    /// >>> penedge.Block.cuboid([0, 0, 0], [1, 1, 1]).translated([2, 0, 0]).aabb.tolist()
+    /// [[2.0, 0.0, 0.0], [3.0, 1.0, 1.0]]
+    fn translated(&self, offset: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let offset = finite_vector(offset, "offset")?;
+        Ok(Block::wrap(self.inner.translated(offset)))
+    }
+
+    /// A copy turned about its centroid, or about the point `about`.
+    ///
+    /// Parameters
+    /// ----------
+    /// rotation : array_like, shape (4,) or (3, 3)
+    ///     A quaternion ``x, y, z, w`` (normalised here, as :meth:`ContactTracker.update`
+    ///     takes them) or a rotation matrix (orthonormal with determinant 1, within 1e-9).
+    /// about : array_like, shape (3,), optional
+    ///     The fixed point of the rotation; the block's centroid when None.
+    ///
+    /// Returns
+    /// -------
+    /// Block
+    ///     The same faces and face origins; a point ``x`` goes to
+    ///     ``about + R (x - about)``.
+    ///
+    /// Raises
+    /// ------
+    /// InputError
+    ///     A zero or non-finite quaternion, a matrix that is not a rotation, or a wrong shape.
+    ///
+    /// Examples
+    /// --------
+    /// >>> import numpy as np, penedge
+    /// >>> box = penedge.Block.cuboid([0, 0, 0], [2, 1, 1])
+    /// >>> quarter = [0, 0, np.sin(np.pi / 4), np.cos(np.pi / 4)]  # 90 degrees about z
+    /// >>> box.rotated(quarter).aabb.round(12) + 0.0  # about the centroid (1, 0.5, 0.5)
+    /// array([[ 0.5, -0.5,  0. ],
+    ///        [ 1.5,  1.5,  1. ]])
+    /// >>> turned = box.rotated([[0, -1, 0], [1, 0, 0], [0, 0, 1]], about=[0, 0, 0])
+    /// >>> turned.aabb.round(12) + 0.0  # (+ 0.0: no negative zeros)
+    /// array([[-1.,  0.,  0.],
+    ///        [ 0.,  2.,  1.]])
+    #[pyo3(signature = (rotation, about=None))]
+    fn rotated(
+        &self,
+        rotation: &Bound<'_, PyAny>,
+        about: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let rotation = arrays::rotation(rotation, "rotation")?;
+        let about = match about {
+            Some(p) => finite_vector(p, "about")?,
+            None => self.inner.centroid(),
+        };
+        Ok(Block::wrap(self.inner.rotated(rotation, about)))
+    }
+
+    /// Equality by value: the same vertices (exactly, in the same order) and the same faces
+    /// (the same vertex loops, in the same order). Where the faces come from (a joint, the
+    /// domain boundary) is provenance, not shape, and is not compared.
+    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
+        other
+            .cast::<Block>()
+            .is_ok_and(|other| self.inner == other.get().inner)
+    }
+
+    /// A hash consistent with ``==`` (of the vertices' bits and the faces).
+    fn __hash__(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        for v in self.inner.vertices() {
+            v.to_array().map(f64::to_bits).hash(&mut h);
+        }
+        for f in self.inner.faces() {
+            f.hash(&mut h);
+        }
+        h.finish()
+    }
+
     /// Vertex coordinates, shape (n, 3) float64 (a copy).
     #[getter]
     fn vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
@@ -236,10 +364,10 @@ impl Block {
     fn __repr__(&self) -> String {
         let b = &self.inner;
         format!(
-            "Block({} vertices, {} faces, {} edges, volume={:?}, centroid={:?})",
-            b.vertices().len(),
-            b.n_faces(),
-            b.edges().len(),
+            "Block({}, {}, {}, volume={:?}, centroid={:?})",
+            crate::counted(b.vertices().len(), "vertex", "vertices"),
+            crate::counted(b.n_faces(), "face", "faces"),
+            crate::counted(b.edges().len(), "edge", "edges"),
             b.volume(),
             b.centroid().to_array(),
         )
@@ -355,6 +483,18 @@ fn length_needed(block: &ConvexBlock) -> f64 {
     )
 }
 
+/// Three finite numbers (an offset, a point), as an `InputError` when they are not.
+fn finite_vector(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<DVec3> {
+    let v = DVec3::from_array(arrays::point(obj, name)?);
+    if !v.is_finite() {
+        return Err(input_error(
+            "not_finite",
+            format!("{name} must be finite, got {v:?}"),
+        ));
+    }
+    Ok(v)
+}
+
 /// A whole number of a face origin, as an `InputError` when it is none or too large.
 fn number(x: &Bound<'_, PyAny>) -> PyResult<i64> {
     x.extract::<i64>().map_err(|_| {
@@ -366,7 +506,7 @@ fn number(x: &Bound<'_, PyAny>) -> PyResult<i64> {
 }
 
 /// A face origin from its code and two numbers ([`FaceOrigin::code`], [`FaceOrigin::ids`]).
-fn face_origin(code: i64, a: i64, b: i64) -> PyResult<FaceOrigin> {
+pub(crate) fn face_origin(code: i64, a: i64, b: i64) -> PyResult<FaceOrigin> {
     let id = |x: i64| {
         u32::try_from(x)
             .map_err(|_| input_error("origins", format!("face origin number {x} out of range")))

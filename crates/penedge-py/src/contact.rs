@@ -65,6 +65,10 @@ pub struct PairContact {
 /// length : float, optional
 ///     Relative length threshold ("no length", on a plane, parallel); at least ``10 * gap``.
 ///     Default ``max(1e-9, 10 * gap)``.
+/// absolute_gap : float, optional
+///     The gap as a length, in the model's unit, instead of the relative `gap` (leave `gap`
+///     at its default): the same for every pair, up to 1 % of the pair's size, never below
+///     the rounding of the coordinates; the length threshold is at least ten times it.
 ///
 /// Returns
 /// -------
@@ -73,7 +77,8 @@ pub struct PairContact {
 /// Raises
 /// ------
 /// ToleranceError
-///     `gap` or `length` not in [0, 0.1), or ``length < 10 * gap``.
+///     `gap` not in [0, 0.01), `length` not in [0, 0.1), ``length < 10 * gap``, a negative
+///     or non-finite `absolute_gap`, or both `gap` and `absolute_gap`.
 ///
 /// Examples
 /// --------
@@ -88,18 +93,21 @@ pub struct PairContact {
 /// 'separated'
 /// >>> penedge.detect_pair(a, apart, gap=1e-3).outcome
 /// 'face-face'
+/// >>> penedge.detect_pair(a, apart, absolute_gap=0.002).outcome  # a length: 2 mm
+/// 'face-face'
 /// >>> c.normal, c.area, c.distance
 /// (array([1., 0., 0.]), 1.0, 0.0)
 #[pyfunction]
-#[pyo3(signature = (a, b, gap = 1e-12, length = None))]
+#[pyo3(signature = (a, b, gap = 1e-12, length = None, absolute_gap = None))]
 pub fn detect_pair(
     a: &Bound<'_, Block>,
     b: &Bound<'_, Block>,
     gap: f64,
     length: Option<f64>,
+    absolute_gap: Option<f64>,
 ) -> PyResult<PairContact> {
     let (a, b) = (&a.get().inner, &b.get().inner);
-    let mut detector = Detector::new(tolerance(gap, length)?);
+    let mut detector = Detector::new(tolerance(gap, length, absolute_gap)?);
     let (result, geometry) = detector.detect_with_geometry(a, b);
     let edges = detector.penetration_edges().to_vec();
     let points = edges

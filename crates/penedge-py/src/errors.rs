@@ -6,7 +6,8 @@
 //! ├── BlockError(PenedgeError, ValueError)      vertices + faces or half-spaces: not a convex block
 //! ├── ToleranceError(PenedgeError, ValueError)  impossible gap / length
 //! ├── SpecError(PenedgeError, ValueError)       a generation spec with a bad field (`field`)
-//! └── FileFormatError(PenedgeError, ValueError) a block file that is not valid (`field`)
+//! ├── FileFormatError(PenedgeError, ValueError) a block file that is not valid (`field`)
+//! └── MechanicsError(PenedgeError, ValueError)  a simulation that cannot be set up or go on
 //! ```
 //!
 //! Each exception carries `kind`, a snake_case name of what went wrong (`"not_convex"`,
@@ -20,6 +21,7 @@
 use penedge::block::BlockError;
 use penedge::generation::{GenerationError, SpecError};
 use penedge::io::IoError;
+use penedge::mechanics::MechanicsError;
 use penedge::system::SystemError;
 use penedge::tolerance::ToleranceError;
 use pyo3::exceptions::{PyException, PyOSError, PyValueError};
@@ -44,6 +46,17 @@ pub enum Error {
     FileFormat(String, Option<String>, String),
     /// The operating system refused to read or write a file: `OSError`.
     Os(PathBuf, std::io::Error),
+    /// A simulation that cannot be set up or go on: `MechanicsError`.
+    Mechanics(String, String),
+}
+
+impl From<MechanicsError> for Error {
+    fn from(e: MechanicsError) -> Self {
+        match e {
+            MechanicsError::Tolerance(t) => t.into(),
+            other => Error::Mechanics(variant_name(&other), other.to_string()),
+        }
+    }
 }
 
 impl From<SpecError> for Error {
@@ -59,6 +72,10 @@ impl From<GenerationError> for Error {
             GenerationError::Cut { ref source, .. } => {
                 Error::Block(variant_name(source), e.to_string())
             }
+            GenerationError::TooManyBlocks { .. } | GenerationError::Outgrew { .. } => {
+                Error::Spec("too_many_blocks".into(), "joints".into(), e.to_string())
+            }
+            GenerationError::Cancelled { .. } => Error::Input("cancelled".into(), e.to_string()),
         }
     }
 }
@@ -116,6 +133,10 @@ impl From<SystemError> for Error {
                 Error::Input("degenerate_plane".into(), e.to_string())
             }
             SystemError::Generation(g) => g.into(),
+            SystemError::Arrays { .. } => Error::Input("arrays".into(), e.to_string()),
+            SystemError::InvalidBlock { ref source, .. } => {
+                Error::Block(variant_name(source), e.to_string())
+            }
         }
     }
 }
@@ -139,6 +160,7 @@ pub fn to_py_err(err: impl Into<Error>) -> PyErr {
             Error::Tolerance(kind, m) => (&classes.tolerance, kind, None, m),
             Error::Spec(kind, field, m) => (&classes.spec, kind, Some(field), m),
             Error::FileFormat(kind, field, m) => (&classes.file_format, kind, field.as_ref(), m),
+            Error::Mechanics(kind, m) => (&classes.mechanics, kind, None, m),
             Error::Os(path, source) => return os_error(py, path, source).unwrap_or_else(|e| e),
         };
         instantiate(class.bind(py), kind, field, message).unwrap_or_else(|e| e)
@@ -200,6 +222,8 @@ pub struct Classes {
     pub spec: Py<PyType>,
     /// `FileFormatError`.
     pub file_format: Py<PyType>,
+    /// `MechanicsError`.
+    pub mechanics: Py<PyType>,
 }
 
 static CLASSES: PyOnceLock<Classes> = PyOnceLock::new();
@@ -231,7 +255,7 @@ fn make_classes(py: Python<'_>) -> PyResult<Classes> {
         )?,
         tolerance: sub(
             "ToleranceError",
-            "An impossible tolerance: gap or length not in [0, 0.1), or length < 10 * gap.",
+            "An impossible tolerance: gap not in [0, 0.01), length not in [0, 0.1), length < 10 * gap, a negative absolute_gap, or both gaps.",
         )?,
         spec: sub(
             "SpecError",
@@ -242,6 +266,13 @@ fn make_classes(py: Python<'_>) -> PyResult<Classes> {
             "FileFormatError",
             "A block file that is not valid JSON (``kind == 'syntax'``) or has a wrong field \
              (``kind == 'format'``; `field` is its path, ``blocks[3].faces``).",
+        )?,
+        mechanics: sub(
+            "MechanicsError",
+            "A simulation that cannot be set up or go on: joint properties, density, damping \
+             or time step out of range, no free body, two bodies overlapping deeper than the \
+             detection gap (`kind` names it: ``stiffness``, ``friction``, ``time_step``, \
+             ``no_free_body``, ``penetration``, ...).",
         )?,
         base,
     })
@@ -272,5 +303,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ToleranceError", c.tolerance.clone_ref(m.py()))?;
     m.add("SpecError", c.spec.clone_ref(m.py()))?;
     m.add("FileFormatError", c.file_format.clone_ref(m.py()))?;
+    m.add("MechanicsError", c.mechanics.clone_ref(m.py()))?;
     Ok(())
 }

@@ -4,10 +4,11 @@
 use crate::arrays;
 use crate::errors::{to_py_err, Error};
 use crate::system::BlockSystem;
-use penedge::generation::{generate_with_progress, Generated, GenerationError, Progress, Spec};
+use penedge::generation::{generate_with, Generated, GenerationError, Limits, Progress, Spec};
 use penedge::io::spec::{parse_toml, read_spec};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyMapping, PyString, PyTuple};
+use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -29,8 +30,16 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 ///     missing).
 /// progress : callable, optional
 ///     Called as ``progress(planes_done, planes_total, blocks)`` at most ten times a second
-///     and once at the end. If it raises, it is not called again and its exception is raised
-///     when the run ends.
+///     and once at the end. If it raises, the run stops there (between two planes' cuts)
+///     and its exception is raised, with a note of how far the run got. Ctrl-C
+///     (``KeyboardInterrupt``) stops the run the same way, with or without a callback.
+/// max_blocks : int, optional
+///     The most blocks the run may make. Before cutting, the blocks are estimated from the
+///     arrangement of the planes (``1 + planes + lines + points`` where they meet: the
+///     product of the plane counts for joint sets that fill the domain); a spec estimated to
+///     make more is refused, and a run that makes more stops. Default: what half the memory
+///     available holds (about 4 kB a block); give a larger number where the estimate is
+///     too high.
 ///
 /// Returns
 /// -------
@@ -40,13 +49,18 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 ///     ``blocks``, ``joint_planes``, ``splits``, ``partial_cuts_skipped`` (finite joints that
 ///     end inside a block, which is left whole), ``partial_cuts_by_entry``,
 ///     ``set_planes_outside``, ``retried_cuts``, ``domain_volume``, ``block_volume``,
-///     ``volume_error`` and ``slivers`` (``policy``, ``min_volume``, ``min_thickness``,
-///     ``count``, ``volume``, ``kept_ids``).
+///     ``volume_error``, ``slivers`` (``policy``, ``min_volume``, ``min_thickness``,
+///     ``count``, ``volume``, ``kept_ids``) and ``tiny`` (blocks below 1e-3 of the median
+///     block volume, slivers or not: ``median_volume``, ``threshold``, ``count``,
+///     ``smallest``).
 ///
 /// Raises
 /// ------
 /// SpecError
-///     A bad field: ``field`` names it (``joints[0].dip``), ``kind`` says what is wrong.
+///     A bad field: ``field`` names it (``joints[0].dip``), ``kind`` says what is wrong;
+///     ``kind == "too_many_blocks"`` (``field == "joints"``): more blocks than
+///     ``max_blocks``, estimated before cutting or made by the run; the message gives the
+///     estimate and how to proceed.
 /// BlockError
 ///     A joint cannot cut a block consistently (the message names the joint).
 /// OSError
@@ -69,18 +83,27 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 /// ...     print(e.field, "-", e)
 /// joints[0].dip - joints[0].dip: dip must be between 0 and 90 degrees, got 120
 #[pyfunction]
-#[pyo3(signature = (spec, progress = None))]
+#[pyo3(signature = (spec, progress = None, max_blocks = None))]
 pub fn generate<'py>(
     py: Python<'py>,
     spec: &Bound<'py, PyAny>,
     progress: Option<Py<PyAny>>,
+    max_blocks: Option<i64>,
 ) -> PyResult<(BlockSystem, Bound<'py, PyAny>)> {
+    let limits = match max_blocks {
+        Some(n) if n < 1 => {
+            let message = format!("max_blocks must be a whole number of 1 or more, got {n}");
+            return Err(crate::errors::input_error("out_of_range", message));
+        }
+        Some(n) => Limits::blocks(n as u64),
+        None => Limits::from_memory(),
+    };
     let (spec, file) = read(py, spec)?;
     let in_file = |e: Error| match &file {
         Some(path) => e.in_file(path),
         None => e,
     };
-    let Generated { system, report } = run(py, &spec, progress).map_err(|e| match e {
+    let Generated { system, report } = run(py, &spec, &limits, progress).map_err(|e| match e {
         Failure::Generation(e) => to_py_err(in_file(e.into())),
         Failure::Progress(e) => e,
     })?;
@@ -118,29 +141,57 @@ enum Failure {
     Progress(PyErr),
 }
 
-/// Runs the generation without the GIL, calling `progress` now and then.
-fn run(py: Python<'_>, spec: &Spec, progress: Option<Py<PyAny>>) -> Result<Generated, Failure> {
+/// Runs the generation without the GIL; now and then (every [`PROGRESS_INTERVAL`]) takes
+/// the GIL to run Python's signal handlers (Ctrl-C) and call `progress`, and stops the run
+/// there when either raises.
+fn run(
+    py: Python<'_>,
+    spec: &Spec,
+    limits: &Limits,
+    progress: Option<Py<PyAny>>,
+) -> Result<Generated, Failure> {
     let mut failure: Option<PyErr> = None;
     let result = py.detach(|| {
         let mut last = Instant::now();
         let mut report = |p: Progress| {
-            let Some(callback) = &progress else { return };
             let done = p.planes_done == p.planes_total;
-            if failure.is_some() || (!done && last.elapsed() < PROGRESS_INTERVAL) {
-                return;
+            if !done && last.elapsed() < PROGRESS_INTERVAL {
+                return ControlFlow::Continue(());
             }
             last = Instant::now();
             Python::attach(|py| {
                 let args = (p.planes_done, p.planes_total, p.blocks);
-                let call = py.check_signals().and_then(|()| callback.call1(py, args));
-                failure = call.err();
-            });
+                let call = py.check_signals().and_then(|()| match &progress {
+                    Some(callback) => callback.call1(py, args).map(drop),
+                    None => Ok(()),
+                });
+                match call {
+                    Ok(()) => ControlFlow::Continue(()),
+                    Err(e) => {
+                        failure = Some(e);
+                        ControlFlow::Break(())
+                    }
+                }
+            })
         };
-        generate_with_progress(spec, &mut report)
+        generate_with(spec, limits, &mut report)
     });
-    match failure {
-        Some(e) => Err(Failure::Progress(e)),
-        None => result.map_err(Failure::Generation),
+    match (failure, result) {
+        (
+            Some(e),
+            Err(GenerationError::Cancelled {
+                planes_done,
+                planes_total,
+            }),
+        ) => {
+            let note = format!(
+                "penedge.generate stopped after {planes_done} of {planes_total} joint planes"
+            );
+            let _ = e.value(py).call_method1("add_note", (note,));
+            Err(Failure::Progress(e))
+        }
+        (Some(e), _) => Err(Failure::Progress(e)),
+        (None, result) => result.map_err(Failure::Generation),
     }
 }
 

@@ -11,12 +11,34 @@ use crate::errors::{input_error, to_py_err, Error};
 use crate::system::{BlockSystem, SystemContacts};
 use numpy::PyArray1;
 use penedge::io::pvd::{self, PvdEntry, SeriesError};
-use penedge::io::{self, csv, json, vtp, vtu, IoError};
-use penedge::system::{ContactGeometries, SystemContacts as CoreContacts};
+use penedge::io::{csv, json, vtp, vtu, IoError};
 use pyo3::exceptions::PyFileExistsError;
 use pyo3::prelude::*;
-use std::io::Write;
 use std::path::{Path, PathBuf};
+
+/// Runs `work` on a thread of its own while this one, without the GIL, checks Python's
+/// signal handlers every 0.1 s: Ctrl-C raises `KeyboardInterrupt` at once, and the work,
+/// which has no effect but its result, is left to finish unseen (or to end with the
+/// process).
+fn interruptible<T: Send + 'static>(
+    py: Python<'_>,
+    work: impl FnOnce() -> T + Send + 'static,
+) -> PyResult<T> {
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || send.send(work()));
+    py.detach(move || loop {
+        match receive.recv_timeout(std::time::Duration::from_millis(100)) {
+            Ok(result) => return Ok(result),
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+                Python::attach(|py| py.check_signals())?;
+            }
+            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                let message = "the thread reading the file ended without a result";
+                return Err(pyo3::exceptions::PyRuntimeError::new_err(message));
+            }
+        }
+    })
+}
 
 /// The Python exception of a core file error about `path`.
 fn file_error(path: &Path) -> impl Fn(IoError) -> PyErr + '_ {
@@ -56,9 +78,13 @@ impl BlockSystem {
     ///     block: `field` names it).
     /// OSError
     ///     The file cannot be read (``FileNotFoundError``, ...).
+    /// KeyboardInterrupt
+    ///     Ctrl-C while the file is read: raised at once (within 0.1 s), without waiting for
+    ///     the file to be read (a large one takes a second or more, a pipe forever).
     #[staticmethod]
     fn read_json(py: Python<'_>, path: PathBuf) -> PyResult<BlockSystem> {
-        py.detach(|| json::read_json(&path))
+        let file = path.clone();
+        interruptible(py, move || json::read_json(&file))?
             .map(BlockSystem::wrap)
             .map_err(file_error(&path))
     }
@@ -111,7 +137,14 @@ impl BlockSystem {
 impl SystemContacts {
     /// Writes the contacts as a table (CSV), atomically: one row per contact, in the order of
     /// ``pairs``, with the columns ``block_a, block_b, type`` (name), ``type_code`` (1..7),
-    /// ``normal_x, normal_y, normal_z, distance, area, n_points``.
+    /// ``point_x, point_y, point_z`` (the centroid of the contact region: the point, the
+    /// segment's midpoint, the polygon's area centroid), ``normal_x, normal_y, normal_z,
+    /// distance`` (0 within the pair's rounding tolerance), ``area, n_points`` and ``set_a,
+    /// set_b``: where the faces of each block's contact feature come from (the spec entry's
+    /// name of a joint, ``boundary`` for the domain's surface; the names of an edge's or a
+    /// vertex's faces joined by ``|``; empty when unknown). Numbers in the shortest form
+    /// that reads back exactly, with an exponent below 1e-4 and from 1e16. See
+    /// ``docs/tables.md``.
     ///
     /// Raises
     /// ------
@@ -119,7 +152,12 @@ impl SystemContacts {
     ///     The contacts were found without ``geometry=True``.
     fn write_csv(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let (found, geometry) = (&self.found, self.geometry()?);
-        py.detach(|| io::write_atomic(&path, |w| write_contacts_csv_to(found, geometry, w)))
+        let Some((system, tol)) = &self.source else {
+            let msg = "the contact table needs contacts found by BlockSystem.detect";
+            return Err(input_error("no_system", msg));
+        };
+        let system = &system.get().inner;
+        py.detach(|| csv::write_contact_table(system, found, geometry, tol, &path))
             .map_err(file_error(&path))
     }
 
@@ -136,34 +174,6 @@ impl SystemContacts {
         py.detach(|| vtp::write_contacts_vtp(found, geometry, &path))
             .map_err(file_error(&path))
     }
-}
-
-/// The header of the contacts table.
-pub const CONTACTS_CSV_HEADER: &str =
-    "block_a,block_b,type,type_code,normal_x,normal_y,normal_z,distance,area,n_points";
-
-/// The contacts table, to any writer (numbers in the shortest form that reads back exactly).
-pub fn write_contacts_csv_to(
-    found: &CoreContacts,
-    geometry: &ContactGeometries,
-    w: &mut dyn Write,
-) -> std::io::Result<()> {
-    writeln!(w, "{CONTACTS_CSV_HEADER}")?;
-    for (i, pc) in found.contacts.iter().enumerate() {
-        let [a, b] = pc.pair;
-        let kind = pc.contact.kind;
-        let [nx, ny, nz] = geometry.normals[i];
-        let n_points = geometry.points_of(i).len();
-        writeln!(
-            w,
-            "{a},{b},{},{},{nx},{ny},{nz},{},{},{n_points}",
-            kind.name(),
-            kind.code(),
-            geometry.distances[i],
-            geometry.areas[i],
-        )?;
-    }
-    Ok(())
 }
 
 /// The Python exception of a time-series error: `InputError` (kind ``time``, ``file_name``
@@ -395,9 +405,9 @@ impl TimeSeries {
 
     fn __repr__(&self) -> String {
         format!(
-            "TimeSeries({:?}, {} steps)",
+            "TimeSeries({:?}, {})",
             self.inner.folder().display().to_string(),
-            self.inner.len()
+            crate::counted(self.inner.len(), "step", "steps")
         )
     }
 }

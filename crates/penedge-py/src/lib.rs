@@ -1,8 +1,9 @@
 //! Python bindings of penedge: the module `penedge._core`.
 //!
 //! Conversions only; every computation is in the core crate. The files mirror the core
-//! modules: [`block`], [`tolerance`], [`classify`], [`contact`], [`overlap`], [`system`], [`generation`],
-//! [`io`], plus [`arrays`] (numpy in and out) and [`errors`] (the exception tree and the one
+//! modules: [`block`], [`tolerance`], [`classify`], [`contact`], [`overlap`], [`system`],
+//! [`generation`], [`io`], [`mechanics`], plus [`arrays`] (numpy in and out) and [`errors`]
+//! (the exception tree and the one
 //! conversion from core errors). The doc comments are the Python docstrings (numpydoc).
 
 #![warn(missing_docs)]
@@ -14,6 +15,7 @@ pub mod contact;
 pub mod errors;
 pub mod generation;
 pub mod io;
+pub mod mechanics;
 pub mod overlap;
 pub mod system;
 pub mod tolerance;
@@ -36,10 +38,12 @@ mod _core {
     #[pymodule_export]
     use crate::io::{write_pvd, TimeSeries};
     #[pymodule_export]
+    use crate::mechanics::Simulation;
+    #[pymodule_export]
     use crate::overlap::overlap;
     #[pymodule_export]
     use crate::system::{
-        paper_example, paper_example_planes, paper_table3, BlockArrays, BlockSystem,
+        paper_example, paper_example_planes, paper_table3, BlockArrays, BlockSystem, BodyContacts,
         ContactTracker, SystemContacts,
     };
 
@@ -48,6 +52,12 @@ mod _core {
         super::add_constants(m)?;
         crate::errors::register(m)
     }
+}
+
+/// `n` followed by the noun, singular for 1 and plural otherwise ("1 contact", "2
+/// contacts"), for the `repr`s.
+pub fn counted(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
 }
 
 fn add_constants(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -22,6 +22,8 @@ use pyo3::types::PyDict;
 ///     region's points).
 /// length : float, optional
 ///     Relative length threshold (default: ``max(1e-9, 10 * gap)``).
+/// absolute_gap : float, optional
+///     The gap as a length instead of the relative `gap`, as in :func:`detect_pair`.
 ///
 /// Returns
 /// -------
@@ -44,15 +46,16 @@ use pyo3::types::PyDict;
 /// >>> penedge.overlap(a, penedge.Block.cuboid([1, 0, 0], [2, 1, 1])) is None
 /// True
 #[pyfunction]
-#[pyo3(signature = (a, b, gap = 1e-12, length = None))]
+#[pyo3(signature = (a, b, gap = 1e-12, length = None, absolute_gap = None))]
 pub fn overlap<'py>(
     py: Python<'py>,
     a: &Bound<'py, Block>,
     b: &Bound<'py, Block>,
     gap: f64,
     length: Option<f64>,
+    absolute_gap: Option<f64>,
 ) -> PyResult<Option<Bound<'py, PyDict>>> {
-    let tol = tolerance(gap, length)?;
+    let tol = tolerance(gap, length, absolute_gap)?;
     let Some(o) = penedge::overlap::overlap(&a.get().inner, &b.get().inner, &tol) else {
         return Ok(None);
     };

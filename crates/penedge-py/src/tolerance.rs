@@ -1,13 +1,22 @@
-//! The `gap` and `length` arguments as a core [`Tolerance`].
+//! The `gap`, `length` and `absolute_gap` arguments as a core [`Tolerance`].
 
 use crate::errors::to_py_err;
+use penedge::tolerance::ToleranceError;
 use penedge::Tolerance;
 use pyo3::PyResult;
 
 /// `length` `None`: `Tolerance::with_gap(gap)` (length = max(1e-9, 10 gap)); else both given.
-pub fn tolerance(gap: f64, length: Option<f64>) -> PyResult<Tolerance> {
-    match length {
-        None => Tolerance::with_gap(gap).map_err(to_py_err),
-        Some(length) => Tolerance::new(gap, length).map_err(to_py_err),
-    }
+/// With `absolute_gap`, the gap is that length instead (`Tolerance::and_absolute_gap`), and the
+/// relative `gap` must be left at its default.
+pub fn tolerance(gap: f64, length: Option<f64>, absolute_gap: Option<f64>) -> PyResult<Tolerance> {
+    let relative = match length {
+        None => Tolerance::with_gap(gap),
+        Some(length) => Tolerance::new(gap, length),
+    };
+    let tol = match absolute_gap {
+        None => relative,
+        Some(_) if gap != Tolerance::default().gap() => Err(ToleranceError::BothGaps),
+        Some(absolute) => relative.and_then(|t| t.and_absolute_gap(absolute)),
+    };
+    tol.map_err(to_py_err)
 }

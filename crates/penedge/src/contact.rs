@@ -72,9 +72,7 @@ impl Detector {
             Some(false) if !self.edges.is_empty() => faces.features(),
             outcome => return self.unclassified(outcome),
         };
-        decide(a, b, features, th.length, |l| {
-            spread_exceeds(a, b, &self.edges, l)
-        })
+        decide(a, b, features, th, |l| spread_exceeds(a, b, &self.edges, l))
     }
 
     /// The outcome of a pair that is not classified: separated by a face plane (`None`) or
@@ -90,10 +88,11 @@ impl Detector {
     /// `Separated` of [`Detector::detect`] at another gap (no classification). Leaves the
     /// penetration edges of this query.
     pub(crate) fn separated_at(&mut self, a: &ConvexBlock, b: &ConvexBlock, gap: f64) -> bool {
-        let length = self.thresholds(a, b).length;
-        self.clip_pair(a, b, Thresholds { gap, length }, &mut ())
-            .is_none()
-            || self.edges.is_empty()
+        let th = Thresholds {
+            gap,
+            ..self.thresholds(a, b)
+        };
+        self.clip_pair(a, b, th, &mut ()).is_none() || self.edges.is_empty()
     }
 
     /// Steps 1 and 2 of [`Detector::detect`]: the penetration edges at `th`, each told to
@@ -125,8 +124,13 @@ impl Detector {
     /// step 1), `a` and `b` being the blocks last given to [`Detector::detect`]. The
     /// classification itself needs no list of them; it is made here for the contact
     /// geometry.
-    pub(crate) fn representative_points(&mut self, a: &ConvexBlock, b: &ConvexBlock) -> &[DVec3] {
-        crate::classify::representative_points(a, b, &self.edges, &mut self.points);
+    pub(crate) fn representative_points(
+        &mut self,
+        a: &ConvexBlock,
+        b: &ConvexBlock,
+        widened: bool,
+    ) -> &[DVec3] {
+        crate::classify::representative_points(a, b, &self.edges, widened, &mut self.points);
         &self.points
     }
 

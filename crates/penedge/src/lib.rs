@@ -74,6 +74,8 @@
 //!   joints, from a spec;
 //! * [`system`]: block systems (a box cut by planes, the paper's examples) and all-pairs
 //!   detection;
+//! * [`mechanics`]: rigid-block mechanics (3DEC-style distinct elements) on the contacts:
+//!   bodies, sub-contacts with a Mohr-Coulomb joint law, time stepping (`docs/mechanics.md`);
 //! * [`io`]: files: the spec (TOML, JSON), the block file (JSON), ParaView (blocks VTU,
 //!   contacts VTP, time series PVD: [`io::pvd::TimeSeries`]) and CSV tables.
 //!
@@ -95,6 +97,7 @@ pub mod fuzzing;
 pub mod generation;
 pub mod geometry;
 pub mod io;
+pub mod mechanics;
 pub mod overlap;
 pub mod penetration;
 pub mod system;

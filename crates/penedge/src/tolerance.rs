@@ -17,8 +17,11 @@
 //! * `length`: the length below which a penetration edge "has no length" (paper Table 1),
 //!   and the distance within which a point counts as lying on a plane or two points as one.
 //!   It must be at least `10 * gap`: a penetration edge born of the gap widening is about
-//!   `gap / sin(angle)` long, and must read as a point for all but grazing angles.
-//!   Block validation (planarity, repeated vertices) uses it too.
+//!   `gap / sin(angle)` long, and reads as a point by its length for most angles. Over the
+//!   scale it also gives the one angle of "lies in": an edge lies in a face (or along an
+//!   edge) when the sine of their angle is at most the absolute length threshold over the scale
+//!   ([`Thresholds::sine`]), and the gap's stub of an edge that does not is a point however
+//!   long. Block validation (planarity, repeated vertices) uses it too.
 //!
 //! A floor keeps the thresholds above the rounding of the coordinates themselves: blocks far
 //! from the origin (mine-grid coordinates, x ~ 5e5, y ~ 4e6) carry a rounding error of about
@@ -28,11 +31,15 @@
 
 use thiserror::Error;
 
-/// The relative thresholds of the tolerance policy (see the module docs).
+/// The thresholds of the tolerance policy (see the module docs): relative to the blocks'
+/// size, or with the gap absolute ([`Tolerance::with_absolute_gap`]).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Tolerance {
     gap: f64,
     length: f64,
+    /// A gap in the model's length unit, used instead of `gap * scale`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    absolute_gap: Option<f64>,
 }
 
 /// An impossible tolerance setting.
@@ -49,6 +56,15 @@ pub enum ToleranceError {
         /// The exclusive upper bound.
         max: f64,
     },
+    /// An absolute gap that is NaN, infinite or negative.
+    #[error("tolerance `absolute_gap` must be a finite number >= 0 (in the model's length unit), got {}", crate::geometry::Short(*value))]
+    AbsoluteGap {
+        /// The value given.
+        value: f64,
+    },
+    /// Both a relative and an absolute gap were given (the bindings' arguments).
+    #[error("give a relative `gap` or an `absolute_gap`, not both")]
+    BothGaps,
     /// The length threshold is below ten times the gap.
     #[error("tolerance `length` ({length}) must be at least 10 x `gap` ({gap})")]
     LengthBelowGap {
@@ -64,6 +80,7 @@ impl Default for Tolerance {
         Tolerance {
             gap: 1e-12,
             length: 1e-9,
+            absolute_gap: None,
         }
     }
 }
@@ -76,7 +93,39 @@ impl Tolerance {
         if length < 10.0 * gap {
             return Err(ToleranceError::LengthBelowGap { gap, length });
         }
-        Ok(Tolerance { gap, length })
+        Ok(Tolerance {
+            gap,
+            length,
+            absolute_gap: None,
+        })
+    }
+
+    /// A policy whose gap is absolute: `gap` in the model's length unit for every pair (for
+    /// a DEM model whose contact gap is a length), with the default relative length
+    /// threshold. For a pair of scale `s`, the absolute gap is `min(gap, MAX_GAP × s)` (a gap
+    /// of a block's size would make every contact of it one point), never below the rounding
+    /// floor, and the length threshold at least ten times it. `gap` must be finite and not
+    /// negative.
+    pub fn with_absolute_gap(gap: f64) -> Result<Self, ToleranceError> {
+        Tolerance::default().and_absolute_gap(gap)
+    }
+
+    /// This policy with its gap replaced by an absolute one ([`Tolerance::with_absolute_gap`]);
+    /// the relative length threshold is kept.
+    pub fn and_absolute_gap(self, gap: f64) -> Result<Self, ToleranceError> {
+        if !(gap.is_finite() && gap >= 0.0) {
+            return Err(ToleranceError::AbsoluteGap { value: gap });
+        }
+        Ok(Tolerance {
+            gap: 0.0,
+            absolute_gap: Some(gap),
+            ..self
+        })
+    }
+
+    /// The absolute gap, when the policy has one ([`Tolerance::with_absolute_gap`]).
+    pub fn absolute_gap(&self) -> Option<f64> {
+        self.absolute_gap
     }
 
     /// A policy with the given relative gap and the length threshold set to
@@ -87,7 +136,7 @@ impl Tolerance {
         Tolerance::new(gap, length)
     }
 
-    /// The relative gap.
+    /// The relative gap (0 when the gap is absolute: [`Tolerance::absolute_gap`]).
     pub fn gap(&self) -> f64 {
         self.gap
     }
@@ -105,10 +154,16 @@ impl Tolerance {
     /// Absolute thresholds for a given length scale, for coordinates of magnitude at most
     /// `magnitude` (see the rounding floor in the module docs).
     pub fn at_scale(&self, scale: f64, magnitude: f64) -> Thresholds {
-        let gap = (self.gap * scale).max(ROUNDING_FLOOR * magnitude);
+        let gap = match self.absolute_gap {
+            Some(gap) => gap.min(MAX_GAP * scale),
+            None => self.gap * scale,
+        };
+        let gap = gap.max(ROUNDING_FLOOR * magnitude);
+        let length = (self.length * scale).max(10.0 * gap);
         Thresholds {
             gap,
-            length: (self.length * scale).max(10.0 * gap),
+            length,
+            sine: lies_in_sine(length, scale),
         }
     }
 }
@@ -131,6 +186,18 @@ fn check_range(name: &'static str, value: f64, max: f64) -> Result<(), Tolerance
 /// 16 units of rounding (`2^-52` each) of a coordinate.
 pub const ROUNDING_FLOOR: f64 = 16.0 * f64::EPSILON;
 
+/// The sine of the largest angle at which an edge lies in a face, or along an edge, for the
+/// absolute length threshold `length` at the length scale `scale`: `length / scale` (at
+/// most 1), so that over the scale such an edge departs from the face's plane (or from the
+/// other edge's line) by at most the length threshold (docs/tolerance.md, "Lies in").
+pub fn lies_in_sine(length: f64, scale: f64) -> f64 {
+    if scale > 0.0 {
+        (length / scale).min(1.0)
+    } else {
+        1.0
+    }
+}
+
 /// Absolute thresholds (lengths) for one pair or one block.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Thresholds {
@@ -138,6 +205,9 @@ pub struct Thresholds {
     pub gap: f64,
     /// Absolute length threshold.
     pub length: f64,
+    /// The sine of the largest angle at which an edge lies in a face or along an edge
+    /// ([`lies_in_sine`]: the length threshold over the scale).
+    pub sine: f64,
 }
 
 #[cfg(test)]
@@ -159,6 +229,37 @@ mod tests {
             Err(ToleranceError::OutOfRange { name: "gap", .. })
         ));
         assert!(Tolerance::new(1e-6, 1e-5).is_ok());
+    }
+
+    #[test]
+    fn absolute_gap_is_a_length() {
+        let t = Tolerance::with_absolute_gap(1e-3).unwrap();
+        assert_eq!(t.absolute_gap(), Some(1e-3));
+        // The same gap for pairs of 1 m and of 10 m; the length threshold ten times it.
+        for scale in [1.0, 10.0] {
+            let th = t.at_scale(scale, 1.0);
+            assert_eq!((th.gap, th.length), (1e-3, 1e-2));
+            assert_eq!(th.sine, 1e-2 / scale);
+        }
+        // A pair smaller than 100 gaps: at most 1 % of its size; the floor far away.
+        assert_eq!(t.at_scale(0.05, 1.0).gap, MAX_GAP * 0.05);
+        assert_eq!(t.at_scale(1.0, 1e12).gap, ROUNDING_FLOOR * 1e12);
+        // The relative length threshold still applies where it is larger.
+        assert_eq!(t.at_scale(1e8, 0.0).length, 1e-9 * 1e8);
+        for bad in [f64::NAN, -1e-3, f64::INFINITY] {
+            assert!(matches!(
+                Tolerance::with_absolute_gap(bad),
+                Err(ToleranceError::AbsoluteGap { .. })
+            ));
+        }
+        let kept = Tolerance::new(1e-6, 1e-3)
+            .unwrap()
+            .and_absolute_gap(0.0)
+            .unwrap();
+        assert_eq!(
+            (kept.gap(), kept.length(), kept.absolute_gap()),
+            (0.0, 1e-3, Some(0.0))
+        );
     }
 
     #[test]

@@ -210,3 +210,69 @@ fn progress_is_reported_per_plane() {
     assert_eq!(seen, [1, 2, 3]);
     assert_eq!(out.report.joint_planes, 3);
 }
+
+#[test]
+fn tiny_blocks_are_flagged_beside_the_median_block_though_not_slivers() {
+    // Planes at z = 5 and z = 5.001 in a 10 m cube: blocks of 500, 0.1 and 499.9 m^3. The
+    // 1 mm layer is 60 times thicker than the default sliver limit (1e-6 of the 17.3 m
+    // diagonal) but 1/4999 of the median block (499.9).
+    let spec = Spec::new(Domain::cuboid([0.0; 3], [10.0; 3]).unwrap())
+        .with(Discontinuity::plane(
+            [0.0, 0.0, 5.0],
+            Orientation::dip(0.0, 0.0),
+        ))
+        .with(Discontinuity::plane(
+            [0.0, 0.0, 5.001],
+            Orientation::dip(0.0, 0.0),
+        ));
+    let report = generate(&spec).unwrap().report;
+    assert_eq!(report.slivers.count, 0);
+    let tiny = &report.tiny;
+    assert_eq!(tiny.count, 1);
+    assert!((tiny.median_volume - 499.9).abs() < 1e-9, "{tiny:?}");
+    assert!(
+        (tiny.threshold - 499.9 * TINY_SHARE).abs() < 1e-12,
+        "{tiny:?}"
+    );
+    assert!((tiny.smallest - 0.1).abs() < 1e-9, "{tiny:?}");
+    // Without the thin layer, none.
+    let spec = Spec::new(Domain::cuboid([0.0; 3], [10.0; 3]).unwrap()).with(Discontinuity::plane(
+        [0.0, 0.0, 5.0],
+        Orientation::dip(0.0, 0.0),
+    ));
+    assert_eq!(generate(&spec).unwrap().report.tiny.count, 0);
+}
+
+#[test]
+fn the_estimate_is_within_a_small_factor_of_the_blocks_made() {
+    // Random specs (one to three sets with random orientations and deviations, single
+    // planes, boxes and tilted prisms) and the examples: the estimate errs high (oblique
+    // pairs counted by their share of the domain's box, deviated sets by their reach), and
+    // low only where planes are not in general position (three through one point).
+    let mut ratios = Vec::new();
+    for seed in 0..12 {
+        let spec = random_spec(seed);
+        let blocks = generate(&spec).unwrap().system.len() as f64;
+        ratios.push((
+            format!("seed {seed}"),
+            estimate(&spec).unwrap().blocks / blocks,
+        ));
+    }
+    let examples = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    for name in [
+        "joint_set_random",
+        "finite_disc",
+        "finite_polygon",
+        "domain_polyhedron",
+    ] {
+        let spec = penedge::io::spec::read_spec(&examples.join(format!("{name}.toml"))).unwrap();
+        let blocks = generate(&spec).unwrap().system.len() as f64;
+        ratios.push((name.to_string(), estimate(&spec).unwrap().blocks / blocks));
+    }
+    for (what, ratio) in ratios {
+        assert!(
+            (0.7..=6.0).contains(&ratio),
+            "{what}: estimate / blocks = {ratio}"
+        );
+    }
+}

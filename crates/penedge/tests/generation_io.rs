@@ -2,6 +2,7 @@
 //! VTU and CSV hold what they should.
 
 use penedge::generation::*;
+use penedge::geometry::DVec3;
 use penedge::io::{csv, json, vtu, write_atomic, IoError};
 use penedge::{BlockSystem, ConvexBlock};
 use std::path::PathBuf;
@@ -80,12 +81,37 @@ fn json_round_trip_is_lossless() {
 }
 
 #[test]
+fn the_spec_unit_goes_into_the_system_and_its_block_file() {
+    let text = |unit: &str| {
+        format!(
+            "unit = {unit}\n[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [3, 3, 3]\n\
+             [[joints]]\ntype = \"plane\"\npoint = [1, 1, 1]\nnormal = [0, 0, 1]\n"
+        )
+    };
+    let spec = penedge::io::spec::parse_toml(&text("\" ft \"")).unwrap();
+    assert_eq!(spec.unit.as_deref(), Some("ft"));
+    let system = generate(&spec).unwrap().system;
+    assert_eq!(system.unit(), Some("ft"));
+    let file = json::to_json_string(&system);
+    assert!(file.contains("\"unit\":\"ft\""), "{file}");
+    assert_eq!(json::from_json_str(&file).unwrap().unit(), Some("ft"));
+    // Without a unit: none in the system, none in the file (older files read as before).
+    let plain = generate(&Spec { unit: None, ..spec }).unwrap().system;
+    assert_eq!(plain.unit(), None);
+    assert!(!json::to_json_string(&plain).contains("\"unit\""));
+    for bad in ["\"\"", "\"a very long name of a unit\"", "\"m\\u0007\""] {
+        let err = penedge::io::spec::parse_toml(&text(bad)).unwrap_err();
+        assert_eq!(err.field, "unit", "{bad}: {err}");
+    }
+}
+
+#[test]
 fn bad_block_files_are_named() {
     let system = mixed_system();
     let text = json::to_json_string(&system);
-    let v2 = text.replacen("\"version\":1", "\"version\":2", 1);
+    let v3 = text.replacen("\"version\":2", "\"version\":3", 1);
     assert!(
-        matches!(json::from_json_str(&v2), Err(IoError::Format { field, .. }) if field == "version")
+        matches!(json::from_json_str(&v3), Err(IoError::Format { field, .. }) if field == "version")
     );
     let mut value: serde_json::Value = serde_json::from_str(&text).unwrap();
     value["blocks"][3]["vertices"][0][2] = serde_json::json!(1000.0);
@@ -103,6 +129,76 @@ fn bad_block_files_are_named() {
         json::from_json_str("{\"format\": 1"),
         Err(IoError::Syntax { .. })
     ));
+}
+
+#[test]
+fn a_block_file_written_by_hand_needs_vertices_and_faces_only() {
+    // Two unit cubes side by side; volume, centroid, planes and origins derived.
+    let text = r#"{"format": "penedge-blocks", "version": 1, "blocks": [
+        {"vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0],[0,0,1],[1,0,1],[1,1,1],[0,1,1]],
+         "faces": [[0,3,2,1],[4,5,6,7],[0,1,5,4],[1,2,6,5],[2,3,7,6],[3,0,4,7]]},
+        {"vertices": [[1,0,0],[2,0,0],[2,1,0],[1,1,0],[1,0,1],[2,0,1],[2,1,1],[1,1,1]],
+         "faces": [[0,3,2,1],[4,5,6,7],[0,1,5,4],[1,2,6,5],[2,3,7,6],[3,0,4,7]],
+         "volume": 99, "centroid": [9, 9, 9]}
+    ]}"#;
+    let system = json::from_json_str(text).unwrap();
+    assert_eq!(system.len(), 2);
+    let centroids = [[0.5, 0.5, 0.5], [1.5, 0.5, 0.5]];
+    for (b, c) in system.blocks().iter().zip(centroids) {
+        assert!((b.volume() - 1.0).abs() < 1e-12);
+        assert!((b.centroid() - DVec3::from_array(c)).length() < 1e-12);
+        assert_eq!(b.n_faces(), 6);
+        assert!(b.face_origins().iter().all(|o| *o == FaceOrigin::Unknown));
+        for (f, plane) in b.planes().iter().enumerate() {
+            for &v in b.face(f) {
+                assert!(plane.distance(b.vertices()[v as usize]).abs() < 1e-12);
+            }
+            // Outward: the centroid is inside.
+            assert!(plane.distance(b.centroid()) < 0.0);
+        }
+    }
+    assert!(system.domain().is_empty() && system.joints().is_empty());
+    // Written back in full, it reads back the same.
+    let full = json::to_json_string(&system);
+    assert!(full.contains("\"planes\"") && full.contains("\"volume\":1"));
+    assert_eq!(
+        json::to_json_string(&json::from_json_str(&full).unwrap()),
+        full
+    );
+    // Faces given the wrong way round are named.
+    let inverted = text.replace("[0,3,2,1],[4,5,6,7]", "[0,1,2,3],[4,7,6,5]");
+    match json::from_json_str(&inverted) {
+        Err(IoError::Format { field, .. }) => assert_eq!(field, "blocks[0]"),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_file_of_another_kind_is_named_with_what_to_do() {
+    let cases = [
+        (
+            "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\n",
+            "joint spec (TOML)",
+        ),
+        (
+            "{\"domain\": {\"type\": \"box\"}, \"joints\": []}",
+            "joint spec (JSON)",
+        ),
+        ("[1, 2, 3]", "JSON list"),
+    ];
+    for (text, kind) in cases {
+        match json::from_json_str(text) {
+            Err(IoError::Syntax { message, .. }) => {
+                assert!(message.contains(kind), "{message}");
+                assert!(!message.contains("expected a string"), "{message}");
+            }
+            other => panic!("{text}: {other:?}"),
+        }
+    }
+    // And a block file given as a spec.
+    let blocks = json::to_json_string(&mixed_system());
+    let err = penedge::io::spec::parse_json(&blocks).unwrap_err();
+    assert!(err.to_string().contains("penedge detect"), "{err}");
 }
 
 #[test]

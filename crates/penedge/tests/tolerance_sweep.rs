@@ -149,9 +149,11 @@ fn policy(tol: &Tolerance, a: &ConvexBlock, b: &ConvexBlock) -> Thresholds {
     let scale = a.aabb().diagonal().min(b.aabb().diagonal());
     let magnitude = a.aabb().magnitude().max(b.aabb().magnitude());
     let gap = (tol.gap() * scale).max(ROUNDING_FLOOR * magnitude);
+    let length = (tol.length() * scale).max(10.0 * gap);
     Thresholds {
         gap,
-        length: (tol.length() * scale).max(10.0 * gap),
+        length,
+        sine: length / scale,
     }
 }
 

@@ -7,7 +7,9 @@
 * ``penedge detect BLOCKS``: every contact of a block file, as CSV and ParaView files
   (:mod:`penedge.cli.detect`);
 * ``penedge show BLOCKS``: pictures of a block file: exploded view, interactive HTML
-  view, volume distribution, contacts by type (:mod:`penedge.cli.show`).
+  view, volume distribution, contacts by type (:mod:`penedge.cli.show`);
+* ``penedge simulate MODEL``: run a model file (docs/models.md) on the rigid-block engine:
+  summary, history, pictures, ParaView series (:mod:`penedge.cli.simulate`).
 
 Exit status: 0 success, 1 runtime error (a bad spec or block file, a file that cannot be
 read or written, a missing optional dependency), 2 usage error, 130 interrupted (Ctrl-C);
@@ -19,10 +21,11 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from typing import NoReturn
 
 import penedge
-from penedge.cli import detect, example, generate, show
-from penedge.cli.common import PROG, CommandError, UsageError
+from penedge.cli import detect, example, generate, show, simulate
+from penedge.cli.common import PROG, CommandError, Interrupted, UsageError
 
 __all__ = ["build_parser", "main"]
 
@@ -67,9 +70,14 @@ your own rock mass:
 options every command spells the same way:
   -o/--output FILE   the main output         --json       the result as JSON on stdout
   -q/--quiet         print nothing           --gap G      the relative contact gap
+                                             --absolute-gap D   or the gap as a length
   --force            example, show: replace a file at a default name (exampleN.png);
                      a file named on the command line is always replaced
-  --colour-by block|volume, --explode F, --max-blocks N    how pictures draw blocks
+  --colour-by set|block|volume, --unit U, --explode F, --max-blocks N
+                     how pictures draw blocks
+                     (generate --max-blocks N: the most blocks a run may make)
+  --html             example, show: the interactive view at a default name;
+                     --html-out FILE names it
 
 exit status:
   0    success
@@ -79,9 +87,20 @@ exit status:
   130  interrupted (Ctrl-C)"""
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse's parser, with a hint for a file name left over after ``--html`` (which
+    takes none since the block file could be taken for it)."""
+
+    def error(self, message: str) -> NoReturn:
+        _, _, extra = message.partition("unrecognized arguments: ")
+        if any(word.lower().endswith(".html") for word in extra.split()):
+            message += " (--html takes no file name: name the view with --html-out FILE)"
+        super().error(message)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``penedge`` command."""
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog=PROG,
         description=DESCRIPTION,
         epilog=EPILOG,
@@ -93,6 +112,7 @@ def build_parser() -> argparse.ArgumentParser:
     generate.add_parser(commands)
     detect.add_parser(commands)
     show.add_parser(commands)
+    simulate.add_parser(commands)
     return parser
 
 
@@ -119,8 +139,9 @@ def main(argv: list[str] | None = None) -> int:
     except (CommandError, penedge.PenedgeError) as e:
         print(f"{PROG}: error: {e}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print(f"\n{PROG}: interrupted", file=sys.stderr)
+    except KeyboardInterrupt as e:
+        said = str(e) if isinstance(e, Interrupted) else "interrupted"
+        print(f"\n{PROG}: {said}", file=sys.stderr)
         return 130
 
 

@@ -16,15 +16,12 @@ import os
 import tempfile
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import IO
+from typing import IO, Any
 
 PROG = "penedge"
 
 #: Static picture formats, by file suffix (the interactive view is ``--html``).
 PICTURE_FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
-
-#: Marks ``--html`` given without a file name: a default name is used.
-DEFAULT_NAME = "<default>"
 
 
 class UsageError(Exception):
@@ -33,6 +30,10 @@ class UsageError(Exception):
 
 class CommandError(Exception):
     """Something that went wrong while running (exit status 1)."""
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C, with what a command had done when it stopped (exit status 130)."""
 
 
 def output_file(value: str | None, option: str, suffixes: tuple[str, ...]) -> Path | None:
@@ -70,39 +71,94 @@ def non_negative_float(text: str) -> float:
     return value
 
 
-def block_limit(text: str) -> int | None:
-    """An argparse type: a whole number >= 0, 0 meaning no limit (None)."""
+def whole_number(text: str, least: int, words: str) -> int:
+    """`text` as a whole number of at least `least` (else the argparse error `words`)."""
     try:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"invalid whole number: '{text}'") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be >= 0 (0: every block), got {text}")
-    return value or None
+    if value < least:
+        raise argparse.ArgumentTypeError(f"{words}, got {text}")
+    return value
+
+
+def block_limit(text: str) -> int | None:
+    """An argparse type: a whole number >= 0, 0 meaning no limit (None)."""
+    return whole_number(text, 0, "must be >= 0 (0: every block)") or None
+
+
+def positive_int(text: str) -> int:
+    """An argparse type: a whole number >= 1."""
+    return whole_number(text, 1, "must be 1 or more")
 
 
 def add_gap(parser: argparse.ArgumentParser) -> None:
-    """``--gap G``: the relative gap of the detection."""
-    parser.add_argument(
+    """``--gap G`` or ``--absolute-gap D``: the gap of the detection, relative to the blocks'
+    size or a length."""
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument(
         "--gap",
         type=float,
         default=1e-12,
         metavar="G",
         help="relative gap: blocks closer than G x block size touch (default 1e-12, rounding only)",
     )
+    group.add_argument(
+        "--absolute-gap",
+        type=float,
+        default=None,
+        metavar="D",
+        help="the gap as a length in the blocks' unit (0.001: 1 mm for blocks in metres), "
+        "the same for every pair, instead of --gap",
+    )
+
+
+def gap_options(args: argparse.Namespace) -> dict[str, float]:
+    """The gap keyword of ``detect``: ``{"absolute_gap": D}`` or ``{"gap": G}``."""
+    if args.absolute_gap is not None:
+        return {"absolute_gap": args.absolute_gap}
+    return {"gap": args.gap}
+
+
+def gap_flag(args: argparse.Namespace) -> str:
+    """The option that set the gap, for messages."""
+    return "--absolute-gap" if args.absolute_gap is not None else "--gap"
+
+
+def gap_fields(options: dict[str, float] | None) -> dict[str, float | None]:
+    """The gap of a summary: ``gap`` (relative) and ``absolute_gap``, one of them None."""
+    options = options or {}
+    return {"gap": options.get("gap"), "absolute_gap": options.get("absolute_gap")}
+
+
+def gap_text(summary: dict[str, Any]) -> str:
+    """``relative gap G`` or ``absolute gap D``, from a summary's gap fields."""
+    if summary.get("absolute_gap") is not None:
+        return f"absolute gap {summary['absolute_gap']:g}"
+    return f"relative gap {summary['gap']:g}"
 
 
 def add_picture_options(parser: argparse.ArgumentParser) -> None:
-    """``--colour-by``, ``--explode``, ``--max-blocks``: how blocks are drawn."""
+    """``--colour-by``, ``--unit``, ``--explode``, ``--max-blocks``: how blocks are
+    drawn."""
     from penedge.pictures.scene import DEFAULT_MAX_BLOCKS
 
     parser.add_argument(
         "--colour-by",
         "--color-by",
         dest="colour_by",
-        choices=("block", "volume"),
-        default="block",
-        help="colour each block its own colour (default), or by its volume with a colour bar",
+        choices=("set", "block", "volume"),
+        default=None,
+        help="colour each block by its joint set (the set of most of its face area; the "
+        "default for a system generated with joint sets), its own colour (the default "
+        "otherwise), or by its volume with a colour bar",
+    )
+    parser.add_argument(
+        "--unit",
+        default=None,
+        metavar="U",
+        help="the model's length unit, for the axes and the scale bar (default: the spec's "
+        "`unit`, kept in the block file, else m)",
     )
     parser.add_argument(
         "--explode",
@@ -120,6 +176,30 @@ def add_picture_options(parser: argparse.ArgumentParser) -> None:
         help=f"draw at most N blocks, those on the outside of the rock mass first "
         f"(default {DEFAULT_MAX_BLOCKS}; 0: every block)",
     )
+
+
+def add_html(parser: argparse.ArgumentParser, default: str) -> None:
+    """``--html`` (a flag: the view at the default name) and ``--html-out FILE`` (the view at
+    FILE). ``--html`` takes no value, so ``--html blocks.json`` never takes the block file
+    for the HTML file's name."""
+    parser.add_argument(
+        "--html",
+        action="store_true",
+        help=f"also write the interactive view (self-contained HTML: rotate, zoom, hide / "
+        f"show, hover) to {default}",
+    )
+    parser.add_argument(
+        "--html-out",
+        metavar="FILE",
+        help="write the interactive view to FILE (.html); implies --html",
+    )
+
+
+def html_file(args: argparse.Namespace) -> tuple[bool, Path | None]:
+    """Whether the HTML view is asked for (``--html`` or ``--html-out``), and the file the
+    user named (None: the default name)."""
+    named = output_file(args.html_out, "--html-out", (".html",))
+    return args.html or named is not None, named
 
 
 def add_output_flags(parser: argparse.ArgumentParser, force: bool) -> None:
@@ -144,7 +224,8 @@ def picture_file(value: str | None, option: str) -> Path | None:
     """A static picture the user named (.png, .svg or .pdf), checked."""
     if value is not None and Path(value).suffix.lower() == ".html":
         raise UsageError(
-            f"argument {option}: '{value}' is an HTML file; use --html for the interactive view"
+            f"argument {option}: '{value}' is an HTML file; use --html-out {value} for the "
+            "interactive view"
         )
     if value is not None and Path(value).suffix.lower() not in PICTURE_FORMATS:
         known = ", ".join(PICTURE_FORMATS)
@@ -175,6 +256,15 @@ def target(named: Path | None, default: Path, force: bool) -> Target:
     if named is not None:
         return Target(named, True)
     return Target(default, force)
+
+
+def available(module: str) -> bool:
+    """Whether an optional package can be imported."""
+    try:
+        __import__(module)
+    except ImportError:
+        return False
+    return True
 
 
 def require(module: str, option: str, extra: str) -> None:

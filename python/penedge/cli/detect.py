@@ -16,6 +16,10 @@ from penedge.cli.common import (
     add_gap,
     add_output_flags,
     check_distinct,
+    gap_fields,
+    gap_flag,
+    gap_options,
+    gap_text,
     output_file,
     plural,
 )
@@ -40,6 +44,7 @@ more:
   penedge detect blocks.json                       the table of contact counts only
   penedge detect blocks.json -o contacts.csv --vtp contacts.vtp
   penedge detect blocks.json --gap 1e-6 --json     with a relative gap, counts as JSON
+  penedge detect blocks.json --absolute-gap 0.001  blocks within 1 mm touch (metres)
 
 contacts.csv has one row per contact: block_a, block_b, type, type_code (1..7),
 normal_x, normal_y, normal_z (unit, from block_a to block_b), distance (gap > 0,
@@ -84,15 +89,15 @@ def run_detect(args: argparse.Namespace) -> int:
     with progress.activity(show, f"{PROG} detect: reading {blocks}"):
         system = penedge.BlockSystem.read_json(blocks)
     try:
-        found = progress.detect(system, show, f"{PROG} detect", gap=args.gap, geometry=True)
+        found = progress.detect(system, show, f"{PROG} detect", **gap_options(args), geometry=True)
     except penedge.ToleranceError as e:
-        raise UsageError(f"argument --gap: {e}") from None
+        raise UsageError(f"argument {gap_flag(args)}: {e}") from None
     written = []
     for path, write in ((csv, found.write_csv), (vtp, found.write_vtp)):
         if path is not None:
             write(path)
             written.append(str(path))
-    summary = summarize(blocks, system, found, args.gap, written)
+    summary = summarize(blocks, system, found, gap_options(args), written)
     if summary["penetrating"]:
         print(f"{PROG}: warning: {penetration_note(found)}", file=sys.stderr)
     if args.json:
@@ -103,14 +108,14 @@ def run_detect(args: argparse.Namespace) -> int:
 
 
 def summarize(
-    blocks: Path, system: Any, found: Any, gap: float, written: list[str]
+    blocks: Path, system: Any, found: Any, gap: dict[str, float], written: list[str]
 ) -> dict[str, Any]:
     """The result as plain data (what ``--json`` prints)."""
     face_face = found.types == penedge.CONTACT_TYPES.index("face-face") + 1
     return {
         "blocks_file": str(blocks),
         "blocks": len(system),
-        "gap": gap,
+        **gap_fields(gap),
         "contacts": len(found),
         "counts": found.counts(),
         "face_face_area": float(found.areas[face_face].sum()),
@@ -134,7 +139,7 @@ def format_summary(summary: dict[str, Any]) -> str:
     """The table of counts per contact type."""
     lines = [
         f"{summary['blocks_file']}: {plural(summary['blocks'], 'block')}, "
-        f"{plural(summary['contacts'], 'contact')} (relative gap {summary['gap']:g})",
+        f"{plural(summary['contacts'], 'contact')} ({gap_text(summary)})",
         "",
         *counts_table(summary["counts"]),
     ]

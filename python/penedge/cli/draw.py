@@ -29,7 +29,8 @@ def write_picture(
     *,
     title: str,
     explode: float,
-    colour_by: str,
+    colour_by: str | None,
+    unit: str | None,
     max_blocks: int | None,
     contacts: Any = None,
 ) -> Path:
@@ -50,6 +51,7 @@ def write_picture(
                 explode=explode,
                 contacts=contacts,
                 color_by=colour_by,
+                unit=unit,
                 max_blocks=max_blocks,
             )
         except ImportError as e:
@@ -64,7 +66,8 @@ def write_html(
     *,
     title: str,
     explode: float,
-    colour_by: str,
+    colour_by: str | None,
+    unit: str | None,
     max_blocks: int | None,
     contacts: Any = None,
 ) -> Path:
@@ -82,6 +85,7 @@ def write_html(
                 explode=explode,
                 contacts=contacts,
                 color_by=colour_by,
+                unit=unit,
                 max_blocks=max_blocks,
             )
         except ImportError as e:

@@ -13,14 +13,19 @@ from typing import Any
 import penedge
 from penedge.cli import draw, progress
 from penedge.cli.common import (
-    DEFAULT_NAME,
     PROG,
     UsageError,
     add_gap,
+    add_html,
     add_output_flags,
     add_picture_options,
+    available,
     check_distinct,
-    output_file,
+    gap_fields,
+    gap_flag,
+    gap_options,
+    gap_text,
+    html_file,
     picture_file,
     require,
     target,
@@ -46,8 +51,8 @@ worked example:
   example3.html in a web browser to turn and zoom it (it needs no network).
 
 more:
-  penedge example 3 --contacts       a second panel (and the HTML view) with the contacts,
-                                     coloured by type
+  penedge example 3 --contacts       a panel per contact type (and the HTML view) with
+                                     the contacts
   penedge example 3 --colour-by volume
                                      blocks coloured by volume, with a colour bar
   penedge example 2 -o ex2.svg       the picture as SVG (.png, .svg or .pdf)
@@ -57,7 +62,8 @@ more:
 
 Default names (example3.png, example3.html) never replace an existing file: the next
 free name (example3-1.png, ...) is taken, unless --force. A file named with -o or
---html is replaced."""
+--html-out is replaced. Without matplotlib (the `plot` extra) the table is printed and the
+picture left out."""
 
 
 def add_parser(commands: Any) -> argparse.ArgumentParser:
@@ -91,17 +97,11 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         help="the picture (.png, .svg or .pdf); default exampleN.png",
     )
     pictures.add_argument("--no-picture", action="store_true", help="draw no picture")
-    example.add_argument(
-        "--html",
-        nargs="?",
-        const=DEFAULT_NAME,
-        metavar="FILE",
-        help="also write the interactive view (.html, self-contained); without FILE: exampleN.html",
-    )
+    add_html(example, "exampleN.html")
     example.add_argument(
         "--contacts",
         action="store_true",
-        help="draw the contacts too (points, segments, polygons coloured by type)",
+        help="draw the contacts too: points, segments, polygons, a panel per type",
     )
     add_gap(example)
     add_picture_options(example)
@@ -117,12 +117,20 @@ def run_example(args: argparse.Namespace) -> int:
         named = picture_file(args.output, "-o/--output")
         picture = target(named, Path(f"example{n}.png"), args.force)
     html = None
-    if args.html is not None:
-        named = None if args.html == DEFAULT_NAME else output_file(args.html, "--html", (".html",))
-        html = target(named, Path(f"example{n}.html"), args.force)
+    want_html, named_html = html_file(args)
+    if want_html:
+        html = target(named_html, Path(f"example{n}.html"), args.force)
     if args.contacts and picture is None and html is None:
         raise UsageError("argument --contacts: needs the picture or --html to draw them in")
-    check_distinct({}, {"-o/--output": picture and picture.path, "--html": html and html.path})
+    check_distinct({}, {"-o/--output": picture and picture.path, "--html-out": html and html.path})
+    notes = []
+    if picture is not None and args.output is None and not available("matplotlib"):
+        # The table is the result; the default picture is a bonus that needs the extra.
+        picture = None
+        notes.append(
+            "no picture: it needs matplotlib (pip install 'penedge[plot]'); the table above "
+            "is complete"
+        )
     if picture is not None:
         require("matplotlib", "the picture", "plot")
     if html is not None:
@@ -131,20 +139,20 @@ def run_example(args: argparse.Namespace) -> int:
     system = penedge.paper_example(n)
     try:
         found = progress.detect(
-            system, show, f"{PROG} example {n}", gap=args.gap, geometry=args.contacts
+            system, show, f"{PROG} example {n}", **gap_options(args), geometry=args.contacts
         )
     except penedge.ToleranceError as e:
-        raise UsageError(f"argument --gap: {e}") from None
-    result = summarize(n, system, found, args.gap)
+        raise UsageError(f"argument {gap_flag(args)}: {e}") from None
+    result = summarize(n, system, found, gap_options(args))
     title = f"penedge example {n}: {result['blocks']} blocks, {result['total']} contacts"
     options = {
         "title": title,
         "explode": args.explode,
         "colour_by": args.colour_by,
+        "unit": args.unit,
         "max_blocks": args.max_blocks,
         "contacts": found if args.contacts else None,
     }
-    notes = []
     for key, where, writer in (
         ("picture", picture, draw.write_picture),
         ("html", html, draw.write_html),
@@ -181,7 +189,7 @@ def plane_text(normal: Any, offset: float) -> str:
     return f"{text} = {offset:g}"
 
 
-def summarize(number: int, system: Any, found: Any, gap: float) -> dict[str, Any]:
+def summarize(number: int, system: Any, found: Any, gap: dict[str, float]) -> dict[str, Any]:
     """The result of an example as plain data (what ``--json`` prints)."""
     normals, offsets = penedge.paper_example_planes(number)
     counts = found.counts()
@@ -189,7 +197,7 @@ def summarize(number: int, system: Any, found: Any, gap: float) -> dict[str, Any
     return {
         "example": number,
         "planes": [plane_text(n, d) for n, d in zip(normals, offsets, strict=True)],
-        "gap": gap,
+        **gap_fields(gap),
         "blocks": len(system),
         "counts": counts,
         "total": sum(counts.values()),
@@ -206,7 +214,7 @@ def format_report(result: dict[str, Any]) -> str:
     """The human-readable report of an example."""
     lines = [
         f"penedge example {result['example']}: a 10 m cube cut by {', '.join(result['planes'])}",
-        f"{result['blocks']} blocks, {result['total']} contacts (relative gap {result['gap']:g})",
+        f"{result['blocks']} blocks, {result['total']} contacts ({gap_text(result)})",
         "",
         f"{'contact type':<25}{'penedge':>9}{'paper':>7}",
     ]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 import time
 from pathlib import Path
@@ -14,10 +15,12 @@ from penedge.cli import progress
 from penedge.cli.common import (
     PROG,
     CommandError,
+    Interrupted,
     add_output_flags,
     check_distinct,
     output_file,
     plural,
+    positive_int,
     require_matplotlib,
     write_via_temp,
 )
@@ -31,6 +34,7 @@ worked example:
     block volume          V10 486.6, V50 1395, V90 1584 (min 10.27, max 1584)
     partial cuts skipped  0
     slivers               none (thinner than 4.5e-05 or smaller than 0)
+    tiny blocks           none (below 1e-3 of the median volume, 0.6969)
     volume error          1.3e-16 (blocks vs domain)
     written               blocks.json, volumes.png
 
@@ -43,6 +47,15 @@ more:
                    --stats-png volumes.png
   penedge generate spec.toml                   check the spec, print the summary, write nothing
   penedge detect blocks.json -o contacts.csv   then the contacts of the blocks
+  penedge generate big.toml --max-blocks 50000000
+                                               allow more blocks than the memory estimate
+
+Before cutting, the blocks are estimated from the arrangement of the planes (1 + planes
++ lines + points where they meet; the product of the plane counts for joint sets that
+fill the domain). A spec estimated to make more than --max-blocks (default: what half
+the memory available holds, at about 4 kB a block) is refused with the estimate, and a
+run that makes more stops. Ctrl-C stops a run within a second (between two planes);
+nothing is written then.
 
 The spec (TOML, or JSON when SPEC ends in .json) is described in docs/generation.md;
 examples/ has one spec for each feature. A file named here is replaced if it exists, at
@@ -83,6 +96,14 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
     for option, (dest, _, what) in OUTPUTS.items():
         flags = option.split("/")
         generate.add_argument(*flags, dest=dest, metavar="FILE", help=what)
+    generate.add_argument(
+        "--max-blocks",
+        type=positive_int,
+        metavar="N",
+        help="the most blocks the run may make: a spec estimated to make more is refused "
+        "before cutting, and a run that makes more stops (default: what half the memory "
+        "available holds, about 4 kB a block)",
+    )
     add_output_flags(generate, force=False)
     return generate
 
@@ -101,7 +122,12 @@ def run_generate(args: argparse.Namespace) -> int:
     bar = ProgressBar(sys.stderr, f"{PROG} generate", unit="planes") if show else None
     start = time.perf_counter()
     try:
-        system, report = penedge.generate(spec, progress=bar)
+        system, report = penedge.generate(spec, progress=bar, max_blocks=args.max_blocks)
+    except KeyboardInterrupt as e:
+        notes = " ".join(getattr(e, "__notes__", []))
+        found = re.search(r"stopped after (\d+ of \d+ joint planes)", notes)
+        where = f" after {found.group(1)}" if found else ""
+        raise Interrupted(f"interrupted{where}; nothing written") from None
     finally:
         if bar is not None:
             bar.close()
@@ -179,6 +205,8 @@ def format_summary(summary: dict[str, Any], system: Any) -> str:
         )
     lines.append(row("partial cuts skipped", partial_cuts(report, summary["sets"])))
     lines.append(row("slivers", slivers(report["slivers"])))
+    if "tiny" in report:
+        lines.append(row("tiny blocks", tiny(report["tiny"])))
     if report["set_planes_outside"]:
         lines.append(row("set planes outside", f"{report['set_planes_outside']} (left out)"))
     if report["retried_cuts"]:
@@ -201,6 +229,14 @@ def partial_cuts(report: dict[str, Any], sets: list[dict[str, str]]) -> str:
         f"{sets[i]['name']} {n}" for i, n in enumerate(report["partial_cuts_by_entry"]) if n
     ]
     return f"{total} ({', '.join(by_entry)})" if by_entry else str(total)
+
+
+def tiny(t: dict[str, Any]) -> str:
+    """The blocks far smaller than the typical block (below 1e-3 of the median volume)."""
+    limit = f"below 1e-3 of the median volume, {t['threshold']:.4g}"
+    if t["count"] == 0:
+        return f"none ({limit})"
+    return f"{t['count']} ({limit}; smallest {t['smallest']:.3g})"
 
 
 def slivers(s: dict[str, Any]) -> str:

@@ -76,18 +76,28 @@ class ProgressBar:
         if blocks is not None:
             count += f", {blocks} blocks"
         line = f"{self.label} [{bar}] {100 * fraction:3.0f}%  {count}, {elapsed:.0f} s"
-        pad = " " * max(self.length - len(line), 0)  # wipe what a longer line left
-        self.stream.write(f"\r{line}{pad}")
-        self.stream.flush()
-        self.length = len(line)
+        self.length = redraw(self.stream, line, self.length)
         self.shown = True
 
     def close(self) -> None:
         """Ends the bar's line (when it was shown)."""
-        if self.shown:
-            self.stream.write("\n")
-            self.stream.flush()
-            self.shown = False
+        self.shown = end_line(self.stream, self.shown)
+
+
+def redraw(stream: TextIO, line: str, previous: int) -> int:
+    """Draws `line` over the previous one (of length `previous`); returns its length."""
+    pad = " " * max(previous - len(line), 0)  # wipe what a longer line left
+    stream.write(f"\r{line}{pad}")
+    stream.flush()
+    return len(line)
+
+
+def end_line(stream: TextIO, shown: bool) -> bool:
+    """Ends a redrawn line if one was `shown`; returns False (nothing shown any more)."""
+    if shown:
+        stream.write("\n")
+        stream.flush()
+    return False
 
 
 class Activity:
@@ -179,3 +189,41 @@ def detect(system: Any, show: bool, label: str, **options: Any) -> Any:
             bar.close()
     with Activity(sys.stderr, label):
         return system.detect(**options)
+
+
+class StatusLine:
+    """One line of status redrawn in place (carriage return), for runs whose length is not
+    known in advance (a simulation solving to equilibrium); shown once the run has lasted
+    `delay` seconds, at most every `interval` seconds.
+
+    Call :meth:`show` with the text as often as wanted, then :meth:`close`.
+    """
+
+    def __init__(
+        self,
+        stream: TextIO,
+        delay: float = 1.0,
+        interval: float = 0.2,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
+        self.stream = stream
+        self.delay = delay
+        self.interval = interval
+        self.clock = clock
+        self.start = clock()
+        self.last = -float("inf")
+        self.length = 0
+        self.shown = False
+
+    def show(self, text: str, force: bool = False) -> None:
+        """Redraws the line with `text` (unless drawn less than `interval` ago)."""
+        now = self.clock()
+        if now - self.start < self.delay or (now - self.last < self.interval and not force):
+            return
+        self.last = now
+        self.length = redraw(self.stream, text, self.length)
+        self.shown = True
+
+    def close(self) -> None:
+        """Ends the line (when it was shown)."""
+        self.shown = end_line(self.stream, self.shown)

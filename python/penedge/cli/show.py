@@ -13,15 +13,20 @@ from typing import Any
 import penedge
 from penedge.cli import draw, progress
 from penedge.cli.common import (
-    DEFAULT_NAME,
     PROG,
     CommandError,
     Target,
     UsageError,
     add_gap,
+    add_html,
     add_output_flags,
     add_picture_options,
     check_distinct,
+    gap_fields,
+    gap_flag,
+    gap_options,
+    gap_text,
+    html_file,
     output_file,
     picture_file,
     plural,
@@ -45,20 +50,21 @@ worked example:
   picture: blocks.png
   interactive view: blocks.html
 
-  blocks.png shows the blocks in an exploded perspective view and, beside them, the
-  contacts coloured by type; open blocks.html in a web browser to turn, zoom, hide
+  blocks.png shows the blocks in an exploded perspective view and, beside them, one
+  panel per contact type; open blocks.html in a web browser to turn, zoom, hide
   groups of blocks or contact types, and hover for block ids and contact types.
 
 more:
   penedge show blocks.json                          the picture blocks.png only
   penedge show blocks.json -o rock.svg --colour-by volume
                                                     coloured by volume, as SVG
-  penedge show blocks.json --no-picture --html view.html --stats-png volumes.png
+  penedge show blocks.json --no-picture --html-out view.html --stats-png volumes.png
                                                     the HTML view and the volume curve
   penedge show blocks.json --max-blocks 0 --html    every block, however many
 
 The picture goes to BLOCKS' name with .png in the current folder (blocks.png) unless
--o names it or --no-picture; --html alone writes blocks.html. Default names never
+-o names it or --no-picture; --html writes blocks.html, --html-out FILE names the
+view (--html takes no file name, so `--html blocks.json` reads blocks.json). Default names never
 replace an existing file: the next free name (blocks-1.png, ...) is taken, unless
 --force. A file named here is replaced. Systems larger than --max-blocks show the
 blocks on the outside of the rock mass first."""
@@ -89,14 +95,7 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         help="the picture (.png, .svg or .pdf); default BLOCKS' name with .png",
     )
     pictures.add_argument("--no-picture", action="store_true", help="draw no picture")
-    show.add_argument(
-        "--html",
-        nargs="?",
-        const=DEFAULT_NAME,
-        metavar="FILE",
-        help="the interactive view (.html, self-contained: rotate, zoom, hide / show, "
-        "hover); without FILE: BLOCKS' name with .html",
-    )
+    add_html(show, "BLOCKS' name with .html")
     show.add_argument(
         "--stats-png",
         metavar="FILE",
@@ -105,7 +104,7 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
     show.add_argument(
         "--contacts",
         action="store_true",
-        help="find the contacts and draw them, coloured by type (a second panel of the "
+        help="find the contacts and draw them (a small panel per contact type in the "
         "picture; toggleable traces of the HTML view); print their counts",
     )
     add_gap(show)
@@ -118,19 +117,17 @@ def _targets(args: argparse.Namespace, blocks: Path) -> dict[str, Target | None]
     """The outputs asked for: picture, html, stats (None where not asked)."""
     stem = blocks.stem or "blocks"
     named_picture = picture_file(args.output, "-o/--output")
-    named_html = None
-    if args.html not in (None, DEFAULT_NAME):
-        named_html = output_file(args.html, "--html", (".html",))
+    want_html, named_html = html_file(args)
     stats = output_file(args.stats_png, "--stats-png", (".png",))
     check_distinct(
         {"BLOCKS": blocks},
-        {"-o/--output": named_picture, "--html": named_html, "--stats-png": stats},
+        {"-o/--output": named_picture, "--html-out": named_html, "--stats-png": stats},
     )
     picture = None
     if not args.no_picture:
         picture = target(named_picture, Path(f"{stem}.png"), args.force)
     html = None
-    if args.html is not None:
+    if want_html:
         html = target(named_html, Path(f"{stem}.html"), args.force)
     return {
         "picture": picture,
@@ -159,12 +156,14 @@ def run_show(args: argparse.Namespace) -> int:
     found = None
     if args.contacts:
         try:
-            found = progress.detect(system, show, f"{PROG} show", gap=args.gap, geometry=True)
+            found = progress.detect(
+                system, show, f"{PROG} show", **gap_options(args), geometry=True
+            )
         except penedge.ToleranceError as e:
-            raise UsageError(f"argument --gap: {e}") from None
+            raise UsageError(f"argument {gap_flag(args)}: {e}") from None
         if len(found.penetrating):
             print(f"{PROG}: warning: {penetration_note(found)}", file=sys.stderr)
-    summary = summarize(blocks, system, found, args.gap, args.max_blocks)
+    summary = summarize(blocks, system, found, gap_options(args), args.max_blocks)
     title = f"{blocks.name}: {plural(len(system), 'block')}"
     if found is not None:
         title += f", {plural(len(found), 'contact')}"
@@ -172,6 +171,7 @@ def run_show(args: argparse.Namespace) -> int:
         "title": title,
         "explode": args.explode,
         "colour_by": args.colour_by,
+        "unit": args.unit,
         "max_blocks": args.max_blocks,
         "contacts": found,
     }
@@ -206,7 +206,7 @@ def run_show(args: argparse.Namespace) -> int:
 
 
 def summarize(
-    blocks: Path, system: Any, found: Any, gap: float, max_blocks: int | None
+    blocks: Path, system: Any, found: Any, gap: dict[str, float], max_blocks: int | None
 ) -> dict[str, Any]:
     """The result as plain data (what ``--json`` prints)."""
     n = len(system)
@@ -214,7 +214,7 @@ def summarize(
         "blocks_file": str(blocks),
         "blocks": n,
         "shown_blocks": n if max_blocks is None else min(n, max_blocks),
-        "gap": gap if found is not None else None,
+        **gap_fields(gap if found is not None else None),
         "contacts": None if found is None else len(found),
         "counts": None if found is None else found.counts(),
         "penetrating": None if found is None else len(found.penetrating),
@@ -232,7 +232,7 @@ def format_summary(summary: dict[str, Any]) -> str:
         lines.append(head)
     else:
         lines += [
-            f"{head}, {plural(summary['contacts'], 'contact')} (relative gap {summary['gap']:g})",
+            f"{head}, {plural(summary['contacts'], 'contact')} ({gap_text(summary)})",
             "",
             *counts_table(summary["counts"]),
             "",

@@ -1,7 +1,9 @@
-"""Contacts drawn by type: points, segments and polygons, each type in its own colour."""
+"""Contacts drawn by type: points, segments and polygons, each type in its own colour (or
+each joint set in its own colour), polygons translucent under the points and segments."""
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -89,9 +91,13 @@ def plot_contacts(
     legend: bool = True,
     max_contacts: int | None = DEFAULT_MAX_CONTACTS,
     view: np.ndarray | None = None,
+    types: Iterable[int] | None = None,
+    sets: np.ndarray | None = None,
+    set_names: Sequence[str] = (),
 ) -> Axes:
-    """Draw contacts into a 3D axes, coloured by type: polygons filled, segments as thick
-    lines, points as dots; drawn over what the axes already holds.
+    """Draw contacts into a 3D axes, coloured by type (or by joint set): polygons filled
+    and translucent, segments as thick lines and points as dots drawn over them; all over
+    what the axes already holds.
 
     Parameters
     ----------
@@ -103,12 +109,19 @@ def plot_contacts(
     shown_blocks : numpy.ndarray, shape (n_blocks,), bool, optional
         Draw only the contacts between these blocks (default: every contact).
     legend : bool, default True
-        A legend of the types present, with their counts.
+        A legend of the types (or sets) present, with their counts.
     max_contacts : int or None, default 3000
         Draw at most this many contacts (more make a solid mass): those nearest the
         corner of the system that faces the viewer, with a note saying so. None: all.
     view : numpy.ndarray, shape (3,), optional
         The direction towards the viewer (default: matplotlib's, from the axes).
+    types : iterable of int, optional
+        Draw only the contacts of these type codes (1..7).
+    sets : numpy.ndarray, shape (n,), int, optional
+        The joint set of each contact (-1: none; see ``Scene.contact_sets``): colour the
+        contacts by set (``SET_COLORS``, grey for none) instead of by type.
+    set_names : sequence of str
+        The names of the sets, for the legend.
 
     Returns
     -------
@@ -118,13 +131,17 @@ def plot_contacts(
     from matplotlib.lines import Line2D
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
+    from penedge.pictures.scene import NO_SET_COLOR, SET_COLORS
+
     points, segments, polygons, kinds = contact_shapes(contacts, block_offsets)
-    types = np.asarray(contacts.types)
-    drawn = np.ones(len(types), dtype=bool)
-    if shown_blocks is not None and len(types):
+    codes = np.asarray(contacts.types)
+    drawn = np.ones(len(codes), dtype=bool)
+    if shown_blocks is not None and len(codes):
         drawn = np.asarray(shown_blocks, dtype=bool)[contacts.pairs].all(axis=1)
+    if types is not None:
+        drawn &= np.isin(codes, list(types))
     total = int(drawn.sum())
-    counted = types[drawn]
+    counted = drawn.copy()  # the legend counts every contact meant, drawn or cut down
     if max_contacts is not None and total > max_contacts:
         drawn &= _nearest(contacts, block_offsets, drawn, max_contacts, ax, view)
         ax.text2D(
@@ -136,28 +153,38 @@ def plot_contacts(
             va="bottom",
             fontsize=8,
         )
+    if sets is None:
+        group_of = codes
+        palette = dict(CONTACT_COLORS)
+    else:
+        sets = np.asarray(sets, dtype=np.int64)
+        group_of = sets + 2  # group 1: no set, 2 + s: set s
+        palette = {1: NO_SET_COLOR}
+        present = np.unique(sets[sets >= 0])
+        palette.update({2 + int(s): SET_COLORS[s % len(SET_COLORS)] for s in present})
+    groups = np.where(drawn, group_of, 0)
     many = drawn.sum() > 2000
-    ax.computed_zorder = False  # draw the contacts over the blocks
-    for code, color in CONTACT_COLORS.items():
-        of_type = (types == code) & drawn
-        if not of_type.any():
+    ax.computed_zorder = False  # draw the contacts over the blocks, points over polygons
+    for group, color in palette.items():
+        of_group = groups == group
+        if not of_group.any():
             continue
-        polys = [p for p, keep in zip(polygons, of_type[kinds == 3], strict=True) if keep]
+        polys = [p for p, keep in zip(polygons, of_group[kinds == 3], strict=True) if keep]
         if polys:
             ax.add_collection3d(
                 Poly3DCollection(
                     polys,
-                    facecolors=to_rgba(color, 0.35),
-                    edgecolors=to_rgba(_darker(color), 0.9),
-                    linewidths=0.4 if many else 1.0,
+                    facecolors=to_rgba(color, 0.25),
+                    edgecolors=to_rgba(_darker(color), 0.8),
+                    linewidths=0.4 if many else 0.8,
                     zorder=2,
                 )
             )
-        lines = segments[of_type[kinds == 2]]
+        lines = segments[of_group[kinds == 2]]
         if len(lines):
             width = 1.2 if many else 2.5
             ax.add_collection3d(Line3DCollection(lines, colors=color, linewidths=width, zorder=3))
-        dots = points[of_type[kinds == 1]]
+        dots = points[of_group[kinds == 1]]
         if len(dots):
             ax.scatter(
                 *dots.T,
@@ -169,8 +196,42 @@ def plot_contacts(
                 linewidths=0 if many else 0.5,
             )
     if legend:
-        _legend(ax, counted, Line2D)
+        if sets is None:
+            _legend(ax, group_of[counted], Line2D)
+        else:
+            title = "joint set of the contact's face"
+            set_legend(ax, sets[counted], set_names, title, noun="")
     return ax
+
+
+def set_legend(ax: Any, sets: np.ndarray, names: Sequence[str], title: str, noun: str) -> None:
+    """A legend of joint sets: one entry per set present in `sets` (indices, -1 for none),
+    in set order, with its count of `noun` (``"block"``), then the entry of no set."""
+    from matplotlib.patches import Patch
+
+    from penedge.pictures.scene import NO_SET_COLOR, SET_COLORS
+
+    sets = np.asarray(sets, dtype=np.int64)
+    present, counts = np.unique(sets, return_counts=True)
+    order = np.argsort(present < 0, kind="stable")  # the sets, then "no joint face"
+    handles = []
+    for s, n in zip(present[order], counts[order], strict=True):
+        if s < 0:
+            name, color = "no joint face", NO_SET_COLOR
+        else:
+            name = names[s] if s < len(names) else f"set {s}"
+            color = SET_COLORS[s % len(SET_COLORS)]
+        label = f"{name} ({n}{f' {noun}' + ('s' if n != 1 else '') if noun else ''})"
+        handles.append(Patch(facecolor=color, edgecolor="0.2", label=label))
+    if handles:
+        ax.legend(
+            handles=handles,
+            loc="upper left",
+            fontsize=8,
+            framealpha=0.9,
+            title=title,
+            title_fontsize=8,
+        )
 
 
 def _nearest(

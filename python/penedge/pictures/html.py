@@ -16,8 +16,9 @@ import numpy as np
 
 from penedge.pictures.contacts import CONTACT_COLORS, contact_shapes
 from penedge.pictures.scene import (
-    COLOR_BY,
     DEFAULT_MAX_BLOCKS,
+    NO_SET_COLOR,
+    SET_COLORS,
     Scene,
     block_colors,
     build_scene,
@@ -57,6 +58,14 @@ def _palette_scale(n: int) -> list[list[Any]]:
 def _block_groups(scene: Scene, color_by: str) -> list[tuple[str, np.ndarray]]:
     """(legend name, block ids) of each block trace."""
     ids = np.flatnonzero(scene.shown)
+    if color_by == "set":
+        from penedge.pictures.blocks import set_name
+
+        groups = []
+        for s in np.unique(scene.block_sets[ids]):
+            members = ids[scene.block_sets[ids] == s]
+            groups.append((f"{set_name(scene, int(s))} ({len(members)})", members))
+        return groups
     if len(ids) <= _ONE_TRACE_PER_BLOCK:
         return [(f"block {i}", np.array([i])) for i in ids]
     if color_by == "volume":
@@ -90,16 +99,19 @@ def html_figure(
     title: str | None = None,
     explode: float = 0.5,
     contacts: SystemContacts | None = None,
-    color_by: str = "block",
+    color_by: str | None = None,
     max_blocks: int | None = DEFAULT_MAX_BLOCKS,
     edges: bool | None = None,
+    unit: str | None = None,
 ) -> Any:
     """The interactive exploded view as a plotly figure (see :func:`write_html`)."""
     import plotly.graph_objects as go
 
-    if color_by not in COLOR_BY:
-        raise ValueError(f"color_by must be one of {', '.join(COLOR_BY)}, got {color_by!r}")
+    from penedge.pictures.blocks import length_unit, resolve_color_by
+
     scene = build_scene(system, explode, max_blocks)
+    color_by = resolve_color_by(color_by, scene)
+    unit = length_unit(system, unit)
     if edges is None:
         edges = scene.n_shown <= _EDGES_UP_TO
     lo, hi, log = volume_scale(scene.volumes)
@@ -116,7 +128,7 @@ def html_figure(
         faces = order[bounds[g] : bounds[g + 1]]
         if len(faces) == 0:
             continue
-        mesh = _block_mesh(scene, faces, name, color_by, (lo, hi, log), opacity)
+        mesh = _block_mesh(scene, faces, name, color_by, (lo, hi, log), opacity, unit)
         traces.append(mesh)
         if edges:
             traces.append(_block_edges(scene, faces, name, 1.5 if scene.n_shown > 200 else 2.5))
@@ -129,16 +141,16 @@ def html_figure(
         notes.append(note)
     if explode:
         notes.append(
-            f"exploded view: each block moved out by {explode:g} × its distance from the centre"
+            f"exploded view: each block moved out by {explode:g} × its distance from the "
+            "centre; the axes show where the blocks really are only without it (explode 0): "
+            "hover for the real coordinates"
         )
-    axis = {"showbackground": False, "showspikes": False, "gridcolor": "rgb(225,225,225)"}
+    axes = _axes(explode, unit)
     fig.update_layout(
         title={"text": title} if title else None,
         scene={
             "aspectmode": "data",
-            "xaxis": {**axis, "title": {"text": "x"}},
-            "yaxis": {**axis, "title": {"text": "y"}},
-            "zaxis": {**axis, "title": {"text": "z"}},
+            **axes,
             "camera": {"eye": {"x": 1.5, "y": -1.6, "z": 1.0}},
         },
         legend={
@@ -179,6 +191,23 @@ def html_figure(
     return fig
 
 
+def _axes(explode: float, unit: str) -> dict[str, Any]:
+    """The scene's axes: real coordinates with the unit; for an exploded view (whose
+    positions are not real) titled so, without numbers."""
+    axis = {"showbackground": False, "showspikes": False, "gridcolor": "rgb(225,225,225)"}
+    out = {}
+    for name, label in (("x", "x, east"), ("y", "y, north"), ("z", "z, up")):
+        if explode:
+            out[f"{name}axis"] = {
+                **axis,
+                "title": {"text": f"{label} (exploded)"},
+                "showticklabels": False,
+            }
+        else:
+            out[f"{name}axis"] = {**axis, "title": {"text": f"{label} ({unit})"}}
+    return out
+
+
 def _volume_axis(lo: float, hi: float, log: bool) -> dict[str, Any]:
     bar: dict[str, Any] = {
         "title": {"text": "block volume"},
@@ -203,6 +232,7 @@ def _block_mesh(
     color_by: str,
     scale: tuple[float, float, bool],
     opacity: float,
+    unit: str,
 ) -> Any:
     import plotly.graph_objects as go
 
@@ -213,9 +243,14 @@ def _block_mesh(
     tri_block = scene.face_block[tri_face]
     vertex_block = np.empty(len(used), dtype=np.int64)
     vertex_block[local.ravel()] = np.repeat(tri_block, 3)
-    custom = np.column_stack([vertex_block, scene.volumes[vertex_block]]).astype(np.float32)
+    real = scene.real(scene.vertices[used], vertex_block)
+    custom = np.column_stack([vertex_block, scene.volumes[vertex_block], real])
+    custom = custom.astype(np.float32)  # 7 digits: enough to read, half the file
     colors: dict[str, Any]
-    if color_by == "volume":
+    if color_by == "set":
+        s = scene.block_sets[tri_block[0]]
+        colors = {"color": NO_SET_COLOR if s < 0 else SET_COLORS[s % len(SET_COLORS)]}
+    elif color_by == "volume":
         lo, hi, log = scale
         v = np.clip(scene.volumes[tri_block], lo, hi)
         value = np.log10(v) if log else v
@@ -246,7 +281,11 @@ def _block_mesh(
         legendgroup=name,
         showlegend=True,
         customdata=custom,
-        hovertemplate="block %{customdata[0]}<br>volume %{customdata[1]:.4g}<extra></extra>",
+        hovertemplate=(
+            "block %{customdata[0]}<br>volume %{customdata[1]:.4g} "
+            f"{unit}³<br>vertex at x %{{customdata[2]:.6g}}, y %{{customdata[3]:.6g}}, "
+            f"z %{{customdata[4]:.6g}} {unit}<extra></extra>"
+        ),
         **colors,
     )
 
@@ -377,10 +416,11 @@ def write_html(
     title: str | None = None,
     explode: float = 0.5,
     contacts: SystemContacts | None = None,
-    color_by: str = "block",
+    color_by: str | None = None,
     max_blocks: int | None = DEFAULT_MAX_BLOCKS,
     edges: bool | None = None,
     include_plotlyjs: bool | str = True,
+    unit: str | None = None,
 ) -> None:
     """Write the interactive exploded view (plotly) to one HTML file.
 
@@ -390,12 +430,17 @@ def write_html(
     path : str or path-like or text file object
     title : str, optional
     explode : float, default 0.5
-        Each block moves by ``explode * (its centroid - the system centroid)``.
+        Each block moves by ``explode * (its centroid - the system centroid)``. With 0 the
+        axes show the real coordinates; an exploded view hides their numbers (they would
+        be the moved positions), and hovering a block gives the real position of the
+        vertex nearest the pointer.
     contacts : SystemContacts, optional
         Contacts found with ``detect(geometry=True)``: drawn by type (points, segments,
         polygons), one legend entry per type; the blocks are then drawn translucent.
-    color_by : {"block", "volume"}, default "block"
-        Each block its own colour, or its volume on a colour scale (with a colour bar).
+    color_by : {"set", "block", "volume"}, optional
+        The colour of each block's joint set (one legend entry per set), each block its
+        own colour, or its volume on a colour scale (with a colour bar); default ``"set"``
+        for a system generated with joint sets, else ``"block"``.
     max_blocks : int or None, default 20000
         Draw at most this many blocks: those on the outside of the rock mass first, then
         the largest (the page says so). None: every block.
@@ -404,6 +449,9 @@ def write_html(
     include_plotlyjs : bool or str, default True
         True embeds plotly.js, so that the file needs nothing else (works offline, a few
         MB); ``"cdn"`` links it instead.
+    unit : str, optional
+        The model's length unit, for the axes and the hover text; default the system's
+        (``BlockSystem.unit``, from the spec), else ``"m"``.
     """
     fig = html_figure(
         system,
@@ -413,6 +461,7 @@ def write_html(
         color_by=color_by,
         max_blocks=max_blocks,
         edges=edges,
+        unit=unit,
     )
     fig.write_html(
         path,

@@ -19,13 +19,38 @@ if TYPE_CHECKING:
 __all__ = [
     "COLOR_BY",
     "DEFAULT_MAX_BLOCKS",
+    "NO_SET_COLOR",
+    "SET_COLORS",
     "Scene",
     "block_colors",
+    "dominant_sets",
+    "face_areas",
+    "set_colors",
     "volume_scale",
 ]
 
-#: How blocks can be coloured: each its own colour, or by volume on a colour scale.
-COLOR_BY = ("block", "volume")
+#: How blocks can be coloured: by joint set (the set holding most of the block's face area;
+#: where no face is a joint, each block its own colour), each block its own colour, or by
+#: volume on a colour scale.
+COLOR_BY = ("set", "block", "volume")
+
+#: The colours of joint sets (spec entries) in order, repeating after ten (Tableau 10:
+#: distinct in print and for the common colour blindnesses).
+SET_COLORS = (
+    "#4e79a7",
+    "#f28e2b",
+    "#e15759",
+    "#76b7b2",
+    "#59a14f",
+    "#edc948",
+    "#b07aa1",
+    "#ff9da7",
+    "#9c755f",
+    "#79706e",
+)
+#: The colour of blocks and contacts with no joint face (the domain's surface only, or a
+#: contact between vertices and edges).
+NO_SET_COLOR = "#c8c8c8"
 
 #: The most blocks a picture draws; beyond, the blocks on the outside of the rock mass
 #: (with a face on the domain's boundary) are drawn first, then the largest.
@@ -53,6 +78,54 @@ def block_colors(n: int) -> np.ndarray:
     hue = (0.58 + i * _GOLDEN_ANGLE) % 1.0
     saturation = np.where(i % 2 == 1, 0.50, 0.62)
     return _hsv_to_rgb(hue, saturation, 0.95)
+
+
+def set_colors(sets: np.ndarray) -> np.ndarray:
+    """RGB in [0, 1] of set indices (``SET_COLORS``, repeating), grey for -1 (no set)."""
+    sets = np.asarray(sets, dtype=np.int64)
+    table = np.array([_hex_rgb(c) for c in (*SET_COLORS, NO_SET_COLOR)])
+    return table[np.where(sets < 0, len(SET_COLORS), sets % len(SET_COLORS))].reshape(-1, 3)
+
+
+def _hex_rgb(color: str) -> tuple[float, float, float]:
+    return tuple(int(color[k : k + 2], 16) / 255 for k in (1, 3, 5))  # type: ignore[return-value]
+
+
+def face_areas(
+    vertices: np.ndarray, face_vertices: np.ndarray, loop_offsets: np.ndarray
+) -> np.ndarray:
+    """The area of each face (a convex polygon), from its fan of triangles."""
+    lo = np.asarray(loop_offsets, dtype=np.int64)
+    if len(lo) < 2:
+        return np.zeros(0)
+    start = lo[:-1]
+    count = lo[1:] - start - 2
+    first = np.repeat(start, count)
+    step = _ranges(np.zeros_like(count), count)
+    fv = np.asarray(face_vertices, dtype=np.int64)
+    a, b, c = (vertices[fv[first + k]] for k in (0, 1 + step, 2 + step))  # type: ignore[index]
+    doubled = np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    face = np.repeat(np.arange(len(start)), count)
+    return np.bincount(face, weights=doubled, minlength=len(start)) / 2
+
+
+def dominant_sets(arrays: Any) -> np.ndarray:
+    """For each block of :meth:`~penedge.BlockSystem.arrays`, the joint set (spec entry,
+    an index into ``BlockSystem.sets``) holding the largest part of its face area; -1 for a
+    block with no joint face. Ties go to the first set."""
+    n = len(arrays.volumes)
+    kind = np.asarray(arrays.face_origin_kind)
+    joint = kind == 2
+    if n == 0 or not joint.any():
+        return np.full(n, -1, dtype=np.int64)
+    vertices = np.asarray(arrays.vertices, dtype=float).reshape(-1, 3)
+    area = face_areas(vertices, arrays.face_vertices, arrays.loop_offsets)
+    sets = np.asarray(arrays.face_origin_set)
+    n_sets = int(sets[joint].max()) + 1
+    table = np.zeros((n, n_sets))
+    np.add.at(table, (np.asarray(arrays.face_block)[joint], sets[joint]), area[joint])
+    best = table.argmax(axis=1)
+    return np.where(table.max(axis=1) > 0, best, -1)
 
 
 def _hsv_to_rgb(h: np.ndarray, s: np.ndarray, v: float) -> np.ndarray:
@@ -117,6 +190,17 @@ class Scene:
         Centroids as moved.
     shown : (n,) bool array
         Which blocks are drawn.
+    block_sets : (n,) int array
+        The dominant joint set of each block (:func:`dominant_sets`), -1 for none.
+    set_names, set_kinds : list of str
+        The names and kinds of the spec entries (``BlockSystem.sets``); empty when not
+        generated.
+    face_offsets, face_sets : int arrays over every block and face of the system
+        Block ``i`` has the faces ``face_offsets[i]:face_offsets[i + 1]``; the joint set of
+        each face, -1 for none (the contacts' sets come from these).
+    body_first : (n,) int array
+        For each block, the first block (smallest id) of its body: the parts of a concave
+        block take its colour, so that the block is drawn as one.
     """
 
     vertices: np.ndarray
@@ -128,6 +212,12 @@ class Scene:
     volumes: np.ndarray
     centroids: np.ndarray
     shown: np.ndarray
+    block_sets: np.ndarray
+    set_names: list[str]
+    set_kinds: list[str]
+    face_offsets: np.ndarray
+    face_sets: np.ndarray
+    body_first: np.ndarray
 
     @property
     def n_blocks(self) -> int:
@@ -176,6 +266,26 @@ class Scene:
         fv = self.face_vertices
         pairs = np.sort(np.column_stack([fv[here], fv[after]]), axis=1)
         return np.unique(pairs, axis=0) if len(pairs) else pairs.reshape(0, 2)
+
+    def contact_sets(self, contacts: Any) -> np.ndarray:
+        """The joint set of each contact: that of its face (side A's when both blocks touch
+        with a face), -1 when neither block touches with a joint face (vertex-vertex,
+        edge-edge, or a face on the domain's surface)."""
+        kinds = np.asarray(contacts.feature_kinds).reshape(-1, 2)
+        ids = np.asarray(contacts.feature_ids).reshape(-1, 2)
+        pairs = np.asarray(contacts.pairs).reshape(-1, 2)
+        out = np.full(len(pairs), -1, dtype=np.int64)
+        for side in (1, 0):  # side A last: it wins
+            face = kinds[:, side] == 2
+            index = self.face_offsets[pairs[face, side]] + ids[face, side]
+            found = self.face_sets[index]
+            out[np.flatnonzero(face)[found >= 0]] = found[found >= 0]
+        return out
+
+    def real(self, points: np.ndarray, blocks: np.ndarray) -> np.ndarray:
+        """Points of the exploded view back where they really are (`blocks`: the block of
+        each point)."""
+        return points - self.offsets[blocks]
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """The corners of the box around the drawn faces."""
@@ -226,7 +336,10 @@ def build_scene(
     max_blocks: int | None = DEFAULT_MAX_BLOCKS,
 ) -> Scene:
     """The system exploded (each block moved by ``explode * (its centroid - the system's
-    volume-weighted centroid)``) and cut down to at most `max_blocks` blocks."""
+    volume-weighted centroid)``) and cut down to at most `max_blocks` blocks.
+
+    A concave block (parts sharing a body id) is drawn as one block: its parts move together
+    (by the centroid of the whole body) and its internal faces are left out."""
     if max_blocks is not None and max_blocks < 1:
         raise ValueError(f"max_blocks must be at least 1, got {max_blocks}")
     a = _arrays(system)
@@ -235,7 +348,21 @@ def build_scene(
     n = len(volumes)
     total = volumes.sum()
     centre = volumes @ centroids / total if n and total > 0 else np.zeros(3)
-    offsets = explode * (centroids - centre)
+    body = np.asarray(getattr(a, "body_ids", np.arange(n)), dtype=np.int64)
+    ids, body_index = np.unique(body, return_inverse=True)
+    body_volume = np.bincount(body_index, weights=volumes, minlength=len(ids))
+    body_centroid = (
+        np.column_stack(
+            [
+                np.bincount(body_index, weights=volumes * centroids[:, k], minlength=len(ids))
+                for k in range(3)
+            ]
+        )
+        / np.where(body_volume > 0, body_volume, 1.0)[:, None]
+    )
+    offsets = explode * (body_centroid[body_index] - centre) if n else np.zeros((0, 3))
+    first = np.full(len(ids), n, dtype=np.int64)
+    np.minimum.at(first, body_index, np.arange(n))
     vertex_block = np.repeat(np.arange(n), np.diff(a.vertex_offsets))
     vertices = np.asarray(a.vertices, dtype=float).reshape(-1, 3) + offsets[vertex_block]
     shown = choose_blocks(a, max_blocks)
@@ -243,13 +370,22 @@ def build_scene(
     loop_offsets = np.asarray(a.loop_offsets)
     face_vertices = np.asarray(a.face_vertices)
     face_normals = np.asarray(a.face_normals, dtype=float).reshape(-1, 3)
-    if not shown.all():
-        keep = shown[face_block]
+    internal = np.asarray(getattr(a, "face_internal", np.zeros(len(face_block))), dtype=bool)
+    if not shown.all() or internal.any():
+        keep = shown[face_block] & ~internal
         sizes = np.diff(loop_offsets)
         face_vertices = face_vertices[np.repeat(keep, sizes)]
         loop_offsets = np.concatenate([[0], np.cumsum(sizes[keep])])
         face_block, face_normals = face_block[keep], face_normals[keep]
+    origin_kind = np.asarray(a.face_origin_kind)
+    face_sets = np.where(origin_kind == 2, np.asarray(a.face_origin_set), -1)
+    sets = getattr(system, "sets", None) or []
     return Scene(
+        block_sets=dominant_sets(a),
+        set_names=[s["name"] for s in sets],
+        set_kinds=[s["kind"] for s in sets],
+        face_offsets=np.asarray(a.face_offsets),
+        face_sets=face_sets,
         vertices=vertices,
         face_vertices=face_vertices,
         loop_offsets=loop_offsets,
@@ -259,6 +395,7 @@ def build_scene(
         volumes=volumes,
         centroids=centroids + offsets,
         shown=shown,
+        body_first=first[body_index],
     )
 
 

@@ -38,6 +38,11 @@ use pyo3::prelude::*;
 ///     Face of the domain part (boundary) or joint plane (joint); -1 when unknown.
 /// volumes : numpy.ndarray, shape (n,), float64
 /// centroids : numpy.ndarray, shape (n, 3), float64
+/// body_ids : numpy.ndarray, shape (n,), int64
+///     The body (concave block) of each block; its own id unless given by
+///     :meth:`BlockSystem.with_bodies`.
+/// face_internal : numpy.ndarray, shape (f,), int8
+///     1 for a face inside its concave block (glued to other parts entirely), else 0.
 #[pyclass(module = "penedge", name = "BlockArrays", frozen, get_all)]
 pub struct BlockArrays {
     vertices: Py<PyArray2<f64>>,
@@ -52,6 +57,8 @@ pub struct BlockArrays {
     face_origin_index: Py<PyArray1<i64>>,
     volumes: Py<PyArray1<f64>>,
     centroids: Py<PyArray2<f64>>,
+    body_ids: Py<PyArray1<i64>>,
+    face_internal: Py<PyArray1<i8>>,
 }
 
 fn signed(values: &[u64]) -> Vec<i64> {
@@ -73,6 +80,7 @@ impl BlockArrays {
         let rows =
             |r: &[[f64; 3]]| Ok::<_, PyErr>(arrays::read_only(arrays::rows3(py, r))?.unbind());
         let kinds = a.origin_kind.iter().map(|&k| k as i8).collect();
+        let internal = a.face_internal.iter().map(|&k| k as i8).collect();
         Ok(BlockArrays {
             vertices: rows(&a.vertices)?,
             vertex_offsets: v1(signed(&a.vertex_offsets))?,
@@ -86,6 +94,8 @@ impl BlockArrays {
             face_origin_index: v1(a.origin_index)?,
             volumes: arrays::read_only(arrays::vector(py, a.volumes))?.unbind(),
             centroids: rows(&a.centroids)?,
+            body_ids: v1(a.body_ids)?,
+            face_internal: arrays::read_only(arrays::vector(py, internal))?.unbind(),
         })
     }
 }
@@ -95,7 +105,11 @@ impl BlockArrays {
     fn __repr__(&self, py: Python<'_>) -> String {
         let len = |a: &Py<PyArray1<f64>>| a.bind(py).len().unwrap_or(0);
         let faces = self.face_block.bind(py).len().unwrap_or(0);
-        format!("BlockArrays({} blocks, {faces} faces)", len(&self.volumes))
+        format!(
+            "BlockArrays({}, {})",
+            crate::counted(len(&self.volumes), "block", "blocks"),
+            crate::counted(faces, "face", "faces")
+        )
     }
 }
 

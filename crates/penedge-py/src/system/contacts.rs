@@ -65,6 +65,9 @@ pub struct SystemContacts {
     pub found: CoreContacts,
     /// The core geometry, when asked for.
     pub geometry: Option<ContactGeometries>,
+    /// The system the contacts were found in and the tolerance used (for the table's joint
+    /// sets and its distances within the gap), when found by `BlockSystem.detect`.
+    pub source: Option<(Py<super::BlockSystem>, penedge::Tolerance)>,
 }
 
 /// The geometry arrays: normals, distances, areas, point offsets, points.
@@ -93,6 +96,7 @@ impl SystemContacts {
         py: Python<'_>,
         found: CoreContacts,
         geometry: Option<ContactGeometries>,
+        source: Option<(Py<super::BlockSystem>, penedge::Tolerance)>,
     ) -> PyResult<Self> {
         let c = &found.contacts;
         let pair_rows = |p: [u32; 2]| p.map(i64::from);
@@ -125,6 +129,7 @@ impl SystemContacts {
             counts: count_types(c),
             found,
             geometry,
+            source,
         })
     }
 }
@@ -177,8 +182,8 @@ impl SystemContacts {
             .map(|t| format!("{} {}", names[t], self.counts[t]))
             .collect();
         format!(
-            "SystemContacts({} contacts: {}; {} penetrating{})",
-            self.__len__(),
+            "SystemContacts({}: {}; {} penetrating{})",
+            crate::counted(self.__len__(), "contact", "contacts"),
             if by_type.is_empty() {
                 "none".to_string()
             } else {

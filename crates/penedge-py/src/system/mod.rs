@@ -3,11 +3,13 @@
 //! `crate::io`.
 
 mod blocks;
+mod bodies;
 mod contacts;
 mod examples;
 mod tracker;
 
 pub use blocks::BlockArrays;
+pub use bodies::BodyContacts;
 pub use contacts::SystemContacts;
 pub use examples::{paper_example, paper_example_planes, paper_table3};
 pub use tracker::ContactTracker;
@@ -113,6 +115,99 @@ impl BlockSystem {
             .map_err(to_py_err)
     }
 
+    /// A system from flat arrays, as :meth:`arrays` gives them back, without a Python object
+    /// per block (the blocks are built and validated in parallel, without the GIL).
+    ///
+    /// Block ``i`` owns the vertices ``vertices[vertex_offsets[i]:vertex_offsets[i + 1]]``
+    /// and the faces ``face_offsets[i]:face_offsets[i + 1]``; face ``f`` is the loop
+    /// ``face_vertices[loop_offsets[f]:loop_offsets[f + 1]]`` of indices into `vertices`
+    /// (each among its own block's vertices), counter-clockwise seen from outside. Each
+    /// block is checked as :class:`Block` checks it.
+    ///
+    /// Parameters
+    /// ----------
+    /// vertices : array_like, shape (v, 3)
+    /// vertex_offsets : array_like of int, shape (n + 1,)
+    /// face_offsets : array_like of int, shape (n + 1,)
+    /// loop_offsets : array_like of int, shape (f + 1,)
+    /// face_vertices : array_like of int, shape (l,)
+    /// face_origin_kind, face_origin_set, face_origin_index : array_like of int, optional
+    ///     Shape (f,) each: where each face comes from, as in :class:`BlockArrays` (all three or none); kept
+    ///     for the blocks whose faces are kept as given.
+    ///
+    /// Returns
+    /// -------
+    /// BlockSystem
+    ///
+    /// Raises
+    /// ------
+    /// InputError
+    ///     Wrong shapes or dtypes, offsets that do not start at 0, decrease or do not end at
+    ///     the length of what they index, or a face that refers to another block's vertex
+    ///     (``kind == "arrays"``; the message names the array, face and block).
+    /// BlockError
+    ///     A block that is not a closed convex polyhedron; the message starts with
+    ///     ``block i:`` (the lowest such id).
+    ///
+    /// Examples
+    /// --------
+    /// >>> import penedge
+    /// >>> a = penedge.paper_example(3).arrays()
+    /// >>> system = penedge.BlockSystem.from_arrays(
+    /// ...     a.vertices, a.vertex_offsets, a.face_offsets, a.loop_offsets, a.face_vertices)
+    /// >>> len(system), system.detect().counts() == penedge.paper_example(3).detect().counts()
+    /// (26, True)
+    #[staticmethod]
+    #[pyo3(signature = (vertices, vertex_offsets, face_offsets, loop_offsets, face_vertices,
+                        face_origin_kind=None, face_origin_set=None, face_origin_index=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn from_arrays(
+        py: Python<'_>,
+        vertices: &Bound<'_, PyAny>,
+        vertex_offsets: &Bound<'_, PyAny>,
+        face_offsets: &Bound<'_, PyAny>,
+        loop_offsets: &Bound<'_, PyAny>,
+        face_vertices: &Bound<'_, PyAny>,
+        face_origin_kind: Option<&Bound<'_, PyAny>>,
+        face_origin_set: Option<&Bound<'_, PyAny>>,
+        face_origin_index: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let vertices = arrays::points(vertices, "vertices")?;
+        let vertex_offsets = arrays::indices(vertex_offsets, "vertex_offsets")?;
+        let face_offsets = arrays::indices(face_offsets, "face_offsets")?;
+        let loop_offsets = arrays::indices(loop_offsets, "loop_offsets")?;
+        let face_vertices = arrays::indices(face_vertices, "face_vertices")?;
+        let origins = match (face_origin_kind, face_origin_set, face_origin_index) {
+            (None, None, None) => None,
+            (Some(kind), Some(set), Some(index)) => Some(face_origins(kind, set, index)?),
+            _ => {
+                let msg = "give all three of face_origin_kind, face_origin_set and \
+                           face_origin_index, or none";
+                return Err(input_error("origins", msg));
+            }
+        };
+        let flat = system::FlatBlocks {
+            vertices: &vertices,
+            vertex_offsets: &vertex_offsets,
+            face_offsets: &face_offsets,
+            loop_offsets: &loop_offsets,
+            face_vertices: &face_vertices,
+            origins: origins.as_deref(),
+        };
+        let tol = penedge::Tolerance::default();
+        py.detach(|| system::BlockSystem::from_arrays(&flat, &tol))
+            .map(BlockSystem::wrap)
+            .map_err(to_py_err)
+    }
+
+    /// The length unit of the coordinates (the generation spec's ``unit``, kept in the
+    /// block file), or None when not named. A label for pictures and reports: penedge
+    /// computes in whatever unit the numbers are.
+    #[getter]
+    fn unit(&self) -> Option<String> {
+        self.inner.unit().map(str::to_string)
+    }
+
     /// The blocks, indexed by id (copies).
     #[getter]
     fn blocks(&self) -> Vec<Block> {
@@ -142,6 +237,8 @@ impl BlockSystem {
     /// threads : int, optional
     ///     Number of threads (default: all cores, or ``RAYON_NUM_THREADS``). The result is
     ///     the same for any number.
+    /// absolute_gap : float, optional
+    ///     The gap as a length (model units) instead of `gap`, as in :func:`detect_pair`.
     ///
     /// Returns
     /// -------
@@ -153,7 +250,7 @@ impl BlockSystem {
     /// Raises
     /// ------
     /// ToleranceError
-    ///     Impossible `gap` or `length`.
+    ///     Impossible `gap`, `length` or `absolute_gap`.
     /// InputError
     ///     `threads` below 1 or above 1024.
     /// KeyboardInterrupt
@@ -169,19 +266,21 @@ impl BlockSystem {
     /// (array([[1., 0., 0.]]), array([1.]), array([0, 4]))
     /// >>> found.points_of(0).tolist()
     /// [[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [1.0, 1.0, 1.0], [1.0, 0.0, 1.0]]
-    #[pyo3(signature = (gap = 1e-12, length = None, geometry = false, progress = None, threads = None))]
+    #[pyo3(signature = (gap = 1e-12, length = None, geometry = false, progress = None, threads = None, absolute_gap = None))]
+    #[allow(clippy::too_many_arguments)] // Python's keyword arguments, one per option
     fn detect(
-        &self,
+        slf: &Bound<'_, Self>,
         py: Python<'_>,
         gap: f64,
         length: Option<f64>,
         geometry: bool,
         progress: Option<Py<PyAny>>,
         threads: Option<i64>,
+        absolute_gap: Option<f64>,
     ) -> PyResult<SystemContacts> {
-        let tol = tolerance(gap, length)?;
+        let tol = tolerance(gap, length, absolute_gap)?;
         let pool = thread_pool(threads)?;
-        let inner = &self.inner;
+        let inner = &slf.get().inner;
         let run = |report: &mut (dyn FnMut(DetectProgress) -> ControlFlow<()> + Send)| {
             let mut run = || {
                 if geometry {
@@ -199,7 +298,10 @@ impl BlockSystem {
         };
         let (result, failure) = watched(py, progress.as_ref(), run);
         match (result, failure) {
-            (Ok((found, g)), None) => SystemContacts::from_core(py, found, g),
+            (Ok((found, g)), None) => {
+                let source = (slf.clone().unbind(), tol);
+                SystemContacts::from_core(py, found, g, Some(source))
+            }
             (_, Some(e)) => Err(e),
             (Err(Cancelled), None) => unreachable!("only a failed callback cancels"),
         }
@@ -220,7 +322,10 @@ impl BlockSystem {
     }
 
     fn __repr__(&self) -> String {
-        format!("BlockSystem({} blocks)", self.inner.len())
+        format!(
+            "BlockSystem({})",
+            crate::counted(self.inner.len(), "block", "blocks")
+        )
     }
 
     /// Pickles through the JSON block file (lossless, with the domain and joint table).
@@ -230,6 +335,47 @@ impl BlockSystem {
         let from_json = py.get_type::<BlockSystem>().getattr("from_json")?;
         PyTuple::new(py, [from_json, (text,).into_pyobject(py)?.into_any()])
     }
+}
+
+/// Face origins from the three arrays of :class:`BlockArrays` (kind, set, index).
+fn face_origins(
+    kind: &Bound<'_, PyAny>,
+    set: &Bound<'_, PyAny>,
+    index: &Bound<'_, PyAny>,
+) -> PyResult<Vec<penedge::block::FaceOrigin>> {
+    let whole = |obj: &Bound<'_, PyAny>, name: &str| -> PyResult<Vec<i64>> {
+        let values = arrays::numbers(obj, name)?;
+        values
+            .iter()
+            .map(|&x| {
+                if x.fract() == 0.0 && x.abs() < 2f64.powi(53) {
+                    Ok(x as i64)
+                } else {
+                    Err(input_error(
+                        "dtype",
+                        format!("{name} must hold integers, got {x}"),
+                    ))
+                }
+            })
+            .collect()
+    };
+    let (kind, set, index) = (
+        whole(kind, "face_origin_kind")?,
+        whole(set, "face_origin_set")?,
+        whole(index, "face_origin_index")?,
+    );
+    if kind.len() != set.len() || kind.len() != index.len() {
+        let msg = format!(
+            "face_origin_kind, face_origin_set and face_origin_index have {}, {} and {} values",
+            kind.len(),
+            set.len(),
+            index.len()
+        );
+        return Err(input_error("origins", msg));
+    }
+    (0..kind.len())
+        .map(|f| crate::block::face_origin(kind[f], set[f], index[f]))
+        .collect()
 }
 
 /// The shortest time between two progress reports (and Ctrl-C checks).

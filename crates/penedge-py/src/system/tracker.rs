@@ -30,13 +30,15 @@ use pyo3::types::PyDict;
 ///     Relative gap, as in :func:`detect_pair`.
 /// length : float, optional
 ///     Relative length threshold, as in :func:`detect_pair`.
+/// absolute_gap : float, optional
+///     The gap as a length (model units) instead of `gap`, as in :func:`detect_pair`.
 ///
 /// Raises
 /// ------
 /// InputError
 ///     A negative, NaN or infinite `skin`.
 /// ToleranceError
-///     Impossible `gap` or `length`.
+///     Impossible `gap`, `length` or `absolute_gap`.
 ///
 /// Examples
 /// --------
@@ -62,15 +64,16 @@ pub struct ContactTracker {
 #[pymethods]
 impl ContactTracker {
     #[new]
-    #[pyo3(signature = (system, skin = 0.0, gap = 1e-12, length = None))]
+    #[pyo3(signature = (system, skin = 0.0, gap = 1e-12, length = None, absolute_gap = None))]
     fn new(
         py: Python<'_>,
         system: &BlockSystem,
         skin: f64,
         gap: f64,
         length: Option<f64>,
+        absolute_gap: Option<f64>,
     ) -> PyResult<Self> {
-        let tol = tolerance(gap, length)?;
+        let tol = tolerance(gap, length, absolute_gap)?;
         let inner = py
             .detach(|| system::ContactTracker::new(&system.inner, tol, skin))
             .map_err(|e| input_error("skin", e.to_string()))?;
@@ -155,9 +158,9 @@ impl ContactTracker {
 
     fn __repr__(&self) -> String {
         format!(
-            "ContactTracker({} blocks, {} contacts)",
-            self.inner.len(),
-            self.inner.contacts().contacts.len()
+            "ContactTracker({}, {})",
+            crate::counted(self.inner.len(), "block", "blocks"),
+            crate::counted(self.inner.contacts().contacts.len(), "contact", "contacts")
         )
     }
 }
@@ -165,6 +168,6 @@ impl ContactTracker {
 fn contacts_of(py: Python<'_>, tracker: &system::ContactTracker) -> PyResult<Py<SystemContacts>> {
     Py::new(
         py,
-        SystemContacts::from_core(py, tracker.contacts().clone(), None)?,
+        SystemContacts::from_core(py, tracker.contacts().clone(), None, None)?,
     )
 }

@@ -37,9 +37,16 @@ impl ConvexBlock {
         let eps = tol.for_box(&Aabb::of_points(&points)).length;
         check_face_lists(&faces, points.len())?;
         check_repeated_vertices(&points, eps)?;
-        check_closed_solid(&points, &faces, eps)?;
-        let faces = merge_coplanar_faces(&points, faces, eps)?;
-        build_checked(points, faces, eps)
+        let edges = check_closed_solid(&points, &faces, eps)?;
+        match merge_coplanar_faces(&points, &faces, &edges, eps)? {
+            // The faces as given: their edges and planes are known already.
+            Merged::Kept(planes) => build_checked(points, faces, edges, planes, eps),
+            Merged::Into(merged) => {
+                let edges = check_closed_solid(&points, &merged, eps)?;
+                let planes = face_planes(&points, &merged, eps)?;
+                build_checked(points, merged, edges, planes, eps)
+            }
+        }
     }
 }
 
@@ -133,10 +140,40 @@ fn check_repeated_vertices(points: &[DVec3], eps: f64) -> Result<(), BlockError>
     Ok(())
 }
 
+/// A hasher for vertex indices: a multiply and a rotate per word (as rustc's FxHasher), much
+/// cheaper than the default SipHash for the few dozen keys of a block, whose construction
+/// it dominated. Keys are a block's own vertex indices, so collisions cost at most that
+/// block's size.
+#[derive(Default)]
+struct IndexHasher(u64);
+
+impl std::hash::Hasher for IndexHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+
+    fn write_u64(&mut self, word: u64) {
+        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+
+    fn write_usize(&mut self, word: usize) {
+        self.write_u64(word as u64);
+    }
+}
+
+/// A hash map keyed by vertex indices, with [`IndexHasher`].
+type IndexMap<K, V> = HashMap<K, V, std::hash::BuildHasherDefault<IndexHasher>>;
+
 /// Undirected edges with the faces on each side; checks a closed, manifold, consistently
 /// oriented surface.
 fn build_edges(faces: &[Vec<usize>]) -> Result<Vec<Edge>, BlockError> {
-    let mut index: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut index: IndexMap<(usize, usize), usize> = IndexMap::default();
     let mut edges: Vec<(Edge, bool)> = Vec::new();
     for (f, face) in faces.iter().enumerate() {
         for k in 0..face.len() {
@@ -200,19 +237,30 @@ fn face_plane(points: &[DVec3], face: &[usize], f: usize, eps: f64) -> Result<Pl
     })
 }
 
-/// Merges faces that share an edge and lie in one plane.
+/// The faces after [`merge_coplanar_faces`]: kept as given (with their planes), or merged.
+enum Merged {
+    Kept(Vec<Plane>),
+    Into(Vec<Vec<usize>>),
+}
+
+/// The plane of each face.
+fn face_planes(points: &[DVec3], faces: &[Vec<usize>], eps: f64) -> Result<Vec<Plane>, BlockError> {
+    (0..faces.len())
+        .map(|f| face_plane(points, &faces[f], f, eps))
+        .collect()
+}
+
+/// Merges faces that share an edge (of `edges`, the faces' edges) and lie in one plane.
 fn merge_coplanar_faces(
     points: &[DVec3],
-    faces: Vec<Vec<usize>>,
+    faces: &[Vec<usize>],
+    edges: &[Edge],
     eps: f64,
-) -> Result<Vec<Vec<usize>>, BlockError> {
-    let edges = build_edges(&faces)?;
-    let planes: Vec<Plane> = (0..faces.len())
-        .map(|f| face_plane(points, &faces[f], f, eps))
-        .collect::<Result<_, _>>()?;
+) -> Result<Merged, BlockError> {
+    let planes = face_planes(points, faces, eps)?;
     let mut group: Vec<usize> = (0..faces.len()).collect();
     let mut merged_any = false;
-    for e in &edges {
+    for e in edges {
         let (f, g) = (e.faces[0] as usize, e.faces[1] as usize);
         let coplanar = planes[f].normal.dot(planes[g].normal) > 0.0
             && faces[g]
@@ -230,16 +278,16 @@ fn merge_coplanar_faces(
         }
     }
     if !merged_any {
-        return Ok(faces);
+        return Ok(Merged::Kept(planes));
     }
     let roots: Vec<usize> = (0..faces.len()).map(|f| find(&mut group, f)).collect();
     let mut merged = Vec::new();
     for root in 0..faces.len() {
         if roots[root] == root {
-            merged.push(boundary_loop(&faces, &roots, root)?);
+            merged.push(boundary_loop(faces, &roots, root)?);
         }
     }
-    Ok(merged)
+    Ok(Merged::Into(merged))
 }
 
 fn find(group: &mut [usize], mut f: usize) -> usize {
@@ -328,16 +376,16 @@ fn check_closed_solid(
     Ok(edges)
 }
 
+/// The block of checked faces (a closed solid, [`check_closed_solid`]) with their edges and
+/// planes, after the remaining checks.
 fn build_checked(
     points: Vec<DVec3>,
     faces: Vec<Vec<usize>>,
+    edges: Vec<Edge>,
+    planes: Vec<Plane>,
     eps: f64,
 ) -> Result<ConvexBlock, BlockError> {
-    let edges = check_closed_solid(&points, &faces, eps)?;
     check_corners(points.len(), &faces)?;
-    let planes: Vec<Plane> = (0..faces.len())
-        .map(|f| face_plane(&points, &faces[f], f, eps))
-        .collect::<Result<_, _>>()?;
     let (volume, centroid) = volume_and_centroid(&points, faces.iter().map(|f| f.iter().copied()));
     let bounds = super::Bounds::of(&points);
     check_faces_planar_convex(&points, &faces, &planes, eps)?;

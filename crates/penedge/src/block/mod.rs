@@ -10,6 +10,7 @@ mod build;
 mod clearance;
 mod error;
 mod halfspace;
+mod hull;
 mod origin;
 mod pose;
 mod stored;
@@ -281,6 +282,18 @@ impl ConvexBlock {
         ConvexBlock::new(&v, &f)
     }
 
+    /// The block moved by `offset` (a copy; topology, ids and face origins kept).
+    pub fn translated(&self, offset: DVec3) -> ConvexBlock {
+        self.transformed(DQuat::IDENTITY, offset, 1.0)
+    }
+
+    /// The block turned by `rotation` about the point `about` (the centroid, say): a point
+    /// `x` goes to `about + rotation (x - about)`. A copy; topology, ids and face origins
+    /// kept.
+    pub fn rotated(&self, rotation: DQuat, about: DVec3) -> ConvexBlock {
+        self.transformed(rotation, about - rotation * about, 1.0)
+    }
+
     /// The block moved rigidly (rotation about the origin, then translation) and scaled
     /// about the origin by `scale` (> 0). Topology and ids are kept.
     pub fn transformed(&self, rotation: DQuat, translation: DVec3, scale: f64) -> ConvexBlock {
@@ -301,6 +314,19 @@ impl ConvexBlock {
             volume: self.volume * scale.powi(3),
             centroid: rigid.point(self.centroid),
         }
+    }
+}
+
+/// Equality by value: the same vertices (bit for bit, in the same order) and the same faces
+/// (the same vertex loops, in the same order). Everything else of a block derives from these,
+/// except where its faces come from ([`ConvexBlock::face_origins`]), which is provenance, not
+/// shape, and not compared; nor are the face planes, which a block read back from a file
+/// or made from half-spaces may carry with a different rounding.
+impl PartialEq for ConvexBlock {
+    fn eq(&self, other: &Self) -> bool {
+        self.vertices == other.vertices
+            && self.face_offsets == other.face_offsets
+            && self.face_vertices == other.face_vertices
     }
 }
 

@@ -301,6 +301,51 @@ fn transformed_blocks_keep_volume_and_planes() {
     }
 }
 
+#[test]
+fn translated_and_rotated_copies() {
+    let b = ConvexBlock::cuboid([0.0; 3], [1.0, 2.0, 3.0]).unwrap();
+    let moved = b.translated(DVec3::new(10.0, 0.0, -1.0));
+    assert_eq!(
+        moved,
+        ConvexBlock::cuboid([10.0, 0.0, -1.0], [11.0, 2.0, 2.0]).unwrap()
+    );
+    assert_eq!(moved.face_origins(), b.face_origins());
+    // A quarter turn about z through the centroid (0.5, 1, 1.5): x' = 0.5 - (y - 1),
+    // y' = 1 + (x - 0.5), so the box spans x in [-0.5, 1.5], y in [0.5, 1.5].
+    let quarter = glam::DQuat::from_rotation_z(std::f64::consts::FRAC_PI_2);
+    let turned = b.rotated(quarter, b.centroid());
+    assert!(turned.centroid().distance(b.centroid()) < 1e-15);
+    let aabb = turned.aabb();
+    assert!(aabb.min.distance(DVec3::new(-0.5, 0.5, 0.0)) < 1e-15);
+    assert!(aabb.max.distance(DVec3::new(1.5, 1.5, 3.0)) < 1e-15);
+    // About a given point: the origin, so (1, 2, 3) goes to (-2, 1, 3).
+    let about_origin = b.rotated(quarter, DVec3::ZERO);
+    assert!(about_origin.vertices()[6].distance(DVec3::new(-2.0, 1.0, 3.0)) < 1e-15);
+    assert!((turned.volume() - 6.0).abs() < 1e-14);
+}
+
+#[test]
+fn blocks_are_equal_by_value() {
+    let a = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    let b = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    assert_eq!(a, b);
+    assert_ne!(a, a.translated(DVec3::new(1e-12, 0.0, 0.0)));
+    // The same box with each face's loop starting at its next vertex: the same shape,
+    // other data, so not equal by value.
+    let vertices: Vec<[f64; 3]> = a.vertices().iter().map(|v| v.to_array()).collect();
+    let faces: Vec<Vec<usize>> = a
+        .faces()
+        .map(|f| {
+            let mut loop_: Vec<usize> = f.iter().map(|&v| v as usize).collect();
+            loop_.rotate_left(1);
+            loop_
+        })
+        .collect();
+    let c = ConvexBlock::new(&vertices, &faces).unwrap();
+    assert_eq!(c.volume(), a.volume());
+    assert_ne!(c, a);
+}
+
 mod no_panic {
     use super::*;
     use proptest::prelude::*;

@@ -43,20 +43,22 @@ pub(crate) enum Representative {
     OnEdge(f64),
 }
 
-/// The representative points of a penetration edge: both ends if it has length, its
-/// original vertex if it is a stub (type 3), its middle if it is a crossing point (type 5).
+/// The representative points of a penetration edge, as the classification reads it
+/// ([`Piece::standing`]): both ends if it has length, its original vertex if it is a stub
+/// (type 3), its middle if it is a crossing point (type 5).
 #[inline]
 fn representatives(piece: &Piece<'_>) -> ([Representative; 2], usize) {
     let vertex = |k: usize| Representative::Vertex(piece.parent.vertices[k]);
-    match piece.kind {
+    let (kind, t) = piece.standing;
+    match kind {
         PenetrationEdgeType::T3 => ([vertex(piece.is_cut(0) as usize); 2], 1),
         PenetrationEdgeType::T5 => {
-            let middle = Representative::OnEdge(0.5 * (piece.t[0] + piece.t[1]));
+            let middle = Representative::OnEdge(0.5 * (t[0] + t[1]));
             ([middle; 2], 1)
         }
         _ => {
             let end = |k: usize| match piece.is_cut(k) {
-                true => Representative::OnEdge(piece.t[k]),
+                true => Representative::OnEdge(t[k]),
                 false => vertex(k),
             };
             ([end(0), end(1)], 2)
@@ -217,7 +219,8 @@ impl EdgeSink for FaceMasks<'_> {
         let side = piece.side as usize;
         let other = 1 - side;
         let parent = piece.parent;
-        if piece.kind == PenetrationEdgeType::T3 {
+        let (kind, t) = piece.standing;
+        if kind == PenetrationEdgeType::T3 {
             // The stub's original vertex.
             let v = parent.vertices[piece.is_cut(0) as usize];
             return self.vertex(side, v, table);
@@ -235,15 +238,15 @@ impl EdgeSink for FaceMasks<'_> {
                 return;
             }
         }
-        if piece.kind == PenetrationEdgeType::T5 {
-            let t = 0.5 * (piece.t[0] + piece.t[1]);
+        if kind == PenetrationEdgeType::T5 {
+            let t = 0.5 * (t[0] + t[1]);
             return self.along(side, parent, piece.near, t, table);
         }
         // The two ends written out rather than looped over by index: an indexed piece
         // stays in memory, and the caller's copy of its parameters into the penetration
         // edge then reads two narrow stores with one wide load, which the processor cannot
         // forward (about 5 % of the 100^3 grid's detection).
-        let [t0, t1] = piece.t;
+        let [t0, t1] = t;
         let [v1, v2] = parent.vertices;
         if piece.is_cut(0) {
             self.along(side, parent, piece.near, t0, table);

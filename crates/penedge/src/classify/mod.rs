@@ -9,7 +9,10 @@
 //!    length (Table 1 types 1, 2, 4); its original vertex if it is a type 3 (no length, one
 //!    original vertex: the gap widening cut a stub off an edge at a vertex in contact); its
 //!    middle if it is a type 5 (no length, two cuts: an edge crossing the other block's
-//!    boundary at a point);
+//!    boundary at a point); a piece with length is first read as the part of it that stands
+//!    for the contact ([`crate::penetration::PenetrationEdge::stands_for`]: without the gap's
+//!    band at a face plane that its edge crosses rather than lies in), a type 3 or 5 when
+//!    nothing with length is left (docs/tolerance.md, "Lies in");
 //! 2. the feature of block X holding the contact is found from the faces of X whose planes
 //!    pass within the length threshold of every representative point: none means the
 //!    contact reaches X's interior (penetrating), one a face, two an edge, three or more a
@@ -18,7 +21,8 @@
 //! 3. the pair of features gives the type: (vertex, vertex) vertex-vertex, (vertex, edge)
 //!    vertex-edge, (vertex, face) vertex-face, (edge, face) edge-face, (face, face)
 //!    face-face; (edge, edge) is an edge-edge superposition when the two edges are parallel
-//!    (the sine of their angle at most the relative length threshold) and the representative
+//!    (lie along each other: the sine of their angle at most the length threshold over the
+//!    pair's scale, [`crate::tolerance::Thresholds::sine`]) and the representative
 //!    points span more than the length threshold, else an edge-edge crossing. Parallelism is
 //!    tested on the edges themselves because two edges crossing at a small angle `θ` stay
 //!    within the gap `g` of each other over a length `2g/θ`, which would read as an overlap.
@@ -37,6 +41,7 @@ pub(crate) use points::{representative_points, spread_exceeds};
 
 use crate::block::ConvexBlock;
 use crate::geometry::DVec3;
+use crate::tolerance::Thresholds;
 
 /// The seven contact types of two touching convex blocks.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
@@ -165,19 +170,19 @@ impl PairResult {
 }
 /// The contact from the features of both blocks (`None`: the points reach the block's
 /// interior); `spread_exceeds(length)` tells whether the representative points span more
-/// than `length`, asked only for two parallel edges.
+/// than `length`, asked only for two parallel edges (`th.sine`, the one sine of "lies
+/// along" and "lies in": docs/tolerance.md).
 pub(crate) fn decide(
     a: &ConvexBlock,
     b: &ConvexBlock,
     features: (Option<Feature>, Option<Feature>),
-    length: f64,
+    th: Thresholds,
     spread_exceeds: impl FnOnce(f64) -> bool,
 ) -> PairResult {
     let (Some(fa), Some(fb)) = features else {
         return PairResult::Penetrating;
     };
-    let superposed =
-        || edges_parallel(a, b, fa, fb, length / a.size().min(b.size())) && spread_exceeds(length);
+    let superposed = || edges_parallel(a, b, fa, fb, th.sine) && spread_exceeds(th.length);
     let kind = contact_type(fa, fb, superposed);
     PairResult::Contact(Contact {
         kind,
@@ -204,7 +209,11 @@ fn edges_parallel(a: &ConvexBlock, b: &ConvexBlock, fa: Feature, fb: Feature, si
     }
 }
 
-fn contact_type(fa: Feature, fb: Feature, has_length: impl FnOnce() -> bool) -> ContactType {
+pub(crate) fn contact_type(
+    fa: Feature,
+    fb: Feature,
+    has_length: impl FnOnce() -> bool,
+) -> ContactType {
     match (fa.rank().min(fb.rank()), fa.rank().max(fb.rank())) {
         (0, 0) => ContactType::VertexVertex,
         (0, 1) => ContactType::VertexEdge,
@@ -293,15 +302,15 @@ mod tests {
         a: &ConvexBlock,
         b: &ConvexBlock,
         edges: &[PenetrationEdge],
-        length: f64,
+        th: Thresholds,
     ) -> PairResult {
         let mut points = Vec::new();
-        representative_points(a, b, edges, &mut points);
+        representative_points(a, b, edges, false, &mut points);
         let features = (
-            feature_of(a, &points, length),
-            feature_of(b, &points, length),
+            feature_of(a, &points, th.length),
+            feature_of(b, &points, th.length),
         );
-        decide(a, b, features, length, |l| spread(&points) > l)
+        decide(a, b, features, th, |l| spread(&points) > l)
     }
 
     /// A unit cube turned by `rotation` and moved so that its lowest feature (vertex, edge
@@ -381,8 +390,8 @@ mod tests {
                     if edges.is_empty() || result == PairResult::Penetrating {
                         continue;
                     }
-                    let length = det.thresholds(a, b).length;
-                    assert_eq!(result, by_points(a, b, edges, length), "round {round}");
+                    let th = det.thresholds(a, b);
+                    assert_eq!(result, by_points(a, b, edges, th), "round {round}");
                     contacts[result.contact_type().map_or(0, |t| t.code() as usize)] += 1;
                 }
             }

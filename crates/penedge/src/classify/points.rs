@@ -6,20 +6,32 @@ use crate::geometry::DVec3;
 use crate::penetration::{EdgeEnd, PenetrationEdge, PenetrationEdgeType, Side};
 
 /// The representative points of one penetration edge (see the module docs): `points[k]`
-/// where bit `k` of the mask is set. An original vertex comes back once per edge at it:
+/// where bit `k` of the mask is set; as the classification reads the edge
+/// ([`PenetrationEdge::standing`]), or with `widened` as the clipping made it (the gap's
+/// band kept: a face-face contact's polygon). An original vertex comes back once per edge at it:
 /// `seen` marks the owner's vertices already given (the first 64), which are left out.
 ///
 /// Both points are computed and the mask says which count, rather than an array filled up
 /// to a count: an array indexed by a count lives in memory, and reading back a point just
 /// written in two parts stalls the processor (no store-to-load forwarding).
 #[inline(always)]
-fn representatives(pe: &PenetrationEdge, owner: &ConvexBlock, seen: &mut u64) -> ([DVec3; 2], u8) {
+fn representatives(
+    pe: &PenetrationEdge,
+    owner: &ConvexBlock,
+    seen: &mut u64,
+    widened: bool,
+) -> ([DVec3; 2], u8) {
     let vertices = owner.vertices();
     let [v1, v2] = owner.edges()[pe.edge as usize].vertices;
     let (p, q) = (vertices[v1 as usize], vertices[v2 as usize]);
+    let (kind, t) = if widened {
+        (pe.kind, pe.t)
+    } else {
+        pe.standing
+    };
     let at = |k: usize| match pe.ends[k] {
         EdgeEnd::Vertex(v) => vertices[v as usize],
-        EdgeEnd::Cut(_) => p + (q - p) * pe.t[k],
+        EdgeEnd::Cut(_) => p + (q - p) * t[k],
     };
     // Whether end `k` is new: a cut, or a vertex not seen yet (then marked).
     let mut fresh = |k: usize| match pe.ends[k] {
@@ -31,7 +43,7 @@ fn representatives(pe: &PenetrationEdge, owner: &ConvexBlock, seen: &mut u64) ->
         }
         EdgeEnd::Cut(_) => 1,
     };
-    let (ends, mask) = match (pe.kind, pe.ends) {
+    let (ends, mask) = match (kind, pe.ends) {
         (PenetrationEdgeType::T3, [EdgeEnd::Vertex(_), _]) => ([at(0), at(0)], fresh(0)),
         (PenetrationEdgeType::T3, _) => ([at(1), at(1)], fresh(1)),
         (PenetrationEdgeType::T5, _) => {
@@ -46,11 +58,13 @@ fn representatives(pe: &PenetrationEdge, owner: &ConvexBlock, seen: &mut u64) ->
     (ends, mask)
 }
 
-/// Collects the representative points of the penetration edges (see the module docs).
+/// Collects the representative points of the penetration edges (see the module docs); with
+/// `widened`, of the pieces as the clipping made them.
 pub(crate) fn representative_points(
     a: &ConvexBlock,
     b: &ConvexBlock,
     edges: &[PenetrationEdge],
+    widened: bool,
     out: &mut Vec<DVec3>,
 ) {
     out.clear();
@@ -58,7 +72,7 @@ pub(crate) fn representative_points(
     for pe in edges {
         let (owner, seen) = side(pe, [a, b], &mut seen);
         // Keep each point once (a cut can fall on a vertex, or two cuts together).
-        let ([p, q], mask) = representatives(pe, owner, seen);
+        let ([p, q], mask) = representatives(pe, owner, seen, widened);
         for (k, point) in [p, q].into_iter().enumerate() {
             if mask >> k & 1 != 0 && !out.contains(&point) {
                 out.push(point)
@@ -91,7 +105,7 @@ pub(crate) fn spread_exceeds(
     let mut first = None;
     for pe in edges {
         let (owner, seen) = side(pe, [a, b], &mut seen);
-        let ([p, q], mask) = representatives(pe, owner, seen);
+        let ([p, q], mask) = representatives(pe, owner, seen, false);
         for (k, point) in [p, q].into_iter().enumerate() {
             if mask >> k & 1 != 0 && point.distance(*first.get_or_insert(point)) > length {
                 return true;

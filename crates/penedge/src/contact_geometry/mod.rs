@@ -65,6 +65,11 @@ impl ContactPolygon {
     pub fn area(&self) -> f64 {
         self.area
     }
+
+    /// A polygon of the given vertices and area (checked by its maker).
+    pub(crate) fn from_parts(vertices: Vec<DVec3>, area: f64) -> Self {
+        ContactPolygon { vertices, area }
+    }
 }
 
 impl ContactPoints {
@@ -111,6 +116,11 @@ impl ContactGeometry {
         self.points.as_slice()
     }
 
+    /// The contact points, taken out of the geometry.
+    pub(crate) fn into_shape(self) -> ContactPoints {
+        self.points
+    }
+
     /// Area of a polygon contact, 0 for a point or a segment.
     pub fn area(&self) -> f64 {
         match &self.points {
@@ -143,11 +153,14 @@ impl Detector {
         let geometry = match &result {
             PairResult::Contact(contact) => {
                 let th = self.thresholds(a, b);
+                // A face-face polygon is the overlap of the faces widened by the gap: the
+                // pieces as clipped, the gap's band included (docs/tolerance.md, "Lies in").
+                let widened = contact.kind == crate::classify::ContactType::FaceFace;
                 Some(contact_geometry(
                     a,
                     b,
                     contact,
-                    self.representative_points(a, b),
+                    self.representative_points(a, b, widened),
                     th,
                 ))
             }

@@ -152,4 +152,93 @@ pub enum GenerationError {
         /// What went wrong.
         source: BlockError,
     },
+    /// The spec would make more blocks than the run may: refused before cutting.
+    #[error(
+        "the spec would make about {} blocks (1 + {planes} planes + {} lines + {} points where \
+         planes meet, estimated), needing about {} of memory; the limit is {} blocks{}. Use a \
+         larger spacing or a smaller domain (a sub-domain of the rock mass), or raise the \
+         limit (max_blocks, `--max-blocks`) if the estimate is too high",
+        Count(*blocks), Count(*lines), Count(*points), Bytes(*bytes), Count(*limit as f64),
+        limit_reason(*given)
+    )]
+    TooManyBlocks {
+        /// Blocks estimated.
+        blocks: f64,
+        /// Planes crossing the domain.
+        planes: usize,
+        /// Lines estimated.
+        lines: f64,
+        /// Points estimated.
+        points: f64,
+        /// Memory estimated, in bytes.
+        bytes: f64,
+        /// The most blocks allowed.
+        limit: u64,
+        /// Whether the limit was set by the caller (else: from the memory available).
+        given: bool,
+    },
+    /// The run made more blocks than its limit (its estimate was too low) and stopped.
+    #[error(
+        "the run outgrew its estimate (about {} blocks): it made more than the limit of {} \
+         blocks{} after {planes_done} of {planes_total} joint planes and was stopped. Use a \
+         larger spacing or a smaller domain, or raise the limit (max_blocks, `--max-blocks`)",
+        Count(*estimate), Count(*limit as f64), limit_reason(*given)
+    )]
+    Outgrew {
+        /// The estimate made before cutting.
+        estimate: f64,
+        /// The most blocks allowed.
+        limit: u64,
+        /// Whether the limit was set by the caller.
+        given: bool,
+        /// Planes applied, the last one in part.
+        planes_done: usize,
+        /// Planes in all.
+        planes_total: usize,
+    },
+    /// The progress callback asked the run to stop (Ctrl-C, an exception in a callback).
+    #[error("generation cancelled after {planes_done} of {planes_total} joint planes")]
+    Cancelled {
+        /// Planes applied.
+        planes_done: usize,
+        /// Planes in all.
+        planes_total: usize,
+    },
+}
+
+fn limit_reason(given: bool) -> &'static str {
+    if given {
+        " (given)"
+    } else {
+        " (what half the memory available now holds)"
+    }
+}
+
+/// A count for people: `1234` below a million, `1.2e12` above.
+struct Count(f64);
+
+impl std::fmt::Display for Count {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.0 < 1e6 {
+            write!(f, "{}", self.0.round())
+        } else {
+            write!(f, "{:.1e}", self.0)
+        }
+    }
+}
+
+/// Bytes for people: `3.2 GB`.
+struct Bytes(f64);
+
+impl std::fmt::Display for Bytes {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let units = ["bytes", "kB", "MB", "GB", "TB", "PB"];
+        let mut value = self.0;
+        let mut unit = 0;
+        while value >= 1000.0 && unit + 1 < units.len() {
+            value /= 1000.0;
+            unit += 1;
+        }
+        write!(f, "{value:.1} {}", units[unit])
+    }
 }

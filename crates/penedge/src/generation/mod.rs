@@ -7,12 +7,17 @@
 //!    the joint table, every plane in the order it is applied (sets laid out along their
 //!    normal with their random deviations; planes that miss the domain and duplicate planes
 //!    are errors);
-//! 2. cut: each plane descends the cutting tree (`tree.rs`) into the blocks whose bounding
+//! 2. estimate (`work.rs`): the blocks the arrangement of the planes makes; a spec whose
+//!    estimate passes the run's [`Limits`] (by default what half the memory available
+//!    holds) is refused before anything is cut;
+//! 3. cut: each plane descends the cutting tree (`tree.rs`) into the blocks whose bounding
 //!    box it crosses and splits those it crosses ([`crate::cutting`]); a finite joint splits a
 //!    block only where it crosses it completely, and counts the blocks it ends inside;
-//! 3. slivers: blocks below the minimum volume or thickness are kept or dropped, and counted
+//!    A run stops once it makes more blocks than its limit, and between two planes when
+//!    its progress callback says so ([`generate_with`]);
+//! 4. slivers: blocks below the minimum volume or thickness are kept or dropped, and counted
 //!    either way;
-//! 4. the [`BlockSystem`] with its domain, joint table and face origins, and a
+//! 5. the [`BlockSystem`] with its domain, joint table and face origins, and a
 //!    [`GenerationReport`].
 //!
 //! Axes: x East, y North, z up; see [`orientation`] for dip and dip direction.
@@ -40,21 +45,24 @@ pub mod rng;
 mod spec;
 mod stats;
 mod tree;
+mod work;
 
 pub use crate::block::FaceOrigin;
 pub use domain::Domain;
 pub use error::{GenerationError, Problem, SpecError};
 pub use orientation::{Attitude, Frame};
 pub use record::{upward, JointRecord, JointShape, SetKind, SetRecord};
-pub use report::{thickness, GenerationReport, SliverReport};
+pub use report::{thickness, GenerationReport, SliverReport, TinyReport, TINY_SHARE};
 pub use spec::{
     Deviation, Discontinuity, JointKind, JointSet, Options, Orientation, SliverPolicy, Spec,
     DEFAULT_MIN_THICKNESS, MAX_PLANES,
 };
 pub use stats::{distribution_curve, BlockStatistics, DistributionPoint};
+pub use work::{available_memory, Estimate, Limits, BYTES_PER_BLOCK, FALLBACK_MAX_BLOCKS};
 
 use crate::system::BlockSystem;
-use tree::{CutCounts, CuttingTree};
+use std::ops::ControlFlow;
+use tree::{Cut, CutCounts, CuttingTree};
 
 /// A generated block system and what generation did.
 #[derive(Clone, Debug)]
@@ -76,9 +84,9 @@ pub struct Progress {
     pub blocks: usize,
 }
 
-/// Generates the block system of a spec.
+/// Generates the block system of a spec, within the memory available ([`Limits::default`]).
 pub fn generate(spec: &Spec) -> Result<Generated, GenerationError> {
-    generate_with_progress(spec, &mut |_| {})
+    generate_with(spec, &Limits::default(), &mut |_| ControlFlow::Continue(()))
 }
 
 /// [`generate`], calling `progress` after each joint plane (for progress bars).
@@ -86,20 +94,69 @@ pub fn generate_with_progress(
     spec: &Spec,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Generated, GenerationError> {
+    generate_with(spec, &Limits::default(), &mut |p| {
+        progress(p);
+        ControlFlow::Continue(())
+    })
+}
+
+/// Generates within `limits`, calling `progress` after each joint plane; the run stops
+/// there with [`GenerationError::Cancelled`] when `progress` returns `Break` (Ctrl-C, an
+/// error in a callback), so a run stops within one plane's cuts.
+///
+/// # Errors
+///
+/// A bad spec; [`GenerationError::TooManyBlocks`] before cutting when the spec's
+/// [`estimate`] passes `limits.max_blocks`; [`GenerationError::Outgrew`] when the run
+/// makes more blocks than that all the same; a cut that cannot be made.
+pub fn generate_with(
+    spec: &Spec,
+    limits: &Limits,
+    progress: &mut dyn FnMut(Progress) -> ControlFlow<()>,
+) -> Result<Generated, GenerationError> {
     let plan = expand::plan(spec)?;
-    let mut tree = CuttingTree::new(spec.domain.parts(), plan.eps);
+    let estimate = work::estimate(spec, &plan);
+    if estimate.blocks > limits.max_blocks as f64 {
+        return Err(GenerationError::TooManyBlocks {
+            blocks: estimate.blocks,
+            planes: estimate.planes,
+            lines: estimate.lines,
+            points: estimate.points,
+            bytes: estimate.bytes(),
+            limit: limits.max_blocks,
+            given: limits.given,
+        });
+    }
+    let max_blocks = usize::try_from(limits.max_blocks).unwrap_or(usize::MAX);
+    let mut tree = CuttingTree::new(spec.domain.parts(), plan.eps, max_blocks);
     let mut counts = CutCounts::default();
     let mut partial = vec![0; plan.sets.len()];
+    let planes_total = plan.records.len();
     for (done, j) in cut_order(&plan.records).into_iter().enumerate() {
         let record = &plan.records[j];
         let before = counts.partial;
-        tree.cut(record, j as u32, &mut counts)?;
+        let cut = tree.cut(record, j as u32, &mut counts)?;
+        if cut == Cut::Full {
+            return Err(GenerationError::Outgrew {
+                estimate: estimate.blocks,
+                limit: limits.max_blocks,
+                given: limits.given,
+                planes_done: done + 1,
+                planes_total,
+            });
+        }
         partial[record.set as usize] += counts.partial - before;
-        progress(Progress {
+        let step = Progress {
             planes_done: done + 1,
-            planes_total: plan.records.len(),
+            planes_total,
             blocks: tree.len(),
-        });
+        };
+        if progress(step).is_break() {
+            return Err(GenerationError::Cancelled {
+                planes_done: done + 1,
+                planes_total,
+            });
+        }
     }
     let (blocks, slivers) =
         report::sort_slivers(tree.into_blocks(), &spec.options, spec.domain.size());
@@ -108,7 +165,8 @@ pub fn generate_with_progress(
         ..report::summarise(&blocks, spec.domain.volume(), &plan, &counts, slivers)
     };
     let domain = spec.domain.parts().to_vec();
-    let system = BlockSystem::with_provenance(blocks, domain, plan.records, plan.sets);
+    let system = BlockSystem::with_provenance(blocks, domain, plan.records, plan.sets)
+        .with_unit(spec.unit.clone());
     Ok(Generated { system, report })
 }
 
@@ -118,6 +176,23 @@ pub(crate) fn planned_planes(spec: &Spec) -> Result<usize, SpecError> {
     Ok(expand::plan(spec)?.records.len())
 }
 
+/// What a spec will make (checked and expanded, nothing cut): planes, and the blocks their
+/// arrangement makes (see `work.rs` for how they are counted).
+///
+/// ```
+/// use penedge::generation::{estimate, Discontinuity, Domain, JointSet, Orientation, Spec};
+/// let set = |dip, dir| Discontinuity::set(JointSet::new(Orientation::dip(dip, dir), 0.01));
+/// let spec = Spec::new(Domain::cuboid([0.0; 3], [100.0; 3]).unwrap())
+///     .with(set(0.0, 0.0))
+///     .with(set(90.0, 0.0))
+///     .with(set(90.0, 90.0));
+/// let e = estimate(&spec).unwrap();
+/// assert!(e.blocks > 0.99e12); // 10^4 planes a set: (1 + 9999)^3 blocks
+/// ```
+pub fn estimate(spec: &Spec) -> Result<Estimate, SpecError> {
+    Ok(work::estimate(spec, &expand::plan(spec)?))
+}
+
 /// Cuts the domain by infinite planes (no checks, no slivers: for
 /// [`BlockSystem::from_domain_cut`]); the faces get origin `Joint { set, joint: i }`.
 pub(crate) fn cut_domain(
@@ -125,7 +200,7 @@ pub(crate) fn cut_domain(
     joints: &[JointRecord],
     eps: f64,
 ) -> Result<Vec<crate::block::ConvexBlock>, GenerationError> {
-    let mut tree = CuttingTree::new(domain.parts(), eps);
+    let mut tree = CuttingTree::new(domain.parts(), eps, usize::MAX);
     let mut counts = CutCounts::default();
     for j in cut_order(joints) {
         tree.cut(&joints[j], j as u32, &mut counts)?;

@@ -31,6 +31,47 @@ pub struct GenerationReport {
     pub volume_error: f64,
     /// Slivers found.
     pub slivers: SliverReport,
+    /// Blocks tiny beside the system's typical block (whatever the sliver limits).
+    #[serde(default)]
+    pub tiny: TinyReport,
+}
+
+/// Blocks whose volume is below [`TINY_SHARE`] of the median block volume: a spec's
+/// sliver limits are absolute (by default 1e-6 of the domain's size, thinner than which a
+/// block is a sliver), so a block millimetres across in a system of metre blocks passes
+/// them, yet it sets a DEM model's time step. They are counted, never dropped.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct TinyReport {
+    /// The median volume of the blocks kept.
+    pub median_volume: f64,
+    /// The volume below which a block is tiny: [`TINY_SHARE`] of the median.
+    pub threshold: f64,
+    /// Tiny blocks.
+    pub count: usize,
+    /// The smallest block volume (0 when there is no block).
+    pub smallest: f64,
+}
+
+/// A block is tiny below this share of the median block volume (a tenth of its size).
+pub const TINY_SHARE: f64 = 1e-3;
+
+impl TinyReport {
+    /// The tiny blocks of `blocks`.
+    pub fn of(blocks: &[ConvexBlock]) -> TinyReport {
+        let mut volumes: Vec<f64> = blocks.iter().map(ConvexBlock::volume).collect();
+        if volumes.is_empty() {
+            return TinyReport::default();
+        }
+        let middle = volumes.len() / 2;
+        let (_, &mut median, _) = volumes.select_nth_unstable_by(middle, f64::total_cmp);
+        let threshold = TINY_SHARE * median;
+        TinyReport {
+            median_volume: median,
+            threshold,
+            count: volumes.iter().filter(|&&v| v < threshold).count(),
+            smallest: volumes.iter().copied().fold(f64::INFINITY, f64::min),
+        }
+    }
 }
 
 /// Slivers: blocks below the minimum volume or thickness.
@@ -122,5 +163,6 @@ pub(crate) fn summarise(
         block_volume,
         volume_error: (block_volume + dropped - domain_volume).abs() / domain_volume,
         slivers,
+        tiny: TinyReport::of(blocks),
     }
 }

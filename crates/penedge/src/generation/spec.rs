@@ -17,6 +17,10 @@ pub struct Spec {
     pub joints: Vec<Discontinuity>,
     /// Tolerance and sliver options.
     pub options: Options,
+    /// The length unit of the spec's coordinates and spacings (`"m"`, `"ft"`), for labels
+    /// only: penedge computes in whatever unit the numbers are. Carried into the system and
+    /// its block file.
+    pub unit: Option<String>,
 }
 
 impl Spec {
@@ -26,6 +30,7 @@ impl Spec {
             domain,
             joints: Vec::new(),
             options: Options::default(),
+            unit: None,
         }
     }
 

@@ -31,6 +31,15 @@ pub(crate) struct CutCounts {
     pub(crate) retried: usize,
 }
 
+/// How a plane's cut ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Cut {
+    /// Every block the plane crosses was cut.
+    Done,
+    /// The tree reached its most blocks and the cut stopped there.
+    Full,
+}
+
 /// Blocks and the tree over them.
 pub(crate) struct CuttingTree {
     nodes: Vec<Node>,
@@ -40,11 +49,13 @@ pub(crate) struct CuttingTree {
     stack: Vec<u32>,
     section: Vec<DVec3>,
     eps: f64,
+    max_blocks: usize,
 }
 
 impl CuttingTree {
-    /// A tree with one root per domain part; `eps` is the absolute length threshold.
-    pub(crate) fn new(parts: &[ConvexBlock], eps: f64) -> Self {
+    /// A tree with one root per domain part; `eps` is the absolute length threshold; a cut
+    /// stops once there are more than `max_blocks` blocks.
+    pub(crate) fn new(parts: &[ConvexBlock], eps: f64, max_blocks: usize) -> Self {
         let nodes = (0..parts.len())
             .map(|i| Node {
                 aabb: parts[i].aabb(),
@@ -60,6 +71,7 @@ impl CuttingTree {
             stack: Vec::new(),
             section: Vec::new(),
             eps,
+            max_blocks,
         }
     }
 
@@ -74,13 +86,14 @@ impl CuttingTree {
     }
 
     /// Cuts every block the joint crosses (completely, for a finite joint); the new faces
-    /// get the origin `Joint { set, joint }`.
+    /// get the origin `Joint { set, joint }`. Stops once there are more blocks than the
+    /// tree's most ([`Cut::Full`]).
     pub(crate) fn cut(
         &mut self,
         joint: &JointRecord,
         index: u32,
         counts: &mut CutCounts,
-    ) -> Result<(), GenerationError> {
+    ) -> Result<Cut, GenerationError> {
         let origin = FaceOrigin::Joint {
             set: joint.set,
             joint: index,
@@ -105,8 +118,11 @@ impl CuttingTree {
                     joint: index,
                     source,
                 })?;
+            if self.blocks.len() > self.max_blocks {
+                return Ok(Cut::Full);
+            }
         }
-        Ok(())
+        Ok(Cut::Done)
     }
 
     fn cut_leaf(

@@ -2,12 +2,16 @@
 //! are written in the shortest form that reads back to the same `f64`, and reading restores
 //! each block from its stored vertices, faces, planes and origins without refitting anything
 //! (edges, volume and centroid are derived by the same code as when the block was made).
+//!
+//! A file written by hand needs less: blocks of vertices and faces only (the planes are
+//! fitted and checked as [`ConvexBlock::new`] does, the origins are unknown), and no
+//! `frame`, `domain`, `sets` or `joints`.
 
-use super::{read_text, write_atomic, IoError};
-use crate::block::{ConvexBlock, FaceOrigin};
+use super::{messages, read_text, write_atomic, IoError};
+use crate::block::{BlockError, ConvexBlock, FaceOrigin};
 use crate::generation::{Attitude, JointRecord, JointShape, SetRecord};
 use crate::geometry::{Aabb, DVec3, Plane};
-use crate::system::BlockSystem;
+use crate::system::{BlockSystem, InternalFace};
 use crate::tolerance::Tolerance;
 use serde::{Deserialize, Serialize};
 use std::io::Write;
@@ -15,8 +19,9 @@ use std::path::Path;
 
 /// The value of the `format` field.
 pub const FORMAT: &str = "penedge-blocks";
-/// The schema version written (and the only one read).
-pub const VERSION: u32 = 1;
+/// The schema version written. Version 2 adds body ids and internal faces (concave blocks);
+/// version 1 files are read too, each block its own body.
+pub const VERSION: u32 = 2;
 /// The value of the `frame` field.
 pub const FRAME: &str = "x East, y North, z up";
 
@@ -25,25 +30,38 @@ pub const FRAME: &str = "x East, y North, z up";
 struct SystemFile {
     format: String,
     version: u32,
+    #[serde(default)]
     frame: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     length: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    unit: Option<String>,
+    #[serde(default)]
     domain: Vec<BlockFile>,
+    #[serde(default)]
     sets: Vec<SetRecord>,
+    #[serde(default)]
     joints: Vec<JointFile>,
     blocks: Vec<BlockFile>,
+    /// Derived from the blocks and their body ids (ignored when reading).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    internal_faces: Option<Vec<InternalFace>>,
 }
 
+/// A block as stored; written in full, read with only `vertices` and `faces` required.
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct BlockFile {
-    id: u32,
+    id: Option<u32>,
+    /// The body (concave block) the block is a part of; version 2 only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    body: Option<u32>,
     vertices: Vec<[f64; 3]>,
     faces: Vec<Vec<u32>>,
-    planes: Vec<[f64; 6]>,
-    origins: Vec<FaceOrigin>,
-    volume: f64,
-    centroid: [f64; 3],
+    planes: Option<Vec<[f64; 6]>>,
+    origins: Option<Vec<FaceOrigin>>,
+    volume: Option<f64>,
+    centroid: Option<[f64; 3]>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -81,7 +99,10 @@ pub fn write_json(system: &BlockSystem, path: &Path) -> Result<(), IoError> {
     })
 }
 
-/// Reads a system written by [`write_json`].
+/// Reads a system written by [`write_json`] (or by hand: see the module's documentation).
+///
+/// A file that is not a block file at all (a joint spec, a list, a ParaView file) is an
+/// [`IoError::Syntax`] that says what it looks like and what to do with it.
 pub fn read_json(path: &Path) -> Result<BlockSystem, IoError> {
     let text = read_text(path)?;
     from_json_str(&text).map_err(|e| match e {
@@ -97,13 +118,14 @@ pub fn read_json(path: &Path) -> Result<BlockSystem, IoError> {
 pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
     let file: SystemFile = serde_json::from_str(text).map_err(|e| IoError::Syntax {
         path: "<string>".into(),
-        message: e.to_string(),
+        message: messages::not_a_block_file(text)
+            .unwrap_or_else(|| messages::plain(&e.to_string())),
     })?;
-    if file.format != FORMAT || file.version != VERSION {
+    if file.format != FORMAT || !(1..=VERSION).contains(&file.version) {
         return Err(format_error(
             "version",
             format!(
-                "expected format `{FORMAT}` version {VERSION}, got `{}` version {}",
+                "expected format `{FORMAT}` version 1 to {VERSION}, got `{}` version {}",
                 file.format, file.version
             ),
         ));
@@ -124,9 +146,33 @@ pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
         .map(|(i, j)| record_of(i, j, file.sets.len()))
         .collect::<Result<Vec<_>, _>>()?;
     check_origins(&blocks, domain.len(), joints.len(), file.sets.len())?;
-    Ok(BlockSystem::with_provenance(
-        blocks, domain, joints, file.sets,
-    ))
+    let bodies = body_ids(file.version, &file.blocks)?;
+    let system =
+        BlockSystem::with_provenance(blocks, domain, joints, file.sets).with_unit(file.unit);
+    system
+        .with_bodies(bodies, &tol)
+        .map_err(|e| format_error("blocks[..].body", e.to_string()))
+}
+
+/// The body id of each block: given by every block in version 2, none in version 1 (each
+/// block its own body).
+fn body_ids(version: u32, blocks: &[BlockFile]) -> Result<Vec<u32>, IoError> {
+    let mut ids = Vec::with_capacity(blocks.len());
+    for (i, b) in blocks.iter().enumerate() {
+        match (version, b.body) {
+            (1, None) => ids.push(i as u32),
+            (1, Some(_)) => {
+                let msg = "body ids need version 2 of the format".to_string();
+                return Err(format_error(format!("blocks[{i}].body"), msg));
+            }
+            (_, Some(body)) => ids.push(body),
+            (_, None) => {
+                let msg = format!("version {version} needs a body id for every block");
+                return Err(format_error(format!("blocks[{i}].body"), msg));
+            }
+        }
+    }
+    Ok(ids)
 }
 
 /// Every face origin points into the domain parts, joint table and sets that the file has.
@@ -164,17 +210,23 @@ fn format_error(field: impl Into<String>, message: String) -> IoError {
 
 fn file_of(system: &BlockSystem) -> SystemFile {
     let domain: Vec<BlockFile> = system.domain().iter().enumerate().map(block_file).collect();
-    let blocks: Vec<BlockFile> = system.blocks().iter().enumerate().map(block_file).collect();
+    let bodies = system.body_ids();
+    let mut blocks: Vec<BlockFile> = system.blocks().iter().enumerate().map(block_file).collect();
+    for (b, body) in blocks.iter_mut().zip(bodies) {
+        b.body = Some(body);
+    }
     let length = needed_length(system, system_box(domain.iter().chain(&blocks)));
     SystemFile {
         format: FORMAT.to_string(),
         version: VERSION,
         frame: FRAME.to_string(),
         length,
+        unit: system.unit().map(str::to_string),
         domain,
         sets: system.sets().to_vec(),
         joints: system.joints().iter().enumerate().map(joint_file).collect(),
         blocks,
+        internal_faces: Some(system.internal_faces().to_vec()),
     }
 }
 
@@ -212,20 +264,22 @@ fn off_planes(b: &ConvexBlock) -> f64 {
 
 fn block_file((id, b): (usize, &ConvexBlock)) -> BlockFile {
     BlockFile {
-        id: id as u32,
+        id: Some(id as u32),
+        body: None,
         vertices: b.vertices().iter().map(|v| v.to_array()).collect(),
         faces: b.faces().map(<[u32]>::to_vec).collect(),
-        planes: b
-            .planes()
-            .iter()
-            .map(|p| {
-                let (n, q) = (p.normal, p.point);
-                [n.x, n.y, n.z, q.x, q.y, q.z]
-            })
-            .collect(),
-        origins: b.face_origins().to_vec(),
-        volume: b.volume(),
-        centroid: b.centroid().to_array(),
+        planes: Some(
+            b.planes()
+                .iter()
+                .map(|p| {
+                    let (n, q) = (p.normal, p.point);
+                    [n.x, n.y, n.z, q.x, q.y, q.z]
+                })
+                .collect(),
+        ),
+        origins: Some(b.face_origins().to_vec()),
+        volume: Some(b.volume()),
+        centroid: Some(b.centroid().to_array()),
     }
 }
 
@@ -251,22 +305,47 @@ fn blocks_of(
         .iter()
         .enumerate()
         .map(|(i, f)| {
-            if f.id as usize != i {
-                let msg = format!("ids must run 0, 1, 2, ... in order; found {}", f.id);
+            if let Some(id) = f.id.filter(|&id| id as usize != i) {
+                let msg = format!("ids must run 0, 1, 2, ... in order; found {id}");
                 return Err(format_error(format!("{field}[{i}].id"), msg));
             }
-            let planes: Vec<Plane> = f
-                .planes
-                .iter()
-                .map(|p| Plane {
-                    normal: DVec3::new(p[0], p[1], p[2]),
-                    point: DVec3::new(p[3], p[4], p[5]),
-                })
-                .collect();
-            ConvexBlock::from_parts_in(&f.vertices, &f.faces, &planes, &f.origins, tol, system)
+            block_of(f, tol, system)
                 .map_err(|e| format_error(format!("{field}[{i}]"), e.to_string()))
         })
         .collect()
+}
+
+/// A block as stored (planes kept as given, not refitted), or from its vertices and faces
+/// alone (planes fitted, origins unknown unless given).
+fn block_of(
+    f: &BlockFile,
+    tol: &Tolerance,
+    system: Option<&Aabb>,
+) -> Result<ConvexBlock, BlockError> {
+    let Some(planes) = &f.planes else {
+        let faces: Vec<Vec<usize>> = f
+            .faces
+            .iter()
+            .map(|face| face.iter().map(|&v| v as usize).collect())
+            .collect();
+        let block = ConvexBlock::with_tolerance(&f.vertices, &faces, tol)?;
+        return match &f.origins {
+            Some(origins) => block.with_face_origins(origins.clone()),
+            None => Ok(block),
+        };
+    };
+    let planes: Vec<Plane> = planes
+        .iter()
+        .map(|p| Plane {
+            normal: DVec3::new(p[0], p[1], p[2]),
+            point: DVec3::new(p[3], p[4], p[5]),
+        })
+        .collect();
+    let origins = f
+        .origins
+        .clone()
+        .unwrap_or_else(|| vec![FaceOrigin::Unknown; f.faces.len()]);
+    ConvexBlock::from_parts_in(&f.vertices, &f.faces, &planes, &origins, tol, system)
 }
 
 fn joint_file((id, r): (usize, &JointRecord)) -> JointFile {

@@ -15,6 +15,7 @@
 
 pub mod csv;
 pub mod json;
+mod messages;
 pub mod pvd;
 pub mod spec;
 pub mod vtp;

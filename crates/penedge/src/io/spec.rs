@@ -18,7 +18,7 @@
 //! Parsing checks the shape (known keys, value types, the fields each `type` takes);
 //! [`crate::generation::generate`] checks the values. Errors name the field.
 
-use super::{read_text, IoError};
+use super::{messages, read_text, IoError};
 use crate::generation::{Attitude, Deviation, Discontinuity, Domain, JointKind, JointSet};
 use crate::generation::{Options, Orientation, Problem, SliverPolicy, Spec, SpecError};
 use crate::tolerance::Tolerance;
@@ -33,6 +33,7 @@ struct RawSpec {
     joints: Vec<RawJoint>,
     #[serde(default)]
     options: RawOptions,
+    unit: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -82,14 +83,17 @@ struct RawOptions {
 
 /// Parses a TOML spec.
 pub fn parse_toml(text: &str) -> Result<Spec, SpecError> {
-    let raw: RawSpec = toml::from_str(text).map_err(|e| syntax(toml_message(text, &e)))?;
+    let raw: RawSpec = toml::from_str(text).map_err(|e| {
+        let message = messages::not_a_spec(text).unwrap_or_else(|| toml_message(text, &e));
+        syntax(message)
+    })?;
     convert(raw)
 }
 
 /// A TOML error on one line: `line L, column C: what` (the parser's own text quotes the
 /// whole source line, which can be megabytes long).
 fn toml_message(text: &str, e: &toml::de::Error) -> String {
-    let what = one_line(e.message());
+    let what = one_line(&messages::plain(e.message()));
     match e.span() {
         Some(span) => {
             let before = &text[..span.start.min(text.len())];
@@ -112,7 +116,11 @@ fn one_line(message: &str) -> String {
 
 /// Parses a JSON spec (the same structure as the TOML file).
 pub fn parse_json(text: &str) -> Result<Spec, SpecError> {
-    let raw: RawSpec = serde_json::from_str(text).map_err(|e| syntax(one_line(&e.to_string())))?;
+    let raw: RawSpec = serde_json::from_str(text).map_err(|e| {
+        let message = messages::not_a_spec(text)
+            .unwrap_or_else(|| one_line(&messages::plain(&e.to_string())));
+        syntax(message)
+    })?;
     convert(raw)
 }
 
@@ -149,7 +157,27 @@ fn convert(raw: RawSpec) -> Result<Spec, SpecError> {
         domain,
         joints,
         options,
+        unit: raw.unit.map(unit).transpose()?,
     })
+}
+
+/// The most characters of a length unit's name.
+const MAX_UNIT_CHARS: usize = 16;
+
+/// A length unit's name: a short label without control characters, trimmed.
+fn unit(text: String) -> Result<String, SpecError> {
+    let trimmed = text.trim();
+    let bad = trimmed.is_empty()
+        || trimmed.chars().count() > MAX_UNIT_CHARS
+        || trimmed.chars().any(char::is_control);
+    if bad {
+        let why = format!(
+            "must be a short name of a length unit (1 to {MAX_UNIT_CHARS} characters, such as \
+             \"m\" or \"ft\"), got {text:?}"
+        );
+        return Err(SpecError::new("unit", Problem::Invalid(why)));
+    }
+    Ok(trimmed.to_string())
 }
 
 fn need<T: Clone>(field: String, value: &Option<T>) -> Result<T, SpecError> {

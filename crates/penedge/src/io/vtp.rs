@@ -10,7 +10,7 @@
 //! `block_b`). The points are the contact points, contact after contact.
 
 use super::{write_atomic, IoError};
-use crate::system::{ContactGeometries, SystemContacts};
+use crate::system::{BodyContacts, ContactGeometries, SystemContacts};
 use std::fmt::Display;
 use std::io::{self, Write};
 use std::path::Path;
@@ -19,9 +19,9 @@ use std::path::Path;
 const SECTIONS: [&str; 3] = ["Verts", "Lines", "Polys"];
 
 /// The contacts of each section: one point, two points, three or more (in contact order).
-fn sections(geometry: &ContactGeometries) -> [Vec<usize>; 3] {
+fn sections(point_offsets: &[u64]) -> [Vec<usize>; 3] {
     let mut out = [Vec::new(), Vec::new(), Vec::new()];
-    for (i, w) in geometry.point_offsets.windows(2).enumerate() {
+    for (i, w) in point_offsets.windows(2).enumerate() {
         let n = (w[1] - w[0]).clamp(1, 3);
         out[n as usize - 1].push(i);
     }
@@ -63,18 +63,95 @@ pub fn write_contacts_vtp_to(
     w: &mut dyn Write,
 ) -> io::Result<()> {
     check_lengths(found, geometry)?;
-    let sections = sections(geometry);
-    header(w, geometry.points.len(), &sections)?;
+    let data = |w: &mut dyn Write, order: &[usize]| cell_data(w, order, found, geometry);
+    write_cells(w, &geometry.point_offsets, &geometry.points, data)
+}
+
+/// A PolyData file of cells (cell `i` has the points `points[point_offsets[i]..
+/// point_offsets[i + 1]]`), with the cell data written by `data` for the cells in file order.
+fn write_cells(
+    w: &mut dyn Write,
+    point_offsets: &[u64],
+    points: &[[f64; 3]],
+    data: impl FnOnce(&mut dyn Write, &[usize]) -> io::Result<()>,
+) -> io::Result<()> {
+    let sections = sections(point_offsets);
+    header(w, points.len(), &sections)?;
     writeln!(w, "<Points>")?;
-    let coords = geometry.points.iter().flatten();
-    data_array(w, "Float64", "Points", 3, coords)?;
+    data_array(w, "Float64", "Points", 3, points.iter().flatten())?;
     writeln!(w, "</Points>")?;
     for (name, cells) in SECTIONS.iter().zip(&sections) {
-        cell_section(w, name, cells, geometry)?;
+        cell_section(w, name, cells, point_offsets)?;
     }
-    let order: Vec<usize> = sections.concat();
-    cell_data(w, &order, found, geometry)?;
+    data(w, &sections.concat())?;
     writeln!(w, "</Piece>\n</PolyData>\n</VTKFile>")
+}
+
+/// The contact regions of bodies as a VTP file: one cell per piece (part contact), cells
+/// in the order of [`write_contacts_vtp_to`]. Cell data: `contact` (the region's row in
+/// [`BodyContacts::contacts`]), `body_a`, `body_b` (body ids, `body_a < body_b`), `region`
+/// (the region's index within its pair of bodies), `type` (the region's type, by the bodies'
+/// real features), `piece_type` (the part contact's own type), `block_a`, `block_b` (the
+/// parts, `block_a` of `body_a`), `area` (the region's total area), `distance` and `normal`
+/// (the region's). Colour by `region` to tell the regions of one pair apart.
+pub fn write_body_contacts_vtp_to(found: &BodyContacts, w: &mut dyn Write) -> io::Result<()> {
+    let mut region_of = Vec::with_capacity(found.pieces.len());
+    for (i, o) in found.piece_offsets.windows(2).enumerate() {
+        region_of.extend((o[0]..o[1]).map(|_| i));
+    }
+    let data = |w: &mut dyn Write, order: &[usize]| {
+        let (c, p) = (&found.contacts, &found.pieces);
+        let row = |k: &usize| region_of[*k];
+        writeln!(w, "<CellData Scalars=\"type\" Normals=\"normal\">")?;
+        data_array(w, "Int64", "contact", 1, order.iter().map(row))?;
+        for (name, s) in [("body_a", 0), ("body_b", 1)] {
+            data_array(
+                w,
+                "Int64",
+                name,
+                1,
+                order.iter().map(|k| c[row(k)].bodies[s]),
+            )?;
+        }
+        data_array(
+            w,
+            "Int64",
+            "region",
+            1,
+            order.iter().map(|k| c[row(k)].region),
+        )?;
+        data_array(
+            w,
+            "Int8",
+            "type",
+            1,
+            order.iter().map(|k| c[row(k)].kind.code()),
+        )?;
+        let piece_types = order.iter().map(|&k| p[k].contact.kind.code());
+        data_array(w, "Int8", "piece_type", 1, piece_types)?;
+        for (name, s) in [("block_a", 0), ("block_b", 1)] {
+            data_array(w, "Int64", name, 1, order.iter().map(|&k| p[k].pair[s]))?;
+        }
+        data_array(
+            w,
+            "Float64",
+            "area",
+            1,
+            order.iter().map(|k| c[row(k)].area),
+        )?;
+        let distances = order.iter().map(|k| c[row(k)].distance);
+        data_array(w, "Float64", "distance", 1, distances)?;
+        let normals = order.iter().flat_map(|k| c[row(k)].normal);
+        data_array(w, "Float64", "normal", 3, normals)?;
+        writeln!(w, "</CellData>")
+    };
+    write_cells(w, &found.piece_point_offsets, &found.piece_points, data)
+}
+
+/// Writes the contact regions of bodies as a VTP file, atomically
+/// ([`write_body_contacts_vtp_to`]).
+pub fn write_body_contacts_vtp(found: &BodyContacts, path: &Path) -> Result<(), IoError> {
+    write_atomic(path, |w| write_body_contacts_vtp_to(found, w))
 }
 
 fn header(w: &mut dyn Write, n_points: usize, sections: &[Vec<usize>; 3]) -> io::Result<()> {
@@ -98,12 +175,12 @@ fn cell_section(
     w: &mut dyn Write,
     name: &str,
     cells: &[usize],
-    geometry: &ContactGeometries,
+    point_offsets: &[u64],
 ) -> io::Result<()> {
     if cells.is_empty() {
         return Ok(());
     }
-    let range = |i: usize| geometry.point_offsets[i]..geometry.point_offsets[i + 1];
+    let range = |i: usize| point_offsets[i]..point_offsets[i + 1];
     let connectivity = cells.iter().flat_map(|&i| range(i));
     let mut end = 0;
     let offsets = cells.iter().map(|&i| {

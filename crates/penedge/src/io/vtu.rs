@@ -1,9 +1,13 @@
 //! ParaView files: VTK XML unstructured grids (`.vtu`, ASCII).
 //!
-//! * [`write_vtu`]: one polyhedron cell (VTK type 42) per block, with cell data `block_id`,
-//!   `volume`, `n_faces` and `n_free_faces` (faces on the domain boundary);
+//! * [`write_vtu`]: one polyhedron cell (VTK type 42) per block (a convex part), with cell
+//!   data `block_id`, `body_id` (the concave block it is a part of: colour by it to see each
+//!   concave block in one colour), `volume`, `n_faces` and `n_free_faces` (faces on the
+//!   domain boundary);
 //! * [`write_faces_vtu`]: one polygon cell (VTK type 7) per block face, with cell data
-//!   `block_id`, `face`, `origin` (0 unknown, 1 domain boundary, 2 joint), `origin_set`
+//!   `block_id`, `body_id`, `face`, `internal` (1 for a face inside its concave block, glued
+//!   to other parts: threshold it away to draw concave blocks without their internal faces),
+//!   `origin` (0 unknown, 1 domain boundary, 2 joint), `origin_set`
 //!   (domain part, or spec entry of the joint) and `origin_index` (boundary face, or joint
 //!   id): colour by `origin` to see free faces, by `origin_set` to see joint sets.
 //!
@@ -40,6 +44,7 @@ pub fn write_blocks_to(system: &BlockSystem, w: &mut dyn Write) -> io::Result<()
     polyhedron_faces(w, blocks)?;
     writeln!(w, "</Cells>\n<CellData Scalars=\"block_id\">")?;
     array(w, "Int64", "block_id", 0..blocks.len())?;
+    array(w, "Int64", "body_id", system.body_ids())?;
     array(
         w,
         "Float64",
@@ -112,12 +117,13 @@ pub fn write_faces_to(system: &BlockSystem, w: &mut dyn Write) -> io::Result<()>
     array(w, "Int64", "offsets", offsets)?;
     array(w, "UInt8", "types", (0..n_faces).map(|_| POLYGON))?;
     writeln!(w, "</Cells>\n<CellData Scalars=\"origin\">")?;
-    face_data(w, blocks)?;
+    face_data(w, system)?;
     writeln!(w, "</CellData>")?;
     footer(w)
 }
 
-fn face_data(w: &mut dyn Write, blocks: &[ConvexBlock]) -> io::Result<()> {
+fn face_data(w: &mut dyn Write, system: &BlockSystem) -> io::Result<()> {
+    let blocks = system.blocks();
     let per_face = || {
         blocks.iter().enumerate().flat_map(|(id, b)| {
             b.face_origins()
@@ -127,7 +133,21 @@ fn face_data(w: &mut dyn Write, blocks: &[ConvexBlock]) -> io::Result<()> {
         })
     };
     array(w, "Int64", "block_id", per_face().map(|(id, _, _)| id))?;
+    let bodies = system.body_ids();
+    array(
+        w,
+        "Int64",
+        "body_id",
+        per_face().map(|(id, _, _)| bodies[id]),
+    )?;
     array(w, "Int32", "face", per_face().map(|(_, f, _)| f))?;
+    let internal = |(id, f, _): (usize, usize, _)| system.is_internal_face(id as u32, f as u32);
+    array(
+        w,
+        "UInt8",
+        "internal",
+        per_face().map(|x| internal(x) as u8),
+    )?;
     array(w, "Int32", "origin", per_face().map(|(_, _, o)| o.code()))?;
     array(
         w,

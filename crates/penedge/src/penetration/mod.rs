@@ -13,6 +13,7 @@
 //! query early.
 
 mod clip;
+mod grazing;
 mod table;
 
 use crate::block::{Bits, ConvexBlock, Edge};
@@ -86,6 +87,11 @@ pub struct PenetrationEdge {
     pub ends: [EdgeEnd; 2],
     /// Table 1 type.
     pub kind: PenetrationEdgeType,
+    /// The type the classification reads it as, and the parameters of the part that stands
+    /// for the contact: `kind` and `t`, unless an end is cut by a face plane that the edge
+    /// crosses rather than lies in (`penetration/grazing.rs`, docs/tolerance.md "Lies in").
+    #[serde(skip)]
+    pub(crate) standing: (PenetrationEdgeType, [f64; 2]),
 }
 
 /// A penetration edge as the clipping makes it, for a consumer that reads it at once (the
@@ -100,6 +106,8 @@ pub(crate) struct Piece<'a> {
     pub(crate) t: [f64; 2],
     cut: [u32; 2],
     pub(crate) near: [u64; 2],
+    /// What the classification reads the piece as ([`PenetrationEdge::standing`]).
+    pub(crate) standing: (PenetrationEdgeType, [f64; 2]),
 }
 
 impl Piece<'_> {
@@ -128,6 +136,7 @@ impl Piece<'_> {
             t: self.t,
             ends: self.ends(),
             kind: self.kind,
+            standing: self.standing,
         }
     }
 }
@@ -215,7 +224,7 @@ fn keep(
     out: &mut Vec<PenetrationEdge>,
     sink: &mut impl EdgeSink,
 ) {
-    let piece = piece(of, side, parent, c, masks, th);
+    let piece = piece(of, side, parent, c, masks, th, table);
     if !deep {
         sink.edge(&piece, table);
     }
@@ -231,15 +240,18 @@ fn piece<'a>(
     c: Clipped,
     masks: [VertexMasks; 2],
     th: Thresholds,
+    table: &DistanceTable,
 ) -> Piece<'a> {
     // Two original vertices make a type 1 whatever the length; a cut piece well below the
     // threshold at the block's diagonal (no edge is longer: the gap's stubs) has no length,
     // known without the edge's vertices.
     let piece = c.t[1] - c.t[0];
+    let mut length_squared = 0.0;
     let has_length = c.cut != [NO_CUT; 2] && 2.0 * piece * of.size() > th.length && {
         let [v1, v2] = parent.vertices;
         let edge_vector = of.vertices()[v2 as usize] - of.vertices()[v1 as usize];
-        piece * piece * edge_vector.length_squared() > th.length * th.length
+        length_squared = edge_vector.length_squared();
+        piece * piece * length_squared > th.length * th.length
     };
     let mut piece = Piece {
         side,
@@ -248,12 +260,29 @@ fn piece<'a>(
         t: c.t,
         cut: c.cut,
         near: masks.map(|m| m.near),
+        standing: (PenetrationEdgeType::T1, c.t),
     };
     piece.kind = PenetrationEdgeType::of(piece.ends(), has_length);
+    // A cut piece with length may be the gap's band at a face its edge crosses.
+    piece.standing = if has_length {
+        grazing::standing(table, parent, &c, piece.kind, length_squared, th)
+    } else {
+        (piece.kind, c.t)
+    };
     piece
 }
 
 impl PenetrationEdge {
+    /// The Table 1 type the classification reads the piece as, and the parameters of the
+    /// part of it that stands for the contact: the piece itself, unless an end is cut by a
+    /// face plane that the edge crosses rather than lies in; then that end is moved back to
+    /// where the edge is the gap inside the plane, and a piece left without length reads as
+    /// a type 3 (its original vertex) or a type 5 (the deepest point between its two cutting
+    /// planes, given as both parameters). docs/tolerance.md, "Lies in".
+    pub fn stands_for(&self) -> (PenetrationEdgeType, [f64; 2]) {
+        self.standing
+    }
+
     /// The two end points of the piece.
     pub fn points(&self, owner: &ConvexBlock) -> [crate::geometry::DVec3; 2] {
         let e = owner.edges()[self.edge as usize];

@@ -248,7 +248,7 @@ fn fill_portable(
     table: &mut [f64],
     masks: &mut [VertexMasks],
 ) -> u64 {
-    let Thresholds { gap, length } = th;
+    let Thresholds { gap, length, .. } = th;
     let mut outside_all = u64::MAX;
     for (v, (out, m)) in table
         .chunks_exact_mut(4 * planes.len())
@@ -508,6 +508,7 @@ mod tests {
             let th = Thresholds {
                 gap,
                 length: 10.0 * gap,
+                sine: 10.0 * gap,
             };
             let filled: Vec<(bool, DistanceTable)> = kernels
                 .iter()

@@ -74,7 +74,7 @@ impl BlockSystem {
             &pairs,
             tol,
             progress,
-            |det, a, b| det.detect(a, b),
+            |det, _, a, b| det.detect(a, b),
             |slice, outcomes| out.extend_from(slice, outcomes),
         )?;
         out.contacts.shrink_to_fit();
@@ -211,16 +211,17 @@ pub(super) fn ask_ahead(
 /// the threads rarely wait for each other.
 pub(super) const SLICE: usize = 1 << 16;
 
-/// Runs `query` on every candidate pair, in parallel within each slice of [`SLICE`] pairs,
-/// and hands each slice's pairs and outcomes (in pair order) to `keep`: the memory beyond
+/// Runs `query` on every candidate pair (given its block ids and blocks), in parallel within each slice of [`SLICE`] pairs,
+/// and hands each slice's pairs and outcomes (in pair order; `keep` may move them out) to
+/// `keep`: the memory beyond
 /// the output is one slice's outcomes, and the output is the same for any number of threads.
 pub(super) fn narrow_phase<T: Send>(
     system: &BlockSystem,
     pairs: &[[u32; 2]],
     tol: &Tolerance,
     progress: &mut dyn FnMut(DetectProgress) -> ControlFlow<()>,
-    query: impl Fn(&mut Detector, &ConvexBlock, &ConvexBlock) -> T + Sync,
-    mut keep: impl FnMut(&[[u32; 2]], &[T]),
+    query: impl Fn(&mut Detector, [u32; 2], &ConvexBlock, &ConvexBlock) -> T + Sync,
+    mut keep: impl FnMut(&[[u32; 2]], &mut [T]),
 ) -> Result<(), Cancelled> {
     let blocks = system.blocks();
     let mut outcomes = Vec::with_capacity(SLICE.min(pairs.len()));
@@ -233,11 +234,11 @@ pub(super) fn narrow_phase<T: Send>(
                 |det, (n, &[i, j])| {
                     // The pairs run by first block: the second ones are asked for.
                     ask_ahead(blocks, |m| slice.get(m).copied(), n, false);
-                    query(det, &blocks[i as usize], &blocks[j as usize])
+                    query(det, [i, j], &blocks[i as usize], &blocks[j as usize])
                 },
             )
             .collect_into_vec(&mut outcomes);
-        keep(slice, &outcomes);
+        keep(slice, &mut outcomes);
         let done = (k * SLICE + slice.len()).min(pairs.len());
         if progress(DetectProgress {
             pairs_done: done,

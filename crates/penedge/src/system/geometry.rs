@@ -108,7 +108,7 @@ impl BlockSystem {
             &pairs,
             tol,
             progress,
-            |det, a, b| det.detect_with_geometry(a, b),
+            |det, _, a, b| det.detect_with_geometry(a, b),
             |slice, outcomes| {
                 for (&pair, outcome) in slice.iter().zip(outcomes) {
                     match outcome {

@@ -1,19 +1,27 @@
 //! Block systems: a set of blocks with ids, built by cutting a domain with planes (see
 //! [`crate::generation`]), and the detection of every contact in it.
 
+mod body_contacts;
 mod broad_phase;
+mod concave;
+#[cfg(test)]
+mod concave_tests;
 mod detect;
 mod examples;
+mod flat;
 mod geometry;
 #[cfg(test)]
 pub(crate) mod test_rng;
 mod tracker;
 
+pub use body_contacts::{BodyContact, BodyContacts};
 pub use broad_phase::{BroadPhase, WideBoxes};
+pub use concave::{ConcaveError, InternalFace};
 pub use detect::{count_types, Cancelled, DetectProgress, PairContact, SystemContacts};
 #[cfg(test)]
 pub(crate) use examples::paper_pairs;
 pub use examples::{paper_example, paper_spec, paper_table3, PaperExample};
+pub use flat::FlatBlocks;
 pub use geometry::ContactGeometries;
 pub use tracker::{ContactTracker, TrackerError, UpdateReport};
 
@@ -26,6 +34,9 @@ use thiserror::Error;
 
 /// A system of blocks; a block's id is its index.
 ///
+/// Each block is a convex part of a body: by default its own body (id = block id); blocks
+/// given one body id by [`BlockSystem::with_bodies`] are the parts of one concave block.
+///
 /// A generated system also carries where it came from: the domain's convex parts, the joint
 /// table (every plane applied, in order) and one record per spec entry; each block's
 /// [`crate::block::FaceOrigin`]s point into them.
@@ -35,6 +46,9 @@ pub struct BlockSystem {
     domain: Vec<ConvexBlock>,
     joints: Vec<JointRecord>,
     sets: Vec<SetRecord>,
+    /// Body ids and internal faces when some block is made of several parts.
+    glue: Option<concave::Glue>,
+    unit: Option<String>,
 }
 
 /// Why a block system cannot be built.
@@ -52,6 +66,20 @@ pub enum SystemError {
     /// Generation failed.
     #[error("{0}")]
     Generation(#[from] GenerationError),
+    /// Flat arrays ([`FlatBlocks`]) whose offsets or indices do not fit together.
+    #[error("{message}")]
+    Arrays {
+        /// What is wrong, naming the array.
+        message: String,
+    },
+    /// Block `block` of flat arrays is not a valid block.
+    #[error("block {block}: {source}")]
+    InvalidBlock {
+        /// The block's id.
+        block: usize,
+        /// Why.
+        source: BlockError,
+    },
 }
 
 impl BlockSystem {
@@ -75,7 +103,21 @@ impl BlockSystem {
             domain,
             joints,
             sets,
+            glue: None,
+            unit: None,
         }
+    }
+
+    /// The system with the length unit of its coordinates named (see [`BlockSystem::unit`]).
+    pub fn with_unit(mut self, unit: Option<String>) -> Self {
+        self.unit = unit;
+        self
+    }
+
+    /// The length unit of the coordinates, when named (the generation spec's `unit`): a
+    /// label for pictures and reports; penedge computes in whatever unit the numbers are.
+    pub fn unit(&self) -> Option<&str> {
+        self.unit.as_deref()
     }
 
     /// The blocks, indexed by id.
@@ -188,6 +230,10 @@ pub struct SystemArrays {
     pub volumes: Vec<f64>,
     /// Per block, its centroid.
     pub centroids: Vec<[f64; 3]>,
+    /// Per block, its body id (the concave block it is a part of; its own id by default).
+    pub body_ids: Vec<i64>,
+    /// Per face, 1 if it lies inside its body (covered entirely by internal faces), else 0.
+    pub face_internal: Vec<u8>,
 }
 
 impl BlockSystem {
@@ -211,12 +257,15 @@ impl BlockSystem {
                 a.origin_kind.push(origin.code());
                 a.origin_set.push(origin.ids().0);
                 a.origin_index.push(origin.ids().1);
+                a.face_internal
+                    .push(self.is_internal_face(a.volumes.len() as u32, f as u32) as u8);
             }
             a.vertex_offsets.push(a.vertices.len() as u64);
             a.face_offsets.push(a.origin_kind.len() as u64);
             a.volumes.push(b.volume());
             a.centroids.push(b.centroid().to_array());
         }
+        a.body_ids = self.body_ids().into_iter().map(i64::from).collect();
         a
     }
 }

@@ -2,6 +2,7 @@
 //! motions and scalings of whole systems, and contact lists in a comparable form.
 #![allow(dead_code)] // each test file uses part of it
 
+pub mod dev_cases;
 pub mod reference;
 
 use penedge::generation::rng::SplitMix64;
@@ -10,7 +11,8 @@ use penedge::generation::{
 };
 use penedge::geometry::DVec3;
 use penedge::system::SystemContacts;
-use penedge::{BlockSystem, ConvexBlock};
+use penedge::tolerance::ROUNDING_FLOOR;
+use penedge::{BlockSystem, ConvexBlock, Tolerance};
 use reference::{grazing, touch, touching};
 
 /// A 10 m box cut by two or three joint sets with random orientations, spacings and
@@ -183,4 +185,15 @@ pub fn differences(expected: &Answer, got: &Answer) -> String {
     let n = out.len();
     out.truncate(10);
     format!("{n} differences: {}", out.join("; "))
+}
+
+/// The sine below which an edge lies in a face or along an edge, as docs/tolerance.md
+/// ("Lies in") states it: the pair's absolute length threshold over its scale, computed here
+/// from the blocks' bounding boxes.
+pub fn lies_in_sine(tol: &Tolerance, a: &ConvexBlock, b: &ConvexBlock) -> f64 {
+    let scale = a.aabb().diagonal().min(b.aabb().diagonal());
+    let magnitude = a.aabb().magnitude().max(b.aabb().magnitude());
+    let gap = (tol.gap() * scale).max(ROUNDING_FLOOR * magnitude);
+    let length = (tol.length() * scale).max(10.0 * gap);
+    length / scale
 }

@@ -448,9 +448,10 @@ pub fn same_feature(block: &ConvexBlock, feature: Feature, p: &Polytope, active:
 }
 
 /// Whether an edge of one block leaves the contact at a grazing angle to the other block's
-/// planes through it: `0 < max_i n_i · d < sine` for a direction `d` along the edge. The gap
-/// then leaves a stub longer than the length threshold on it (docs/tolerance.md), which the
-/// policy accepts as a known limit; such cases are skipped.
+/// planes through it: `0 < max_i n_i · d < sine` for a direction `d` along the edge. Below the
+/// rule's sine (docs/tolerance.md, "Lies in": the relative length threshold) the edge lies in
+/// the face and the type is one rank higher than the exact one; the properties skip edges
+/// within a few times that sine of it, where rounding decides.
 pub fn grazing(a: &Polytope, b: &Polytope, t: &Touch, sine: f64) -> bool {
     let scale = a.size.min(b.size);
     let pairs = [(a, b, &t.active[1]), (b, a, &t.active[0])];

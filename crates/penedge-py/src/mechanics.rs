@@ -1,0 +1,481 @@
+//! `Simulation` (core `mechanics`): rigid-block DEM on a block system.
+
+use crate::arrays;
+use crate::errors::to_py_err;
+use crate::system::BlockSystem;
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2};
+use penedge::geometry::DVec3;
+use penedge::mechanics::{self, Damping, Fixity, JointModel};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// A rigid-block simulation (3DEC-style distinct element method) of a block system.
+///
+/// Each block is a rigid body (mass and inertia exact from its polyhedron) moved by gravity
+/// and its contact forces, step after step: detection -> sub-contacts (polygon corners,
+/// segment ends or one point, each with its own forces and Mohr-Coulomb state) -> forces ->
+/// central-difference integration (rotation with full inertia). ``docs/mechanics.md`` gives
+/// the algorithm, the sign conventions and the units (any consistent set; SI in examples).
+///
+/// Parameters
+/// ----------
+/// system : BlockSystem
+///     The blocks (one body each), at rest and free.
+/// density : float, default 2700.0
+///     Density of every block (mass per volume; :meth:`set_density` per block).
+/// gap : float, default 1e-3
+///     Relative detection gap (up to 0.01): the deepest overlap a contact can carry, relative
+///     to the smaller block's size (a deeper one stops the run with an error).
+/// point_width : float, default 0.2
+///     Width of point and edge contacts relative to the smaller body's diameter: a point
+///     contact is a patch of ``w² / 2``, a segment of length ``l`` a strip of ``w l / 2``
+///     (``docs/mechanics.md``). The softer they are, the deeper they sink under a load.
+///
+/// Raises
+/// ------
+/// MechanicsError
+///     A density that is not a finite number > 0, a point width not in (0, 1].
+/// ToleranceError
+///     An impossible gap.
+///
+/// Examples
+/// --------
+/// >>> import penedge
+/// >>> base = penedge.Block.cuboid([-2, -2, -1], [2, 2, 0])
+/// >>> cube = penedge.Block.cuboid([-0.5, -0.5, 0], [0.5, 0.5, 1])
+/// >>> sim = penedge.Simulation(penedge.BlockSystem([base, cube]), density=2500.0)
+/// >>> sim.fix([0])
+/// >>> sim.set_joint(kn=1e9, ks=1e9, friction=30.0)
+/// >>> report = sim.solve()
+/// >>> report["converged"]
+/// True
+/// >>> round(float(sim.positions[1, 2]), 6)  # sunk by m g / (kn A)
+/// 0.499975
+#[pyclass(module = "penedge", name = "Simulation")]
+pub struct Simulation {
+    inner: mechanics::Simulation,
+}
+
+fn body_ids(ids: Option<Vec<usize>>, n: usize) -> Vec<usize> {
+    ids.unwrap_or_else(|| (0..n).collect())
+}
+
+/// A velocity and an optional spin (zero when not given) as vectors.
+fn motion(
+    velocity: &Bound<'_, PyAny>,
+    spin: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(DVec3, DVec3)> {
+    let v = DVec3::from_array(arrays::point(velocity, "velocity")?);
+    let w = match spin {
+        Some(s) => DVec3::from_array(arrays::point(s, "spin")?),
+        None => DVec3::ZERO,
+    };
+    Ok((v, w))
+}
+
+#[pymethods]
+impl Simulation {
+    #[new]
+    #[pyo3(signature = (system, density = 2700.0, gap = 1e-3, point_width = 0.2))]
+    fn new(system: &BlockSystem, density: f64, gap: f64, point_width: f64) -> PyResult<Self> {
+        let mut inner = mechanics::Simulation::new(&system.inner, density).map_err(to_py_err)?;
+        inner.set_gap(gap).map_err(to_py_err)?;
+        inner.set_point_width(point_width).map_err(to_py_err)?;
+        Ok(Simulation { inner })
+    }
+
+    /// Number of bodies.
+    fn __len__(&self) -> usize {
+        self.inner.bodies().len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Simulation({} bodies, {} contacts, t = {})",
+            self.inner.bodies().len(),
+            self.inner.contacts().list.len(),
+            self.inner.time()
+        )
+    }
+
+    // ---- settings ---------------------------------------------------------------------
+
+    /// Sets the joint properties of joint set `set` (the ``set`` of the faces' origins, as
+    /// in :attr:`BlockSystem.sets`), or the default ones (``set=None``: every contact with
+    /// no joint face, or of a set without its own). A contact between faces of two sets takes
+    /// the weaker set; see ``docs/mechanics.md``.
+    ///
+    /// Parameters
+    /// ----------
+    /// kn, ks : float
+    ///     Normal and shear stiffness, stress per displacement (> 0).
+    /// friction : float
+    ///     Friction angle in degrees, in [0, 90).
+    /// cohesion, tension : float, default 0.0
+    ///     Cohesion and tensile strength (stresses ≥ 0), held by the contacts found at the
+    ///     start of the run until they fail (then 0).
+    /// set : int, optional
+    ///     The joint set; None for the default.
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     A property out of range (the error names it).
+    #[pyo3(signature = (kn, ks, friction, cohesion = 0.0, tension = 0.0, set = None))]
+    fn set_joint(
+        &mut self,
+        kn: f64,
+        ks: f64,
+        friction: f64,
+        cohesion: f64,
+        tension: f64,
+        set: Option<u32>,
+    ) -> PyResult<()> {
+        let model = JointModel {
+            kn,
+            ks,
+            friction,
+            cohesion,
+            tension,
+        };
+        match set {
+            None => self.inner.set_default_joint(model),
+            Some(s) => self.inner.set_joint(s, model),
+        }
+        .map_err(to_py_err)
+    }
+
+    /// The joint properties of set `set` (None: the default), as a dict.
+    #[pyo3(signature = (set = None))]
+    fn joint<'py>(&self, py: Python<'py>, set: Option<u32>) -> PyResult<Bound<'py, PyDict>> {
+        let m = self.inner.joints().of_set(set);
+        let out = PyDict::new(py);
+        out.set_item("kn", m.kn)?;
+        out.set_item("ks", m.ks)?;
+        out.set_item("friction", m.friction)?;
+        out.set_item("cohesion", m.cohesion)?;
+        out.set_item("tension", m.tension)?;
+        Ok(out)
+    }
+
+    /// Gravity, an acceleration vector (default ``(0, 0, -9.81)``).
+    #[getter]
+    fn gravity<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        arrays::vector(py, self.inner.gravity().to_array().to_vec())
+    }
+
+    #[setter]
+    fn set_gravity(&mut self, g: &Bound<'_, PyAny>) -> PyResult<()> {
+        let g = arrays::point(g, "gravity")?;
+        self.inner
+            .set_gravity(DVec3::from_array(g))
+            .map_err(to_py_err)
+    }
+
+    /// Sets the damping: local non-viscous (3DEC's, in [0, 1); :meth:`solve` uses 0.8
+    /// when none is set) and mass-proportional viscous (a rate ≥ 0, in 1/s).
+    #[pyo3(signature = (local = 0.0, viscous = 0.0))]
+    fn set_damping(&mut self, local: f64, viscous: f64) -> PyResult<()> {
+        self.inner
+            .set_damping(Damping { local, viscous })
+            .map_err(to_py_err)
+    }
+
+    /// The damping: ``(local, viscous)``.
+    #[getter]
+    fn damping(&self) -> (f64, f64) {
+        let d = self.inner.damping();
+        (d.local, d.viscous)
+    }
+
+    /// Sets the density of the given bodies (all when `ids` is None).
+    #[pyo3(signature = (density, ids = None))]
+    fn set_density(&mut self, density: f64, ids: Option<Vec<usize>>) -> PyResult<()> {
+        for i in body_ids(ids, self.inner.bodies().len()) {
+            self.inner.set_density(i, density).map_err(to_py_err)?;
+        }
+        Ok(())
+    }
+
+    /// Fixes the given bodies: they no longer move.
+    fn fix(&mut self, ids: Vec<usize>) -> PyResult<()> {
+        for i in ids {
+            self.inner.fix(i).map_err(to_py_err)?;
+        }
+        Ok(())
+    }
+
+    /// Frees the given bodies (at rest).
+    fn free(&mut self, ids: Vec<usize>) -> PyResult<()> {
+        for i in ids {
+            self.inner.free(i).map_err(to_py_err)?;
+        }
+        Ok(())
+    }
+
+    /// Moves body `id` at a prescribed velocity and spin (world frame), whatever the forces.
+    #[pyo3(signature = (id, velocity, spin = None))]
+    fn prescribe(
+        &mut self,
+        id: usize,
+        velocity: &Bound<'_, PyAny>,
+        spin: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let (v, w) = motion(velocity, spin)?;
+        self.inner.prescribe(id, v, w).map_err(to_py_err)
+    }
+
+    /// Sets the velocity and spin of free body `id` now.
+    #[pyo3(signature = (id, velocity, spin = None))]
+    fn set_velocity(
+        &mut self,
+        id: usize,
+        velocity: &Bound<'_, PyAny>,
+        spin: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let (v, w) = motion(velocity, spin)?;
+        self.inner.set_velocity(id, v, w).map_err(to_py_err)
+    }
+
+    /// Applies a constant force on body `id`'s centroid (besides gravity and contacts).
+    fn apply_force(&mut self, id: usize, force: &Bound<'_, PyAny>) -> PyResult<()> {
+        let f = DVec3::from_array(arrays::point(force, "force")?);
+        self.inner.apply_force(id, f).map_err(to_py_err)
+    }
+
+    /// Sets the time step (None: automatic, `safety` × the critical step).
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     A step not positive or above the critical one, or no free body.
+    #[pyo3(signature = (dt = None, safety = None))]
+    fn set_timestep(&mut self, dt: Option<f64>, safety: Option<f64>) -> PyResult<()> {
+        if let Some(s) = safety {
+            self.inner.set_safety(s).map_err(to_py_err)?;
+        }
+        self.inner.set_timestep(dt).map_err(to_py_err)
+    }
+
+    /// The time step the next step takes.
+    #[getter]
+    fn timestep(&self) -> PyResult<f64> {
+        self.inner.timestep().map_err(to_py_err)
+    }
+
+    /// The critical time step (a bound from the masses, inertias and the largest stiffness).
+    #[getter]
+    fn critical_timestep(&self) -> PyResult<f64> {
+        self.inner.critical_timestep().map_err(to_py_err)
+    }
+
+    // ---- running ----------------------------------------------------------------------
+
+    /// Takes `n` steps (without the GIL).
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     No free body, a time step above the critical one, two bodies overlapping deeper
+    ///     than the gap, a NaN state. The steps before stay taken.
+    #[pyo3(signature = (n = 1))]
+    fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
+        let inner = &mut self.inner;
+        py.detach(|| inner.cycle(n)).map_err(to_py_err)
+    }
+
+    /// Steps until the simulated time reaches `t`.
+    fn run_until(&mut self, py: Python<'_>, t: f64) -> PyResult<()> {
+        let inner = &mut self.inner;
+        py.detach(|| inner.run_until(t)).map_err(to_py_err)
+    }
+
+    /// Steps until the unbalanced-force ratio is below `ratio`, at most `max_steps`; local
+    /// damping 0.8 unless damping was set.
+    ///
+    /// Returns
+    /// -------
+    /// dict
+    ///     ``steps``, ``ratio`` (at the end) and ``converged``.
+    #[pyo3(signature = (ratio = 1e-5, max_steps = 100_000))]
+    fn solve<'py>(
+        &mut self,
+        py: Python<'py>,
+        ratio: f64,
+        max_steps: u64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let inner = &mut self.inner;
+        let report = py
+            .detach(|| inner.solve(ratio, max_steps))
+            .map_err(to_py_err)?;
+        let out = PyDict::new(py);
+        out.set_item("steps", report.steps)?;
+        out.set_item("ratio", report.ratio)?;
+        out.set_item("converged", report.converged)?;
+        Ok(out)
+    }
+
+    /// Simulated time.
+    #[getter]
+    fn time(&self) -> f64 {
+        self.inner.time()
+    }
+
+    /// Steps taken.
+    #[getter]
+    fn steps(&self) -> u64 {
+        self.inner.steps()
+    }
+
+    /// The unbalanced-force ratio of the last step (largest unbalanced force of a free body
+    /// over the largest gravity plus applied force).
+    #[getter]
+    fn unbalanced_ratio(&self) -> f64 {
+        self.inner.unbalanced_ratio()
+    }
+
+    // ---- state as arrays (copies, read-only) ------------------------------------------
+
+    /// Centroid positions, shape (n, 3).
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rows: Vec<[f64; 3]> = self
+            .inner
+            .bodies()
+            .poses()
+            .iter()
+            .map(|p| p.translation.to_array())
+            .collect();
+        arrays::read_only(arrays::rows3(py, &rows))
+    }
+
+    /// Orientations as unit quaternions ``x, y, z, w`` (body frame to world; the body frame
+    /// is the centroid and principal axes), shape (n, 4).
+    #[getter]
+    fn quaternions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let poses = self.inner.bodies().poses();
+        let array =
+            Array2::from_shape_fn((poses.len(), 4), |(i, k)| poses[i].rotation.to_array()[k]);
+        arrays::read_only(array.into_pyarray(py))
+    }
+
+    /// Velocities of the centroids (at the half step, as 3DEC reports them), shape (n, 3).
+    #[getter]
+    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let b = self.inner.bodies();
+        let rows: Vec<[f64; 3]> = (0..b.len()).map(|i| b.velocity(i).to_array()).collect();
+        arrays::read_only(arrays::rows3(py, &rows))
+    }
+
+    /// Angular velocities (world frame), shape (n, 3).
+    #[getter]
+    fn spins<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let b = self.inner.bodies();
+        let rows: Vec<[f64; 3]> = (0..b.len()).map(|i| b.spin(i).to_array()).collect();
+        arrays::read_only(arrays::rows3(py, &rows))
+    }
+
+    /// Masses, shape (n,).
+    #[getter]
+    fn masses<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        arrays::read_only(arrays::vector(py, self.inner.bodies().masses().to_vec()))
+    }
+
+    /// Principal moments of inertia (ascending, about the body axes), shape (n, 3).
+    #[getter]
+    fn inertia<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rows: Vec<[f64; 3]> = self
+            .inner
+            .bodies()
+            .principal_inertia()
+            .iter()
+            .map(|m| m.to_array())
+            .collect();
+        arrays::read_only(arrays::rows3(py, &rows))
+    }
+
+    /// Whether each body is fixed, shape (n,).
+    #[getter]
+    fn fixed<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let f = self.inner.bodies().fixities();
+        let v = f.iter().map(|x| *x == Fixity::Fixed).collect();
+        arrays::read_only(arrays::vector(py, v))
+    }
+
+    /// Per body, the sum of its contact forces at the last step, shape (n, 3).
+    #[getter]
+    fn contact_forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rows: Vec<[f64; 3]> = self
+            .inner
+            .contact_forces()
+            .iter()
+            .map(|f| f.to_array())
+            .collect();
+        arrays::read_only(arrays::rows3(py, &rows))
+    }
+
+    /// Total kinetic energy (translation and rotation) of the bodies.
+    fn kinetic_energy(&self) -> f64 {
+        let b = self.inner.bodies();
+        (0..b.len()).map(|i| b.kinetic_energy(i)).sum()
+    }
+
+    /// The contacts and sub-contacts of the last step as arrays.
+    ///
+    /// Returns
+    /// -------
+    /// dict
+    ///     Per contact (m rows): ``pairs`` (m, 2) body ids A < B, ``types`` (m,) contact type
+    ///     codes 1..7, ``normals`` (m, 3) from A to B, ``sets`` (m,) the joint set whose
+    ///     properties apply (-1: the default), ``sub_offsets`` (m + 1,): contact ``i`` has
+    ///     sub-contacts ``sub_offsets[i]:sub_offsets[i + 1]``. Per sub-contact: ``points``
+    ///     (k, 3), ``areas``, ``gaps`` (> 0 apart), ``normal_forces`` (on B, > 0 in
+    ///     compression), ``shear_forces`` (k, 3) on B, ``shear_displacements`` (k, 3),
+    ///     ``states`` (0 elastic, 1 sliding, 2 open), ``bonded`` (cohesion and tension
+    ///     intact).
+    fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let c = self.inner.contacts();
+        let out = PyDict::new(py);
+        let pairs: Vec<[u32; 2]> = c.list.iter().map(|c| c.bodies).collect();
+        out.set_item("pairs", arrays::pairs(py, &pairs))?;
+        let types: Vec<i8> = c.list.iter().map(|c| c.kind.code() as i8).collect();
+        out.set_item("types", arrays::vector(py, types))?;
+        let normals: Vec<[f64; 3]> = c.list.iter().map(|c| c.normal.to_array()).collect();
+        out.set_item("normals", arrays::rows3(py, &normals))?;
+        let sets: Vec<i64> = c.list.iter().map(|c| c.set.map_or(-1, i64::from)).collect();
+        out.set_item("sets", arrays::vector(py, sets))?;
+        let mut offsets: Vec<u64> = c.list.iter().map(|c| u64::from(c.first)).collect();
+        offsets.push(c.subs.len() as u64);
+        out.set_item("sub_offsets", arrays::vector(py, offsets))?;
+        let rows = |f: &dyn Fn(&mechanics::SubContact) -> DVec3| -> Vec<[f64; 3]> {
+            c.subs.iter().map(|s| f(s).to_array()).collect()
+        };
+        out.set_item("points", arrays::rows3(py, &rows(&|s| s.point)))?;
+        out.set_item("shear_forces", arrays::rows3(py, &rows(&|s| s.shear_force)))?;
+        out.set_item(
+            "shear_displacements",
+            arrays::rows3(py, &rows(&|s| s.shear_displacement)),
+        )?;
+        let column = |f: &dyn Fn(&mechanics::SubContact) -> f64| -> Vec<f64> {
+            c.subs.iter().map(f).collect()
+        };
+        out.set_item("areas", arrays::vector(py, column(&|s| s.area)))?;
+        out.set_item("gaps", arrays::vector(py, column(&|s| s.gap)))?;
+        out.set_item(
+            "normal_forces",
+            arrays::vector(py, column(&|s| s.normal_force)),
+        )?;
+        let states: Vec<u8> = c.subs.iter().map(|s| s.state.code()).collect();
+        out.set_item("states", arrays::vector(py, states))?;
+        let bonded: Vec<bool> = c.subs.iter().map(|s| s.bonded).collect();
+        out.set_item("bonded", arrays::vector(py, bonded))?;
+        Ok(out)
+    }
+
+    /// The blocks at their current poses, as a :class:`BlockSystem` (for files and
+    /// pictures).
+    fn system(&self) -> BlockSystem {
+        BlockSystem::wrap(self.inner.placed_system())
+    }
+}

@@ -1,0 +1,366 @@
+//! Contacts and sub-contacts of a step: from the detection's contacts (type, normal,
+//! points) to sub-contacts with area shares, gaps, matched shear history and forces
+//! (docs/mechanics.md, steps 2 to 4).
+
+use super::bodies::Bodies;
+use super::joint::{joint_law, JointTable, SubState};
+use crate::block::{ConvexBlock, Pose};
+use crate::classify::{Contact, ContactType, Feature};
+use crate::contact_geometry::{ContactGeometry, ContactPoints};
+use crate::geometry::DVec3;
+
+/// A contact between two bodies' convex parts, as the mechanics keeps it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyContact {
+    /// The two parts (global part ids; for convex bodies, the body ids), smaller first.
+    pub parts: [u32; 2],
+    /// The bodies of the two parts (A, B).
+    pub bodies: [u32; 2],
+    /// The contact type.
+    pub kind: ContactType,
+    /// Unit normal from A to B.
+    pub normal: DVec3,
+    /// The joint set whose properties apply (`None`: the default).
+    pub set: Option<u32>,
+    /// The first of its sub-contacts in [`Contacts::subs`].
+    pub first: u32,
+    /// How many sub-contacts it has.
+    pub count: u32,
+}
+
+/// A sub-contact: one point of a contact with its share of the area and its own forces and
+/// history.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SubContact {
+    /// Where it is (world).
+    pub point: DVec3,
+    /// Where it is in A's body frame (moves with A; matches sub-contacts across steps).
+    pub local: DVec3,
+    /// Its share of the contact area.
+    pub area: f64,
+    /// Gap along the normal (> 0 apart, < 0 overlapping).
+    pub gap: f64,
+    /// Normal force on B, positive in compression.
+    pub normal_force: f64,
+    /// Shear force on B, in the contact plane.
+    pub shear_force: DVec3,
+    /// Accumulated shear displacement of B relative to A, in the contact plane.
+    pub shear_displacement: DVec3,
+    /// Mohr-Coulomb state.
+    pub state: SubState,
+    /// Whether its bond (cohesion, tension) is intact.
+    pub bonded: bool,
+}
+
+impl SubContact {
+    /// The force on B (world).
+    pub fn force(&self, normal: DVec3) -> DVec3 {
+        normal * self.normal_force + self.shear_force
+    }
+}
+
+/// The contacts of a step, sorted by pair of parts, and their sub-contacts, contact after
+/// contact.
+#[derive(Clone, Debug, Default)]
+pub struct Contacts {
+    /// Contacts, sorted by `parts`.
+    pub list: Vec<BodyContact>,
+    /// Sub-contacts, in the contacts' order.
+    pub subs: Vec<SubContact>,
+}
+
+impl Contacts {
+    /// The sub-contacts of contact `i`.
+    pub fn subs_of(&self, i: usize) -> &[SubContact] {
+        let c = &self.list[i];
+        &self.subs[c.first as usize..(c.first + c.count) as usize]
+    }
+
+    fn find(&self, parts: [u32; 2]) -> Option<&[SubContact]> {
+        let i = self.list.binary_search_by_key(&parts, |c| c.parts).ok()?;
+        Some(self.subs_of(i))
+    }
+}
+
+/// A contact found by the detection this step, with its geometry.
+pub(super) struct Found {
+    pub parts: [u32; 2],
+    pub contact: Contact,
+    pub geometry: ContactGeometry,
+}
+
+/// What a new contact's sub-contacts need besides the geometry.
+pub(super) struct StepInput<'a> {
+    pub bodies: &'a Bodies,
+    pub part_body: &'a [u32],
+    pub placed: &'a [ConvexBlock],
+    pub joints: &'a JointTable,
+    pub previous: &'a Contacts,
+    pub dt: f64,
+    /// Whether new pairs are bonded (the first detection of a run).
+    pub initial: bool,
+    /// Width of point contacts relative to the smaller block's size.
+    pub point_width: f64,
+}
+
+/// The contact and its sub-contacts with their forces for this step.
+pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, Vec<SubContact>) {
+    let [pa, pb] = found.parts;
+    let (a, b) = (&input.placed[pa as usize], &input.placed[pb as usize]);
+    let bodies = [input.part_body[pa as usize], input.part_body[pb as usize]];
+    let g = &found.geometry;
+    let n = g.normal();
+    let set = input
+        .joints
+        .set_of_contact(a, found.contact.feature_a, b, found.contact.feature_b);
+    let model = input.joints.of_set(set);
+    // The smaller body's diameter (twice its radius about the centroid): the same whatever
+    // its orientation, unlike a bounding box.
+    let diameter = 2.0
+        * input
+            .bodies
+            .shape(bodies[0] as usize)
+            .radius()
+            .min(input.bodies.shape(bodies[1] as usize).radius());
+    let width = input.point_width * diameter;
+    // The rounding of a gap of zero, far above it (and above the rounding of coordinates
+    // far from the origin): a bond at zero gap is not broken by it.
+    let magnitude = a.magnitude().max(b.magnitude());
+    let slack = (1e-9 * diameter).max(crate::tolerance::ROUNDING_FLOOR * magnitude);
+    let areas = area_shares(g.shape(), n, width);
+    let pose_a = input.bodies.pose[bodies[0] as usize];
+    let previous = input.previous.find(found.parts);
+    let mut gaps: Vec<f64> = match g.shape() {
+        ContactPoints::Point(_) => vec![g.distance()],
+        _ => g
+            .points()
+            .iter()
+            .map(|&p| {
+                let sa = feature_height(a, found.contact.feature_a, p, n);
+                let sb = feature_height(b, found.contact.feature_b, p, n);
+                sb - sa
+            })
+            .collect(),
+    };
+    let mut points = g.points().to_vec();
+    if found.contact.kind == ContactType::FaceFace && gaps.len() == 2 {
+        // A face-face polygon narrower than the length threshold, given as a segment: a
+        // strip along an edge (a block rocking onto it), whose two points the detection
+        // gives to within the threshold, one of them possibly across the strip where the
+        // faces have opened. The shallower end is moved across the strip, along the gap's
+        // gradient on the contact plane, to the deeper end's depth: both ends then lie on
+        // the edge, as the segment of the edge-face contact the strip becomes.
+        let (Feature::Face(fa), Feature::Face(fb)) =
+            (found.contact.feature_a, found.contact.feature_b)
+        else {
+            unreachable!("a face-face contact has two face features")
+        };
+        let (na, nb) = (
+            a.planes()[fa as usize].normal,
+            b.planes()[fb as usize].normal,
+        );
+        let grad = na / na.dot(n) - nb / nb.dot(n);
+        let grad = grad - n * grad.dot(n);
+        let (deep, shallow) = if gaps[0] <= gaps[1] { (0, 1) } else { (1, 0) };
+        if grad.length_squared() > 0.0 {
+            points[shallow] -= grad * ((gaps[shallow] - gaps[deep]) / grad.length_squared());
+        }
+        gaps[shallow] = gaps[deep];
+    }
+    let mut subs = Vec::with_capacity(points.len());
+    for ((&p, &area), &gap) in points.iter().zip(&areas).zip(&gaps) {
+        let local = to_body(&pose_a, p);
+        // History: the nearest sub-contact of the same pair at the last step; its shear
+        // stress carries over (the area shares change as the polygon does).
+        let (mut shear, mut slip, bonded) = match previous {
+            Some(old) => {
+                let o = old
+                    .iter()
+                    .min_by(|x, y| {
+                        x.local
+                            .distance_squared(local)
+                            .total_cmp(&y.local.distance_squared(local))
+                    })
+                    .expect("a contact has at least one sub-contact");
+                (
+                    o.shear_force * (area / o.area),
+                    o.shear_displacement,
+                    o.bonded,
+                )
+            }
+            // Bonds on the initial configuration's touching sub-contacts only: a joint open
+            // at the start has no bond.
+            None => (DVec3::ZERO, DVec3::ZERO, input.initial && gap <= slack),
+        };
+        shear = onto_plane(shear, n);
+        slip = onto_plane(slip, n);
+        let relative = point_velocity(input.bodies, bodies[1] as usize, p)
+            - point_velocity(input.bodies, bodies[0] as usize, p);
+        let du = relative * input.dt;
+        let du_s = du - n * du.dot(n);
+        slip += du_s;
+        shear -= du_s * (model.ks * area);
+        let out = joint_law(model, area, gap, shear, bonded, slack);
+        subs.push(SubContact {
+            point: p,
+            local,
+            area,
+            gap,
+            normal_force: out.normal_force,
+            shear_force: out.shear_force,
+            shear_displacement: slip,
+            state: out.state,
+            bonded: out.bonded,
+        });
+    }
+    let contact = BodyContact {
+        parts: found.parts,
+        bodies,
+        kind: found.contact.kind,
+        normal: n,
+        set,
+        first: 0,
+        count: subs.len() as u32,
+    };
+    (contact, subs)
+}
+
+/// The velocity of the point `p` moving with body `i`.
+fn point_velocity(bodies: &Bodies, i: usize, p: DVec3) -> DVec3 {
+    bodies.velocity(i) + bodies.spin(i).cross(p - bodies.pose[i].translation)
+}
+
+/// A point in the body frame of the pose.
+fn to_body(pose: &Pose, p: DVec3) -> DVec3 {
+    pose.rotation.conjugate() * (p - pose.translation)
+}
+
+/// `v` projected on the plane normal to `n`, keeping its length (a vector of the old
+/// contact plane rotated onto the new one).
+fn onto_plane(v: DVec3, n: DVec3) -> DVec3 {
+    let length = v.length();
+    let p = v - n * v.dot(n);
+    let lp = p.length();
+    if lp > 0.0 {
+        p * (length / lp)
+    } else {
+        DVec3::ZERO
+    }
+}
+
+/// The area share of each contact point (docs/mechanics.md, "Areas of sub-contacts"): a
+/// polygon's corners share its area, each at least `w max(e₁, e₂) / 4` (`e₁`, `e₂` its two
+/// edges); a segment's ends `w l / 4` each; a point `w² / 2`. A polygon narrowing to a
+/// segment (a block rocking onto an edge) thus keeps the stiffness of its corners on that
+/// edge, and a segment shrinking to a point tends to the point's.
+fn area_shares(shape: &ContactPoints, n: DVec3, width: f64) -> Vec<f64> {
+    match shape {
+        ContactPoints::Point(_) => vec![0.5 * width * width],
+        ContactPoints::Segment([p, q]) => vec![0.25 * width * p.distance(*q); 2],
+        ContactPoints::Polygon(poly) => {
+            let v = poly.vertices();
+            let c = v.iter().copied().sum::<DVec3>() / v.len() as f64;
+            let mut shares = vec![0.0; v.len()];
+            let mut floors = vec![0.0; v.len()];
+            for i in 0..v.len() {
+                let j = (i + 1) % v.len();
+                let half = 0.25 * (v[i] - c).cross(v[j] - c).dot(n).abs();
+                shares[i] += half;
+                shares[j] += half;
+                let edge = 0.25 * width * v[i].distance(v[j]);
+                floors[i] = f64::max(floors[i], edge);
+                floors[j] = f64::max(floors[j], edge);
+            }
+            for (s, f) in shares.iter_mut().zip(floors) {
+                *s = s.max(f);
+            }
+            shares
+        }
+    }
+}
+
+/// Where the line through `p` along `n` meets the feature `f` of `block`, as `s` in
+/// `p + s n`: a face's plane, the point of an edge's line nearest the line, a vertex's
+/// height (docs/mechanics.md, "Normal force").
+fn feature_height(block: &ConvexBlock, f: Feature, p: DVec3, n: DVec3) -> f64 {
+    match f {
+        Feature::Vertex(v) => n.dot(block.vertices()[v as usize] - p),
+        Feature::Face(k) => {
+            let plane = &block.planes()[k as usize];
+            let cos = plane.normal.dot(n);
+            if cos.abs() > 1e-6 {
+                plane.normal.dot(plane.point - p) / cos
+            } else {
+                // A face along the normal: its centroid's height (not met in practice: the
+                // contact normal of a face feature is close to the face's normal).
+                n.dot(plane.point - p)
+            }
+        }
+        Feature::Edge(e) => {
+            let edge = block.edges()[e as usize];
+            let e0 = block.vertices()[edge.vertices[0] as usize];
+            let e1 = block.vertices()[edge.vertices[1] as usize];
+            let d = e1 - e0;
+            // The edge's direction within the contact plane; its point nearest the line
+            // p + s n is where its projection passes nearest p.
+            let dp = d - n * d.dot(n);
+            let w = e0 - p;
+            let wp = w - n * w.dot(n);
+            let len2 = dp.length_squared();
+            let t = if len2 > 1e-24 * d.length_squared() {
+                -wp.dot(dp) / len2
+            } else {
+                0.5
+            };
+            n.dot(w + d * t)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::Detector;
+    use crate::Tolerance;
+
+    #[test]
+    fn a_tilted_face_gives_gaps_that_grow_along_the_tilt_and_areas_that_sum() {
+        // B rests on A with its bottom face tilted by 1e-4 about y: the gap grows along x.
+        let a = ConvexBlock::cuboid([-2.0, -2.0, -1.0], [2.0, 2.0, 0.0]).unwrap();
+        let tilt = glam::DQuat::from_rotation_y(-1e-4);
+        let b = ConvexBlock::cuboid([-0.5, -0.5, 0.0], [0.5, 0.5, 1.0])
+            .unwrap()
+            .transformed(tilt, DVec3::ZERO, 1.0);
+        let tol = Tolerance::with_gap(1e-3).unwrap();
+        let (result, geometry) = Detector::new(tol).detect_with_geometry(&a, &b);
+        let contact = match result {
+            crate::PairResult::Contact(c) => c,
+            other => panic!("{other:?}"),
+        };
+        let g = geometry.unwrap();
+        assert_eq!(contact.kind, ContactType::FaceFace);
+        // A face of 1 m²: the corners' shares (0.25 each) are above the floor
+        // (0.1 × 1 / 4 = 0.025) and sum to the area.
+        let shares = area_shares(g.shape(), g.normal(), 0.1);
+        assert!((shares.iter().sum::<f64>() - g.area()).abs() < 1e-12);
+        // A segment's ends get w l / 4, as the corners of a thin strip l × s do.
+        let strip = area_shares(
+            &ContactPoints::Segment([DVec3::ZERO, DVec3::X]),
+            DVec3::Z,
+            0.1,
+        );
+        assert_eq!(strip, vec![0.025; 2]);
+        assert!((g.area() - 1.0).abs() < 1e-6);
+        for &p in g.points() {
+            let sa = feature_height(&a, contact.feature_a, p, g.normal());
+            let sb = feature_height(&b, contact.feature_b, p, g.normal());
+            // B's bottom at x: z = x tan(1e-4) (rotation about y by -1e-4 lifts +x).
+            let expected = p.x * 1e-4f64.tan();
+            assert!(
+                (sb - sa - expected).abs() < 1e-9,
+                "{p:?}: {} vs {expected}",
+                sb - sa
+            );
+        }
+    }
+}

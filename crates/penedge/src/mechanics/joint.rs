@@ -1,0 +1,303 @@
+//! The joint law: Mohr-Coulomb with tension cut-off and residual strength, per sub-contact,
+//! and the joint properties per set (docs/mechanics.md, "Joint law").
+
+use super::MechanicsError;
+use crate::block::{ConvexBlock, FaceOrigin};
+use crate::classify::Feature;
+use crate::geometry::DVec3;
+use std::collections::BTreeMap;
+
+/// The properties of a joint (any consistent units; SI: Pa/m, degrees, Pa).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointModel {
+    /// Normal stiffness, stress per displacement (> 0).
+    pub kn: f64,
+    /// Shear stiffness, stress per displacement (> 0).
+    pub ks: f64,
+    /// Friction angle in degrees, in [0, 90).
+    pub friction: f64,
+    /// Cohesion, a stress (≥ 0); 0 after failure.
+    pub cohesion: f64,
+    /// Tensile strength, a stress (≥ 0); 0 after failure.
+    pub tension: f64,
+}
+
+impl Default for JointModel {
+    /// A stiff frictional joint without bond: kn = ks = 1e10 Pa/m, 30°, no cohesion or tension.
+    fn default() -> Self {
+        JointModel {
+            kn: 1e10,
+            ks: 1e10,
+            friction: 30.0,
+            cohesion: 0.0,
+            tension: 0.0,
+        }
+    }
+}
+
+impl JointModel {
+    /// The model if every property is in range, else the error naming the first that is not.
+    pub fn validated(self) -> Result<JointModel, MechanicsError> {
+        let positive = |name: &'static str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(MechanicsError::Stiffness { name, value: v })
+            }
+        };
+        positive("kn", self.kn)?;
+        positive("ks", self.ks)?;
+        if !(self.friction.is_finite() && (0.0..90.0).contains(&self.friction)) {
+            return Err(MechanicsError::Friction(self.friction));
+        }
+        for (name, v) in [("cohesion", self.cohesion), ("tension", self.tension)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(MechanicsError::Strength { name, value: v });
+            }
+        }
+        Ok(self)
+    }
+
+    /// tan φ.
+    pub fn tan_friction(&self) -> f64 {
+        self.friction.to_radians().tan()
+    }
+}
+
+/// The joint properties of a simulation: a default, and properties per joint set.
+#[derive(Clone, Debug, Default)]
+pub struct JointTable {
+    default: JointModel,
+    sets: BTreeMap<u32, JointModel>,
+}
+
+impl JointTable {
+    /// The default model (contacts with no joint face, or of a set without its own).
+    pub fn default_model(&self) -> &JointModel {
+        &self.default
+    }
+
+    /// Sets the default model.
+    pub fn set_default(&mut self, model: JointModel) -> Result<(), MechanicsError> {
+        self.default = model.validated()?;
+        Ok(())
+    }
+
+    /// Sets the model of joint set `set` (the `set` of `FaceOrigin::Joint`).
+    pub fn set(&mut self, set: u32, model: JointModel) -> Result<(), MechanicsError> {
+        self.sets.insert(set, model.validated()?);
+        Ok(())
+    }
+
+    /// The model of set `set` (the default when it has none).
+    pub fn of_set(&self, set: Option<u32>) -> &JointModel {
+        set.and_then(|s| self.sets.get(&s)).unwrap_or(&self.default)
+    }
+
+    /// The largest stiffness of any model (for the critical time step).
+    pub fn max_stiffness(&self) -> f64 {
+        std::iter::once(&self.default)
+            .chain(self.sets.values())
+            .fold(0.0f64, |k, m| k.max(m.kn).max(m.ks))
+    }
+
+    /// The joint set of a contact from its features' face origins (docs/mechanics.md): a
+    /// face feature's set; for two faces of different sets, the weaker one; none without
+    /// a joint face.
+    pub fn set_of_contact(
+        &self,
+        a: &ConvexBlock,
+        fa: Feature,
+        b: &ConvexBlock,
+        fb: Feature,
+    ) -> Option<u32> {
+        let set = |block: &ConvexBlock, f: Feature| match f {
+            Feature::Face(i) => block
+                .face_origins()
+                .get(i as usize)
+                .copied()
+                .and_then(FaceOrigin::set),
+            _ => None,
+        };
+        match (set(a, fa), set(b, fb)) {
+            (Some(x), Some(y)) if x != y => {
+                let (mx, my) = (self.of_set(Some(x)), self.of_set(Some(y)));
+                let key = |m: &JointModel| (m.tan_friction(), m.cohesion);
+                Some(if key(my) < key(mx) { y } else { x })
+            }
+            (Some(x), _) => Some(x),
+            (None, y) => y,
+        }
+    }
+}
+
+/// The Mohr-Coulomb state of a sub-contact.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SubState {
+    /// In contact, within the strength.
+    #[default]
+    Elastic,
+    /// In contact, at the shear strength.
+    Sliding,
+    /// Apart, or failed in tension: no force.
+    Open,
+}
+
+impl SubState {
+    /// 0 elastic, 1 sliding, 2 open (for arrays).
+    pub fn code(self) -> u8 {
+        self as u8
+    }
+}
+
+/// The force of one sub-contact after a step of the law.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct LawOutcome {
+    pub normal_force: f64,
+    pub shear_force: DVec3,
+    pub state: SubState,
+    pub bonded: bool,
+}
+
+/// One step of the joint law for a sub-contact of area `area` and gap `gap`, with the shear
+/// force `shear` already on the contact plane plus its elastic increment (docs/mechanics.md,
+/// steps 2 to 4). A bond does not fail in tension while its gap is within `slack` (the
+/// rounding of a gap of zero) beyond its strength.
+pub(super) fn joint_law(
+    model: &JointModel,
+    area: f64,
+    gap: f64,
+    shear: DVec3,
+    bonded: bool,
+    slack: f64,
+) -> LawOutcome {
+    let fn_ = -model.kn * area * gap;
+    let tension_held = bonded && gap <= model.tension / model.kn + slack;
+    if fn_ < 0.0 && !tension_held || fn_ == 0.0 && !bonded {
+        // Apart, or a bond failed in tension: no force, and the bond is gone for good.
+        return LawOutcome {
+            normal_force: 0.0,
+            shear_force: DVec3::ZERO,
+            state: SubState::Open,
+            bonded: false,
+        };
+    }
+    let cohesion = if bonded { model.cohesion } else { 0.0 };
+    // Friction from compression only: tension on a bond leaves its cohesion.
+    let limit = cohesion * area + fn_.max(0.0) * model.tan_friction();
+    let magnitude = shear.length();
+    if magnitude > limit {
+        // Shear failure: the force at the strength; a bond with cohesion loses its cohesion
+        // and its tension (3DEC's residual); a bond of tension only keeps it.
+        LawOutcome {
+            normal_force: fn_,
+            shear_force: shear * (limit / magnitude),
+            state: SubState::Sliding,
+            bonded: bonded && cohesion == 0.0,
+        }
+    } else {
+        LawOutcome {
+            normal_force: fn_,
+            shear_force: shear,
+            state: SubState::Elastic,
+            bonded,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn model() -> JointModel {
+        JointModel {
+            kn: 100.0,
+            ks: 50.0,
+            friction: 45.0,
+            cohesion: 2.0,
+            tension: 3.0,
+        }
+    }
+
+    #[test]
+    fn the_law_follows_mohr_coulomb_with_residual_strength() {
+        let m = model();
+        // Compression 100 * 2 * 0.01 = 2; strength c A + Fn tan φ = 4 + 2 = 6.
+        let held = joint_law(&m, 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), true, 0.0);
+        assert_eq!(held.state, SubState::Elastic);
+        assert!((held.normal_force - 2.0).abs() < 1e-12);
+        let slid = joint_law(&m, 2.0, -0.01, DVec3::new(7.0, 0.0, 0.0), true, 0.0);
+        assert_eq!(slid.state, SubState::Sliding);
+        assert!((slid.shear_force.x - 6.0).abs() < 1e-12);
+        assert!(!slid.bonded, "a bond that slides loses its cohesion");
+        // Unbonded: friction only.
+        let residual = joint_law(&m, 2.0, -0.01, DVec3::new(7.0, 0.0, 0.0), false, 0.0);
+        assert!((residual.shear_force.x - 2.0).abs() < 1e-12);
+        // Tension 100 * 2 * 0.02 = 4 < T A = 6 holds; 0.04 -> 8 > 6 fails.
+        let pulled = joint_law(&m, 2.0, 0.02, DVec3::ZERO, true, 0.0);
+        assert!((pulled.normal_force + 4.0).abs() < 1e-12 && pulled.bonded);
+        let broken = joint_law(&m, 2.0, 0.04, DVec3::ZERO, true, 0.0);
+        assert_eq!((broken.state, broken.bonded), (SubState::Open, false));
+        let apart = joint_law(&m, 2.0, 0.02, DVec3::ZERO, false, 0.0);
+        assert_eq!(apart.state, SubState::Open);
+    }
+
+    /// A contact takes its faces' joint set; between two sets, the weaker; with no joint
+    /// face, none (the default).
+    #[test]
+    fn a_contact_takes_the_set_of_its_faces_and_the_weaker_of_two() {
+        let joint = |set| FaceOrigin::Joint { set, joint: 0 };
+        let tagged = |b: ConvexBlock, set| {
+            let n = b.n_faces();
+            b.with_face_origins(vec![joint(set); n]).unwrap()
+        };
+        let a = tagged(ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap(), 1);
+        let b = tagged(
+            ConvexBlock::cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0]).unwrap(),
+            2,
+        );
+        let plain = ConvexBlock::cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0]).unwrap();
+        let mut table = JointTable::default();
+        let weak = JointModel {
+            friction: 20.0,
+            ..JointModel::default()
+        };
+        table.set(2, weak).unwrap();
+        let (f, e, v) = (Feature::Face(0), Feature::Edge(0), Feature::Vertex(0));
+        // Set 2 is weaker than set 1 (which has the default 30°).
+        assert_eq!(table.set_of_contact(&a, f, &b, f), Some(2));
+        assert_eq!(table.set_of_contact(&b, f, &a, f), Some(2));
+        table
+            .set(
+                1,
+                JointModel {
+                    friction: 10.0,
+                    ..weak
+                },
+            )
+            .unwrap();
+        assert_eq!(table.set_of_contact(&a, f, &b, f), Some(1));
+        // One joint face: its set; edges and vertices have none.
+        assert_eq!(table.set_of_contact(&a, f, &plain, f), Some(1));
+        assert_eq!(table.set_of_contact(&plain, f, &b, e), None);
+        assert_eq!(table.set_of_contact(&a, e, &b, v), None);
+        assert_eq!(table.of_set(Some(2)).friction, 20.0);
+        assert_eq!(table.of_set(Some(7)), table.default_model());
+    }
+
+    #[test]
+    fn bad_properties_are_named() {
+        let bad = |f: fn(&mut JointModel)| {
+            let mut m = model();
+            f(&mut m);
+            m.validated().unwrap_err().to_string()
+        };
+        assert!(bad(|m| m.kn = 0.0).contains("kn"));
+        assert!(bad(|m| m.ks = -1.0).contains("ks"));
+        assert!(bad(|m| m.kn = f64::NAN).contains("kn"));
+        assert!(bad(|m| m.friction = 90.0).contains("friction"));
+        assert!(bad(|m| m.friction = -1.0).contains("friction"));
+        assert!(bad(|m| m.cohesion = -1.0).contains("cohesion"));
+        assert!(bad(|m| m.tension = f64::NAN).contains("tension"));
+    }
+}

@@ -1,0 +1,737 @@
+//! Rigid-block mechanics: an explicit distinct element method (3DEC-style) on penedge's
+//! contacts. See `docs/mechanics.md` for the algorithm, the sign conventions and the units.
+//!
+//! One step ([`Simulation::step`]) is the algorithm: bodies at their poses -> contacts ->
+//! sub-contacts -> forces -> integration -> new poses.
+//!
+//! ```
+//! use penedge::mechanics::{JointModel, Simulation};
+//! use penedge::{BlockSystem, ConvexBlock};
+//! // A 1 m cube resting on a fixed base.
+//! let base = ConvexBlock::cuboid([-2.0, -2.0, -1.0], [2.0, 2.0, 0.0]).unwrap();
+//! let cube = ConvexBlock::cuboid([-0.5, -0.5, 0.0], [0.5, 0.5, 1.0]).unwrap();
+//! let mut sim = Simulation::new(&BlockSystem::new(vec![base, cube]), 2500.0).unwrap();
+//! sim.fix(0).unwrap();
+//! sim.set_default_joint(JointModel { kn: 1e9, ks: 1e9, ..JointModel::default() }).unwrap();
+//! let report = sim.solve(1e-5, 100_000).unwrap();
+//! assert!(report.converged);
+//! // It sank by its weight over kn A: 2500 * 9.81 / 1e9.
+//! let z = sim.bodies().poses()[1].translation.z;
+//! assert!((z - (0.5 - 2500.0 * 9.81 / 1e9)).abs() < 1e-8);
+//! ```
+
+mod bodies;
+mod contacts;
+mod integrate;
+mod joint;
+
+pub use bodies::{Bodies, Fixity};
+pub use contacts::{BodyContact, Contacts, SubContact};
+pub use integrate::{free_rotation, Damping};
+pub use joint::{JointModel, JointTable, SubState};
+
+use crate::block::{ConvexBlock, Pose};
+use crate::body::BodyError;
+use crate::classify::PairResult;
+use crate::contact::Detector;
+use crate::geometry::DVec3;
+use crate::system::{BlockSystem, BroadPhase, WideBoxes};
+use crate::tolerance::{Tolerance, ToleranceError};
+use contacts::{build_contact, Found, StepInput};
+use rayon::prelude::*;
+use thiserror::Error;
+
+/// Why a simulation cannot be set up or stepped.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum MechanicsError {
+    /// A stiffness that is zero, negative or not finite.
+    #[error("joint stiffness `{name}` must be a finite number > 0, got {value}")]
+    Stiffness {
+        /// Which stiffness.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// A friction angle outside [0°, 90°).
+    #[error("the friction angle must be in [0, 90) degrees, got {0}")]
+    Friction(f64),
+    /// A cohesion or tensile strength that is negative or not finite.
+    #[error("joint `{name}` must be a finite number >= 0, got {value}")]
+    Strength {
+        /// Which strength.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// A density that is not a finite number > 0.
+    #[error("the density must be a finite number > 0, got {0}")]
+    Density(f64),
+    /// A damping coefficient out of range.
+    #[error("damping `{name}` must be {range}, got {value}")]
+    Damping {
+        /// Which coefficient.
+        name: &'static str,
+        /// Its range.
+        range: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// A parameter out of range.
+    #[error("`{name}` must be {range}, got {value}")]
+    Parameter {
+        /// Which parameter.
+        name: &'static str,
+        /// Its range.
+        range: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// A time step that is not positive, or above the critical one.
+    #[error("the time step {dt} is not in (0, {critical}] (the critical time step)")]
+    TimeStep {
+        /// The step given.
+        dt: f64,
+        /// The critical step.
+        critical: f64,
+    },
+    /// Every body is fixed or prescribed: nothing to solve.
+    #[error("no free body: every body is fixed or has a prescribed velocity")]
+    NoFreeBody,
+    /// A NaN or infinite value.
+    #[error("{0} has a NaN or infinite component")]
+    NotFinite(&'static str),
+    /// A body id out of range.
+    #[error("no body {id}: the simulation has {bodies} bodies")]
+    UnknownBody {
+        /// The id given.
+        id: usize,
+        /// Number of bodies.
+        bodies: usize,
+    },
+    /// Two bodies overlap deeper than the detection gap.
+    #[error(
+        "bodies {} and {} overlap deeper than the detection gap at step {step}: \
+         lower the time step, or raise the stiffness, the gap or the point width",
+        bodies[0], bodies[1]
+    )]
+    Penetration {
+        /// The two bodies.
+        bodies: [u32; 2],
+        /// The step.
+        step: u64,
+    },
+    /// A block cannot be made a body.
+    #[error("block {0} cannot be a body: {1}")]
+    Body(usize, BodyError),
+    /// A bad detection tolerance.
+    #[error("{0}")]
+    Tolerance(#[from] ToleranceError),
+}
+
+/// What [`Simulation::solve`] did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolveReport {
+    /// Steps taken.
+    pub steps: u64,
+    /// The unbalanced-force ratio at the end.
+    pub ratio: f64,
+    /// Whether the ratio fell below the target.
+    pub converged: bool,
+}
+
+/// A rigid-block simulation: bodies, joint properties, contacts and the time stepping.
+#[derive(Clone, Debug)]
+pub struct Simulation {
+    bodies: Bodies,
+    /// Per convex part: its body and its index among the body's parts.
+    part_body: Vec<u32>,
+    part_index: Vec<u32>,
+    /// The parts placed at their bodies' poses (a cache for the detection).
+    placed: Vec<ConvexBlock>,
+    joints: JointTable,
+    gravity: DVec3,
+    damping: Damping,
+    tolerance: Tolerance,
+    point_width: f64,
+    skin: f64,
+    pairs: Vec<[u32; 2]>,
+    built_at: Option<Vec<Pose>>,
+    contacts: Contacts,
+    /// Per body, the sum of its contact forces and moments (about the centroid) last step.
+    forces: Vec<DVec3>,
+    moments: Vec<DVec3>,
+    dt: Option<f64>,
+    safety: f64,
+    time: f64,
+    steps: u64,
+    ratio: f64,
+    /// Whether velocities are at the whole step (just set): the next kick is a half one.
+    synced: bool,
+    /// Whether the next detection is the first: its contacts are bonded.
+    initial: bool,
+}
+
+impl Simulation {
+    /// A simulation of `system`'s blocks, one body each, all of density `density`, free and
+    /// at rest, with the default joint model, gravity `(0, 0, -9.81)`, no damping, a
+    /// detection gap of 1e-3 (relative), point contacts 0.2 of the smaller body's diameter
+    /// wide and the automatic time step.
+    pub fn new(system: &BlockSystem, density: f64) -> Result<Simulation, MechanicsError> {
+        let bodies = Bodies::from_blocks(system.blocks(), density)?;
+        Ok(Simulation::from_bodies(bodies))
+    }
+
+    /// A simulation of the given bodies (settings as [`Simulation::new`]).
+    pub fn from_bodies(bodies: Bodies) -> Simulation {
+        let mut part_body = Vec::new();
+        let mut part_index = Vec::new();
+        let mut placed = Vec::new();
+        for b in 0..bodies.len() {
+            for (k, part) in bodies.shape(b).parts().iter().enumerate() {
+                part_body.push(b as u32);
+                part_index.push(k as u32);
+                let mut p = part.clone();
+                p.place_from(part, &bodies.pose[b]);
+                placed.push(p);
+            }
+        }
+        let mean_size =
+            placed.iter().map(ConvexBlock::size).sum::<f64>() / placed.len().max(1) as f64;
+        let n = bodies.len();
+        Simulation {
+            bodies,
+            part_body,
+            part_index,
+            placed,
+            joints: JointTable::default(),
+            gravity: DVec3::new(0.0, 0.0, -9.81),
+            damping: Damping::default(),
+            tolerance: Tolerance::with_gap(1e-3).expect("a valid gap"),
+            point_width: 0.2,
+            skin: 0.05 * mean_size,
+            pairs: Vec::new(),
+            built_at: None,
+            contacts: Contacts::default(),
+            forces: vec![DVec3::ZERO; n],
+            moments: vec![DVec3::ZERO; n],
+            dt: None,
+            safety: 0.5,
+            time: 0.0,
+            steps: 0,
+            ratio: f64::INFINITY,
+            synced: true,
+            initial: true,
+        }
+    }
+
+    // ---- settings -------------------------------------------------------------------
+
+    /// The bodies and their state.
+    pub fn bodies(&self) -> &Bodies {
+        &self.bodies
+    }
+
+    /// The contacts and sub-contacts of the last step.
+    pub fn contacts(&self) -> &Contacts {
+        &self.contacts
+    }
+
+    /// The joint properties.
+    pub fn joints(&self) -> &JointTable {
+        &self.joints
+    }
+
+    /// Sets the default joint model.
+    pub fn set_default_joint(&mut self, model: JointModel) -> Result<(), MechanicsError> {
+        self.joints.set_default(model)
+    }
+
+    /// Sets the joint model of joint set `set`.
+    pub fn set_joint(&mut self, set: u32, model: JointModel) -> Result<(), MechanicsError> {
+        self.joints.set(set, model)
+    }
+
+    /// Gravity (acceleration vector).
+    pub fn gravity(&self) -> DVec3 {
+        self.gravity
+    }
+
+    /// Sets gravity.
+    pub fn set_gravity(&mut self, g: DVec3) -> Result<(), MechanicsError> {
+        if !g.is_finite() {
+            return Err(MechanicsError::NotFinite("gravity"));
+        }
+        self.gravity = g;
+        Ok(())
+    }
+
+    /// The damping.
+    pub fn damping(&self) -> Damping {
+        self.damping
+    }
+
+    /// Sets the damping: local in [0, 1), viscous ≥ 0.
+    pub fn set_damping(&mut self, damping: Damping) -> Result<(), MechanicsError> {
+        if !(damping.local.is_finite() && (0.0..1.0).contains(&damping.local)) {
+            return Err(MechanicsError::Damping {
+                name: "local",
+                range: "in [0, 1)",
+                value: damping.local,
+            });
+        }
+        if !(damping.viscous.is_finite() && damping.viscous >= 0.0) {
+            return Err(MechanicsError::Damping {
+                name: "viscous",
+                range: "a finite number >= 0",
+                value: damping.viscous,
+            });
+        }
+        self.damping = damping;
+        Ok(())
+    }
+
+    /// Sets the detection gap (relative to block size, as [`Tolerance::with_gap`]): the
+    /// deepest overlap the contacts can carry.
+    pub fn set_gap(&mut self, gap: f64) -> Result<(), MechanicsError> {
+        self.tolerance = Tolerance::with_gap(gap)?;
+        self.built_at = None;
+        Ok(())
+    }
+
+    /// Sets the width of point contacts relative to the smaller block's size (in (0, 1]).
+    pub fn set_point_width(&mut self, width: f64) -> Result<(), MechanicsError> {
+        if !(width.is_finite() && width > 0.0 && width <= 1.0) {
+            return Err(MechanicsError::Parameter {
+                name: "point_width",
+                range: "in (0, 1]",
+                value: width,
+            });
+        }
+        self.point_width = width;
+        Ok(())
+    }
+
+    /// Sets the density of body `i` (its mass and inertia follow; its velocities stay).
+    pub fn set_density(&mut self, i: usize, density: f64) -> Result<(), MechanicsError> {
+        self.bodies.set_density(i, density)
+    }
+
+    /// Fixes body `i`: it no longer moves.
+    pub fn fix(&mut self, i: usize) -> Result<(), MechanicsError> {
+        self.set_fixity(i, Fixity::Fixed)
+    }
+
+    /// Frees body `i`, at rest.
+    pub fn free(&mut self, i: usize) -> Result<(), MechanicsError> {
+        self.set_fixity(i, Fixity::Free)?;
+        self.bodies.set_velocity(i, DVec3::ZERO, DVec3::ZERO)
+    }
+
+    /// Gives body `i` a prescribed velocity and spin (world frame).
+    pub fn prescribe(
+        &mut self,
+        i: usize,
+        velocity: DVec3,
+        spin: DVec3,
+    ) -> Result<(), MechanicsError> {
+        if !(velocity.is_finite() && spin.is_finite()) {
+            return Err(MechanicsError::NotFinite("prescribed velocity"));
+        }
+        self.set_fixity(i, Fixity::Prescribed { velocity, spin })
+    }
+
+    fn set_fixity(&mut self, i: usize, fixity: Fixity) -> Result<(), MechanicsError> {
+        self.bodies.check(i)?;
+        self.bodies.fixity[i] = fixity;
+        self.built_at = None; // the pairs kept depend on which bodies move
+        Ok(())
+    }
+
+    /// Sets the velocity and spin of free body `i` at the current time (the next step
+    /// starts with a half kick).
+    pub fn set_velocity(
+        &mut self,
+        i: usize,
+        velocity: DVec3,
+        spin: DVec3,
+    ) -> Result<(), MechanicsError> {
+        self.bodies.set_velocity(i, velocity, spin)?;
+        self.synced = true;
+        Ok(())
+    }
+
+    /// Sets a constant force on body `i`'s centroid, besides gravity and contacts.
+    pub fn apply_force(&mut self, i: usize, force: DVec3) -> Result<(), MechanicsError> {
+        self.bodies.check(i)?;
+        if !force.is_finite() {
+            return Err(MechanicsError::NotFinite("applied force"));
+        }
+        self.bodies.applied[i] = force;
+        Ok(())
+    }
+
+    /// Sets body `i`'s pose (it must keep the body clear of others by the gap).
+    pub fn set_pose(&mut self, i: usize, pose: Pose) -> Result<(), MechanicsError> {
+        self.bodies.check(i)?;
+        let pose =
+            Pose::new(pose.rotation, pose.translation).ok_or(MechanicsError::NotFinite("pose"))?;
+        self.bodies.pose[i] = pose;
+        self.place_body(i);
+        self.built_at = None;
+        Ok(())
+    }
+
+    /// Sets the time step; `None` for the automatic one (safety × critical).
+    pub fn set_timestep(&mut self, dt: Option<f64>) -> Result<(), MechanicsError> {
+        if let Some(dt) = dt {
+            let critical = self.critical_timestep()?;
+            if !(dt.is_finite() && dt > 0.0 && dt <= critical) {
+                return Err(MechanicsError::TimeStep { dt, critical });
+            }
+        }
+        self.dt = dt;
+        Ok(())
+    }
+
+    /// Sets the safety factor of the automatic time step (in (0, 1]).
+    pub fn set_safety(&mut self, safety: f64) -> Result<(), MechanicsError> {
+        if !(safety.is_finite() && safety > 0.0 && safety <= 1.0) {
+            return Err(MechanicsError::Parameter {
+                name: "safety",
+                range: "in (0, 1]",
+                value: safety,
+            });
+        }
+        self.safety = safety;
+        Ok(())
+    }
+
+    /// The critical time step (docs/mechanics.md): the smallest bound of the free bodies.
+    pub fn critical_timestep(&self) -> Result<f64, MechanicsError> {
+        let k = self.joints.max_stiffness();
+        (0..self.bodies.len())
+            .filter(|&i| self.bodies.fixity[i] == Fixity::Free)
+            .map(|i| integrate::critical_step(&self.bodies, i, k))
+            .reduce(f64::min)
+            .ok_or(MechanicsError::NoFreeBody)
+    }
+
+    /// The time step the next step takes.
+    pub fn timestep(&self) -> Result<f64, MechanicsError> {
+        let critical = self.critical_timestep()?;
+        match self.dt {
+            Some(dt) if dt > critical => Err(MechanicsError::TimeStep { dt, critical }),
+            Some(dt) => Ok(dt),
+            None => Ok(self.safety * critical),
+        }
+    }
+
+    /// Simulated time.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// The unbalanced-force ratio of the last step: the largest unbalanced force of a free
+    /// body over the largest of its gravity plus applied force (infinite before a step).
+    pub fn unbalanced_ratio(&self) -> f64 {
+        self.ratio
+    }
+
+    /// The convex parts at the bodies' current poses, as a block system (for files and
+    /// pictures; the parts of one body are consecutive).
+    pub fn placed_system(&self) -> BlockSystem {
+        BlockSystem::new(self.placed.clone())
+    }
+
+    /// Per body, the sum of its contact forces at the last step.
+    pub fn contact_forces(&self) -> &[DVec3] {
+        &self.forces
+    }
+
+    /// Per body, the sum of the moments of its contact forces about its centroid.
+    pub fn contact_moments(&self) -> &[DVec3] {
+        &self.moments
+    }
+
+    // ---- running ----------------------------------------------------------------------
+
+    /// One step: bodies at their poses -> contacts -> sub-contacts -> forces ->
+    /// integration -> new poses (docs/mechanics.md, "One step").
+    pub fn step(&mut self) -> Result<(), MechanicsError> {
+        let dt = self.timestep()?;
+        self.update_pairs();
+        let found = self.detect()?;
+        self.update_contacts(found, dt);
+        self.sum_forces();
+        self.integrate(dt)?;
+        self.place_moving();
+        self.time += dt;
+        self.steps += 1;
+        Ok(())
+    }
+
+    /// `n` steps.
+    pub fn cycle(&mut self, n: u64) -> Result<(), MechanicsError> {
+        for _ in 0..n {
+            self.step()?;
+        }
+        Ok(())
+    }
+
+    /// Steps until the time reaches `t` (the last step may pass it by less than a step).
+    pub fn run_until(&mut self, t: f64) -> Result<(), MechanicsError> {
+        if t.is_nan() {
+            return Err(MechanicsError::NotFinite("the end time"));
+        }
+        while self.time < t {
+            self.step()?;
+        }
+        Ok(())
+    }
+
+    /// Steps until the unbalanced-force ratio is below `ratio` (3DEC's default 1e-5), at
+    /// most `max_steps`, with local damping 0.8 unless damping was set.
+    pub fn solve(&mut self, ratio: f64, max_steps: u64) -> Result<SolveReport, MechanicsError> {
+        if !(ratio.is_finite() && ratio > 0.0) {
+            return Err(MechanicsError::Parameter {
+                name: "ratio",
+                range: "a finite number > 0",
+                value: ratio,
+            });
+        }
+        let saved = self.damping;
+        if saved == Damping::default() {
+            self.damping.local = 0.8;
+        }
+        let mut taken = 0;
+        let result = loop {
+            if taken >= max_steps {
+                break Ok(false);
+            }
+            if let Err(e) = self.step() {
+                break Err(e);
+            }
+            taken += 1;
+            if self.ratio < ratio {
+                break Ok(true);
+            }
+        };
+        self.damping = saved;
+        Ok(SolveReport {
+            steps: taken,
+            ratio: self.ratio,
+            converged: result?,
+        })
+    }
+
+    // ---- the step's parts -------------------------------------------------------------
+
+    fn place_body(&mut self, b: usize) {
+        for k in 0..self.placed.len() {
+            if self.part_body[k] as usize == b {
+                let part = &self.bodies.shape(b).parts()[self.part_index[k] as usize];
+                self.placed[k].place_from(part, &self.bodies.pose[b]);
+            }
+        }
+    }
+
+    /// Places the parts of every body that moves (in parallel; each part is its own).
+    fn place_moving(&mut self) {
+        let (bodies, part_body, part_index) = (&self.bodies, &self.part_body, &self.part_index);
+        self.placed.par_iter_mut().enumerate().for_each(|(k, p)| {
+            let b = part_body[k] as usize;
+            if bodies.fixity[b] != Fixity::Fixed {
+                let part = &bodies.shape(b).parts()[part_index[k] as usize];
+                p.place_from(part, &bodies.pose[b]);
+            }
+        });
+    }
+
+    /// The candidate pairs, rebuilt when a body has travelled more than half the skin
+    /// since the last build (boxes widened by gap + skin / 2: until then every pair within
+    /// its gap is among them).
+    fn update_pairs(&mut self) {
+        let half = 0.5 * self.skin;
+        let stale = match &self.built_at {
+            None => true,
+            Some(built) => (0..self.bodies.len()).any(|b| {
+                let r = self.bodies.shape(b).radius();
+                built[b].displacement_bound(&self.bodies.pose[b], DVec3::ZERO, r) > half
+            }),
+        };
+        if !stale {
+            return;
+        }
+        let (placed, tol) = (&self.placed, &self.tolerance);
+        let boxes = WideBoxes::from_fn(placed.len(), |k| {
+            let aabb = placed[k].aabb();
+            (aabb, tol.for_box(&aabb).gap + half)
+        });
+        let moves =
+            |k: u32| self.bodies.fixity[self.part_body[k as usize] as usize] == Fixity::Free;
+        self.pairs = boxes
+            .pairs(BroadPhase::default())
+            .into_iter()
+            .filter(|&[i, j]| {
+                self.part_body[i as usize] != self.part_body[j as usize] && (moves(i) || moves(j))
+            })
+            .collect();
+        self.built_at = Some(self.bodies.pose.clone());
+    }
+
+    /// The contacts of the candidate pairs, in pair order (the pair queries in parallel).
+    fn detect(&self) -> Result<Vec<Found>, MechanicsError> {
+        let tol = self.tolerance;
+        let placed = &self.placed;
+        let answers: Vec<Option<Result<Found, [u32; 2]>>> = self
+            .pairs
+            .par_iter()
+            .map_init(
+                || Detector::new(tol),
+                |det, &[i, j]| {
+                    let (result, geometry) =
+                        det.detect_with_geometry(&placed[i as usize], &placed[j as usize]);
+                    match (result, geometry) {
+                        (PairResult::Contact(contact), Some(geometry)) => Some(Ok(Found {
+                            parts: [i, j],
+                            contact,
+                            geometry,
+                        })),
+                        (PairResult::Penetrating, _) => Some(Err([i, j])),
+                        _ => None,
+                    }
+                },
+            )
+            .collect();
+        let mut found = Vec::with_capacity(answers.len());
+        for answer in answers.into_iter().flatten() {
+            match answer {
+                Ok(f) => found.push(f),
+                Err([i, j]) => {
+                    return Err(MechanicsError::Penetration {
+                        bodies: [self.part_body[i as usize], self.part_body[j as usize]],
+                        step: self.steps,
+                    })
+                }
+            }
+        }
+        Ok(found)
+    }
+
+    /// Sub-contacts with their forces (in parallel per contact), matched to the last step's.
+    fn update_contacts(&mut self, found: Vec<Found>, dt: f64) {
+        let input = StepInput {
+            bodies: &self.bodies,
+            part_body: &self.part_body,
+            placed: &self.placed,
+            joints: &self.joints,
+            previous: &self.contacts,
+            dt,
+            initial: self.initial,
+            point_width: self.point_width,
+        };
+        let built: Vec<_> = found.par_iter().map(|f| build_contact(&input, f)).collect();
+        let mut next = Contacts {
+            list: Vec::with_capacity(built.len()),
+            subs: Vec::with_capacity(self.contacts.subs.len()),
+        };
+        for (mut c, subs) in built {
+            c.first = next.subs.len() as u32;
+            next.list.push(c);
+            next.subs.extend(subs);
+        }
+        self.contacts = next;
+        self.initial = false;
+    }
+
+    /// The contact forces and moments per body, summed in contact order on one thread (the
+    /// same sum for any number of threads).
+    fn sum_forces(&mut self) {
+        self.forces.iter_mut().for_each(|f| *f = DVec3::ZERO);
+        self.moments.iter_mut().for_each(|m| *m = DVec3::ZERO);
+        for (i, c) in self.contacts.list.iter().enumerate() {
+            let [a, b] = [c.bodies[0] as usize, c.bodies[1] as usize];
+            let (ca, cb) = (
+                self.bodies.pose[a].translation,
+                self.bodies.pose[b].translation,
+            );
+            for s in self.contacts.subs_of(i) {
+                let f = s.force(c.normal);
+                self.forces[b] += f;
+                self.moments[b] += (s.point - cb).cross(f);
+                self.forces[a] -= f;
+                self.moments[a] -= (s.point - ca).cross(f);
+            }
+        }
+    }
+
+    /// Damps and integrates every body; the unbalanced-force ratio.
+    fn integrate(&mut self, dt: f64) -> Result<(), MechanicsError> {
+        let kick = if self.synced { 0.5 } else { 1.0 };
+        let (mut largest, mut reference) = (0.0f64, 0.0f64);
+        for i in 0..self.bodies.len() {
+            if self.bodies.fixity[i] == Fixity::Free {
+                let load = self.gravity * self.bodies.mass[i] + self.bodies.applied[i];
+                largest = largest.max((self.forces[i] + load).length());
+                reference = reference.max(load.length());
+            }
+            let (f, m) = integrate::damped(
+                &self.bodies,
+                i,
+                self.forces[i],
+                self.moments[i],
+                self.gravity,
+                &self.damping,
+            );
+            integrate::advance(&mut self.bodies, i, f, m, dt, kick);
+            let (pose, v, l) = (
+                self.bodies.pose[i],
+                self.bodies.velocity[i],
+                self.bodies.momentum[i],
+            );
+            if !(pose.translation.is_finite()
+                && pose.rotation.is_finite()
+                && v.is_finite()
+                && l.is_finite())
+            {
+                return Err(MechanicsError::NotFinite("a body's state after the step"));
+            }
+        }
+        self.ratio = if reference > 0.0 {
+            largest / reference
+        } else if largest == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        };
+        self.synced = false;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The bytes docs/mechanics.md ("Memory") states: a body's state, a contact and a
+    /// sub-contact.
+    #[test]
+    fn the_memory_figures_of_the_docs_hold() {
+        use std::mem::size_of;
+        // One entry per array of `Bodies`.
+        let body = size_of::<std::sync::Arc<crate::body::Shape>>() // shape
+            + 2 * size_of::<f64>() // density, mass
+            + 4 * size_of::<DVec3>() // inertia, velocity, angular momentum, applied force
+            + size_of::<Pose>()
+            + size_of::<Fixity>()
+            + size_of::<[f64; 2]>(); // stiffness bounds
+        assert_eq!(body, 248);
+        assert_eq!(size_of::<BodyContact>(), 64);
+        assert_eq!(size_of::<SubContact>(), 128);
+    }
+}

@@ -1,0 +1,604 @@
+//! Contacts between bodies (concave blocks made of convex parts, docs/concave-blocks.md).
+//!
+//! The parts are detected pair by pair with the penetration-edge method, as any convex
+//! blocks (two parts of one body are never a pair). Their contacts, the *pieces*, are then
+//! grouped per pair of bodies into *regions*, the contacts of the bodies:
+//!
+//! 1. pieces that touch (a point of one within the length threshold of the other's point,
+//!    segment or polygon) and lie on one plane (both face-bearing, types 5 to 7, with
+//!    parallel normals) are one region: a face-face contact across a glue face is one polygon
+//!    region whose area is the sum of its pieces';
+//! 2. pieces without a face (types 1 to 4) that touch are one region, joined to the first
+//!    face-bearing region they touch, if any;
+//! 3. a region of one piece whose features touch no glue keeps the piece's type (so a system
+//!    of convex blocks gets exactly [`BlockSystem::detect_with_geometry`]'s answers); any other
+//!    region is typed by the real features of each body: the distinct planes of its
+//!    non-internal part faces that hold every contact point of the region's pieces
+//!    (one: a face, two: an edge, three or more: a vertex), so that a part edge lying inside a
+//!    real face of the block is not an edge of the block.
+//!
+//! Two bodies can touch in several regions (a block sitting in a notch touches its floor and
+//! walls): each is one [`BodyContact`] with its `region` index.
+
+use super::detect::{narrow_phase, Cancelled, DetectProgress, PairContact};
+use super::BlockSystem;
+use crate::block::ConvexBlock;
+use crate::classify::{contact_type, Contact, ContactType, Feature, PairResult};
+use crate::contact_geometry::ContactPoints;
+use crate::geometry::DVec3;
+use crate::tolerance::Tolerance;
+use rayon::prelude::*;
+use std::ops::ControlFlow;
+
+/// Faces whose normals make an angle with a sine below this are parallel for grouping: the
+/// coplanar faces of two parts of one body come from one cutting plane and agree to
+/// rounding (about 1e-15), while distinct faces of rock blocks are degrees apart.
+const PARALLEL_SINE: f64 = 1e-6;
+
+/// One contact region of two bodies.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct BodyContact {
+    /// The two body ids, smaller first.
+    pub bodies: [u32; 2],
+    /// The region's index among the regions of this pair of bodies (0, 1, ...).
+    pub region: u32,
+    /// The type, by the real features of the bodies.
+    pub kind: ContactType,
+    /// Unit normal from `bodies[0]` to `bodies[1]`.
+    pub normal: [f64; 3],
+    /// Signed distance along the normal (the smallest of its pieces'): gap (> 0) or depth.
+    pub distance: f64,
+    /// Area of a face-face region: the sum of its pieces' polygons; 0 otherwise.
+    pub area: f64,
+}
+
+/// Every contact of the bodies of a system ([`BlockSystem::detect_bodies`]).
+///
+/// Region `i` is made of the part contacts `pieces[piece_offsets[i]..piece_offsets[i + 1]]`;
+/// piece `k` has the points `piece_points[piece_point_offsets[k]..piece_point_offsets[k + 1]]`
+/// (one point, a segment's two ends or a convex polygon, as
+/// [`super::ContactGeometries::points`]).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct BodyContacts {
+    /// The contact regions, sorted by pair of bodies, then region.
+    pub contacts: Vec<BodyContact>,
+    /// Pairs of bodies with two parts that penetrate beyond the tolerance, sorted.
+    pub penetrating: Vec<[u32; 2]>,
+    /// The part contacts of the regions, region after region: `pair` holds the part of
+    /// `bodies[0]` first (not necessarily the smaller block id), features in that order.
+    pub pieces: Vec<PairContact>,
+    /// Start of each region's pieces (length: regions + 1).
+    pub piece_offsets: Vec<u64>,
+    /// Start of each piece's points (length: pieces + 1).
+    pub piece_point_offsets: Vec<u64>,
+    /// The points of all pieces.
+    pub piece_points: Vec<[f64; 3]>,
+}
+
+impl BodyContacts {
+    /// No contact.
+    fn empty() -> Self {
+        BodyContacts {
+            piece_offsets: vec![0],
+            piece_point_offsets: vec![0],
+            ..BodyContacts::default()
+        }
+    }
+
+    /// Appends the contacts of `other` (their offsets moved past this one's).
+    fn append(&mut self, other: BodyContacts) {
+        let (pieces, points) = (self.pieces.len() as u64, self.piece_points.len() as u64);
+        self.contacts.extend(other.contacts);
+        self.pieces.extend(other.pieces);
+        self.piece_points.extend(other.piece_points);
+        let moved = |o: &[u64], by: u64| o[1..].iter().map(move |x| x + by).collect::<Vec<_>>();
+        self.piece_offsets
+            .extend(moved(&other.piece_offsets, pieces));
+        self.piece_point_offsets
+            .extend(moved(&other.piece_point_offsets, points));
+    }
+
+    /// The pieces of region `i`.
+    pub fn pieces_of(&self, i: usize) -> &[PairContact] {
+        &self.pieces[self.piece_offsets[i] as usize..self.piece_offsets[i + 1] as usize]
+    }
+
+    /// The points of piece `k`.
+    pub fn piece_points_of(&self, k: usize) -> &[[f64; 3]] {
+        let (s, e) = (self.piece_point_offsets[k], self.piece_point_offsets[k + 1]);
+        &self.piece_points[s as usize..e as usize]
+    }
+}
+
+/// A part contact, oriented from the first body to the second.
+#[derive(Clone, Debug)]
+struct Piece {
+    bodies: [u32; 2],
+    parts: [u32; 2],
+    contact: Contact,
+    normal: DVec3,
+    distance: f64,
+    area: f64,
+    points: ContactPoints,
+    /// The pair's length threshold.
+    length: f64,
+}
+
+/// The outcome of a part pair.
+enum Outcome {
+    Separated,
+    Penetrating([u32; 2]),
+    Contact(Box<Piece>),
+}
+
+impl BlockSystem {
+    /// Detects every contact of the bodies of the system: the parts pair by pair, then their
+    /// contacts grouped into regions per pair of bodies (module docs). For a system where
+    /// each block is its own body, the regions are [`BlockSystem::detect_with_geometry`]'s
+    /// contacts, in the same order, each region 0.
+    ///
+    /// ```
+    /// use penedge::{BlockSystem, ConvexBlock, ContactType, Tolerance};
+    /// let tol = Tolerance::default();
+    /// // An L-block of two boxes (glued at x = 1) and a box lying across the glue.
+    /// let system = BlockSystem::new(vec![
+    ///     ConvexBlock::cuboid([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]).unwrap(),
+    ///     ConvexBlock::cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0]).unwrap(),
+    ///     ConvexBlock::cuboid([0.0, 0.0, 1.0], [1.0, 1.0, 2.0]).unwrap(),
+    ///     ConvexBlock::cuboid([0.5, 0.0, 2.0], [1.5, 1.0, 3.0]).unwrap(),
+    /// ])
+    /// .with_bodies(vec![0, 0, 0, 1], &tol)
+    /// .unwrap();
+    /// let found = system.detect_bodies(&tol);
+    /// // The box touches the top of part 2 only: one face-face region of area 0.5.
+    /// assert_eq!(found.contacts.len(), 1);
+    /// assert_eq!(found.contacts[0].kind, ContactType::FaceFace);
+    /// assert!((found.contacts[0].area - 0.5).abs() < 1e-9);
+    /// ```
+    pub fn detect_bodies(&self, tol: &Tolerance) -> BodyContacts {
+        match self.detect_bodies_with_progress(tol, &mut |_| ControlFlow::Continue(())) {
+            Ok(found) => found,
+            Err(Cancelled) => unreachable!("never cancelled"),
+        }
+    }
+
+    /// [`BlockSystem::detect_bodies`] with progress reports and cancellation, as
+    /// [`BlockSystem::detect_with_progress`].
+    pub fn detect_bodies_with_progress(
+        &self,
+        tol: &Tolerance,
+        progress: &mut dyn FnMut(DetectProgress) -> ControlFlow<()>,
+    ) -> Result<BodyContacts, Cancelled> {
+        let mut pairs = self.candidate_pairs(tol);
+        if self.has_concave() {
+            pairs.retain(|&[i, j]| self.body_of(i) != self.body_of(j));
+        }
+        let mut pieces: Vec<Piece> = Vec::new();
+        let mut penetrating: Vec<[u32; 2]> = Vec::new();
+        narrow_phase(
+            self,
+            &pairs,
+            tol,
+            progress,
+            |det, pair, a, b| {
+                let (result, geometry) = det.detect_with_geometry(a, b);
+                match (result, geometry) {
+                    (PairResult::Contact(contact), Some(g)) => {
+                        let length = det.thresholds(a, b).length;
+                        let piece = Piece {
+                            bodies: pair.map(|k| self.body_of(k)),
+                            parts: pair,
+                            contact,
+                            normal: g.normal(),
+                            distance: g.distance(),
+                            area: g.area(),
+                            points: g.into_shape(),
+                            length,
+                        };
+                        Outcome::Contact(Box::new(piece.oriented()))
+                    }
+                    (PairResult::Penetrating, _) => {
+                        let mut bodies = pair.map(|k| self.body_of(k));
+                        bodies.sort_unstable();
+                        Outcome::Penetrating(bodies)
+                    }
+                    _ => Outcome::Separated,
+                }
+            },
+            |_, outcomes| {
+                for outcome in outcomes {
+                    match std::mem::replace(outcome, Outcome::Separated) {
+                        Outcome::Contact(piece) => pieces.push(*piece),
+                        Outcome::Penetrating(bodies) => penetrating.push(bodies),
+                        Outcome::Separated => {}
+                    }
+                }
+            },
+        )?;
+        penetrating.sort_unstable();
+        penetrating.dedup();
+        let order = if self.has_concave() {
+            sorted(&pieces)
+        } else {
+            (0..pieces.len() as u32).collect()
+        };
+        Ok(self.regions(&pieces, &order, penetrating))
+    }
+
+    /// The regions of the pieces taken in `order` (by bodies, then parts): stretches of whole
+    /// pairs of bodies in parallel, then joined in order.
+    fn regions(&self, pieces: &[Piece], order: &[u32], penetrating: Vec<[u32; 2]>) -> BodyContacts {
+        let bodies_at = |k: usize| pieces[order[k] as usize].bodies;
+        const STRETCH: usize = 1 << 12;
+        let mut bounds = vec![0];
+        while *bounds.last().expect("not empty") < pieces.len() {
+            let start = *bounds.last().expect("not empty");
+            let mut end = (start + STRETCH).min(pieces.len());
+            while end < pieces.len() && bodies_at(end) == bodies_at(end - 1) {
+                end += 1;
+            }
+            bounds.push(end);
+        }
+        let stretches: Vec<BodyContacts> = bounds
+            .par_windows(2)
+            .map(|w| {
+                let mut out = BodyContacts::empty();
+                let mut group: Vec<&Piece> = Vec::new();
+                let mut start = w[0];
+                while start < w[1] {
+                    let bodies = bodies_at(start);
+                    group.clear();
+                    let mut end = start;
+                    while end < w[1] && bodies_at(end) == bodies {
+                        group.push(&pieces[order[end] as usize]);
+                        end += 1;
+                    }
+                    if penetrating.binary_search(&bodies).is_err() {
+                        self.add_pair(&group, &mut out);
+                    }
+                    start = end;
+                }
+                out
+            })
+            .collect();
+        let mut out = BodyContacts::empty();
+        out.penetrating = penetrating;
+        for part in stretches {
+            out.append(part);
+        }
+        out
+    }
+
+    /// Adds the regions of one pair of bodies.
+    fn add_pair(&self, pieces: &[&Piece], out: &mut BodyContacts) {
+        if let [p] = pieces {
+            if !self.touches_glue(p) {
+                // The common case (convex blocks): the piece is the region.
+                let area = if p.contact.kind == ContactType::FaceFace {
+                    p.area
+                } else {
+                    0.0
+                };
+                return push_region(out, pieces, 0, p.contact.kind, p.normal, area);
+            }
+        }
+        for (region, members) in group(pieces).iter().enumerate() {
+            let members: Vec<&Piece> = members.iter().map(|&k| pieces[k]).collect();
+            let (kind, face_normal) = match members[..] {
+                [p] if !self.touches_glue(p) => (p.contact.kind, Some(p.normal)),
+                _ => self.region_type(&members),
+            };
+            let faced: Vec<&&Piece> = members.iter().filter(|p| bears_face(p)).collect();
+            let largest = faced.iter().max_by(|p, q| p.area.total_cmp(&q.area));
+            let normal = match (face_normal, largest) {
+                (Some(n), _) => n,
+                (None, Some(p)) => p.normal,
+                (None, None) => members
+                    .iter()
+                    .map(|p| p.normal)
+                    .sum::<DVec3>()
+                    .normalize_or(members[0].normal),
+            };
+            let area = if kind == ContactType::FaceFace {
+                members.iter().map(|p| p.area).sum()
+            } else {
+                0.0
+            };
+            push_region(out, &members, region as u32, kind, normal, area);
+        }
+    }
+
+    /// Whether a feature of the piece is a face with glue on it, or an edge or vertex of
+    /// such a face: the part's feature may then not be the body's.
+    fn touches_glue(&self, piece: &Piece) -> bool {
+        let features = [piece.contact.feature_a, piece.contact.feature_b];
+        piece.parts.iter().zip(features).any(|(&part, feature)| {
+            if !self.is_part_of_concave(part) {
+                return false;
+            }
+            let block = &self.blocks()[part as usize];
+            let glued = |f: u32| self.is_glued_face(part, f);
+            match feature {
+                Feature::Face(_) => false,
+                Feature::Edge(e) => block.edges()[e as usize].faces.into_iter().any(glued),
+                Feature::Vertex(v) => match block.vertex_faces().get(v as usize) {
+                    // The faces at the vertex, from its mask (blocks of at most 64 faces).
+                    Some(&mask) => (0..64).filter(|f| mask >> f & 1 != 0).any(glued),
+                    None => (0..block.n_faces() as u32)
+                        .filter(|&f| block.face(f as usize).contains(&v))
+                        .any(glued),
+                },
+            }
+        })
+    }
+
+    /// The type of a region from the real features of both bodies (module docs, step 3),
+    /// and its normal when a body holds it with a face: that face's (from the first body to
+    /// the second), or `normalize(n0 - n1)` for two faces.
+    fn region_type(&self, members: &[&Piece]) -> (ContactType, Option<DVec3>) {
+        let points: Vec<DVec3> = members
+            .iter()
+            .flat_map(|p| p.points.as_slice().iter().copied())
+            .collect();
+        let length = members.iter().map(|p| p.length).fold(0.0, f64::max);
+        let planes = [0, 1].map(|side| {
+            let mut parts: Vec<u32> = members.iter().map(|p| p.parts[side]).collect();
+            parts.sort_unstable();
+            parts.dedup();
+            self.holding_planes(&parts, &points, length)
+        });
+        let feature = |n: &[DVec3]| match n.len() {
+            1 => Feature::Face(0),
+            2 => Feature::Edge(0),
+            _ => Feature::Vertex(0),
+        };
+        let superposed = || {
+            let [a, b] = [&planes[0], &planes[1]].map(|n| n[0].cross(n[1]).normalize_or_zero());
+            a.cross(b).length() <= PARALLEL_SINE && spread(&points) > length
+        };
+        let kind = contact_type(feature(&planes[0]), feature(&planes[1]), superposed);
+        let normal = match (&planes[0][..], &planes[1][..]) {
+            ([n0], [n1]) => Some((*n0 - *n1).normalize()),
+            ([n0], _) => Some(*n0),
+            (_, [n1]) => Some(-*n1),
+            _ => None,
+        };
+        (kind, normal)
+    }
+
+    /// The normals of the distinct planes of the non-internal faces of `parts` that hold
+    /// every point: each point within `length` of the plane and of one of its faces.
+    fn holding_planes(&self, parts: &[u32], points: &[DVec3], length: f64) -> Vec<DVec3> {
+        let mut planes: Vec<crate::geometry::Plane> = Vec::new();
+        let mut holds: Vec<Vec<bool>> = Vec::new();
+        for &part in parts {
+            let block = &self.blocks()[part as usize];
+            for (f, plane) in block.planes().iter().enumerate() {
+                if self.is_internal_face(part, f as u32)
+                    || points.iter().any(|&x| plane.distance(x).abs() > length)
+                {
+                    continue;
+                }
+                let k = match planes.iter().position(|q| {
+                    q.normal.dot(plane.normal) > 0.0
+                        && q.normal.cross(plane.normal).length() <= PARALLEL_SINE
+                        && q.distance(plane.point).abs() <= length
+                }) {
+                    Some(k) => k,
+                    None => {
+                        planes.push(*plane);
+                        holds.push(vec![false; points.len()]);
+                        planes.len() - 1
+                    }
+                };
+                for (held, &x) in holds[k].iter_mut().zip(points) {
+                    *held |= in_face(block, f, x, length);
+                }
+            }
+        }
+        planes
+            .iter()
+            .zip(&holds)
+            .filter(|(_, h)| h.iter().all(|&x| x))
+            .map(|(p, _)| p.normal)
+            .collect()
+    }
+}
+
+impl Piece {
+    /// The piece from the first body to the second (the pair query runs from the smaller
+    /// block id, whose body may be the larger).
+    fn oriented(mut self) -> Piece {
+        if self.bodies[0] > self.bodies[1] {
+            self.bodies.swap(0, 1);
+            self.parts.swap(0, 1);
+            let c = &mut self.contact;
+            std::mem::swap(&mut c.feature_a, &mut c.feature_b);
+            self.normal = -self.normal;
+            if let ContactPoints::Polygon(_) = self.points {
+                // The polygon runs counter-clockwise about the normal: reversed with it.
+                let mut vertices = self.points.as_slice().to_vec();
+                vertices.reverse();
+                self.points = polygon_of(vertices, self.area);
+            }
+        }
+        self
+    }
+}
+
+/// Appends a region of the given pieces.
+fn push_region(
+    out: &mut BodyContacts,
+    members: &[&Piece],
+    region: u32,
+    kind: ContactType,
+    normal: DVec3,
+    area: f64,
+) {
+    out.contacts.push(BodyContact {
+        bodies: members[0].bodies,
+        region,
+        kind,
+        normal: normal.to_array(),
+        distance: members.iter().map(|p| p.distance).fold(f64::MAX, f64::min),
+        area,
+    });
+    for p in members {
+        out.pieces.push(PairContact {
+            pair: p.parts,
+            contact: p.contact,
+        });
+        let points = p.points.as_slice().iter().map(|x| x.to_array());
+        out.piece_points.extend(points);
+        out.piece_point_offsets.push(out.piece_points.len() as u64);
+    }
+    out.piece_offsets.push(out.pieces.len() as u64);
+}
+
+/// The order of the pieces by bodies, then parts (indices sorted; the pieces stay).
+fn sorted(pieces: &[Piece]) -> Vec<u32> {
+    let mut keys: Vec<([u32; 2], [u32; 2], u32)> = pieces
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (p.bodies, p.parts, k as u32))
+        .collect();
+    keys.par_sort_unstable();
+    keys.into_iter().map(|(_, _, k)| k).collect()
+}
+
+/// A polygon of contact points (counter-clockwise about its normal) and its area.
+fn polygon_of(vertices: Vec<DVec3>, area: f64) -> ContactPoints {
+    ContactPoints::Polygon(crate::contact_geometry::ContactPolygon::from_parts(
+        vertices, area,
+    ))
+}
+
+/// Whether a piece bears a face (vertex-face, edge-face, face-face): its normal is a face's.
+fn bears_face(p: &Piece) -> bool {
+    p.contact.kind.code() >= ContactType::VertexFace.code()
+}
+
+/// The pieces of one pair of bodies grouped into regions (module docs, steps 1 and 2), each
+/// group in piece order, groups by their first piece.
+fn group(pieces: &[&Piece]) -> Vec<Vec<usize>> {
+    let n = pieces.len();
+    let mut root: Vec<usize> = (0..n).collect();
+    fn find(root: &mut [usize], mut k: usize) -> usize {
+        while root[k] != k {
+            root[k] = root[root[k]];
+            k = root[k];
+        }
+        k
+    }
+    let join = |root: &mut Vec<usize>, a: usize, b: usize| {
+        let (a, b) = (find(root, a), find(root, b));
+        root[a.max(b)] = a.min(b);
+    };
+    for a in 0..n {
+        for b in a + 1..n {
+            let (p, q) = (pieces[a], pieces[b]);
+            let same_plane = bears_face(p)
+                && bears_face(q)
+                && p.normal.cross(q.normal).length() <= PARALLEL_SINE
+                && p.normal.dot(q.normal) > 0.0;
+            let both_pointlike = !bears_face(p) && !bears_face(q);
+            if (same_plane || both_pointlike) && touch(p, q) {
+                join(&mut root, a, b);
+            }
+        }
+    }
+    // Point-like groups join the first face-bearing piece they touch.
+    for a in 0..n {
+        if bears_face(pieces[a]) || find(&mut root, a) != a {
+            continue;
+        }
+        let members: Vec<usize> = (0..n).filter(|&k| find(&mut root, k) == a).collect();
+        let host = (0..n).find(|&b| {
+            bears_face(pieces[b]) && members.iter().any(|&k| touch(pieces[k], pieces[b]))
+        });
+        if let Some(b) = host {
+            join(&mut root, a, b);
+        }
+    }
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut index = vec![usize::MAX; n];
+    for k in 0..n {
+        let r = find(&mut root, k);
+        if index[r] == usize::MAX {
+            index[r] = groups.len();
+            groups.push(Vec::new());
+        }
+        groups[index[r]].push(k);
+    }
+    groups
+}
+
+/// Whether two pieces touch: a point of one within the length threshold of the other.
+fn touch(p: &Piece, q: &Piece) -> bool {
+    let length = p.length.max(q.length);
+    let near = |from: &Piece, to: &Piece| {
+        from.points
+            .as_slice()
+            .iter()
+            .any(|&x| distance_to(&to.points, to.normal, x) <= length)
+    };
+    near(p, q) || near(q, p)
+}
+
+/// The distance from `x` to a point, a segment or a convex polygon (counter-clockwise about
+/// `normal`).
+fn distance_to(points: &ContactPoints, normal: DVec3, x: DVec3) -> f64 {
+    match points {
+        ContactPoints::Point(p) => (x - *p).length(),
+        ContactPoints::Segment([p, q]) => segment_distance(*p, *q, x),
+        ContactPoints::Polygon(polygon) => {
+            let v = polygon.vertices();
+            let inside = (0..v.len()).all(|k| {
+                let (p, q) = (v[k], v[(k + 1) % v.len()]);
+                normal.cross(q - p).dot(x - p) >= 0.0
+            });
+            if inside {
+                normal.dot(x - v[0]).abs()
+            } else {
+                (0..v.len())
+                    .map(|k| segment_distance(v[k], v[(k + 1) % v.len()], x))
+                    .fold(f64::MAX, f64::min)
+            }
+        }
+    }
+}
+
+/// The distance from `x` to the segment `pq`.
+fn segment_distance(p: DVec3, q: DVec3, x: DVec3) -> f64 {
+    let d = q - p;
+    let t = if d.length_squared() > 0.0 {
+        ((x - p).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (x - (p + d * t)).length()
+}
+
+/// Whether `x` lies within `length` of face `f` of `block`, in the face's plane: inside
+/// every edge of the face widened by `length`.
+fn in_face(block: &ConvexBlock, f: usize, x: DVec3, length: f64) -> bool {
+    let face = block.face(f);
+    let v = block.vertices();
+    let n = block.planes()[f].normal;
+    (0..face.len()).all(|k| {
+        let (p, q) = (v[face[k] as usize], v[face[(k + 1) % face.len()] as usize]);
+        let inward = n.cross(q - p).normalize_or_zero();
+        inward.dot(x - p) >= -length
+    })
+}
+
+/// The largest distance between two of the points.
+fn spread(points: &[DVec3]) -> f64 {
+    let mut d: f64 = 0.0;
+    for (k, &p) in points.iter().enumerate() {
+        for &q in &points[k + 1..] {
+            d = d.max((p - q).length());
+        }
+    }
+    d
+}

@@ -1,0 +1,451 @@
+"""``penedge simulate MODEL``: generate the blocks of a model file, run its stages on the
+rigid-block engine, and write the results (summary, history, pictures, ParaView series)."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import sys
+import time
+from pathlib import Path
+from typing import IO, Any
+
+from penedge.cli import progress
+from penedge.cli.common import (
+    PROG,
+    CommandError,
+    UsageError,
+    add_output_flags,
+    plural,
+    write_via_temp,
+)
+from penedge.cli.progress import ProgressBar, StatusLine
+
+EPILOG = """\
+worked example:
+  $ penedge simulate examples/models/block_column.toml --check
+  penedge simulate examples/models/block_column.toml: Block column settling: the model is valid
+    blocks                5 (1 fixed, 4 free)
+    joint sets            bedding
+    stages                stages[0] solve
+    monitors              top (block 3)
+
+  --check reads the model, generates its blocks and runs every check (regions, boundary
+  conditions, monitors, bolts), and runs nothing. Without it, the stages run and the
+  results go into a folder:
+
+more:
+  penedge simulate examples/models/block_column.toml -o column
+      column/summary.json     stable or not, blocks moved, largest displacement, factor
+                              of safety (also printed; --json prints it on stdout)
+      column/history.csv      step, time, unbalanced-force ratio, kinetic energy, monitors
+      column/history.png      the same as curves
+      column/displacement.png the final state coloured by displacement
+      column/series/blocks.pvd  ParaView time series (displacement, velocity, moving)
+
+The model file is described in docs/models.md; examples/models/ has working ones. Ctrl-C
+stops the run after the current chunk of steps and still writes the results so far (exit
+status 130)."""
+
+OUTPUT_NAMES = {
+    "summary": "summary.json",
+    "history": "history.csv",
+    "history_png": "history.png",
+    "picture": "displacement.png",
+    "failing": "failing.png",
+    "html": "steps.html",
+    "series": "series",
+}
+
+
+def add_parser(commands: Any) -> argparse.ArgumentParser:
+    """Adds ``simulate`` to the subcommands."""
+    simulate = commands.add_parser(
+        "simulate",
+        help="run a model file: stability, displacements, factor of safety",
+        description="Generate the blocks of a model file, run its stages (solve to\n"
+        "equilibrium, cycles, property changes, factor of safety) on the rigid-block\n"
+        "engine, print a summary and write the results into a folder.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    simulate.set_defaults(subparser=simulate, run=run_simulate)
+    simulate.add_argument("model", metavar="MODEL", help="the model file (.toml)")
+    simulate.add_argument(
+        "-o",
+        "--output",
+        metavar="FOLDER",
+        help="the folder of the results (made if needed; files in it are replaced); "
+        "default: MODEL's name with _results",
+    )
+    simulate.add_argument(
+        "--check",
+        action="store_true",
+        help="read and check the model and its blocks, print what would run, run nothing",
+    )
+    simulate.add_argument(
+        "--no-pictures", action="store_true", help="write no PNG pictures (no matplotlib needed)"
+    )
+    simulate.add_argument("--no-series", action="store_true", help="write no ParaView time series")
+    simulate.add_argument(
+        "--html",
+        action="store_true",
+        help="also write steps.html: an interactive view (plotly) whose frames can be played",
+    )
+    add_output_flags(simulate, force=False)
+    return simulate
+
+
+def run_simulate(args: argparse.Namespace) -> int:
+    """``penedge simulate MODEL``."""
+    import penedge.model as pm
+    from penedge.model import engine as engines
+    from penedge.model.run import Runner
+
+    path = Path(args.model)
+    if path.suffix.lower() == ".json" or path.is_dir():
+        raise UsageError(f"argument MODEL: '{path}' should be a .toml model file")
+    folder = Path(args.output) if args.output else Path(f"{path.stem}_results")
+    if folder.exists() and not folder.is_dir():
+        raise UsageError(f"argument -o/--output: '{folder}' exists and is not a folder")
+    if not args.check and not args.no_pictures:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            raise CommandError(
+                "the pictures need matplotlib: pip install 'penedge[plot]' (or --no-pictures)"
+            ) from None
+    if args.html and not args.check:
+        try:
+            import plotly  # noqa: F401
+        except ImportError:
+            raise CommandError("--html needs plotly: pip install 'penedge[html]'") from None
+    show = progress.wanted(args.quiet or args.json)
+    model = pm.read_model(path)
+    bar = ProgressBar(sys.stderr, f"{PROG} simulate: generating", unit="planes") if show else None
+    try:
+        setup = pm.prepare(model, progress=bar)
+    finally:
+        if bar is not None:
+            bar.close()
+    if args.check:
+        summary = check_summary(path, setup)
+        print_summary(args, summary, format_check(summary))
+        return 0
+    engine_factory = engines.Engine
+    try:
+        engines.refuse_unsupported(model)
+        engines.simulation_class()
+    except engines.EngineMissingError as e:
+        raise CommandError(str(e)) from None
+    status = StatusLine(sys.stderr) if show else None
+    series: Any = None
+    frames: list[tuple[float, Any, Any]] = []
+
+    def frame(engine: Any, displacement: Any) -> None:
+        if args.html:
+            frames.append((engine.time, engine.system(), displacement))
+        if series is not None:
+            series.write(
+                engine.time,
+                engine.system(),
+                displacement,
+                engine.velocities(),
+                engine.contacts(),
+            )
+
+    def report(engine: Any, stage: Any, done: int, total: int | None) -> None:
+        if status is not None:
+            status.show(progress_text(engine, stage, done, total))
+
+    start = time.perf_counter()
+    # the engine is built (and refuses a bad time step, say) before anything is written
+    runner = Runner(setup, engine_factory, progress=report, frame=frame)
+    folder.mkdir(parents=True, exist_ok=True)
+    if not args.no_series:
+        from penedge.model.series import Series
+
+        series = Series(folder / OUTPUT_NAMES["series"], speed=model.results.moving)
+    try:
+        outcome = runner.run()
+    finally:
+        if status is not None:
+            status.close()
+    seconds = time.perf_counter() - start
+    with progress.activity(show, f"{PROG} simulate: writing"):
+        written = write_results(folder, setup, runner, outcome, args.no_pictures, series)
+        if frames:
+            from penedge.pictures.simulation import write_steps_html
+
+            html = folder / OUTPUT_NAMES["html"]
+            text = io.StringIO()
+            write_steps_html(frames, text, title=model.title or None)
+            write_via_temp(html, True, lambda h: h.write(text.getvalue().encode()))
+            written.append(str(html))
+    summary = run_summary(path, setup, outcome, seconds, written)
+    write_summary_json(folder, summary)
+    print_summary(args, summary, format_run(summary))
+    if outcome.interrupted:
+        print(f"{PROG} simulate: interrupted; the results so far are written", file=sys.stderr)
+        return 130
+    if outcome.error is not None:
+        print(
+            f"{PROG}: error: the run stopped at step {outcome.steps}: {outcome.error} "
+            "(the results so far are written)",
+            file=sys.stderr,
+        )
+        return 1
+    return 0
+
+
+def progress_text(engine: Any, stage: Any, done: int, total: int | None) -> str:
+    """``stages[0] solve: step 1200, t 0.034 s, ratio 3.2e-04, kinetic energy 12 J``."""
+    if stage.kind == "factor_of_safety":
+        where = f"trial {done}"
+    elif total:
+        where = f"{100 * done / total:3.0f}%"
+    else:
+        where = f"{done} steps"
+    return (
+        f"{PROG} simulate: {stage.name} {stage.kind} {where}: step {engine.steps}, "
+        f"t {engine.time:.4g} s, ratio {engine.ratio:.2e}, "
+        f"kinetic energy {engine.kinetic_energy():.3g} J"
+    )
+
+
+def print_summary(args: argparse.Namespace, summary: dict[str, Any], text: str) -> None:
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    elif not args.quiet:
+        print(text)
+
+
+def row(label: str, value: str) -> str:
+    """One aligned line of the summary."""
+    return f"  {label:<22}{value}"
+
+
+def check_summary(path: Path, setup: Any) -> dict[str, Any]:
+    """What ``--check`` found, as plain data."""
+    from penedge.model.engine import unsupported
+
+    layout = setup.layout
+    return {
+        "model": str(path),
+        "title": setup.model.title,
+        "blocks": len(setup.system),
+        "fixed": int(layout.fixed.sum()),
+        "driven": int(layout.driven.sum()),
+        "free": int((~layout.fixed & ~layout.driven).sum()),
+        "sets": setup.model.set_names,
+        "monitors": layout.monitors,
+        "stages": [f"{s.name} {s.kind}" for s in setup.model.stages],
+        "not_supported": [f"{field}: {message}" for field, message in unsupported(setup.model)],
+    }
+
+
+def format_check(summary: dict[str, Any]) -> str:
+    title = f": {summary['title']}" if summary["title"] else ""
+    lines = [
+        f"{PROG} simulate {summary['model']}{title}: the model is valid",
+        row("blocks", blocks_text(summary)),
+        row("joint sets", ", ".join(summary["sets"]) or "none"),
+        row("stages", ", ".join(summary["stages"])),
+    ]
+    if summary["monitors"]:
+        monitors = ", ".join(f"{k} (block {v})" for k, v in summary["monitors"].items())
+        lines.append(row("monitors", monitors))
+    for note in summary["not_supported"]:
+        lines.append(row("cannot run yet", note))
+    return "\n".join(lines)
+
+
+def blocks_text(summary: dict[str, Any]) -> str:
+    driven = f", {summary['driven']} driven" if summary.get("driven") else ""
+    return f"{summary['blocks']} ({summary['fixed']} fixed{driven}, {summary['free']} free)"
+
+
+def run_summary(
+    path: Path, setup: Any, outcome: Any, seconds: float, written: list[str]
+) -> dict[str, Any]:
+    """The result of a run as plain data (what ``--json`` prints and summary.json holds)."""
+    largest, block = outcome.max_displacement
+    summary = check_summary(path, setup)
+    del summary["not_supported"]
+    stages = []
+    for s in outcome.stages:
+        entry: dict[str, Any] = {
+            "name": s.name,
+            "kind": s.kind,
+            "steps": s.steps,
+            "time": s.time,
+            "ratio": s.ratio,
+            "converged": s.converged,
+            "stopped": s.stopped,
+        }
+        if s.safety is not None:
+            f = s.safety
+            entry["factor_of_safety"] = {
+                "factor": f.factor,
+                "bound": f.bounded,
+                "stable": f.stable,
+                "failing": f.failing,
+                "failing_blocks": f.failing_blocks,
+                "from_equilibrium": f.in_equilibrium,
+                "trials": [t.__dict__ for t in f.trials],
+            }
+        stages.append(entry)
+    safety = outcome.safety
+    summary.update(
+        {
+            "stages": stages,
+            "stable": outcome.stable,
+            "interrupted": outcome.interrupted,
+            "error": outcome.error,
+            "steps": outcome.steps,
+            "time": outcome.time,
+            "ratio": outcome.ratio,
+            "moved_threshold": outcome.threshold,
+            "moved": outcome.moved.tolist(),
+            "max_displacement": largest,
+            "max_displacement_block": block,
+            "factor_of_safety": None if safety is None else safety.factor,
+            "seconds": seconds,
+            "written": written,
+        }
+    )
+    return summary
+
+
+def stage_text(stage: dict[str, Any]) -> str:
+    text = f"{stage['name']} {stage['kind']}"
+    if stage["stopped"] == "interrupted":
+        return f"{text}: interrupted after {stage['steps']:,} steps (ratio {stage['ratio']:.1e})"
+    if stage["stopped"] == "error":
+        return f"{text}: stopped by the engine after {stage['steps']:,} steps"
+    if stage["kind"] == "solve":
+        if stage["converged"]:
+            return (
+                f"{text}: equilibrium after {stage['steps']:,} steps (ratio {stage['ratio']:.1e})"
+            )
+        steps, ratio = stage["steps"], stage["ratio"]
+        return f"{text}: NOT in equilibrium after {steps:,} steps (ratio {ratio:.1e})"
+    if "factor_of_safety" in stage:
+        f = stage["factor_of_safety"]
+        return f"{text}: F {f['bound']} {f['factor']:.2f} ({plural(len(f['trials']), 'trial')})"
+    if stage["steps"]:
+        return f"{text}: {stage['steps']:,} steps"
+    return text
+
+
+def result_text(summary: dict[str, Any]) -> str:
+    """``stable``, ``NOT stable``, ``interrupted`` or ``stopped by an error``."""
+    if summary["interrupted"]:
+        return "interrupted"
+    if summary["error"] is not None:
+        return "stopped by an error (below)"
+    return "stable" if summary["stable"] else "NOT stable"
+
+
+def format_run(summary: dict[str, Any]) -> str:
+    title = f": {summary['title']}" if summary["title"] else ""
+    threshold = summary["moved_threshold"] * 1e3
+    moved = summary["moved"]
+    moved_text = (
+        f"{plural(len(moved), 'block')} more than {threshold:g} mm: "
+        + ", ".join(map(str, moved[:12]))
+        + (", ..." if len(moved) > 12 else "")
+        if moved
+        else f"none more than {threshold:g} mm"
+    )
+    lines = [
+        f"{PROG} simulate {summary['model']}{title}",
+        row("blocks", blocks_text(summary)),
+        row("stages", "; ".join(stage_text(s) for s in summary["stages"])),
+        row("result", result_text(summary)),
+        row("moved", moved_text),
+        row(
+            "largest displacement",
+            f"{summary['max_displacement'] * 1e3:.3g} mm "
+            f"(block {summary['max_displacement_block']})",
+        ),
+    ]
+    for s in summary["stages"]:
+        if "factor_of_safety" in s:
+            f = s["factor_of_safety"]
+            blocks = ", ".join(map(str, f["failing_blocks"][:12])) or "none"
+            lines.append(
+                row(
+                    "factor of safety", f"{f['bound']} {f['factor']:.2f} (failing blocks: {blocks})"
+                )
+            )
+            if not f["from_equilibrium"]:
+                lines.append(
+                    row("", "from a state NOT in equilibrium: solve first (docs/models.md)")
+                )
+    if summary["written"]:
+        lines.append(row("written", ", ".join(summary["written"])))
+    return "\n".join(lines)
+
+
+def write_results(
+    folder: Path, setup: Any, runner: Any, outcome: Any, no_pictures: bool, series: Any
+) -> list[str]:
+    """summary.json is written by the caller's summary; here the history (CSV, PNG), the
+    picture of the final state and the series index. Returns the names written."""
+    written: list[str] = []
+    rows = outcome.history.rows()
+    buffer = io.StringIO()
+    if rows:
+        writer = csv.DictWriter(buffer, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    history = folder / OUTPUT_NAMES["history"]
+    write_via_temp(history, True, lambda h: h.write(buffer.getvalue().encode()))
+    written.append(str(history))
+    if not no_pictures:
+        from penedge.pictures.simulation import save_displacement, save_failing, save_history
+
+        title = setup.model.title or None
+        png = folder / OUTPUT_NAMES["history_png"]
+
+        def history_png(handle: IO[bytes]) -> None:
+            save_history(outcome.history, handle, title=title)
+
+        write_via_temp(png, True, history_png)
+        written.append(str(png))
+        picture = folder / OUTPUT_NAMES["picture"]
+        final = runner.engine.system()
+
+        def displacement_png(handle: IO[bytes]) -> None:
+            save_displacement(
+                final, outcome.displacement, handle, title=title, threshold=outcome.threshold
+            )
+
+        write_via_temp(picture, True, displacement_png)
+        written.append(str(picture))
+        safety = outcome.safety
+        if safety is not None and safety.failing_blocks:
+            failing = folder / OUTPUT_NAMES["failing"]
+            label = f"failing at F = {safety.failing:.3f} (factor of safety {safety.factor:.2f})"
+
+            def failing_png(handle: IO[bytes]) -> None:
+                save_failing(final, safety.failing_blocks, handle, title=label)
+
+            write_via_temp(failing, True, failing_png)
+            written.append(str(failing))
+    if series is not None and series.entries:
+        written.append(str(series.index))
+    if series is not None and series.contact_entries:
+        written.append(str(series.contacts_index))
+    summary_path = folder / OUTPUT_NAMES["summary"]
+    written.insert(0, str(summary_path))
+    return written
+
+
+def write_summary_json(folder: Path, summary: dict[str, Any]) -> None:
+    """summary.json (replaced atomically)."""
+    text = json.dumps(summary, indent=2)
+    write_via_temp(folder / OUTPUT_NAMES["summary"], True, lambda h: h.write(text.encode()))

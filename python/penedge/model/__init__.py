@@ -1,0 +1,163 @@
+"""Model files: a rock mass, its joints and what to do with it, in one TOML file.
+
+A model file extends the generation spec (``[domain]``, ``[[joints]]``, ``[options]``,
+docs/generation.md) with the rock's density, joint properties per set, gravity, water,
+bolts, boundary conditions, monitoring points and stages; docs/models.md documents every
+field. Reading a model checks all of it, with errors naming the field
+(:exc:`ModelError`), before any step runs:
+
+>>> import penedge.model as pm
+>>> model = pm.parse_model('''
+... [domain]
+... type = "box"
+... min = [0, 0, 0]
+... max = [1, 1, 2]
+... [[joints]]
+... type = "plane"
+... name = "bedding"
+... point = [0, 0, 1]
+... dip = 0
+... dip_direction = 0
+... [rock]
+... density = 2650
+... [joint_properties.default]
+... kn = 1e9
+... ks = 1e8
+... friction = 30
+... [[boundary]]
+... region = {type = "below", z = 1}
+... condition = "fixed"
+... ''')
+>>> model.properties["bedding"].friction, [s.kind for s in model.stages]
+(30.0, ['solve'])
+>>> setup = pm.prepare(model)
+>>> len(setup.system), setup.layout.fixed.tolist()
+(2, [True, False])
+>>> pm.parse_model('[domain]\\ntype = "box"\\nmin = [0, 0, 0]\\nmax = [1, 1, 1]\\n'
+...                '[rock]\\ndensity = -1')
+Traceback (most recent call last):
+...
+penedge.model.fields.ModelError: rock.density: must be greater than 0, got -1
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from penedge.model.check import Blocks, Layout, resolve
+from penedge.model.fields import ModelError
+from penedge.model.schema import (
+    Bolt,
+    Boundary,
+    InitialStress,
+    JointProperties,
+    Mechanics,
+    Model,
+    Monitor,
+    Plane,
+    Region,
+    Results,
+    Seismic,
+    Stage,
+    Support,
+    Water,
+    parse,
+)
+
+__all__ = [
+    "Blocks",
+    "Bolt",
+    "Boundary",
+    "InitialStress",
+    "JointProperties",
+    "Layout",
+    "Mechanics",
+    "Model",
+    "ModelError",
+    "Monitor",
+    "Plane",
+    "Region",
+    "Results",
+    "Seismic",
+    "Setup",
+    "Stage",
+    "Support",
+    "Water",
+    "load_model",
+    "parse_model",
+    "prepare",
+    "read_model",
+    "simulate",
+]
+
+
+def parse_model(text: str) -> Model:
+    """A model from TOML text."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise ModelError("model", f"not valid TOML: {e}") from None
+    return parse(data)
+
+
+def read_model(path: str | Path) -> Model:
+    """A model from a TOML file (``OSError`` when it cannot be read)."""
+    path = Path(path)
+    text = path.read_text(encoding="utf-8")
+    try:
+        return parse_model(text)
+    except ModelError as e:
+        raise ModelError(e.field, f"{str(e).split(': ', 1)[1]} (in {path})") from None
+
+
+def load_model(source: str | Path | Mapping[str, Any] | Model) -> Model:
+    """A model from a file path, TOML text (anything with a newline), a dict or a
+    :class:`Model` (returned as it is)."""
+    if isinstance(source, Model):
+        return source
+    if isinstance(source, Mapping):
+        return parse(dict(source))
+    if isinstance(source, str) and "\n" in source:
+        return parse_model(source)
+    return read_model(source)
+
+
+@dataclass
+class Setup:
+    """A model with its blocks generated and checked: ready to build a simulation."""
+
+    model: Model
+    system: Any  # penedge.BlockSystem
+    report: dict[str, Any]
+    blocks: Blocks
+    layout: Layout
+
+
+def prepare(source: str | Path | Mapping[str, Any] | Model, progress: Any = None) -> Setup:
+    """Reads `source` (see :func:`load_model`), generates its blocks and runs every check
+    that needs them. Nothing is simulated yet."""
+    import penedge
+
+    model = load_model(source)
+    system, report = penedge.generate(model.spec, progress=progress)
+    blocks = Blocks.of(system)
+    return Setup(model, system, report, blocks, resolve(model, blocks))
+
+
+def simulate(
+    source: str | Path | Mapping[str, Any] | Model | Setup,
+    progress: Any = None,
+    frame: Any = None,
+) -> Any:
+    """Reads and checks a model (or takes a :class:`Setup`), runs its stages on the engine
+    and returns the :class:`~penedge.model.run.Outcome` (displacements and velocities as
+    numpy arrays, the history, the factor of safety if a stage asked for it)."""
+    from penedge.model.engine import Engine
+    from penedge.model.run import Runner
+
+    setup = source if isinstance(source, Setup) else prepare(source)
+    return Runner(setup, Engine, progress=progress, frame=frame).run()

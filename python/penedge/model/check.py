@@ -1,0 +1,336 @@
+"""The checks of a model that need its blocks, and what they resolve: which blocks each
+region selects, which blocks are fixed or driven, which block each monitor follows, which
+blocks each bolt ties, and the forces of support pressures.
+
+Everything here runs once, after generation and before the first step, on the block
+arrays (numpy, no loop over blocks in Python).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from penedge.model.fields import ModelError, point_text
+from penedge.model.schema import FACE_DIRECTIONS, Model, Region
+
+#: A named domain face is every domain face whose outward normal is within this angle of
+#: the named direction.
+FACE_ANGLE_DEGREES = 1.0
+
+BOUNDARY_FACE = 1
+
+
+@dataclass
+class Blocks:
+    """The generated blocks as the checks need them (from :meth:`BlockSystem.arrays`)."""
+
+    centroids: np.ndarray  # (n, 3)
+    volumes: np.ndarray  # (n,)
+    face_block: np.ndarray  # (faces,)
+    face_normals: np.ndarray  # (faces, 3), outward
+    face_points: np.ndarray  # (faces, 3), a vertex of each face
+    face_areas: np.ndarray  # (faces,)
+    face_centroids: np.ndarray  # (faces, 3)
+    face_kind: np.ndarray  # (faces,) 1 domain boundary, 2 joint
+    face_set: np.ndarray  # (faces,) domain part, or joint spec entry
+    face_index: np.ndarray  # (faces,) domain face, or joint
+    domain_normals: list[np.ndarray]  # per domain part: (faces, 3) outward normals
+    size: float  # the diagonal of the blocks' bounding box
+
+    @classmethod
+    def of(cls, system: Any) -> Blocks:
+        """The arrays of a :class:`penedge.BlockSystem`."""
+        a = system.arrays()
+        vertices = np.asarray(a.vertices)
+        loops = np.asarray(a.loop_offsets)
+        fv = np.asarray(a.face_vertices)
+        face_block = np.asarray(a.face_block)
+        counts = np.diff(loops)
+        corner_face = np.repeat(np.arange(len(counts)), counts)
+        corners = vertices[fv]  # face_vertices index the system's vertex array
+        # polygon area and centroid by a fan from the first corner of each face
+        start = corners[loops[:-1]][corner_face]
+        nxt = np.roll(np.arange(len(fv)), -1)
+        nxt[loops[1:] - 1] = loops[:-1]
+        a_, b_ = corners, corners[nxt]
+        cross = np.cross(a_ - start, b_ - start)
+        normals = np.asarray(a.face_normals)
+        tri_area = 0.5 * np.einsum("ij,ij->i", cross, normals[corner_face])
+        areas = np.bincount(corner_face, tri_area, len(counts))
+        tri_centroid = (start + a_ + b_) / 3.0
+        weighted = tri_centroid * tri_area[:, None]
+        centroid = np.stack(
+            [np.bincount(corner_face, weighted[:, k], len(counts)) for k in range(3)], axis=1
+        )
+        centroid /= np.where(areas > 0, areas, 1.0)[:, None]
+        lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+        return cls(
+            centroids=np.asarray(a.centroids),
+            volumes=np.asarray(a.volumes),
+            face_block=face_block,
+            face_normals=normals,
+            face_points=corners[loops[:-1]],
+            face_areas=areas,
+            face_centroids=centroid,
+            face_kind=np.asarray(a.face_origin_kind),
+            face_set=np.asarray(a.face_origin_set),
+            face_index=np.asarray(a.face_origin_index),
+            domain_normals=[np.asarray(part.face_normals) for part in system.domain],
+            size=float(np.linalg.norm(hi - lo)),
+        )
+
+    def __len__(self) -> int:
+        return len(self.centroids)
+
+    def containing(self, point: Any) -> int | None:
+        """The block that contains `point` (the first one when it lies on a shared face),
+        or None."""
+        p = np.asarray(point, dtype=float)
+        outside = np.einsum("ij,ij->i", p - self.face_points, self.face_normals)
+        tolerance = 1e-9 * self.size
+        bad = np.bincount(self.face_block, outside > tolerance, len(self)).astype(bool)
+        inside = np.flatnonzero(~bad)
+        return int(inside[0]) if len(inside) else None
+
+
+def domain_faces(blocks: Blocks, face: str | int, part: int, path: str) -> set[int]:
+    """The domain faces (indices into part `part`) that `face` names."""
+    if part >= len(blocks.domain_normals):
+        raise ModelError(
+            path, f"the domain has {len(blocks.domain_normals)} part(s); no part {part}"
+        )
+    normals = blocks.domain_normals[part]
+    if isinstance(face, int):
+        if face >= len(normals):
+            raise ModelError(
+                path,
+                f"the domain has {len(normals)} faces (0 to {len(normals) - 1}); no face {face}",
+            )
+        return {face}
+    direction = np.asarray(FACE_DIRECTIONS[face])
+    cos = np.cos(np.radians(FACE_ANGLE_DEGREES))
+    found = set(np.flatnonzero(normals @ direction >= cos).tolist())
+    if not found:
+        raise ModelError(
+            path,
+            f"the domain has no face facing {face} (outward normal within "
+            f"{FACE_ANGLE_DEGREES:g} degrees of {tuple(direction.tolist())}); give the face's "
+            "index instead",
+        )
+    return found
+
+
+def on_domain_faces(blocks: Blocks, faces: set[int], part: int) -> np.ndarray:
+    """A mask of the block faces that lie on the domain faces `faces` of part `part`."""
+    return (
+        (blocks.face_kind == BOUNDARY_FACE)
+        & (blocks.face_set == part)
+        & np.isin(blocks.face_index, list(faces))
+    )
+
+
+def select(region: Region, blocks: Blocks, path: str) -> np.ndarray:
+    """The mask of the blocks `region` selects; an error naming `path` when it selects none."""
+    n = len(blocks)
+    c = blocks.centroids
+    if region.kind == "all":
+        mask = np.ones(n, bool)
+    elif region.kind == "box":
+        mask = np.all((c >= region.min) & (c <= region.max), axis=1)
+    elif region.kind in ("below", "above"):
+        assert region.plane is not None
+        h = region.plane.height(c)
+        mask = h < 0 if region.kind == "below" else h > 0
+    elif region.kind == "face":
+        assert region.face is not None
+        faces = domain_faces(blocks, region.face, region.part, f"{path}.face")
+        on = on_domain_faces(blocks, faces, region.part)
+        mask = np.zeros(n, bool)
+        mask[blocks.face_block[on]] = True
+    elif region.kind == "point":
+        block = blocks.containing(region.point)
+        if block is None:
+            raise ModelError(
+                f"{path}.point", f"no block contains the point {point_text(region.point)}"
+            )
+        mask = np.zeros(n, bool)
+        mask[block] = True
+    else:
+        ids = np.asarray(region.blocks)
+        if ids.max() >= n:
+            raise ModelError(
+                f"{path}.ids", f"no block {int(ids.max())}: the model has {n} blocks (0 to {n - 1})"
+            )
+        mask = np.zeros(n, bool)
+        mask[ids] = True
+    if not mask.any():
+        raise ModelError(path, f"selects no block (region {region.name!r}, type {region.kind!r})")
+    return mask
+
+
+@dataclass
+class Layout:
+    """What the checks resolved, in block ids."""
+
+    fixed: np.ndarray  # bool (n,)
+    velocity: np.ndarray  # (n, 3) prescribed velocity (NaN where none)
+    monitors: dict[str, int]  # monitor name -> block id
+    bolts: list[tuple[int, int]] = field(default_factory=list)  # block at the collar, at the end
+    support_forces: np.ndarray | None = None  # (n, 3) force of the support pressures (N)
+    support_moments: np.ndarray | None = None  # (n, 3) their moment about the centroid (N m)
+    regions: dict[str, np.ndarray] = field(default_factory=dict)  # name -> mask
+
+    @property
+    def driven(self) -> np.ndarray:
+        """Blocks with a prescribed velocity."""
+        return ~np.isnan(self.velocity[:, 0])
+
+
+def region_path(model: Model, name: str) -> str:
+    """Where a region is defined in the file: ``regions.NAME`` or the inline field's path."""
+    return (
+        f"regions.{name}" if name in model.regions and "." not in name and "[" not in name else name
+    )
+
+
+def apply_boundary(
+    fixed: np.ndarray, velocities: np.ndarray, mask: np.ndarray, condition: str, velocity: Any
+) -> None:
+    """One boundary condition on the blocks of `mask` (later conditions win): updates the
+    `fixed` mask and the prescribed `velocities` (NaN: none) in place."""
+    fixed[mask] = condition == "fixed"
+    velocities[mask] = np.nan
+    if condition == "velocity":
+        velocities[mask] = velocity
+
+
+def resolve(model: Model, blocks: Blocks) -> Layout:
+    """Every block-dependent check of `model`; the resolved :class:`Layout`.
+
+    Raises
+    ------
+    ModelError
+        A region that selects no block, every block fixed or none, a monitor or bolt
+        outside the rock, a bolt that ties no two blocks, a support with no free face.
+    """
+    n = len(blocks)
+    if n == 0:
+        raise ModelError("domain", "the model has no blocks (every block was a sliver)")
+    masks = {
+        name: select(region, blocks, region_path(model, name))
+        for name, region in model.regions.items()
+    }
+    layout = Layout(
+        fixed=np.zeros(n, bool),
+        velocity=np.full((n, 3), np.nan),
+        monitors={},
+        regions=masks,
+    )
+    for b in model.boundary:
+        apply_boundary(layout.fixed, layout.velocity, masks[b.region], b.condition, b.velocity)
+    held = layout.fixed | layout.driven
+    if not held.any():
+        raise ModelError(
+            "boundary",
+            "no block is fixed or driven: nothing holds the rock mass (add a [[boundary]] "
+            'entry such as {region = {type = "face", face = "bottom"}, condition = "fixed"})',
+        )
+    if held.all():
+        raise ModelError(
+            "boundary", f"every block ({n}) is fixed or driven: nothing is free to move"
+        )
+    for i, monitor in enumerate(model.monitors):
+        if monitor.block is not None:
+            if monitor.block >= n:
+                raise ModelError(
+                    f"monitors[{i}].block",
+                    f"no block {monitor.block}: the model has {n} blocks (0 to {n - 1})",
+                )
+            layout.monitors[monitor.name] = monitor.block
+        else:
+            block = blocks.containing(monitor.point)
+            if block is None:
+                raise ModelError(
+                    f"monitors[{i}].point",
+                    f"no block contains the point {point_text(monitor.point)}: "
+                    "it is outside the rock",
+                )
+            layout.monitors[monitor.name] = block
+    for i, bolt in enumerate(model.bolts):
+        layout.bolts.append(bolt_blocks(blocks, bolt.point, bolt.end, f"bolts[{i}]"))
+    if model.support:
+        forces = np.zeros((n, 3))
+        moments = np.zeros((n, 3))
+        for i, s in enumerate(model.support):
+            path = f"support[{i}]"
+            faces = blocks.face_kind == BOUNDARY_FACE
+            faces &= masks[s.region][blocks.face_block]
+            if s.face is not None:
+                part = 0
+                faces &= on_domain_faces(
+                    blocks, domain_faces(blocks, s.face, part, f"{path}.face"), part
+                )
+            if not faces.any():
+                raise ModelError(
+                    path, "the region has no free face (a face of the domain's boundary) to push on"
+                )
+            f = -s.pressure * blocks.face_areas[faces, None] * blocks.face_normals[faces]
+            arm = blocks.face_centroids[faces] - blocks.centroids[blocks.face_block[faces]]
+            for k in range(3):
+                forces[:, k] += np.bincount(blocks.face_block[faces], f[:, k], n)
+            m = np.cross(arm, f)
+            for k in range(3):
+                moments[:, k] += np.bincount(blocks.face_block[faces], m[:, k], n)
+        layout.support_forces, layout.support_moments = forces, moments
+    return layout
+
+
+def bolt_blocks(blocks: Blocks, start: Any, end: Any, path: str) -> tuple[int, int]:
+    """The blocks at the two ends of a bolt; an error when an end is outside the rock or
+    both ends are in one block (the bolt would tie nothing)."""
+    collar = first_block_along(blocks, np.asarray(start, float), np.asarray(end, float))
+    if collar is None:
+        raise ModelError(
+            f"{path}.point",
+            f"the bolt from {point_text(start)} to {point_text(end)} is outside the rock "
+            "(it meets no block)",
+        )
+    anchor = blocks.containing(end)
+    if anchor is None:
+        raise ModelError(
+            f"{path}.length",
+            f"the bolt's far end {point_text(end)} is outside the rock; a bolt must end in rock",
+        )
+    if anchor == collar:
+        raise ModelError(
+            path, f"the bolt lies in one block ({collar}): it crosses no joint and ties nothing"
+        )
+    return collar, anchor
+
+
+def first_block_along(blocks: Blocks, start: np.ndarray, end: np.ndarray) -> int | None:
+    """The block the segment start -> end enters first (the collar may lie on a free face,
+    a hair outside the rock)."""
+    d = end - start
+    # clip the segment by each block's face planes: t_in = max entering, t_out = min leaving
+    dn = blocks.face_normals @ d
+    dist = np.einsum("ij,ij->i", start - blocks.face_points, blocks.face_normals)
+    n = len(blocks)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = -dist / dn
+    entering = dn < 0
+    leaving = dn > 0
+    parallel_out = (dn == 0) & (dist > 1e-9 * blocks.size)
+    t_in = np.full(n, 0.0)
+    np.maximum.at(t_in, blocks.face_block[entering], t[entering])
+    t_out = np.full(n, 1.0)
+    np.minimum.at(t_out, blocks.face_block[leaving], t[leaving])
+    blocked = np.bincount(blocks.face_block, parallel_out, n).astype(bool)
+    crosses = (t_out - t_in > 1e-9) & ~blocked
+    if not crosses.any():
+        return None
+    candidates = np.flatnonzero(crosses)
+    return int(candidates[np.argmin(t_in[candidates])])

@@ -1,0 +1,434 @@
+"""Running a model's stages on an engine: solve, cycle, time, property and boundary
+changes, resets, and the factor of safety by strength reduction; the history (step, time,
+unbalanced-force ratio, kinetic energy, monitored blocks) and the outcome (stable or not,
+blocks that moved, the largest displacement, the factor of safety).
+
+The runner steps in chunks of ``[results].history_every`` steps, so that progress, history
+points and Ctrl-C come between chunks: an interrupted run stops after the current chunk
+and keeps its outcome so far (``Outcome.interrupted``). A run the engine stops with an
+error (two blocks overlapping deeper than the detection gap, a NaN) keeps its outcome so
+far too, with the error (``Outcome.error``); in a factor-of-safety trial such an error
+counts as a failure. The engine is anything with the
+interface of :class:`penedge.model.engine.Engine`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from penedge._core import PenedgeError
+from penedge.model.check import apply_boundary
+from penedge.model.schema import JointProperties, Stage
+
+
+@dataclass
+class History:
+    """One row per history point."""
+
+    step: list[int] = field(default_factory=list)
+    time: list[float] = field(default_factory=list)
+    ratio: list[float] = field(default_factory=list)
+    kinetic: list[float] = field(default_factory=list)
+    stage: list[str] = field(default_factory=list)
+    monitors: dict[str, list[tuple[float, ...]]] = field(default_factory=dict)  # dx dy dz vx vy vz
+
+    def rows(self) -> list[dict[str, Any]]:
+        """The history as dict rows (for CSV)."""
+        rows = []
+        for k in range(len(self.step)):
+            row: dict[str, Any] = {
+                "step": self.step[k],
+                "time": self.time[k],
+                "stage": self.stage[k],
+                "ratio": self.ratio[k],
+                "kinetic_energy": self.kinetic[k],
+            }
+            for name, values in self.monitors.items():
+                for label, v in zip(("dx", "dy", "dz", "vx", "vy", "vz"), values[k], strict=True):
+                    row[f"{name}.{label}"] = v
+            rows.append(row)
+        return rows
+
+
+@dataclass
+class Trial:
+    """One trial of a strength reduction."""
+
+    factor: float
+    failed: bool
+    steps: int
+    ratio: float
+    speed: float  # m/s, the largest speed of a free block at the end
+    moved: list[int]  # free blocks that moved more than the threshold, or still move faster
+    # than the stage's velocity, at the end of the trial
+
+
+@dataclass
+class SafetyFactor:
+    """The factor of safety by strength reduction."""
+
+    factor: float  # the largest stable factor found
+    stable: float | None  # the bracket: largest stable ...
+    failing: float | None  # ... and smallest failing factor
+    failing_blocks: list[int]
+    trials: list[Trial]
+    start_ratio: float = 0.0  # the unbalanced-force ratio of the state the trials start from
+    in_equilibrium: bool = True  # whether that state was below the equilibrium ratio
+
+    @property
+    def bounded(self) -> str:
+        """``"="``, or ``">"`` / ``"<"`` when the search range did not enclose it."""
+        if self.failing is None:
+            return ">"
+        if self.stable is None:
+            return "<"
+        return "="
+
+
+@dataclass
+class StageResult:
+    """What a stage did."""
+
+    name: str
+    kind: str
+    steps: int
+    time: float
+    ratio: float
+    converged: bool | None = None  # solve stages
+    safety: SafetyFactor | None = None
+    stopped: str | None = None  # "interrupted" or the engine's error, if the stage was cut short
+
+
+@dataclass
+class Outcome:
+    """The result of a run."""
+
+    stages: list[StageResult]
+    history: History
+    displacement: np.ndarray  # (n, 3) since the start (or the last reset)
+    velocity: np.ndarray  # (n, 3)
+    moved: np.ndarray  # ids of the blocks that moved more than the threshold
+    interrupted: bool
+    threshold: float
+    steps: int
+    time: float
+    ratio: float
+    target: float = 1e-5  # the model's equilibrium ratio ([mechanics].ratio)
+    error: str | None = None  # the engine's error that stopped the run
+
+    @property
+    def stable(self) -> bool:
+        """Every solve stage reached equilibrium (a run without one: the final ratio is
+        below the model's equilibrium ratio); False if interrupted or stopped by an error."""
+        solves = [s.converged for s in self.stages if s.kind == "solve"]
+        if self.interrupted or self.error is not None:
+            return False
+        return all(solves) if solves else bool(self.ratio <= self.target)
+
+    @property
+    def max_displacement(self) -> tuple[float, int]:
+        """The largest displacement (m) and its block."""
+        d = np.linalg.norm(self.displacement, axis=1)
+        if len(d) == 0:
+            return 0.0, -1
+        i = int(np.argmax(d))
+        return float(d[i]), i
+
+    @property
+    def safety(self) -> SafetyFactor | None:
+        """The last factor of safety computed."""
+        found = [s.safety for s in self.stages if s.safety is not None]
+        return found[-1] if found else None
+
+
+Progress = Callable[[Any, Stage, int, int | None], None]
+
+
+class Runner:
+    """Runs the stages of a :class:`~penedge.model.Setup` on an engine.
+
+    Parameters
+    ----------
+    setup : penedge.model.Setup
+    factory : callable
+        ``factory(setup)`` builds a fresh engine (:class:`~penedge.model.engine.Engine`).
+    progress : callable, optional
+        ``progress(engine, stage, done, total)`` after each chunk of steps (`total` None
+        when the stage's length is not known, as for a solve).
+    frame : callable, optional
+        ``frame(engine, displacement)`` when a ParaView frame is due.
+    """
+
+    def __init__(
+        self,
+        setup: Any,
+        factory: Callable[[Any], Any],
+        progress: Progress | None = None,
+        frame: Callable[[Any, np.ndarray], None] | None = None,
+    ) -> None:
+        self.setup = setup
+        self.model = setup.model
+        self.factory = factory
+        self.progress = progress
+        self.frame = frame
+        self.engine = factory(setup)
+        self.reference = self.engine.positions()
+        self.history = History(monitors={name: [] for name in setup.layout.monitors})
+        self.fixed = setup.layout.fixed.copy()
+        self.velocity = setup.layout.velocity.copy()
+        self.last_frame = -1
+        self.chunk = self.model.results.history_every
+
+    # --- the run --------------------------------------------------------------------
+
+    def run(self) -> Outcome:
+        """Every stage in order; stops cleanly on Ctrl-C (KeyboardInterrupt)."""
+        results: list[StageResult] = []
+        interrupted = False
+        self.record("start")
+        self.write_frame()
+        error = None
+        for index, stage in enumerate(self.model.stages):
+            start = (self.engine.steps, self.engine.time)
+            try:
+                results.append(self.run_stage(index, stage))
+                self.write_frame()
+            except (KeyboardInterrupt, PenedgeError) as e:
+                interrupted = isinstance(e, KeyboardInterrupt)
+                error = None if interrupted else str(e)
+                e_ = self.engine
+                results.append(
+                    StageResult(
+                        stage.name,
+                        stage.kind,
+                        e_.steps - start[0],
+                        e_.time - start[1],
+                        e_.ratio,
+                        stopped="interrupted" if interrupted else "error",
+                    )
+                )
+                self.record("interrupted" if interrupted else "error")
+                self.write_frame()
+                break
+        return self.outcome(results, interrupted, error)
+
+    def outcome(
+        self, results: list[StageResult], interrupted: bool, error: str | None = None
+    ) -> Outcome:
+        e = self.engine
+        displacement = e.positions() - self.reference
+        threshold = self.model.results.moved
+        moved = np.flatnonzero(np.linalg.norm(displacement, axis=1) > threshold)
+        out = Outcome(
+            stages=results,
+            history=self.history,
+            displacement=displacement,
+            velocity=e.velocities(),
+            moved=moved,
+            interrupted=interrupted,
+            threshold=threshold,
+            steps=e.steps,
+            time=e.time,
+            ratio=e.ratio,
+            target=self.model.mechanics.ratio,
+            error=error,
+        )
+        return out
+
+    def record(self, stage: str) -> None:
+        """One history point."""
+        e = self.engine
+        h = self.history
+        h.step.append(e.steps)
+        h.time.append(e.time)
+        h.ratio.append(e.ratio)
+        h.kinetic.append(e.kinetic_energy())
+        h.stage.append(stage)
+        if h.monitors:
+            d = e.positions() - self.reference
+            v = e.velocities()
+            for name, block in self.setup.layout.monitors.items():
+                h.monitors[name].append((*d[block], *v[block]))
+
+    def write_frame(self) -> None:
+        if self.frame is not None and self.engine.steps != self.last_frame:
+            self.last_frame = self.engine.steps
+            self.frame(self.engine, self.engine.positions() - self.reference)
+
+    def advance(self, stage: Stage, steps: int, total: int | None) -> None:
+        """`steps` steps as one chunk, then a history point, progress and maybe a frame."""
+        self.engine.cycle(steps)
+        self.record(stage.name)
+        every = self.model.results.frame_every
+        if every and self.engine.steps // every != (self.engine.steps - steps) // every:
+            self.write_frame()
+
+    def run_stage(self, index: int, stage: Stage) -> StageResult:
+        e = self.engine
+        start_steps, start_time = e.steps, e.time
+        converged = None
+        safety = None
+        if stage.kind == "solve":
+            assert stage.ratio is not None
+            assert stage.max_steps is not None
+            converged = self.solve(stage, stage.ratio, stage.max_steps)
+        elif stage.kind in ("cycle", "time"):
+            if stage.kind == "cycle":
+                assert stage.steps is not None
+                total = stage.steps
+            else:
+                assert stage.time is not None
+                total = max(1, math.ceil(stage.time / e.timestep - 1e-9))
+            done = 0
+            while done < total:
+                k = min(self.chunk, total - done)
+                self.advance(stage, k, total)
+                done += k
+                self.report(stage, done, total)
+        elif stage.kind == "properties":
+            names = stage.sets or tuple(self.model.set_names)
+            if not stage.sets:  # every set, and the contacts of no set
+                e.default = merge(e.default, stage.changes)
+            changed = {name: merge(e.properties[name], stage.changes) for name in names}
+            e.apply_properties(changed)
+        elif stage.kind == "boundary":
+            assert stage.boundary is not None
+            b = stage.boundary
+            mask = self.setup.layout.regions[b.region]
+            apply_boundary(self.fixed, self.velocity, mask, b.condition, b.velocity)
+            e.apply_boundary(self.fixed, self.velocity)
+        elif stage.kind == "reset":
+            self.reference = e.positions()
+        elif stage.kind == "factor_of_safety":
+            safety = self.factor_of_safety(index, stage)
+        else:  # pragma: no cover - refused before the run (engine.unsupported)
+            raise NotImplementedError(stage.kind)
+        return StageResult(
+            stage.name,
+            stage.kind,
+            e.steps - start_steps,
+            e.time - start_time,
+            e.ratio,
+            converged,
+            safety,
+        )
+
+    def report(self, stage: Stage, done: int, total: int | None) -> None:
+        if self.progress is not None:
+            self.progress(self.engine, stage, done, total)
+
+    def solve(self, stage: Stage, ratio: float, max_steps: int, engine: Any = None) -> bool:
+        """Steps until the ratio is below `ratio`, at most `max_steps`; whether it got
+        there. With `engine` (a trial): on that engine, without history."""
+        e = self.engine if engine is None else engine
+        done = 0
+        while done < max_steps:
+            k = min(self.chunk, max_steps - done)
+            if engine is None:
+                self.advance(stage, k, None)
+            else:
+                e.cycle(k)
+            done += k
+            if engine is None:
+                self.report(stage, done, None)
+            if e.ratio < ratio:
+                return True
+        return False
+
+    # --- factor of safety -----------------------------------------------------------
+
+    def snapshot(self, index: int) -> Any:
+        """An engine in the state at the start of stage `index`: a copy of the current one,
+        or (when the engine cannot be copied) a fresh one that replays the stages before."""
+        try:
+            return self.engine.copy()
+        except (AttributeError, NotImplementedError):
+            replay = Runner(self.setup, self.factory)
+            for k, stage in enumerate(self.model.stages[:index]):
+                replay.run_stage(k, stage)
+            return replay.engine
+
+    def factor_of_safety(self, index: int, stage: Stage) -> SafetyFactor:
+        """Bisection on the strength reduction factor F (docs/models.md)."""
+        assert stage.ratio is not None
+        assert stage.max_steps is not None
+        names = stage.sets or tuple(self.model.set_names)
+        reduce_default = not stage.sets
+        original = {name: self.engine.properties[name] for name in names}
+        default = self.engine.default
+        free = ~(self.fixed | ~np.isnan(self.velocity[:, 0]))
+        threshold = self.model.results.moved
+        trials: list[Trial] = []
+
+        def trial(factor: float) -> Trial:
+            e = self.snapshot(index)
+            if reduce_default:
+                e.default = default.reduced(factor)
+            e.apply_properties({n: p.reduced(factor) for n, p in original.items()})
+            before = e.positions()
+            try:
+                converged = self.solve(stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e)
+                broke = False
+            except PenedgeError:  # blocks driven into each other: the model is failing
+                converged, broke = False, True
+            speeds = np.linalg.norm(e.velocities(), axis=1)
+            speed = float(speeds[free].max())
+            failed = broke or (not converged and speed > stage.velocity)
+            shifted = np.linalg.norm(e.positions() - before, axis=1) > threshold
+            moved = np.flatnonzero(free & (shifted | (speeds > stage.velocity)))
+            t = Trial(factor, failed, e.steps, e.ratio, speed, moved.tolist())
+            trials.append(t)
+            if self.progress is not None:
+                self.progress(e, stage, len(trials), None)
+            return t
+
+        stable: Trial | None = None
+        failing: Trial | None = None
+        t = trial(1.0)
+        if t.failed:
+            failing = t
+            f = 0.5
+            while f >= stage.low:
+                t = trial(f)
+                if not t.failed:
+                    stable = t
+                    break
+                failing = t
+                f /= 2
+        else:
+            stable = t
+            f = 2.0
+            while f <= stage.high:
+                t = trial(f)
+                if t.failed:
+                    failing = t
+                    break
+                stable = t
+                f *= 2
+        if stable is not None and failing is not None:
+            while failing.factor - stable.factor > stage.tolerance:
+                t = trial(0.5 * (stable.factor + failing.factor))
+                if t.failed:
+                    failing = t
+                else:
+                    stable = t
+        factor = stable.factor if stable is not None else (failing.factor if failing else 1.0)
+        return SafetyFactor(
+            start_ratio=self.engine.ratio,
+            in_equilibrium=bool(self.engine.ratio <= stage.ratio),
+            factor=factor,
+            stable=None if stable is None else stable.factor,
+            failing=None if failing is None else failing.factor,
+            failing_blocks=[] if failing is None else failing.moved,
+            trials=trials,
+        )
+
+
+def merge(props: JointProperties, changes: dict[str, float]) -> JointProperties:
+    """`props` with `changes`."""
+    return JointProperties(**{**props.__dict__, **changes})

@@ -1,0 +1,150 @@
+"""penedge.Simulation: the rigid-block mechanics through Python (the verification against
+analytic solutions is in crates/penedge/tests/mechanics.rs; here the API: arrays, settings,
+errors, and two checks against formulas)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import penedge
+
+G = 9.81
+
+
+def cube_on_base(density=2500.0, kn=1e9):
+    base = penedge.Block.cuboid([-2, -2, -1], [2, 2, 0])
+    cube = penedge.Block.cuboid([-0.5, -0.5, 0], [0.5, 0.5, 1])
+    sim = penedge.Simulation(penedge.BlockSystem([base, cube]), density=density)
+    sim.fix([0])
+    sim.set_joint(kn=kn, ks=kn, friction=30.0)
+    return sim
+
+
+def test_a_cube_settles_by_its_weight_over_the_contact_stiffness():
+    sim = cube_on_base()
+    report = sim.solve()
+    assert report["converged"]
+    assert report["ratio"] < 1e-5
+    # Sunk by m g / (kn A): 2500 * 9.81 / 1e9.
+    assert sim.positions[1, 2] == pytest.approx(0.5 - 2500 * G / 1e9, abs=1e-9)
+    assert sim.positions[0] == pytest.approx([0.0, 0.0, -0.5], abs=1e-12)
+    c = sim.contacts()
+    assert c["pairs"].tolist() == [[0, 1]]
+    assert c["types"].tolist() == [penedge.FACE_FACE]
+    assert c["sub_offsets"].tolist() == [0, 4]
+    assert c["areas"].sum() == pytest.approx(1.0)
+    # The contact carries the weight, on B (the cube) upwards.
+    assert c["normal_forces"].sum() == pytest.approx(2500 * G, rel=1e-5)
+    assert sim.contact_forces[1] == pytest.approx([0, 0, 2500 * G], rel=1e-5, abs=1e-6)
+    assert set(c["states"].tolist()) == {0}
+    assert c["points"].shape == (4, 3)
+    assert c["shear_forces"].shape == (4, 3)
+
+
+def test_state_arrays_have_one_row_per_body_and_are_read_only():
+    sim = cube_on_base()
+    sim.step(3)
+    assert len(sim) == 2
+    assert sim.steps == 3
+    assert sim.time == pytest.approx(3 * sim.timestep)
+    for name, width in [("positions", 3), ("quaternions", 4), ("velocities", 3), ("spins", 3)]:
+        array = getattr(sim, name)
+        assert array.shape == (2, width), name
+        with pytest.raises(ValueError, match="read-only"):
+            array[0, 0] = 1.0
+    assert np.linalg.norm(sim.quaternions, axis=1) == pytest.approx([1, 1])
+    assert sim.masses.tolist() == pytest.approx([16 * 2500, 2500])
+    assert sim.inertia[1] == pytest.approx([2500 / 6] * 3)
+    assert sim.fixed.tolist() == [True, False]
+    assert len(sim.system()) == 2
+
+
+def test_free_fall_is_a_parabola():
+    block = penedge.Block.cuboid([0, 0, 0], [1, 2, 3])
+    sim = penedge.Simulation(penedge.BlockSystem([block]), density=1000.0)
+    sim.set_joint(kn=1.0, ks=1.0, friction=30.0)  # no contact: only the time step bound
+    sim.set_timestep(1e-3)
+    sim.set_velocity(0, [1.0, 0.0, 2.0])
+    x0 = sim.positions[0].copy()
+    sim.step(500)
+    t = sim.time
+    expected = x0 + np.array([1.0, 0.0, 2.0]) * t + 0.5 * np.array([0, 0, -G]) * t * t
+    assert sim.positions[0] == pytest.approx(expected, abs=1e-12)
+
+
+def test_a_block_slides_on_a_slope_steeper_than_friction():
+    theta, phi = math.radians(40.0), 30.0
+    rot = np.array(
+        [[1, 0, 0], [0, math.cos(theta), -math.sin(theta)], [0, math.sin(theta), math.cos(theta)]]
+    )
+    base = penedge.Block.cuboid([-5, -5, -1], [5, 5, 0])
+    # In normal equilibrium from the start: sunk by m g cos θ / (kn A).
+    sink = 2500 * 0.3 * G * math.cos(theta) / 1e8
+    slab = penedge.Block.cuboid([-0.5, -0.4, -sink], [0.5, 0.4, 0.3 - sink])
+    tilt = [penedge.Block(b.vertices @ rot.T, b.faces) for b in (base, slab)]
+    sim = penedge.Simulation(penedge.BlockSystem(tilt), density=2500.0)
+    sim.fix([0])
+    sim.set_joint(kn=1e8, ks=1e8, friction=phi)
+    sim.run_until(0.05)  # past the release's elastic transient (see mechanics.rs)
+    before = sim.velocities[1].copy()
+    sim.step()
+    v1 = (before + sim.velocities[1]) / 2
+    x1, t1 = sim.positions[1].copy(), sim.time
+    sim.run_until(0.4)
+    a = G * (math.sin(theta) - math.cos(theta) * math.tan(math.radians(phi)))
+    down = rot @ np.array([0.0, -1.0, 0.0])
+    t = sim.time - t1
+    moved = (sim.positions[1] - x1) @ down
+    assert moved == pytest.approx(v1 @ down * t + 0.5 * a * t * t, rel=0.01)
+
+
+def test_joint_properties_per_set_and_default():
+    sim = cube_on_base()
+    sim.set_joint(kn=2e9, ks=1e9, friction=35.0, cohesion=1e5, tension=5e4, set=3)
+    assert sim.joint(set=3) == {
+        "kn": 2e9,
+        "ks": 1e9,
+        "friction": 35.0,
+        "cohesion": 1e5,
+        "tension": 5e4,
+    }
+    assert sim.joint()["kn"] == 1e9
+    assert sim.joint(set=7)["kn"] == 1e9
+    sim.set_damping(local=0.7)
+    assert sim.damping == (0.7, 0.0)
+    sim.gravity = [0.0, 0.0, -1.0]
+    assert sim.gravity.tolist() == [0.0, 0.0, -1.0]
+
+
+@pytest.mark.parametrize(
+    ("call", "kind"),
+    [
+        (lambda s: s.set_joint(kn=0.0, ks=1.0, friction=30.0), "stiffness"),
+        (lambda s: s.set_joint(kn=1.0, ks=-1.0, friction=30.0), "stiffness"),
+        (lambda s: s.set_joint(kn=1.0, ks=1.0, friction=90.0), "friction"),
+        (lambda s: s.set_joint(kn=1.0, ks=1.0, friction=30.0, cohesion=-1.0), "strength"),
+        (lambda s: s.set_timestep(1.0), "time_step"),
+        (lambda s: s.set_damping(local=1.0), "damping"),
+        (lambda s: s.set_density(-1.0), "density"),
+        (lambda s: s.fix([5]), "unknown_body"),
+        (lambda s: setattr(s, "gravity", [math.nan, 0, 0]), "not_finite"),
+        (lambda s: (s.fix([1]), s.step()), "no_free_body"),
+    ],
+)
+def test_bad_input_raises_a_mechanics_error(call, kind):
+    sim = cube_on_base()
+    with pytest.raises(penedge.MechanicsError) as info:
+        call(sim)
+    assert info.value.kind == kind
+    assert isinstance(info.value, ValueError)
+
+
+def test_overlapping_bodies_stop_the_run_with_the_pair_named():
+    base = penedge.Block.cuboid([-2, -2, -1], [2, 2, 0])
+    cube = penedge.Block.cuboid([-0.5, -0.5, -0.2], [0.5, 0.5, 0.8])
+    sim = penedge.Simulation(penedge.BlockSystem([base, cube]), density=2500.0)
+    sim.fix([0])
+    with pytest.raises(penedge.MechanicsError, match="bodies 0 and 1") as info:
+        sim.step()
+    assert info.value.kind == "penetration"

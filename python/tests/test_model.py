@@ -1,0 +1,511 @@
+"""Model files (penedge.model): every example reads and checks; every bad input gets an
+error naming its field before anything runs; the quantities the checks resolve (regions,
+strength reduction, water pressure, seismic load, support forces) against hand values."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import penedge
+from penedge import model as pm
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
+
+BASE = """\
+[domain]
+type = "box"
+min = [0, 0, 0]
+max = [1, 1, 3]
+
+[[joints]]
+type = "set"
+name = "bedding"
+dip = 0
+dip_direction = 0
+spacing = 1
+origin = [0, 0, 1]
+number = 2
+
+[rock]
+density = 2000
+
+[joint_properties.default]
+kn = 1e9
+ks = 1e8
+friction = 30
+"""
+
+FIX_BASE = """
+[[boundary]]
+region = {type = "face", face = "bottom"}
+condition = "fixed"
+"""
+
+
+def model(extra="", boundary=FIX_BASE):
+    return pm.parse_model(BASE + boundary + extra)
+
+
+def error_of(text, prepare=False):
+    """The ModelError (or generation SpecError) a model text raises."""
+
+    def read():
+        m = pm.parse_model(text)
+        if prepare:
+            pm.prepare(m)
+
+    with pytest.raises(penedge.SpecError) as caught:
+        read()
+    return caught.value
+
+
+def test_every_example_reads_and_checks():
+    names = sorted(p.name for p in EXAMPLES.glob("*.toml"))
+    assert names == [
+        "block_column.toml",
+        "slope_planar.toml",
+        "tunnel_roof_bolt.toml",
+        "wedge_dry.toml",
+        "wedge_water.toml",
+    ]
+    for path in EXAMPLES.glob("*.toml"):
+        setup = pm.prepare(path)
+        assert len(setup.system) > 1, path
+        free = ~setup.layout.fixed
+        assert free.any(), path
+        assert not free.all(), path
+
+
+def test_wedge_example_frees_only_the_wedge():
+    setup = pm.prepare(EXAMPLES / "wedge_dry.toml")
+    assert len(setup.system) == 4  # two planes through a box: four pieces
+    free = np.flatnonzero(~setup.layout.fixed)
+    assert len(free) == 1
+    # the wedge is the tetrahedron (10,5,5), (10-5 sqrt2, 5, 10), (10, 5 -+ 5 sqrt2, 10)
+    s = 5 * math.sqrt(2)
+    corners = np.array([[10, 5, 5], [10 - s, 5, 10], [10, 5 - s, 10], [10, 5 + s, 10]])
+    volume = abs(np.linalg.det(corners[1:] - corners[0])) / 6
+    assert setup.blocks.volumes[free[0]] == pytest.approx(volume, rel=1e-9)
+    assert setup.layout.monitors == {"wedge": int(free[0])}
+    assert set(setup.model.properties) == {"A", "B"}
+
+
+def test_tunnel_example_bolt_ties_the_roof_wedge_to_the_rock_above():
+    setup = pm.prepare(EXAMPLES / "tunnel_roof_bolt.toml")
+    free = np.flatnonzero(~setup.layout.fixed)
+    assert len(free) == 1
+    # a pyramid of height 3 on an equilateral triangle of inradius 3 / tan 60
+    side = 2 * math.sqrt(3) * 3 / math.tan(math.radians(60))
+    volume = math.sqrt(3) / 4 * side**2 * 3 / 3
+    assert setup.blocks.volumes[free[0]] == pytest.approx(volume, rel=1e-9)
+    collar, anchor = setup.layout.bolts[0]
+    assert collar == free[0]
+    assert anchor == setup.blocks.containing([5, 5, 5])
+    assert setup.blocks.centroids[anchor, 2] > 3
+
+
+def test_water_example_has_pressures_per_set():
+    m = pm.read_model(EXAMPLES / "wedge_water.toml")
+    assert m.water is not None
+    assert m.water.pressures == {"A": 5e3, "B": 5e3}
+    assert m.water.phreatic is None
+
+
+def test_column_example():
+    setup = pm.prepare(EXAMPLES / "block_column.toml")
+    assert len(setup.system) == 5
+    z = setup.blocks.centroids[:, 2]
+    assert setup.layout.fixed.tolist() == (z < 1).tolist()
+    assert z[setup.layout.monitors["top"]] == pytest.approx(4.5)
+    assert [s.kind for s in setup.model.stages] == ["solve"]
+
+
+def test_defaults():
+    m = model()
+    assert m.mechanics.gravity == (0, 0, -9.81)
+    assert m.mechanics.damping == 0.8
+    assert m.mechanics.ratio == 1e-5
+    assert m.properties["bedding"] == m.default_properties
+    assert m.default_properties.cohesion == 0
+    assert m.default_properties.tension == 0
+    assert [(s.kind, s.ratio) for s in m.stages] == [("solve", 1e-5)]
+    assert m.results.moved == 1e-3
+    assert m.results.moving == 1e-4
+    fos = model('[results]\nmoving = 0.01\n[[stages]]\ntype = "factor_of_safety"\n').stages[0]
+    assert fos.velocity == 0.01
+
+
+def test_set_properties_override_only_what_they_give():
+    m = model("[joint_properties.bedding]\nfriction = 20\ncohesion = 1e5\n")
+    p = m.properties["bedding"]
+    assert (p.kn, p.ks, p.friction, p.cohesion) == (1e9, 1e8, 20, 1e5)
+    assert m.default_properties.friction == 30
+
+
+def test_strength_reduction_divides_tan_phi_cohesion_and_tension():
+    p = pm.JointProperties(kn=1, ks=2, friction=35, cohesion=100, tension=50)
+    r = p.reduced(1.25)
+    assert math.tan(math.radians(r.friction)) == pytest.approx(math.tan(math.radians(35)) / 1.25)
+    assert (r.cohesion, r.tension, r.kn, r.ks) == (80, 40, 1, 2)
+    assert r.residual_friction == pytest.approx(r.friction)
+
+
+def test_seismic_coefficient_adds_a_horizontal_body_force():
+    m = model("[seismic]\ncoefficient = 0.2\nazimuth = 90\nvertical = 0.1\n")
+    gx, gy, gz = m.gravity
+    assert (gx, gy, gz) == pytest.approx((0.2 * 9.81, 0, -9.81 + 0.1 * 9.81), abs=1e-12)
+    m = model("[seismic]\ncoefficient = 0.1\nazimuth = 180\n")
+    assert m.gravity == pytest.approx((0, -0.981, -9.81), abs=1e-12)
+
+
+def test_phreatic_surface_forms_give_hydrostatic_pressure():
+    flat = model("[water]\nphreatic = {elevation = 2.5}\n").water
+    # 1.5 m below the water table: rho g h
+    assert flat.pressure_at(np.array([[0.3, 0.2, 1.0]]), 9.81)[0] == pytest.approx(
+        1000 * 9.81 * 1.5
+    )
+    assert flat.pressure_at(np.array([[0.3, 0.2, 3.0]]), 9.81)[0] == 0
+    # an inclined table through three points: z = 2 + 0.1 x
+    tilted = model("[water]\nphreatic = {points = [[0, 0, 2], [10, 0, 3], [0, 10, 2]]}\n").water
+    assert tilted.pressure_at(np.array([[5.0, 7.0, 0.0]]), 10.0)[0] == pytest.approx(
+        1000 * 10 * 2.5
+    )
+    dipping = model(
+        "[water]\nphreatic = {point = [0, 0, 2], dip = 45, dip_direction = 90}\n"
+    ).water  # z = 2 - x
+    assert dipping.pressure_at(np.array([[1.0, 3.0, 0.0]]), 10.0)[0] == pytest.approx(
+        1000 * 10 * 1.0
+    )
+
+
+def test_regions():
+    m = model(
+        """
+[regions.low]
+type = "below"
+z = 1.5
+[regions.high]
+type = "above"
+point = [0, 0, 1.2]
+normal = [0, 0, -2]
+[regions.middle]
+type = "box"
+min = [0, 0, 1]
+max = [1, 1, 2]
+[regions.east]
+type = "face"
+face = "east"
+[regions.lid]
+type = "face"
+face = 1
+[regions.two]
+type = "blocks"
+ids = [2]
+[regions.here]
+type = "point"
+point = [0.5, 0.5, 2.5]
+"""
+    )
+    setup = pm.prepare(m)
+    z = setup.blocks.centroids[:, 2]
+    masks = setup.layout.regions
+    assert sorted(z[masks["low"]]) == [0.5]
+    assert sorted(z[masks["high"]]) == [1.5, 2.5]  # the normal's sense does not matter
+    assert sorted(z[masks["middle"]]) == [1.5]
+    assert masks["east"].all()  # every block of the column touches the east face
+    assert sorted(z[masks["lid"]]) == [2.5]  # face 1 of a box is its top
+    assert np.flatnonzero(masks["two"]).tolist() == [2]
+    assert sorted(z[masks["here"]]) == [2.5]
+
+
+def test_support_pressure_forces():
+    setup = pm.prepare(
+        model('[[support]]\nregion = {type = "all"}\nface = "top"\npressure = 5e4\n')
+    )
+    forces, moments = setup.layout.support_forces, setup.layout.support_moments
+    top = np.argmax(setup.blocks.centroids[:, 2])
+    expected = np.zeros_like(forces)
+    expected[top] = [0, 0, -5e4 * 1.0]  # 1 m2 top face, pushed down into the rock
+    assert forces == pytest.approx(expected, abs=1e-6)
+    assert moments == pytest.approx(np.zeros_like(moments), abs=1e-6)  # face centred on the block
+
+
+def test_bolt_resolves_its_blocks():
+    setup = pm.prepare(
+        model(
+            "[[bolts]]\npoint = [0.5, 0.5, 3]\nplunge = 90\ntrend = 0\nlength = 1.5\n"
+            "capacity = 1e5\nstiffness = 1e7\n"
+        )
+    )
+    z = setup.blocks.centroids[:, 2]
+    collar, anchor = setup.layout.bolts[0]
+    assert (z[collar], z[anchor]) == (2.5, 1.5)
+
+
+# --- bad input: an error naming the field, before anything runs ----------------------
+
+
+@pytest.mark.parametrize(
+    ("extra", "field", "words"),
+    [
+        (
+            "[joint_properties.default2]\nkn = 1\n",
+            "joint_properties.default2",
+            "no joint set is named",
+        ),
+        (
+            "[joint_properties.bedding]\nfrction = 3\n",
+            "joint_properties.bedding.frction",
+            "unknown field",
+        ),
+        ("[rocks]\ndensity = 3\n", "rocks", "unknown field"),
+        ("[mechanics]\ndamping = 1.5\n", "mechanics.damping", "less than 1"),
+        ("[mechanics]\ngravity = [0, -9.81]\n", "mechanics.gravity", "three numbers"),
+        ("[mechanics]\ntime_step = 'small'\n", "mechanics.time_step", "must be a number"),
+        (
+            "[[stages]]\ntype = 'excavate'\nregion = 'tunnel'\n",
+            "stages[0].region",
+            "no region is named 'tunnel'",
+        ),
+        (
+            "[[stages]]\ntype = 'properties'\nsets = ['joint']\nfriction = 3\n",
+            "stages[0].sets[0]",
+            "no joint set is named 'joint'",
+        ),
+        ("[[stages]]\ntype = 'properties'\n", "stages[0]", "changes nothing"),
+        ("[[stages]]\ntype = 'properties'\nfriction = 95\n", "stages[0].friction", "less than 90"),
+        ("[[stages]]\ntype = 'solv'\n", "stages[0].type", "unknown value 'solv'"),
+        ("[[stages]]\ntype = 'cycle'\n", "stages[0].steps", "required"),
+        ("[[stages]]\ntype = 'cycle'\nsteps = 10\nratio = 3\n", "stages[0].ratio", "unknown field"),
+        (
+            "[[stages]]\ntype = 'factor_of_safety'\nlow = 2\nhigh = 1\n",
+            "stages[0].high",
+            "greater than low",
+        ),
+        ("[water]\nphreatic = 30\n", "water.phreatic", "must be a table"),
+        (
+            "[water]\nphreatic = {elevation = 3, points = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]}\n",
+            "water.phreatic",
+            "found elevation and points",
+        ),
+        (
+            "[water]\nphreatic = {points = [[0, 0, 0], [1, 1, 1], [2, 2, 2]]}\n",
+            "water.phreatic.points",
+            "on one line",
+        ),
+        (
+            "[water]\nphreatic = {points = [[0, 0, 0], [1, 1]]}\n",
+            "water.phreatic.points",
+            "three points",
+        ),
+        (
+            "[water]\nphreatic = {point = [0, 0, 0], dip = 90, dip_direction = 0}\n",
+            "water.phreatic",
+            "cannot be vertical",
+        ),
+        ("[water]\nphreatic = {level = 3}\n", "water.phreatic", "found none of"),
+        (
+            "[water]\n[water.pressure]\nJ9 = 1e4\n",
+            "water.pressure.J9",
+            "no joint set is named 'J9'",
+        ),
+        ("[water]\ndensity = 1000\n", "water", "give a phreatic surface"),
+        (
+            "[[bolts]]\npoint = [0, 0, 0]\nlength = 2\ncapacity = 1\nstiffness = 1\n",
+            "bolts[0].trend",
+            "required",
+        ),
+        (
+            "[[bolts]]\npoint = [0, 0, 0]\ndirection = [0, 0, 0]\nlength = 2\n"
+            "capacity = 1\nstiffness = 1\n",
+            "bolts[0].direction",
+            "non-zero",
+        ),
+        ("[seismic]\ncoefficient = 0.1\n", "seismic.azimuth", "required"),
+        (
+            "[initial_stress]\ntype = 'overburden'\nk0 = 1\nk0_x = 2\n",
+            "initial_stress.k0",
+            "either k0 or",
+        ),
+        (
+            "[regions.r]\ntype = 'box'\nmin = [0, 0, 0]\nmax = [1, 0, 1]\n",
+            "regions.r.max",
+            "greater than min",
+        ),
+        ("[regions.r]\ntype = 'face'\nface = 'up'\n", "regions.r.face", "unknown value 'up'"),
+        ("[[monitors]]\nname = 'm'\n", "monitors[0]", "either point"),
+        ("[results]\nmoved = 0\n", "results.moved", "greater than 0"),
+    ],
+)
+def test_bad_fields_are_named(extra, field, words):
+    e = error_of(BASE + FIX_BASE + extra)
+    assert e.field == field, str(e)
+    assert str(e).startswith(f"{field}: ")
+    assert words in str(e)
+
+
+def test_missing_required_tables():
+    e = error_of("[rock]\ndensity = 1\n")
+    assert e.field == "domain"
+    e = error_of(
+        BASE.replace("[joint_properties.default]\nkn = 1e9\nks = 1e8\nfriction = 30\n", "")
+    )
+    assert e.field == "joint_properties.default"
+    e = error_of(BASE.replace("friction = 30\n", ""))
+    assert e.field == "joint_properties.default.friction"
+    assert "required" in str(e)
+    e = error_of(BASE.replace("density = 2000", "densty = 2000"))
+    assert e.field == "rock.density"
+    assert "'densty' is given: a typo?" in str(e)
+
+
+def test_toml_syntax_error_names_the_line():
+    e = error_of(BASE + "[rock\n")
+    assert e.field == "model"
+    assert "line" in str(e)
+
+
+def test_generation_errors_are_the_spec_errors():
+    e = error_of(BASE.replace("dip = 0\n", "dip = 120\n") + FIX_BASE, prepare=True)
+    assert "joints[0].dip" in str(e)
+
+
+@pytest.mark.parametrize(
+    ("boundary", "field", "words"),
+    [
+        ("", "boundary", "no block is fixed or driven"),
+        (
+            '[[boundary]]\nregion = {type = "all"}\ncondition = "fixed"\n',
+            "boundary",
+            "every block (3) is fixed",
+        ),
+        (
+            '[[boundary]]\nregion = {type = "all"}\ncondition = "velocity"\nvelocity = [0, 0, 1]\n',
+            "boundary",
+            "every block (3) is fixed or driven",
+        ),
+        (
+            '[[boundary]]\nregion = {type = "box", min = [5, 5, 5], max = [6, 6, 6]}\n'
+            'condition = "fixed"\n',
+            "boundary[0].region",
+            "selects no block",
+        ),
+        (
+            '[[boundary]]\nregion = {type = "point", point = [9, 9, 9]}\ncondition = "fixed"\n',
+            "boundary[0].region.point",
+            "no block contains",
+        ),
+        (
+            '[[boundary]]\nregion = {type = "blocks", ids = [7]}\ncondition = "fixed"\n',
+            "boundary[0].region.ids",
+            "no block 7",
+        ),
+        (
+            '[[boundary]]\nregion = {type = "face", face = 9}\ncondition = "fixed"\n',
+            "boundary[0].region.face",
+            "no face 9",
+        ),
+        (
+            '[[boundary]]\nregion = "base"\ncondition = "fixed"\n',
+            "boundary[0].region",
+            "no region is named 'base'",
+        ),
+        (
+            '[[boundary]]\nregion = {type = "all"}\ncondition = "fixed"\nvelocity = [0, 0, 0]\n',
+            "boundary[0].velocity",
+            'only with condition = "velocity"',
+        ),
+    ],
+)
+def test_boundary_errors(boundary, field, words):
+    e = error_of(BASE + boundary, prepare=True)
+    assert e.field == field, str(e)
+    assert words in str(e)
+
+
+def test_named_region_that_selects_nothing():
+    e = error_of(BASE + FIX_BASE + "[regions.sky]\ntype = 'above'\nz = 10\n", prepare=True)
+    assert (e.field, "selects no block" in str(e)) == ("regions.sky", True)
+
+
+@pytest.mark.parametrize(
+    ("bolt", "field", "words"),
+    [
+        (
+            "point = [5, 5, 5]\ndirection = [1, 0, 0]\nlength = 2\n",
+            "bolts[0].point",
+            "outside the rock",
+        ),
+        (
+            "point = [0.5, 0.5, 3]\ndirection = [0, 0, -1]\nlength = 4\n",
+            "bolts[0].length",
+            "far end",
+        ),
+        (
+            "point = [0.5, 0.5, 3]\ndirection = [0, 0, -1]\nlength = 0.5\n",
+            "bolts[0]",
+            "crosses no joint",
+        ),
+    ],
+)
+def test_bolt_errors(bolt, field, words):
+    e = error_of(
+        BASE + FIX_BASE + "[[bolts]]\ncapacity = 1e5\nstiffness = 1e7\n" + bolt, prepare=True
+    )
+    assert e.field == field, str(e)
+    assert words in str(e)
+
+
+def test_monitor_outside_the_rock():
+    e = error_of(BASE + FIX_BASE + "[[monitors]]\npoint = [3, 3, 3]\n", prepare=True)
+    assert e.field == "monitors[0].point"
+    assert "outside the rock" in str(e)
+
+
+def test_support_without_free_face():
+    # the middle block's only free faces are its sides: none faces up
+    e = error_of(
+        BASE + FIX_BASE + '[[support]]\nregion = {type = "point", point = [0.5, 0.5, 1.5]}\n'
+        'face = "top"\npressure = 1e3\n',
+        prepare=True,
+    )
+    assert e.field == "support[0]"
+    assert "no free face" in str(e)
+
+
+def test_duplicate_and_reserved_joint_names():
+    e = error_of(BASE.replace('name = "bedding"', 'name = "default"'))
+    assert e.field == "joints[0].name"
+    two = (
+        BASE
+        + '[[joints]]\ntype = "plane"\nname = "bedding"\npoint = [0, 0, 2.5]\n'
+        + "dip = 0\ndip_direction = 0\n"
+    )
+    e = error_of(two)
+    assert (e.field, "also the name of joints[0]" in str(e)) == ("joints[1].name", True)
+
+
+def test_model_from_dict_and_unnamed_sets():
+    import tomllib
+
+    data = tomllib.loads(BASE.replace('name = "bedding"\n', "") + FIX_BASE)
+    data["joint_properties"]["joints[0]"] = {"cohesion": 3.0}
+    m = pm.load_model(data)
+    assert m.properties["joints[0]"].cohesion == 3.0
+
+
+def test_error_is_a_value_error_with_the_field():
+    e = error_of(BASE + "[mechanics]\nmax_steps = 0\n")
+    assert isinstance(e, ValueError)
+    assert isinstance(e, penedge.PenedgeError)
+    assert e.field == "mechanics.max_steps"
+
+
+def test_docstring_example():
+    import doctest
+
+    failures, tried = doctest.testmod(pm, optionflags=doctest.NORMALIZE_WHITESPACE)
+    assert tried > 0
+    assert failures == 0

@@ -1,0 +1,154 @@
+"""Model files run on the rigid-block engine (penedge.Simulation), against references
+computed here: Hoek & Bray's limit equilibrium of the wedge, the elastic settlement of a
+block column. The runs are skipped where this build has no engine."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import penedge
+import penedge.model as pm
+
+needs_engine = pytest.mark.skipif(
+    not hasattr(penedge, "Simulation"), reason="this build has no mechanics engine"
+)
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
+
+
+def plane_normal(dip, dip_direction):
+    d, a = math.radians(dip), math.radians(dip_direction)
+    return np.array([math.sin(d) * math.sin(a), math.sin(d) * math.cos(a), math.cos(d)])
+
+
+def wedge_limit_equilibrium(friction, pressure=0.0, seismic=0.0):
+    """Hoek & Bray's factor of safety of the wedge of examples/models/wedge_*.toml, by
+    vectors: the weight W of the tetrahedron cut from the box corner region by the two
+    joints, split into the reactions N_A n_A + N_B n_B normal to the joints and the driving
+    force along their line of intersection; F = (N_A' + N_B') tan phi / D with N' = N - u A
+    (a uniform water pressure u on each joint); `seismic` adds a pseudo-static force
+    kh W towards East (out of the slope face)."""
+    na, nb = plane_normal(45, 45), plane_normal(45, 135)
+    apex = np.array([10.0, 5.0, 5.0])  # both planes pass through it
+    # the corners on the top (z = 10) and the slope face (x = 10)
+    line = np.cross(na, nb)
+    line /= np.linalg.norm(line)
+    if line[2] > 0:
+        line = -line  # pointing down the line of intersection (out of the slope)
+    top_on_line = apex + line * (10.0 - apex[2]) / line[2]
+
+    def on_top_and_face(n):
+        # x = 10, z = 10, n . (p - apex) = 0
+        y = apex[1] - (n[0] * 0 + n[2] * (10.0 - apex[2])) / n[1]
+        return np.array([10.0, y, 10.0])
+
+    corners = np.array([apex, top_on_line, on_top_and_face(na), on_top_and_face(nb)])
+    volume = abs(np.linalg.det(corners[1:] - corners[0])) / 6
+    weight = 2600 * 9.81 * volume * np.array([seismic, 0.0, -1.0])
+    # W + N_A n_A + N_B n_B + S line = 0 (S the shear resistance needed, along the line)
+    matrix = np.column_stack([na, nb, line])
+    n_a, n_b, _ = np.linalg.solve(matrix, -weight)
+    driving = weight @ line
+
+    def area(a, b, c):
+        return 0.5 * np.linalg.norm(np.cross(b - a, c - a))
+
+    area_a = area(corners[0], corners[1], corners[2])
+    area_b = area(corners[0], corners[1], corners[3])
+    resisting = (n_a - pressure * area_a + n_b - pressure * area_b) * math.tan(
+        math.radians(friction)
+    )
+    return resisting / driving, volume
+
+
+def test_limit_equilibrium_reference_is_hoek_and_bray():
+    """The reference against Hoek & Bray's closed form for a symmetric wedge:
+    F = sin(beta) / sin(xi / 2) tan(phi) / tan(psi), with beta = 90 degrees (the wedge's
+    bisecting plane is vertical), xi the included angle between the two joints (180 degrees
+    less the angle between their normals) and psi the plunge of the line of intersection."""
+    factor, volume = wedge_limit_equilibrium(40.0)
+    na, nb = plane_normal(45, 45), plane_normal(45, 135)
+    xi = math.pi - math.acos(na @ nb)
+    line = np.cross(na, nb)
+    psi = math.asin(abs(line[2]) / np.linalg.norm(line))
+    closed_form = 1 / math.sin(xi / 2) * math.tan(math.radians(40)) / math.tan(psi)
+    assert factor == pytest.approx(closed_form, rel=1e-9)
+    assert volume == pytest.approx(250 / 3, rel=1e-9)  # top triangle 50 m2, height 5 m
+    # 5 kPa of water in both joints (examples/models/wedge_water.toml) lowers F by u A tan phi / D
+    wet, _ = wedge_limit_equilibrium(40.0, pressure=5e3)
+    assert 1.0 < wet < factor
+
+
+def run_wedge(friction, max_steps):
+    text = (EXAMPLES / "wedge_dry.toml").read_text()
+    text = text.replace("friction = 40", f"friction = {friction}")
+    text = text.replace("max_steps = 4000", f"max_steps = {max_steps}")
+    return pm.simulate(text)
+
+
+@needs_engine
+def test_wedge_factor_of_safety_matches_limit_equilibrium():
+    outcome = run_wedge(40.0, 4000)
+    assert outcome.stages[0].converged
+    safety = outcome.safety
+    reference, _ = wedge_limit_equilibrium(40.0)
+    # compared as the critical friction angle, within 1 degree (issue 18's criterion)
+    found = math.degrees(math.atan(math.tan(math.radians(40)) / safety.factor))
+    exact = math.degrees(math.atan(math.tan(math.radians(40)) / reference))
+    assert found == pytest.approx(exact, abs=1.0)
+    assert safety.failing - safety.stable <= 0.01 + 1e-12
+    free = ~pm.prepare(EXAMPLES / "wedge_dry.toml").layout.fixed
+    assert safety.failing_blocks == np.flatnonzero(free).tolist()
+
+
+@needs_engine
+def test_factor_of_safety_does_not_depend_on_the_step_budget():
+    once = run_wedge(40.0, 3000).safety
+    twice = run_wedge(40.0, 6000).safety
+    assert once.factor == pytest.approx(twice.factor, abs=0.01 + 1e-12)
+
+
+@needs_engine
+def test_block_column_settles_by_its_elastic_closure():
+    outcome = pm.simulate(EXAMPLES / "block_column.toml")
+    assert outcome.stable
+    setup = pm.prepare(EXAMPLES / "block_column.toml")
+    z = setup.blocks.centroids[:, 2]
+    top = int(np.argmax(z))
+    # joint k (z = 1..4) carries the weight of the 5 - k blocks above it: 4 + 3 + 2 + 1
+    m_g = 2500 * 1.0 * 9.81
+    closure = sum((5 - k) * m_g / (1e9 * 1.0) for k in range(1, 5))
+    assert outcome.displacement[top, 2] == pytest.approx(-closure, rel=0.01)
+    assert np.abs(outcome.displacement[:, :2]).max() < 1e-3 * closure
+
+
+@needs_engine
+def test_planar_slope_failure_matches_limit_equilibrium():
+    """Hoek & Bray's planar failure, dry, no cohesion, a tension crack: F = tan phi / tan
+    psi_p whatever the block's shape (psi_p = 35 degrees, the bedding's dip)."""
+    outcome = pm.simulate(EXAMPLES / "slope_planar.toml")
+    assert outcome.stages[0].converged
+    safety = outcome.safety
+    exact = math.tan(math.radians(40)) / math.tan(math.radians(35))
+    assert safety.stable < exact + 0.01
+    assert safety.failing > exact - 0.01
+    free = ~pm.prepare(EXAMPLES / "slope_planar.toml").layout.fixed
+    assert safety.failing_blocks == np.flatnonzero(free).tolist()
+
+
+@needs_engine
+def test_seismic_coefficient_lowers_the_wedge_factor_as_limit_equilibrium_does():
+    """The pseudo-static load kh g towards the slope face (East) in limit equilibrium and
+    in the model, as critical friction angles within 1 degree."""
+    text = (EXAMPLES / "wedge_dry.toml").read_text()
+    text = text.replace(
+        "[regions.wedge]", "[seismic]\ncoefficient = 0.1\nazimuth = 90\n\n[regions.wedge]"
+    )
+    safety = pm.simulate(text).safety
+    reference, _ = wedge_limit_equilibrium(40.0, seismic=0.1)
+    assert reference < wedge_limit_equilibrium(40.0)[0]
+    found = math.degrees(math.atan(math.tan(math.radians(40)) / safety.factor))
+    exact = math.degrees(math.atan(math.tan(math.radians(40)) / reference))
+    assert found == pytest.approx(exact, abs=1.0)

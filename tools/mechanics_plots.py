@@ -1,0 +1,244 @@
+"""Draw the plots of docs/verification.md into docs/img/ (committed): the mechanics against
+the analytic solutions, run through the Python API (the same engine as the Rust tests of
+crates/penedge/tests/mechanics.rs, which check the criteria).
+
+* ``mech-slope.png``: a block sliding down three slopes against v1 t + a t^2 / 2;
+* ``mech-rotation.png``: free rotation about each principal axis (the intermediate one flips);
+* ``mech-contact.png``: the oscillation of a block on a face against 2 pi sqrt(m / (kn A)),
+  and the energy of an undamped bounce;
+* ``mech-topple.png``: sliding, toppling and stable blocks on a 30 degree slope.
+
+Run from the repository root, with penedge installed with the ``plot`` extra:
+
+    python3 tools/mechanics_plots.py
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import matplotlib as mpl
+
+mpl.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+import penedge
+
+ROOT = Path(__file__).resolve().parents[1]
+IMG = ROOT / "docs" / "img"
+G = 9.81
+
+
+def rot_x(theta):
+    c, s = math.cos(theta), math.sin(theta)
+    return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+
+
+def rot_z(theta):
+    c, s = math.cos(theta), math.sin(theta)
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+
+
+def placed(block, matrix):
+    return penedge.Block(block.vertices @ matrix.T, block.faces)
+
+
+def slab_on_slope(theta, size, sink, phi, kn=1e8):
+    """A fixed base tilted by `theta` (turned 0.6 rad about z) and a slab on it."""
+    frame = rot_z(0.6) @ rot_x(theta)
+    lx, ly, h = size
+    base = penedge.Block.cuboid([-5, -5, -1], [5, 5, 0])
+    slab = penedge.Block.cuboid([-lx / 2, -ly / 2, -sink], [lx / 2, ly / 2, h - sink])
+    sim = penedge.Simulation(
+        penedge.BlockSystem([placed(base, frame), placed(slab, frame)]), 2500.0
+    )
+    sim.fix([0])
+    sim.set_joint(kn=kn, ks=kn, friction=phi)
+    return sim, frame
+
+
+def slope_plot(ax):
+    phi, size = 30.0, (1.0, 0.8, 0.3)
+    m, area = 2500 * 0.24, 0.8
+    for deg, color in [(33, "C0"), (40, "C1"), (55, "C2")]:
+        theta = math.radians(deg)
+        sim, frame = slab_on_slope(theta, size, m * G * math.cos(theta) / (1e8 * area), phi)
+        down = frame @ np.array([0.0, -1.0, 0.0])
+        sim.run_until(0.05)
+        before = sim.velocities[1].copy()
+        sim.step()
+        v1 = ((before + sim.velocities[1]) / 2) @ down
+        x1, t1 = sim.positions[1].copy(), sim.time
+        ts, xs = [], []
+        while sim.time < 0.6:
+            sim.step(10)
+            ts.append(sim.time - t1)
+            xs.append((sim.positions[1] - x1) @ down)
+        ts = np.array(ts)
+        a = G * (math.sin(theta) - math.cos(theta) * math.tan(math.radians(phi)))
+        ax.plot(ts, xs, color=color, lw=2.5, alpha=0.5, label=f"{deg}°, simulated")
+        ax.plot(ts, v1 * ts + 0.5 * a * ts**2, "k--", lw=0.8)
+    ax.plot([], [], "k--", lw=0.8, label="v₁t + ½g(sinθ − cosθ tanφ)t²")
+    ax.set(
+        xlabel="t − t₁ (s)",
+        ylabel="displacement down the slope (m)",
+        title="1. Sliding on slopes steeper than φ = 30°",
+    )
+    ax.legend(fontsize=8)
+
+
+def rotation_plot(ax):
+    block = penedge.Block.cuboid([0, 0, 0], [1, 2, 3])
+    for axis, color in [(0, "C0"), (1, "C1"), (2, "C2")]:
+        sim = penedge.Simulation(penedge.BlockSystem([block]), 1000.0)
+        sim.set_joint(kn=1e-6, ks=1e-6, friction=30.0)
+        sim.gravity = [0.0, 0.0, 0.0]
+        spin = np.full(3, 1e-3)
+        spin[axis] = 2.0
+        q = sim.quaternions[0]
+        rotation = quaternion_matrix(q)
+        sim.set_velocity(0, [0, 0, 0], rotation @ spin)
+        sim.set_timestep(0.005)
+        inertia = sim.inertia[0]
+        ts, ls = [], []
+        for _ in range(800):
+            sim.step(10)
+            r = quaternion_matrix(sim.quaternions[0])
+            body = inertia * (r.T @ sim.spins[0])
+            ts.append(sim.time)
+            ls.append(body[axis] / np.linalg.norm(body))
+        name = ["minor", "intermediate", "major"][axis]
+        ax.plot(ts, ls, color=color, label=f"spun about the {name} axis")
+    ax.set(
+        xlabel="t (s)",
+        ylabel="L along the spin axis / |L| (body frame)",
+        title="4. Free rotation: the intermediate axis flips",
+    )
+    ax.legend(fontsize=8)
+
+
+def quaternion_matrix(q):
+    x, y, z, w = q
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def cube_on_base(drop, kn, gap=1e-3):
+    base = penedge.Block.cuboid([-2, -2, -1], [2, 2, 0])
+    cube = penedge.Block.cuboid([-0.5, -0.5, drop], [0.5, 0.5, 1 + drop])
+    sim = penedge.Simulation(penedge.BlockSystem([base, cube]), 2500.0, gap=gap)
+    sim.fix([0])
+    sim.set_joint(kn=kn, ks=kn, friction=30.0)
+    return sim
+
+
+def contact_plots(ax_period, ax_energy):
+    kn = 1e8
+    period = 2 * math.pi * math.sqrt(2500 / kn)
+    sim = cube_on_base(0.0, kn)
+    sim.set_timestep(period / 100)
+    eq = 0.5 - 2500 * G / kn
+    ts, zs = [], []
+    while sim.time < 3 * period:
+        sim.step()
+        ts.append(sim.time / period)
+        zs.append((sim.positions[1, 2] - eq) * 1e6)
+    ax_period.plot(ts, zs, lw=2.5, alpha=0.5, label="simulated")
+    t = np.linspace(0, 3, 300)
+    amplitude = 2500 * G / kn * 1e6
+    ax_period.plot(
+        t,
+        amplitude * np.cos(2 * math.pi * t),
+        "k--",
+        lw=0.8,
+        label="δ cos(2π t / T), T = 2π√(m / (kn A))",
+    )
+    ax_period.set(
+        xlabel="t / T",
+        ylabel="height − equilibrium (µm)",
+        title="5. A block on a face: the contact period",
+    )
+    ax_period.legend(fontsize=8)
+
+    kn = 1e9
+    sim = cube_on_base(0.05, kn, gap=5e-3)
+    sim.set_timestep(2 * math.pi * math.sqrt(2500 / kn) / 100)
+    e0 = 2500 * G * 0.05
+    previous = sim.velocities[1].copy()
+    ts, es = [], []
+    while sim.time < 0.6:
+        z = sim.positions[1, 2] - 0.5
+        sim.step()
+        v = sim.velocities[1].copy()
+        speed = (previous + v) / 2
+        previous = v
+        overlap = max(-z, 0.0)
+        e = 2500 * G * z + 0.5 * 2500 * speed @ speed + 0.5 * kn * overlap**2
+        ts.append(sim.time)
+        es.append((e - e0) / e0 * 100)
+    ax_energy.plot(ts, es)
+    ax_energy.set(
+        xlabel="t (s)",
+        ylabel="energy error (%)",
+        title="8. Undamped bounce: total energy",
+        ylim=(-1, 1),
+    )
+
+
+def topple_plot(ax):
+    theta = math.radians(30)
+    for phi, b, label, color in [
+        (20, 1.0, "φ = 20°, b/h = 1: slides", "C0"),
+        (40, 0.4, "φ = 40°, b/h = 0.4: topples", "C1"),
+        (40, 1.0, "φ = 40°, b/h = 1: stays", "C2"),
+    ]:
+        frame = rot_z(0.6) @ rot_x(theta)
+        base = penedge.Block.cuboid([-5, -5, -1], [5, 5, 0])
+        block = penedge.Block.cuboid([-0.25, -b / 2, 0], [0.25, b / 2, 1.0])
+        sim = penedge.Simulation(
+            penedge.BlockSystem([placed(base, frame), placed(block, frame)]), 2500.0
+        )
+        sim.fix([0])
+        sim.set_joint(kn=1e9, ks=1e9, friction=phi)
+        q0 = sim.quaternions[1].copy()
+        ts, angles = [], []
+        while sim.time < 0.4:
+            sim.gravity = [0, 0, -G * min(sim.time / 0.05, 1.0)]
+            sim.step(5)
+            ts.append(sim.time)
+            angles.append(math.degrees(2 * math.acos(min(abs(q0 @ sim.quaternions[1]), 1.0))))
+        ax.plot(ts, angles, color=color, label=label)
+    ax.set(xlabel="t (s)", ylabel="rotation (°)", title="3. A block on a 30° slope (Hoek and Bray)")
+    ax.legend(fontsize=8)
+
+
+def main():
+    IMG.mkdir(parents=True, exist_ok=True)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    slope_plot(ax)
+    fig.tight_layout()
+    fig.savefig(IMG / "mech-slope.png", dpi=110)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    rotation_plot(ax)
+    fig.tight_layout()
+    fig.savefig(IMG / "mech-rotation.png", dpi=110)
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4))
+    contact_plots(a1, a2)
+    fig.tight_layout()
+    fig.savefig(IMG / "mech-contact.png", dpi=110)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    topple_plot(ax)
+    fig.tight_layout()
+    fig.savefig(IMG / "mech-topple.png", dpi=110)
+    print("wrote", *sorted(p.name for p in IMG.glob("mech-*.png")))
+
+
+if __name__ == "__main__":
+    main()
