@@ -518,7 +518,7 @@ def test_ctrl_c_stops_generate_where_it_is_and_writes_nothing(tmp_path):
     process = subprocess.Popen(
         [sys.executable, "-m", "penedge", "generate", "million.toml", "-o", "blocks.json"],
         cwd=tmp_path,
-        stdout=subprocess.PIPE,
+        stdout=subprocess.DEVNULL,
         stderr=terminal,
     )
     os.close(terminal)

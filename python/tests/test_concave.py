@@ -106,3 +106,16 @@ def test_pictures_draw_a_concave_block_as_one_block():
     separate = build_scene(system, explode=0.5)
     assert separate.n_faces == 4 * 6
     assert not np.allclose(separate.offsets[1], separate.offsets[0])
+
+
+def test_contact_regions_are_written_to_csv_and_vtp(tmp_path):
+    system = penedge.BlockSystem([*u_block(), cuboid([1, 0, 1], [2, 1, 2.5])])
+    found = system.with_bodies([0, 0, 0, 1]).detect_bodies()
+    found.write_csv(tmp_path / "regions.csv")
+    rows = (tmp_path / "regions.csv").read_text().splitlines()
+    assert rows[0].startswith("body_a,body_b,region,type,area")
+    assert [r.split(",")[2] for r in rows[1:]] == ["0", "1", "2"]
+    found.write_vtp(tmp_path / "regions.vtp")
+    text = (tmp_path / "regions.vtp").read_text()
+    assert 'Name="region"' in text
+    assert 'NumberOfPolys="3"' in text

@@ -148,3 +148,31 @@ def test_overlapping_bodies_stop_the_run_with_the_pair_named():
     with pytest.raises(penedge.MechanicsError, match="bodies 0 and 1") as info:
         sim.step()
     assert info.value.kind == "penetration"
+
+
+def test_mass_scaling_raises_the_time_step_of_slivers():
+    base = penedge.Block.cuboid([-3, -3, -1], [3, 3, 0])
+    cube = penedge.Block.cuboid([-2, -0.5, 0], [-1, 0.5, 1])
+    sliver = penedge.Block.cuboid([0.5, -0.5, 0], [1.5, 0.5, 0.02])
+    sim = penedge.Simulation(penedge.BlockSystem([base, cube, sliver]), density=2500.0)
+    sim.fix([0])
+    sim.set_joint(kn=1e9, ks=1e9, friction=30.0)
+    plain = sim.timestep
+    sim.set_mass_scaling(True)
+    assert sim.timestep > 2 * plain
+    assert sim.solve(ratio=1e-6)["converged"]
+    assert sim.positions[2, 2] == pytest.approx(0.01 - 2500 * G * 0.02 / 1e9, abs=1e-9)
+
+
+def test_a_copy_runs_on_its_own():
+    sim = cube_on_base()
+    sim.step(10)
+    trial = sim.copy()
+    trial.set_joint(kn=1e9, ks=1e9, friction=10.0)
+    trial.step(20)
+    assert trial.steps == 30
+    assert sim.steps == 10
+    assert sim.joint()["friction"] == 30.0
+    sim.step(20)
+    # Same state, same steps: the same motion.
+    assert sim.positions.tolist() == trial.positions.tolist()

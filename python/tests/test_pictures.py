@@ -129,6 +129,7 @@ def test_save_picture_with_contacts_has_a_panel_per_contact_type():
     assert len(lines.collections) == 26 + 1
     assert len(polygons.collections) == 26 + 1
     assert polygons.collections[-1].get_facecolor()[:, 3].max() <= 0.25  # translucent
+    assert all(panel.get_legend() is None for panel in (dots, lines, polygons))  # titled
 
 
 def test_points_and_segments_are_drawn_over_translucent_polygons():
@@ -565,6 +566,7 @@ def test_the_spec_unit_labels_the_pictures(tmp_path):
     assert pictures.plot_system(again, explode=0, unit="yd").get_xlabel() == "x, east (yd)"
     exploded = [t.get_text() for t in pictures.plot_system(again).texts]
     assert "2 ft" in exploded
+    assert pictures.plot_volume_distribution(again).get_xlabel() == "block volume v (ft³)"
     with pytest.raises(penedge.SpecError) as info:
         penedge.generate({**SETS_SPEC, "unit": ""})
     assert info.value.field == "unit"

@@ -303,7 +303,7 @@ def stand_in(monkeypatch):
 
 def test_simulate_writes_results(tmp_path, stand_in, capsys):
     model = tmp_path / "wedge.toml"
-    model.write_text(WEDGE.read_text().replace("max_steps = 4000", "max_steps = 500"))
+    model.write_text(WEDGE.read_text().replace("max_steps = 8000", "max_steps = 500"))
     out = tmp_path / "out"
     assert cli.main(["simulate", str(model), "-o", str(out)]) == 0
     printed = capsys.readouterr()

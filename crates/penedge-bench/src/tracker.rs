@@ -11,12 +11,14 @@
 //! blocks (drawn anew each step) jittered and the others still, and no block moved. Each
 //! step: `ContactTracker::update` (placing the blocks included) beside `BlockSystem::detect`
 //! on the same moved blocks (their placing not timed, median of `R` runs, default 3), checked
-//! equal.
+//! equal, and beside the time to place every block at its pose (`ConvexBlock::transformed`
+//! into a new `BlockSystem`), which a step without a tracker pays before detecting.
 
 use crate::system::{cube_grid, step, timed};
 use penedge::block::Pose;
-use penedge::system::ContactTracker;
+use penedge::system::{BlockSystem, ContactTracker};
 use penedge::Tolerance;
+use rayon::prelude::*;
 use std::time::Instant;
 
 struct Options {
@@ -104,9 +106,9 @@ fn steps(o: &Options, tol: Tolerance) -> Result<(), String> {
         o.runs
     );
     println!(
-        "| motion | step | rebuilt | candidate pairs | certified | unmoved | queried | contacts | update s | full detect s | update / full |"
+        "| motion | step | rebuilt | candidate pairs | certified | unmoved | queried | contacts | update s | full detect s | update / full | place s | update / (place + full) |"
     );
-    println!("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     let mut rng = crate::rng::SplitMix64::new(18);
     let mut poses = vec![Pose::IDENTITY; system.len()];
     let (jitter, angle) = (1e-5, 1e-5);
@@ -132,6 +134,18 @@ fn steps(o: &Options, tol: Tolerance) -> Result<(), String> {
             let update_s = start.elapsed().as_secs_f64();
             let moved = tracker.system().clone();
             let (full_s, full) = timed(o.runs, || moved.detect(&tol));
+            // What a step without a tracker does: place every block at its pose, detect.
+            let (place_s, placed) = timed(o.runs, || {
+                let blocks = system.blocks().par_iter().zip(&poses);
+                BlockSystem::new(
+                    blocks
+                        .map(|(b, p)| b.transformed(p.rotation, p.translation, 1.0))
+                        .collect(),
+                )
+            });
+            if placed.blocks().len() != moved.blocks().len() {
+                return Err("placing lost blocks".to_string());
+            }
             if &full != tracker.contacts() {
                 return Err(format!(
                     "{} step {k}: the tracker disagrees with a full detection",
@@ -139,7 +153,7 @@ fn steps(o: &Options, tol: Tolerance) -> Result<(), String> {
                 ));
             }
             println!(
-                "| {} | {k} | {} | {} | {} | {} | {} | {} | {update_s:.3} | {full_s:.3} | {:.2} |",
+                "| {} | {k} | {} | {} | {} | {} | {} | {} | {update_s:.3} | {full_s:.3} | {:.2} | {place_s:.3} | {:.2} |",
                 motion.name(),
                 if report.rebuilt { "yes" } else { "no" },
                 report.candidate_pairs,
@@ -147,7 +161,8 @@ fn steps(o: &Options, tol: Tolerance) -> Result<(), String> {
                 report.unmoved,
                 report.queried,
                 full.contacts.len(),
-                update_s / full_s
+                update_s / full_s,
+                update_s / (place_s + full_s)
             );
         }
     }

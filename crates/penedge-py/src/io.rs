@@ -8,7 +8,7 @@
 
 use crate::arrays;
 use crate::errors::{input_error, to_py_err, Error};
-use crate::system::{BlockSystem, SystemContacts};
+use crate::system::{BlockSystem, BodyContacts, SystemContacts};
 use numpy::PyArray1;
 use penedge::io::pvd::{self, PvdEntry, SeriesError};
 use penedge::io::{csv, json, vtp, vtu, IoError};
@@ -129,6 +129,28 @@ impl BlockSystem {
     fn write_csv(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let inner = &self.inner;
         py.detach(|| csv::write_block_table(inner, &path))
+            .map_err(file_error(&path))
+    }
+}
+
+#[pymethods]
+impl BodyContacts {
+    /// Writes the contact regions as a table (CSV), atomically: one row per region, with the
+    /// columns ``body_a, body_b, region, type`` (name), ``area, distance, normal_x, normal_y,
+    /// normal_z, pieces`` (its number of part contacts).
+    fn write_csv(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let found = &self.found;
+        py.detach(|| csv::write_body_contacts(found, &path))
+            .map_err(file_error(&path))
+    }
+
+    /// Writes the contact regions as a ParaView file (VTP), atomically: one cell per part
+    /// contact, with cell data ``contact`` (the region's row), ``body_a``, ``body_b``,
+    /// ``region``, ``type`` (the region's), ``piece_type``, ``block_a``, ``block_b``,
+    /// ``area``, ``distance``, ``normal``.
+    fn write_vtp(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let found = &self.found;
+        py.detach(|| vtp::write_body_contacts_vtp(found, &path))
             .map_err(file_error(&path))
     }
 }

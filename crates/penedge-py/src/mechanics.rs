@@ -258,6 +258,14 @@ impl Simulation {
         self.inner.set_timestep(dt).map_err(to_py_err)
     }
 
+    /// Mass scaling for quasi-static runs (3DEC's density scaling): with True, free bodies
+    /// whose critical step is below the median get their inertia (not their weight) scaled up
+    /// to it, so that slivers no longer set the time step. Same equilibrium, non-physical
+    /// motion towards it: for :meth:`solve`, not for dynamics.
+    fn set_mass_scaling(&mut self, on: bool) -> PyResult<()> {
+        self.inner.set_mass_scaling(on).map_err(to_py_err)
+    }
+
     /// The time step the next step takes.
     #[getter]
     fn timestep(&self) -> PyResult<f64> {
@@ -471,6 +479,15 @@ impl Simulation {
         let bonded: Vec<bool> = c.subs.iter().map(|s| s.bonded).collect();
         out.set_item("bonded", arrays::vector(py, bonded))?;
         Ok(out)
+    }
+
+    /// An independent copy of the simulation in its current state (settings, bodies,
+    /// contacts and their history): trials from one state, as a factor of safety by strength
+    /// reduction runs them.
+    fn copy(&self) -> Simulation {
+        Simulation {
+            inner: self.inner.clone(),
+        }
     }
 
     /// The blocks at their current poses, as a :class:`BlockSystem` (for files and

@@ -520,6 +520,7 @@ fn bad_input_gets_clear_errors() {
     ));
     assert!(sim.set_timestep(Some(-1.0)).is_err());
     assert!(sim.set_gravity(DVec3::new(f64::NAN, 0.0, 0.0)).is_err());
+    assert!(sim.run_until(f64::INFINITY).is_err());
     assert!(sim
         .set_velocity(1, DVec3::splat(f64::INFINITY), DVec3::ZERO)
         .is_err());
@@ -830,4 +831,38 @@ fn viscous_damping_decays_exponentially_and_falling_blocks_are_caught() {
     }
     assert!(lowest > 0.5 - 0.01, "fell through to {lowest}");
     assert!(highest_after > 0.95, "bounced back only to {highest_after}");
+}
+
+/// Mass scaling: a thin slab (a sliver, whose critical step is small) and a cube resting on
+/// a base reach the same equilibrium with and without it, with a larger time step.
+#[test]
+fn mass_scaling_keeps_the_equilibrium_and_raises_the_time_step() {
+    let base = ConvexBlock::cuboid([-3.0, -3.0, -1.0], [3.0, 3.0, 0.0]).unwrap();
+    let cube = ConvexBlock::cuboid([-2.0, -0.5, 0.0], [-1.0, 0.5, 1.0]).unwrap();
+    let sliver = ConvexBlock::cuboid([0.5, -0.5, 0.0], [1.5, 0.5, 0.02]).unwrap();
+    let system = BlockSystem::new(vec![base, cube, sliver]);
+    let settle = |scaled: bool| {
+        let mut sim = Simulation::new(&system, 2500.0).unwrap();
+        sim.fix(0).unwrap();
+        sim.set_default_joint(joint(1e9, 30.0, 0.0, 0.0)).unwrap();
+        sim.set_mass_scaling(scaled).unwrap();
+        let dt = sim.timestep().unwrap();
+        let report = sim.solve(1e-6, 200_000).unwrap();
+        assert!(report.converged, "scaled {scaled}: {report:?}");
+        (sim.bodies().poses()[1..].to_vec(), dt, report.steps)
+    };
+    let (plain, dt_plain, steps_plain) = settle(false);
+    let (scaled, dt_scaled, steps_scaled) = settle(true);
+    println!(
+        "mass scaling: dt {dt_plain:.2e} -> {dt_scaled:.2e}, steps {steps_plain} -> {steps_scaled}"
+    );
+    assert!(dt_scaled > 2.0 * dt_plain, "{dt_scaled} vs {dt_plain}");
+    // Each block sinks by its weight over kn A: m g / (kn A) = ρ g h / kn.
+    for (i, h) in [(0, 1.0), (1, 0.02)] {
+        let sink = 2500.0 * G * h / 1e9;
+        for poses in [&plain, &scaled] {
+            let z = poses[i].translation.z;
+            assert!((z - (h / 2.0 - sink)).abs() < 1e-3 * sink, "block {i}: {z}");
+        }
+    }
 }

@@ -98,7 +98,7 @@ class Engine:
         model = setup.model
         m = model.mechanics
         self.setup = setup
-        self.sim = simulation(setup.system, density=m.density, gap=m.gap)
+        self.sim = simulation(setup.system, density=m.density, gap=m.gap, point_width=m.point_width)
         self.sim.gravity = list(model.gravity)
         self.sim.set_damping(local=m.damping)
         self.set_ids = {name: i for i, name in enumerate(model.set_names)}

@@ -93,6 +93,7 @@ class Mechanics:
     ratio: float = 1e-5  # equilibrium: maximum unbalanced-force ratio
     max_steps: int = 100_000  # step budget of a `solve`
     gap: float = 1e-3  # relative contact gap of the detection
+    point_width: float = 0.2  # width of point and edge contacts / the smaller body's diameter
 
 
 @dataclass(frozen=True)
@@ -362,7 +363,8 @@ def parse_mechanics(rock: Table, t: Table) -> Mechanics:
         time_step=time_step,
         ratio=t.number("ratio", 1e-5, above=0, below=1),
         max_steps=t.integer("max_steps", 100_000, minimum=1),
-        gap=t.number("gap", 1e-3, above=0, below=0.1),
+        gap=t.number("gap", 1e-3, above=0, at_most=0.01),
+        point_width=t.number("point_width", 0.2, above=0, at_most=1),
     )
     t.done()
     return mechanics

@@ -98,7 +98,7 @@ impl BlockSystem {
     /// >>> c = penedge.Block.cuboid
     /// >>> system = penedge.BlockSystem([c([0, 0, 0], [2, 1, 1]), c([0, 0, 1], [1, 1, 2])])
     /// >>> m = system.with_bodies([0, 0]).body_mass_properties()
-    /// >>> m["volumes"].tolist(), m["centroids"].round(4).tolist()
+    /// >>> m["volumes"].round(9).tolist(), m["centroids"].round(4).tolist()
     /// ([3.0], [[0.8333, 0.5, 0.8333]])
     fn body_mass_properties<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let inner = &self.inner;
@@ -231,6 +231,8 @@ pub struct BodyContacts {
     #[pyo3(get)]
     piece_points: Py<PyArray2<f64>>,
     len: usize,
+    /// The core result, kept for the file writers.
+    pub found: CoreBodyContacts,
 }
 
 impl BodyContacts {
@@ -281,6 +283,7 @@ impl BodyContacts {
             ))?
             .unbind(),
             piece_points: arrays::read_only(arrays::rows3(py, &f.piece_points))?.unbind(),
+            found: f,
         })
     }
 }

@@ -9,10 +9,9 @@
 //!    length (Table 1 types 1, 2, 4); its original vertex if it is a type 3 (no length, one
 //!    original vertex: the gap widening cut a stub off an edge at a vertex in contact); its
 //!    middle if it is a type 5 (no length, two cuts: an edge crossing the other block's
-//!    boundary at a point); a piece with length is first read as the part of it that stands
-//!    for the contact ([`crate::penetration::PenetrationEdge::stands_for`]: without the gap's
-//!    band at a face plane that its edge crosses rather than lies in), a type 3 or 5 when
-//!    nothing with length is left (docs/tolerance.md, "Lies in");
+//!    boundary at a point); a piece with length that the gap's bands at the face planes its
+//!    edge crosses (rather than lies in) leave without length is read as a type 3 or 5
+//!    ([`crate::penetration::PenetrationEdge::stands_for`], docs/tolerance.md "Lies in");
 //! 2. the feature of block X holding the contact is found from the faces of X whose planes
 //!    pass within the length threshold of every representative point: none means the
 //!    contact reaches X's interior (penetrating), one a face, two an edge, three or more a

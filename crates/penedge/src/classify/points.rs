@@ -7,8 +7,8 @@ use crate::penetration::{EdgeEnd, PenetrationEdge, PenetrationEdgeType, Side};
 
 /// The representative points of one penetration edge (see the module docs): `points[k]`
 /// where bit `k` of the mask is set; as the classification reads the edge
-/// ([`PenetrationEdge::standing`]), or with `widened` as the clipping made it (the gap's
-/// band kept: a face-face contact's polygon). An original vertex comes back once per edge at it:
+/// ([`PenetrationEdge::stands_for`]), or with `widened` by its own type (every stub kept: a
+/// face-face contact's polygon). An original vertex comes back once per edge at it:
 /// `seen` marks the owner's vertices already given (the first 64), which are left out.
 ///
 /// Both points are computed and the mask says which count, rather than an array filled up
@@ -24,14 +24,10 @@ fn representatives(
     let vertices = owner.vertices();
     let [v1, v2] = owner.edges()[pe.edge as usize].vertices;
     let (p, q) = (vertices[v1 as usize], vertices[v2 as usize]);
-    let (kind, t) = if widened {
-        (pe.kind, pe.t)
-    } else {
-        pe.standing
-    };
+    let kind = if widened { pe.kind } else { pe.standing.0 };
     let at = |k: usize| match pe.ends[k] {
         EdgeEnd::Vertex(v) => vertices[v as usize],
-        EdgeEnd::Cut(_) => p + (q - p) * t[k],
+        EdgeEnd::Cut(_) => p + (q - p) * pe.t[k],
     };
     // Whether end `k` is new: a cut, or a vertex not seen yet (then marked).
     let mut fresh = |k: usize| match pe.ends[k] {
@@ -47,7 +43,11 @@ fn representatives(
         (PenetrationEdgeType::T3, [EdgeEnd::Vertex(_), _]) => ([at(0), at(0)], fresh(0)),
         (PenetrationEdgeType::T3, _) => ([at(1), at(1)], fresh(1)),
         (PenetrationEdgeType::T5, _) => {
-            let middle = (at(0) + at(1)) * 0.5;
+            let middle = match pe.kind {
+                PenetrationEdgeType::T5 => (at(0) + at(1)) * 0.5,
+                // A type 4 read as a type 5: the point it stands for.
+                _ => p + (q - p) * pe.standing.1,
+            };
             ([middle, middle], 1)
         }
         _ => {

@@ -46,6 +46,9 @@ pub struct Bodies {
     pub(super) applied: Vec<DVec3>,
     /// Per body `[S, Σ_f A_f max_v |r_v|²]` per unit stiffness (critical time step).
     pub(super) stiffness_bounds: Vec<[f64; 2]>,
+    /// Per body, the factor of its inertia (mass and moments) in the equations of motion:
+    /// 1, or more under mass scaling (quasi-static runs; gravity keeps the true mass).
+    pub(super) scale: Vec<f64>,
 }
 
 impl Bodies {
@@ -74,6 +77,7 @@ impl Bodies {
         self.fixity.push(Fixity::Free);
         self.applied.push(DVec3::ZERO);
         self.stiffness_bounds.push(bounds);
+        self.scale.push(1.0);
         let id = self.len() - 1;
         self.update_mass(id);
         id
@@ -140,13 +144,35 @@ impl Bodies {
         &self.applied
     }
 
+    /// The mass of body `i` in its equation of motion: its mass times its mass-scaling factor.
+    pub fn inertial_mass(&self, i: usize) -> f64 {
+        self.mass[i] * self.scale[i]
+    }
+
+    /// The principal moments of body `i` in its equation of motion (times its mass-scaling
+    /// factor).
+    pub fn inertial_moments(&self, i: usize) -> DVec3 {
+        self.inertia[i] * self.scale[i]
+    }
+
+    /// Mass-scaling factors (1 without mass scaling).
+    pub fn mass_scales(&self) -> &[f64] {
+        &self.scale
+    }
+
+    /// Sets body `i`'s mass-scaling factor, keeping its velocity and spin.
+    pub(super) fn set_scale(&mut self, i: usize, scale: f64) {
+        self.momentum[i] *= scale / self.scale[i];
+        self.scale[i] = scale;
+    }
+
     /// The angular velocity of body `i` (world frame): `ω = R I⁻¹ Rᵀ L` for a free body,
     /// the prescribed spin or zero otherwise.
     pub fn spin(&self, i: usize) -> DVec3 {
         match self.fixity[i] {
             Fixity::Free => {
                 let q = self.pose[i].rotation;
-                q * (q.conjugate() * self.momentum[i] / self.inertia[i])
+                q * (q.conjugate() * self.momentum[i] / self.inertial_moments(i))
             }
             Fixity::Fixed => DVec3::ZERO,
             Fixity::Prescribed { spin, .. } => spin,
@@ -162,19 +188,22 @@ impl Bodies {
         }
     }
 
-    /// Kinetic energy of body `i` (translation and rotation).
+    /// Kinetic energy of body `i` (translation and rotation; with its scaled inertia under
+    /// mass scaling).
     pub fn kinetic_energy(&self, i: usize) -> f64 {
         let v = self.velocity(i);
         let q = self.pose[i].rotation;
         let body_momentum = q.conjugate() * self.momentum[i];
         let rot = match self.fixity[i] {
-            Fixity::Free => (body_momentum * body_momentum / self.inertia[i]).element_sum(),
+            Fixity::Free => {
+                (body_momentum * body_momentum / self.inertial_moments(i)).element_sum()
+            }
             _ => {
                 let w = q.conjugate() * self.spin(i);
-                (self.inertia[i] * w * w).element_sum()
+                (self.inertial_moments(i) * w * w).element_sum()
             }
         };
-        0.5 * (self.mass[i] * v.length_squared() + rot)
+        0.5 * (self.inertial_mass(i) * v.length_squared() + rot)
     }
 
     pub(super) fn check(&self, i: usize) -> Result<(), MechanicsError> {
@@ -191,13 +220,13 @@ impl Bodies {
     pub(super) fn set_density(&mut self, i: usize, density: f64) -> Result<(), MechanicsError> {
         self.check(i)?;
         check_density(density)?;
-        let old = self.inertia[i];
+        let old = self.inertial_moments(i);
         self.density[i] = density;
         self.update_mass(i);
         // The angular velocity stays: scale the momentum with the inertia.
         let q = self.pose[i].rotation;
         let w = q.conjugate() * self.momentum[i] / old;
-        self.momentum[i] = q * (w * self.inertia[i]);
+        self.momentum[i] = q * (w * self.inertial_moments(i));
         Ok(())
     }
 
@@ -213,14 +242,14 @@ impl Bodies {
         }
         self.velocity[i] = velocity;
         let q = self.pose[i].rotation;
-        self.momentum[i] = q * (self.inertia[i] * (q.conjugate() * spin));
+        self.momentum[i] = q * (self.inertial_moments(i) * (q.conjugate() * spin));
         Ok(())
     }
 
-    /// The inertia tensor of body `i` in the world frame.
+    /// The inertia tensor of body `i` in the world frame (of its equation of motion).
     pub fn world_inertia(&self, i: usize) -> DMat3 {
         let r = DMat3::from_quat(self.pose[i].rotation);
-        r * DMat3::from_diagonal(self.inertia[i]) * r.transpose()
+        r * DMat3::from_diagonal(self.inertial_moments(i)) * r.transpose()
     }
 }
 

@@ -143,18 +143,18 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
             .collect(),
     };
     let mut points = g.points().to_vec();
-    if found.contact.kind == ContactType::FaceFace && gaps.len() == 2 {
+    if let (ContactType::FaceFace, 2, Feature::Face(fa), Feature::Face(fb)) = (
+        found.contact.kind,
+        gaps.len(),
+        found.contact.feature_a,
+        found.contact.feature_b,
+    ) {
         // A face-face polygon narrower than the length threshold, given as a segment: a
         // strip along an edge (a block rocking onto it), whose two points the detection
         // gives to within the threshold, one of them possibly across the strip where the
         // faces have opened. The shallower end is moved across the strip, along the gap's
         // gradient on the contact plane, to the deeper end's depth: both ends then lie on
         // the edge, as the segment of the edge-face contact the strip becomes.
-        let (Feature::Face(fa), Feature::Face(fb)) =
-            (found.contact.feature_a, found.contact.feature_b)
-        else {
-            unreachable!("a face-face contact has two face features")
-        };
         let (na, nb) = (
             a.planes()[fa as usize].normal,
             b.planes()[fb as usize].normal,
@@ -167,6 +167,8 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         }
         gaps[shallow] = gaps[deep];
     }
+    let mean_spin =
+        0.5 * (input.bodies.spin(bodies[0] as usize) + input.bodies.spin(bodies[1] as usize));
     let mut subs = Vec::with_capacity(points.len());
     for ((&p, &area), &gap) in points.iter().zip(&areas).zip(&gaps) {
         let local = to_body(&pose_a, p);
@@ -192,8 +194,11 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
             // at the start has no bond.
             None => (DVec3::ZERO, DVec3::ZERO, input.initial && gap <= slack),
         };
-        shear = onto_plane(shear, n);
-        slip = onto_plane(slip, n);
+        // Rotated with the contact plane: onto the new plane, and about the normal by the
+        // bodies' mean spin over the step (3DEC's rule).
+        let twist = glam::DQuat::from_axis_angle(n, mean_spin.dot(n) * input.dt);
+        shear = twist * onto_plane(shear, n);
+        slip = twist * onto_plane(slip, n);
         let relative = point_velocity(input.bodies, bodies[1] as usize, p)
             - point_velocity(input.bodies, bodies[0] as usize, p);
         let du = relative * input.dt;

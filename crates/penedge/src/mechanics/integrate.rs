@@ -58,7 +58,7 @@ pub(super) fn damped(
     let mut f = local_damping(f, v, damping.local);
     let mut m = local_damping(moment, w, damping.local);
     if damping.viscous > 0.0 {
-        f -= v * (damping.viscous * bodies.mass[i]);
+        f -= v * (damping.viscous * bodies.inertial_mass(i));
         m -= bodies.world_inertia(i) * w * damping.viscous;
     }
     (f, m)
@@ -70,11 +70,13 @@ pub(super) fn damped(
 pub(super) fn advance(bodies: &mut Bodies, i: usize, f: DVec3, m: DVec3, dt: f64, kick: f64) {
     match bodies.fixity[i] {
         Fixity::Free => {
-            bodies.velocity[i] += f * (kick * dt / bodies.mass[i]);
+            let mass = bodies.inertial_mass(i);
+            bodies.velocity[i] += f * (kick * dt / mass);
             bodies.momentum[i] += m * (kick * dt);
+            let moments = bodies.inertial_moments(i);
             let pose = &mut bodies.pose[i];
             pose.translation += bodies.velocity[i] * dt;
-            pose.rotation = free_rotation(pose.rotation, bodies.momentum[i], bodies.inertia[i], dt);
+            pose.rotation = free_rotation(pose.rotation, bodies.momentum[i], moments, dt);
         }
         Fixity::Fixed => {}
         Fixity::Prescribed { velocity, spin } => {
@@ -90,11 +92,12 @@ pub(super) fn advance(bodies: &mut Bodies, i: usize, f: DVec3, m: DVec3, dt: f64
 }
 
 /// The critical time step bound of free body `i` for the largest joint stiffness `k`
-/// (docs/mechanics.md): `2 / √(max(K_t / m, K_r / I_min))`.
-pub(super) fn critical_step(bodies: &Bodies, i: usize, k: f64) -> f64 {
+/// (docs/mechanics.md): `2 / √(max(K_t / m, K_r / I_min))`, with its inertia scaled by
+/// `scale` (its mass-scaling factor, or 1 for the true bound).
+pub(super) fn critical_step(bodies: &Bodies, i: usize, k: f64, scale: f64) -> f64 {
     let [surface, rotational] = bodies.stiffness_bounds[i];
-    let kt = 2.0 * k * surface / bodies.mass[i];
-    let kr = 2.0 * k * rotational / bodies.inertia[i].min_element();
+    let kt = 2.0 * k * surface / (bodies.mass[i] * scale);
+    let kr = 2.0 * k * rotational / (bodies.inertia[i].min_element() * scale);
     2.0 / kt.max(kr).sqrt()
 }
 

@@ -406,12 +406,44 @@ impl Simulation {
         Ok(())
     }
 
+    /// Mass scaling for quasi-static runs (3DEC's density scaling): with `on`, each free body
+    /// whose critical step is below the median of the free bodies' gets its inertia (mass and
+    /// moments, not its weight) scaled up until its step is the median, so that slivers no
+    /// longer set the time step. The equilibrium is the same; the motion towards it is not
+    /// physical. Off: true inertia. Velocities and spins are kept.
+    pub fn set_mass_scaling(&mut self, on: bool) -> Result<(), MechanicsError> {
+        let k = self.joints.max_stiffness();
+        let free: Vec<usize> = (0..self.bodies.len())
+            .filter(|&i| self.bodies.fixity[i] == Fixity::Free)
+            .collect();
+        let mut steps: Vec<f64> = free
+            .iter()
+            .map(|&i| integrate::critical_step(&self.bodies, i, k, 1.0))
+            .collect();
+        if steps.is_empty() {
+            return Err(MechanicsError::NoFreeBody);
+        }
+        steps.sort_by(f64::total_cmp);
+        let target = steps[steps.len() / 2];
+        for i in 0..self.bodies.len() {
+            let scale = match self.bodies.fixity[i] {
+                Fixity::Free if on => {
+                    let own = integrate::critical_step(&self.bodies, i, k, 1.0);
+                    (target / own).powi(2).max(1.0)
+                }
+                _ => 1.0,
+            };
+            self.bodies.set_scale(i, scale);
+        }
+        Ok(())
+    }
+
     /// The critical time step (docs/mechanics.md): the smallest bound of the free bodies.
     pub fn critical_timestep(&self) -> Result<f64, MechanicsError> {
         let k = self.joints.max_stiffness();
         (0..self.bodies.len())
             .filter(|&i| self.bodies.fixity[i] == Fixity::Free)
-            .map(|i| integrate::critical_step(&self.bodies, i, k))
+            .map(|i| integrate::critical_step(&self.bodies, i, k, self.bodies.scale[i]))
             .reduce(f64::min)
             .ok_or(MechanicsError::NoFreeBody)
     }
@@ -485,7 +517,7 @@ impl Simulation {
 
     /// Steps until the time reaches `t` (the last step may pass it by less than a step).
     pub fn run_until(&mut self, t: f64) -> Result<(), MechanicsError> {
-        if t.is_nan() {
+        if !t.is_finite() {
             return Err(MechanicsError::NotFinite("the end time"));
         }
         while self.time < t {
@@ -729,8 +761,9 @@ mod tests {
             + 4 * size_of::<DVec3>() // inertia, velocity, angular momentum, applied force
             + size_of::<Pose>()
             + size_of::<Fixity>()
-            + size_of::<[f64; 2]>(); // stiffness bounds
-        assert_eq!(body, 248);
+            + size_of::<[f64; 2]>() // stiffness bounds
+            + size_of::<f64>(); // mass-scaling factor
+        assert_eq!(body, 256);
         assert_eq!(size_of::<BodyContact>(), 64);
         assert_eq!(size_of::<SubContact>(), 128);
     }

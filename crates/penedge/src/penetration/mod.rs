@@ -87,11 +87,10 @@ pub struct PenetrationEdge {
     pub ends: [EdgeEnd; 2],
     /// Table 1 type.
     pub kind: PenetrationEdgeType,
-    /// The type the classification reads it as, and the parameters of the part that stands
-    /// for the contact: `kind` and `t`, unless an end is cut by a face plane that the edge
-    /// crosses rather than lies in (`penetration/grazing.rs`, docs/tolerance.md "Lies in").
+    /// The type the classification reads it as, with the parameter of the point it stands
+    /// for when that is a type 5 ([`PenetrationEdge::stands_for`]).
     #[serde(skip)]
-    pub(crate) standing: (PenetrationEdgeType, [f64; 2]),
+    pub(crate) standing: (PenetrationEdgeType, f64),
 }
 
 /// A penetration edge as the clipping makes it, for a consumer that reads it at once (the
@@ -106,8 +105,8 @@ pub(crate) struct Piece<'a> {
     pub(crate) t: [f64; 2],
     cut: [u32; 2],
     pub(crate) near: [u64; 2],
-    /// What the classification reads the piece as ([`PenetrationEdge::standing`]).
-    pub(crate) standing: (PenetrationEdgeType, [f64; 2]),
+    /// What the classification reads the piece as ([`PenetrationEdge::stands_for`]).
+    pub(crate) standing: (PenetrationEdgeType, f64),
 }
 
 impl Piece<'_> {
@@ -224,7 +223,7 @@ fn keep(
     out: &mut Vec<PenetrationEdge>,
     sink: &mut impl EdgeSink,
 ) {
-    let piece = piece(of, side, parent, c, masks, th, table);
+    let piece = piece(of, side, parent, c, masks, th, (!deep).then_some(table));
     if !deep {
         sink.edge(&piece, table);
     }
@@ -240,18 +239,19 @@ fn piece<'a>(
     c: Clipped,
     masks: [VertexMasks; 2],
     th: Thresholds,
-    table: &DistanceTable,
+    table: Option<&DistanceTable>,
 ) -> Piece<'a> {
     // Two original vertices make a type 1 whatever the length; a cut piece well below the
     // threshold at the block's diagonal (no edge is longer: the gap's stubs) has no length,
     // known without the edge's vertices.
     let piece = c.t[1] - c.t[0];
-    let mut length_squared = 0.0;
+    let (mut length_squared, mut piece_squared) = (0.0, 0.0);
     let has_length = c.cut != [NO_CUT; 2] && 2.0 * piece * of.size() > th.length && {
         let [v1, v2] = parent.vertices;
         let edge_vector = of.vertices()[v2 as usize] - of.vertices()[v1 as usize];
         length_squared = edge_vector.length_squared();
-        piece * piece * length_squared > th.length * th.length
+        piece_squared = piece * piece * length_squared;
+        piece_squared > th.length * th.length
     };
     let mut piece = Piece {
         side,
@@ -260,26 +260,29 @@ fn piece<'a>(
         t: c.t,
         cut: c.cut,
         near: masks.map(|m| m.near),
-        standing: (PenetrationEdgeType::T1, c.t),
+        standing: (PenetrationEdgeType::T1, 0.0),
     };
     piece.kind = PenetrationEdgeType::of(piece.ends(), has_length);
-    // A cut piece with length may be the gap's band at a face its edge crosses.
-    piece.standing = if has_length {
-        grazing::standing(table, parent, &c, piece.kind, length_squared, th)
-    } else {
-        (piece.kind, c.t)
+    // A cut piece with length may be no more than the gap's bands at faces its edge crosses
+    // (not looked at once an edge deeper than the gap settles the pair: `table` is `None`).
+    piece.standing = match table {
+        Some(table) if has_length && grazing::may_graze(piece_squared, th) => {
+            grazing::standing(table, parent, &c, piece.kind, length_squared, th)
+        }
+        _ => (piece.kind, 0.5 * (c.t[0] + c.t[1])),
     };
     piece
 }
 
 impl PenetrationEdge {
-    /// The Table 1 type the classification reads the piece as, and the parameters of the
-    /// part of it that stands for the contact: the piece itself, unless an end is cut by a
-    /// face plane that the edge crosses rather than lies in; then that end is moved back to
-    /// where the edge is the gap inside the plane, and a piece left without length reads as
-    /// a type 3 (its original vertex) or a type 5 (the deepest point between its two cutting
-    /// planes, given as both parameters). docs/tolerance.md, "Lies in".
-    pub fn stands_for(&self) -> (PenetrationEdgeType, [f64; 2]) {
+    /// The Table 1 type the classification reads the piece as: its own, except that a piece
+    /// with length that the gap's bands at the face planes its edge crosses (rather than lies
+    /// in) leave without length reads as a type 3 (its original vertex) or a type 5; with the
+    /// parameter of the point a type 5 stands for (the middle of a type 5 piece, the deepest
+    /// point between the two cutting planes of a type 4 read so). docs/tolerance.md, "Lies in".
+    /// The pieces made after an edge deeper than the gap has settled the pair (penetrating:
+    /// no classification) keep their own type.
+    pub fn stands_for(&self) -> (PenetrationEdgeType, f64) {
         self.standing
     }
 

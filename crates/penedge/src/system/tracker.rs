@@ -815,6 +815,34 @@ mod tests {
         }
     }
 
+    /// Past `u32::MAX` updates the update numbers start again: every pair counts as moved
+    /// once (queried or certified), and every step stays exact.
+    #[test]
+    fn the_update_count_starting_again_keeps_every_step_exact() {
+        let system = grid(3);
+        let tol = Tolerance::default();
+        let mut tracker = ContactTracker::new(&system, tol, 0.1).unwrap();
+        tracker.step = u32::MAX - 1;
+        let mut poses = vec![Pose::IDENTITY; system.len()];
+        let mut reports = Vec::new();
+        for (block, lift) in [(0, 1e-3), (13, 1e-3), (13, 0.0), (4, 2e-3)] {
+            poses[block].translation.z = lift;
+            let report = tracker.update(&poses).unwrap();
+            assert_eq!(
+                tracker.contacts(),
+                &moved_system(&system, &poses).detect(&tol)
+            );
+            reports.push(report);
+        }
+        // The second update starts again: nothing counts as unmoved; then it works as before.
+        assert_eq!(reports[1].unmoved, 0, "{reports:?}");
+        assert!(
+            reports[2].unmoved > 0 && reports[3].unmoved > 0,
+            "{reports:?}"
+        );
+        assert_eq!(tracker.step, 3);
+    }
+
     #[test]
     fn every_step_agrees_with_a_full_detection() {
         let steps = [
