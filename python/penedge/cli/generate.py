@@ -212,6 +212,9 @@ def format_summary(summary: dict[str, Any], system: Any) -> str:
     if report["retried_cuts"]:
         lines.append(row("cuts retried", f"{report['retried_cuts']} (exact signs)"))
     lines.append(row("volume error", f"{report['volume_error']:.1e} (blocks vs domain)"))
+    if report.get("excavated_volume"):
+        # The block count above counts convex parts; an excavation glues them into bodies.
+        lines.append(row("excavated", f"{report['excavated_volume']:.4g} (volume removed)"))
     if summary["written"]:
         lines.append(row("written", ", ".join(summary["written"])))
     return "\n".join(lines)
