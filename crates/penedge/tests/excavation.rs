@@ -117,3 +117,39 @@ fn bad_excavations_name_their_field() {
     let e = spec("type = \"pit\"");
     assert!(e.contains("excavations[0].type: unknown type `pit`"), "{e}");
 }
+
+#[test]
+fn the_blocks_around_the_tunnel_touch_as_bodies_and_never_across_the_opening() {
+    let out = example("tunnel_circular.toml");
+    let tol = penedge::Tolerance::default();
+    let found = out.system.detect_bodies(&tol);
+    assert!(found.penetrating.is_empty());
+    assert!(found.contacts.iter().all(|c| c.bodies[0] < c.bodies[1]));
+    // No face-face contact lies inside the opening: a region's contact points are all at
+    // least the tunnel's inscribed radius (2 cos(pi / 16)) from its axis (x = 6, z = 6)...
+    let inner = 2.0 * (std::f64::consts::PI / 16.0).cos();
+    {
+        for p in &found.piece_points {
+            let r = ((p[0] - 6.0).powi(2) + (p[2] - 6.0).powi(2)).sqrt();
+            assert!(r > inner - 1e-9, "a contact point inside the tunnel: {p:?}");
+        }
+    }
+    // ...and the blocks' contacts cover the joints that the tunnel did not remove: the joint
+    // area left is the joints' area in the box less their sections by the tunnel.
+    let found_area: f64 = found
+        .contacts
+        .iter()
+        .filter(|c| c.kind == penedge::ContactType::FaceFace)
+        .map(|c| c.area)
+        .sum();
+    // Joints: bedding z = 2, 6, 10 (12 x 10 each), cross joints x = 1, 6, 11 (10 x 12 each).
+    // The tunnel (axis along y at x = z = 6) takes out of z = 6 and of x = 6 a strip as wide
+    // as its section across the axis, times 10 m: the 16-gon (a flat side at the bottom) has
+    // sides, not vertices, level with the axis and above it, so that width is 2 r cos(pi/16).
+    let width = 2.0 * inner;
+    let exact = 3.0 * 120.0 + 3.0 * 120.0 - 2.0 * width * 10.0;
+    assert!(
+        (found_area - exact).abs() < 1e-6 * exact,
+        "{found_area} vs {exact}"
+    );
+}
