@@ -470,4 +470,36 @@ mod tests {
         );
         assert_eq!(out.body_parts().len(), 8);
     }
+
+    #[test]
+    fn a_plunging_tunnel_inside_the_rock_removes_its_section_times_its_length() {
+        let tol = Tolerance::default();
+        let rock = grid(3, 12.0);
+        // From (3, 3, 9), 8 m down along trend 40, plunge 35: it stays well inside the box.
+        let (t, p) = (40f64.to_radians(), 35f64.to_radians());
+        let end = [
+            3.0 + 8.0 * t.sin() * p.cos(),
+            3.0 + 8.0 * t.cos() * p.cos(),
+            9.0 - 8.0 * p.sin(),
+        ];
+        assert!(end.iter().all(|&c| (2.0..10.0).contains(&c)), "{end:?}");
+        let tunnel = Excavation::new(ExcavationShape::Tunnel {
+            profile: Profile::Horseshoe {
+                radius: 1.0,
+                wall: 0.5,
+                segments: 6,
+            },
+            start: [3.0, 3.0, 9.0],
+            trend: 40.0,
+            plunge: 35.0,
+            length: 8.0,
+        });
+        let (out, report) = rock.excavate(&tunnel, &tol).unwrap();
+        // A half 6-gon of radius 1 on walls 0.5 high and 2 wide, by hand.
+        let section = 0.5 * 6.0 * (std::f64::consts::PI / 6.0).sin() + 2.0 * 0.5;
+        let exact = section * 8.0;
+        assert!((report.volume_removed - exact).abs() < 1e-9 * exact);
+        assert!((volume(&rock) - volume(&out) - exact).abs() < 1e-9 * exact);
+        assert_eq!(report.removed_blocks, 0);
+    }
 }
