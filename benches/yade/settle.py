@@ -146,7 +146,7 @@ def main():
     wall = time.perf_counter() - start
     cpu = time.process_time() - cpu_start - state["check_cpu_s"]
     settlement = sum(z0[i] - O.bodies[i].state.pos[2] for i in free) / len(free)
-    contacts = sum(1 for i in O.interactions if i.isReal)
+    contacts = O.interactions.countReal()
     bodies = len(ids)
     result = {
         "bodies": bodies,
