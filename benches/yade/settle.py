@@ -29,6 +29,7 @@ import math
 import os
 import sys
 import time
+from pathlib import Path
 
 from yade import O, Vector3, log, polyhedra_utils
 from yade.wrapper import (
@@ -53,7 +54,7 @@ VERLET = float(os.environ.get("VERLET", "0.025"))
 
 def read_model(path):
     settings, blocks = {}, []
-    with open(path) as f:
+    with Path(path).open() as f:
         for line in f:
             words = line.split()
             if not words:
@@ -89,7 +90,7 @@ def main():
     )
     O.materials.append(mat)
     ids = [O.bodies.append(polyhedra_utils.polyhedra(mat, v=v, fixed=fixed)) for fixed, v in blocks]
-    free = [i for i, (fixed, _) in zip(ids, blocks) if not fixed]
+    free = [i for i, (fixed, _) in zip(ids, blocks, strict=True) if not fixed]
     O.engines = [
         ForceResetter(),
         InsertionSortCollider([Bo1_Polyhedra_Aabb()], verletDist=VERLET),
@@ -132,7 +133,7 @@ def main():
         state["check_cpu_s"] += time.process_time() - cpu_t
         state["last_t"], state["last_iter"] = done, O.iter
 
-    O.engines = O.engines + [PyRunner(command="check()", iterPeriod=CHECK)]
+    O.engines = [*O.engines, PyRunner(command="check()", iterPeriod=CHECK)]
     globals()["check"] = check
     start, cpu_start = time.perf_counter(), time.process_time()
     state["last_t"] = start
