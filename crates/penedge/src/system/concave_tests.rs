@@ -529,9 +529,14 @@ fn the_csv_and_vtp_files_of_body_contacts_carry_the_regions() {
     let csv = String::from_utf8(csv).unwrap();
     let rows: Vec<&str> = csv.lines().collect();
     assert_eq!(rows[0], crate::io::csv::BODY_CONTACTS_HEADER);
-    let regions: Vec<&str> = rows[1..].iter().map(|r| r.split(',').nth(2).unwrap()).collect();
+    let regions: Vec<&str> = rows[1..]
+        .iter()
+        .map(|r| r.split(',').nth(2).unwrap())
+        .collect();
     assert_eq!(regions, ["0", "1", "2"]);
-    assert!(rows[1..].iter().all(|r| r.starts_with("0,1,") && r.contains(",face-face,")));
+    assert!(rows[1..]
+        .iter()
+        .all(|r| r.starts_with("0,1,") && r.contains(",face-face,")));
     let mut vtp = Vec::new();
     crate::io::vtp::write_body_contacts_vtp_to(&found, &mut vtp).unwrap();
     let vtp = String::from_utf8(vtp).unwrap();
