@@ -27,6 +27,11 @@
 //! times the detection of a jointed mass with concave blocks (pairs of blocks glued) beside
 //! the same parts as separate blocks (see `concave.rs`).
 //!
+//! `cargo run --release -p penedge-bench -- mechanics [--blocks N] [--threads T] [--ratio R]
+//! [--max-steps S] [--samples K] [--seed X] [--export FILE]` times a mass of blocks settling
+//! under gravity on fixed boundary blocks to equilibrium (`penedge::mechanics`), and can write
+//! the model for the YADE script `benches/yade/settle.py` (see `mechanics.rs`).
+//!
 //! `cargo run --release -p penedge-bench -- profile --scenario NAME --family cube|rock
 //! [--pairs N] [--seconds S] [--geometry]` runs penedge alone on one set for a while
 //! (`detect`, or `detect_with_geometry` with `--geometry`), to be watched by a profiler
@@ -37,6 +42,8 @@ mod export;
 mod family;
 mod generation;
 mod geometry;
+mod heap;
+mod mechanics;
 mod outcomes;
 mod pairs;
 mod placement;
@@ -53,6 +60,11 @@ use rng::SplitMix64;
 use std::process::ExitCode;
 use std::time::Duration;
 use timing::{Job, Window};
+
+/// Counts live heap bytes for the memory figures of `mechanics` (off in the other
+/// subcommands).
+#[global_allocator]
+static ALLOCATOR: heap::Counting = heap::Counting;
 
 /// The four situations of the main table.
 const SITUATIONS: [Scenario; 4] = [
@@ -311,10 +323,11 @@ fn main() -> ExitCode {
         Some("system") => system::run(&args[1..]),
         Some("tracker") => tracker::run(&args[1..]),
         Some("concave") => concave::run(&args[1..]),
+        Some("mechanics") => mechanics::run(&args[1..]),
         Some("outcomes") => outcomes::run(&args[1..]),
         Some("profile") => parse(&args[1..]).and_then(|o| profile(&o)),
         _ => Err(
-            "usage: penedge-bench narrow|geometry|generate|system|tracker|concave|profile [options] (see the crate docs)"
+            "usage: penedge-bench narrow|geometry|generate|system|tracker|concave|mechanics|profile [options] (see the crate docs)"
                 .to_string(),
         ),
     };

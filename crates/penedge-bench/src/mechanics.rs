@@ -1,0 +1,516 @@
+//! The `mechanics` subcommand: a jointed mass of blocks settling under gravity on fixed
+//! boundary blocks, to equilibrium (issue 18, "Speed").
+//!
+//! `cargo run --release -p penedge-bench -- mechanics [--blocks N] [--threads T]
+//! [--ratio R] [--max-steps S] [--samples K] [--seed X] [--export FILE]`
+//!
+//! **The model** (`N` blocks at most, default 100,000): a grid of `(n + 2) × (n + 2) ×
+//! (n + 1)` unit cubes, `n` the largest that fits in `N`, at a spacing of 1.002 (open joints
+//! of 2 mm). The cubes of the bottom layer and of the four side walls are fixed and sit
+//! exactly on the grid; the `n^3` inner cubes are free, each turned by a random angle of up
+//! to 0.5 mrad about a random axis and shifted by up to 0.1 mm along each axis (seed `X`),
+//! so that no two blocks touch at the start (the smallest gap is above 1 mm, the detection
+//! gap). Density 2500 kg/m³, gravity 9.81 m/s², joints kn = 1e10 Pa/m, ks = 5e9 Pa/m, 30°,
+//! no cohesion or tension, local damping 0.8, the automatic time step.
+//!
+//! **The run**: `Simulation::step` until the unbalanced-force ratio (largest unbalanced
+//! force of a free block over its weight) is below `R` (default 1e-5, 3DEC's), at most `S`
+//! steps (default 20,000), as `Simulation::solve` does but with each step timed (wall
+//! clock, in a rayon pool of `T` threads, default 2). Printed: wall time, steps, block-steps
+//! per second over all steps and over the steps while blocks move (the fastest free block
+//! faster than 1 mm/s), the CPU time of the process in the steps (all threads: the figure the
+//! load of a shared machine distorts least) and block-steps per CPU second, the state reached (mean settlement of the free blocks, the ratio).
+//!
+//! **Time split** (the mechanics has no counters of its own): at `K` steps spread over the
+//! run (default 8), the detection alone is timed from outside on the same poses
+//! (`Simulation::placed_system`): the broad phase (`WideBoxes`, boxes widened by the gap
+//! plus the simulation's half skin) and the pair query with geometry
+//! (`Detector::detect_with_geometry`) on its pairs with a free block, as the step does
+//! them; the rest of the step (sub-contacts, forces, integration, placing) is the step's
+//! time minus the query's. The step reuses its broad phase within the skin, so the broad
+//! phase is shown apart.
+//!
+//! **Memory**: the live heap bytes (a counting allocator) added by `Simulation::new` per
+//! body, and by the first step with contacts per contact (sub-contacts and candidate pairs
+//! included), beside `size_of` of the public contact types.
+//!
+//! `--export FILE` writes the model for `benches/yade/settle.py` (the same blocks in YADE's
+//! Polyhedra DEM): a header of `key value` lines, then one line per block: `fixed` (0 or 1)
+//! and its 8 corners' coordinates.
+
+use crate::heap;
+use crate::rng::SplitMix64;
+use penedge::classify::PairResult;
+use penedge::glam::{DQuat, DVec3};
+use penedge::mechanics::{BodyContact, Damping, JointModel, Simulation, SubContact};
+use penedge::system::{BroadPhase, WideBoxes};
+use penedge::{BlockSystem, ConvexBlock, Detector, Tolerance};
+use rayon::prelude::*;
+use std::fmt::Write as _;
+use std::time::Instant;
+
+/// Spacing of the grid: unit cubes with 2 mm open joints.
+const SPACING: f64 = 1.002;
+/// The largest turn of a free cube (rad) and its largest shift along each axis (m).
+const TURN: f64 = 5e-4;
+const SHIFT: f64 = 1e-4;
+const DENSITY: f64 = 2500.0;
+const JOINT: JointModel = JointModel {
+    kn: 1e10,
+    ks: 5e9,
+    friction: 30.0,
+    cohesion: 0.0,
+    tension: 0.0,
+};
+const LOCAL_DAMPING: f64 = 0.8;
+/// The simulation's detection gap (relative) and skin (relative to the mean block size), its
+/// defaults: the outside detection of the time split uses the same.
+const GAP: f64 = 1e-3;
+const SKIN: f64 = 0.05;
+/// A free block faster than this (m/s) counts as moving.
+const MOVING: f64 = 1e-3;
+
+struct Options {
+    blocks: usize,
+    threads: usize,
+    ratio: f64,
+    max_steps: u64,
+    samples: u64,
+    seed: u64,
+    export: Option<String>,
+}
+
+fn parse(args: &[String]) -> Result<Options, String> {
+    let mut o = Options {
+        blocks: 100_000,
+        threads: 2,
+        ratio: 1e-5,
+        max_steps: 20_000,
+        samples: 8,
+        seed: 18,
+        export: None,
+    };
+    for pair in args.chunks(2) {
+        let [flag, value] = pair else {
+            return Err(format!("{} needs a value", pair[0]));
+        };
+        match flag.as_str() {
+            "--blocks" => o.blocks = crate::number(value)?,
+            "--threads" => o.threads = crate::number(value)?,
+            "--ratio" => o.ratio = crate::number(value)?,
+            "--max-steps" => o.max_steps = crate::number(value)?,
+            "--samples" => o.samples = crate::number(value)?,
+            "--seed" => o.seed = crate::number(value)?,
+            "--export" => o.export = Some(value.clone()),
+            other => return Err(format!("unknown option {other}")),
+        }
+    }
+    if o.blocks < 18 {
+        return Err("--blocks must be at least 18 (one free block in its box)".to_string());
+    }
+    if o.threads == 0 || o.max_steps == 0 {
+        return Err("--threads and --max-steps must be positive".to_string());
+    }
+    if !(o.ratio.is_finite() && o.ratio > 0.0) {
+        return Err(format!("--ratio must be a number > 0, got {}", o.ratio));
+    }
+    Ok(o)
+}
+
+/// The model: blocks and which are fixed.
+struct Model {
+    system: BlockSystem,
+    fixed: Vec<bool>,
+    /// Free blocks per side.
+    n: usize,
+}
+
+/// Free blocks per side: the largest `n` with `(n + 2)^2 (n + 1) <= blocks`.
+fn side(blocks: usize) -> usize {
+    (1..)
+        .take_while(|n| (n + 2) * (n + 2) * (n + 1) <= blocks)
+        .last()
+        .unwrap_or(1)
+}
+
+fn model(blocks: usize, seed: u64) -> Model {
+    let n = side(blocks);
+    let (w, h) = (n + 2, n + 1);
+    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).expect("a unit cube");
+    let mut rng = SplitMix64::new(seed);
+    let mut blocks = Vec::with_capacity(w * w * h);
+    let mut fixed = Vec::with_capacity(w * w * h);
+    for k in 0..h {
+        for j in 0..w {
+            for i in 0..w {
+                let wall = k == 0 || i == 0 || j == 0 || i == w - 1 || j == w - 1;
+                let centre = DVec3::new(i as f64, j as f64, k as f64) * SPACING + 0.5;
+                let (turn, shift) = if wall {
+                    (DQuat::IDENTITY, DVec3::ZERO)
+                } else {
+                    let angle = rng.range(-TURN, TURN);
+                    (
+                        DQuat::from_axis_angle(rng.direction(), angle),
+                        rng.point_in_cube(SHIFT),
+                    )
+                };
+                blocks.push(unit.transformed(turn, centre + shift, 1.0));
+                fixed.push(wall);
+            }
+        }
+    }
+    Model {
+        system: BlockSystem::new(blocks),
+        fixed,
+        n,
+    }
+}
+
+/// `mechanics`: prints the report.
+pub fn run(args: &[String]) -> Result<(), String> {
+    let o = parse(args)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(o.threads)
+        .build()
+        .map_err(|e| e.to_string())?;
+    pool.install(|| settle(&o))
+}
+
+/// Live heap bytes at the points of the run that the memory figures need.
+struct Heap {
+    before: isize,
+    bodies: isize,
+    contacts: isize,
+    contacts_peak: isize,
+}
+
+fn settle(o: &Options) -> Result<(), String> {
+    let m = model(o.blocks, o.seed);
+    let (bodies, free) = (m.system.len(), m.n * m.n * m.n);
+    heap::count();
+    let before = heap::live();
+    let mut sim = Simulation::new(&m.system, DENSITY).map_err(|e| e.to_string())?;
+    let after_new = heap::live();
+    for (i, _) in m.fixed.iter().enumerate().filter(|(_, f)| **f) {
+        sim.fix(i).map_err(|e| e.to_string())?;
+    }
+    sim.set_default_joint(JOINT).map_err(|e| e.to_string())?;
+    sim.set_damping(Damping {
+        local: LOCAL_DAMPING,
+        viscous: 0.0,
+    })
+    .map_err(|e| e.to_string())?;
+    let dt = sim.timestep().map_err(|e| e.to_string())?;
+    if let Some(path) = &o.export {
+        std::fs::write(path, export(&m, dt, o.ratio)).map_err(|e| format!("{path}: {e}"))?;
+    }
+    println!(
+        "### Mechanics: {bodies} unit cubes ({free} free, {} fixed: floor and walls) settling \
+         to an unbalanced-force ratio of {:e}, {} threads\n\n{}; load average at the start: {}. \
+         Time step {dt:.4e} s (automatic: 0.5 × critical).\n",
+        bodies - free,
+        o.ratio,
+        o.threads,
+        crate::report::machine(),
+        crate::report::load(),
+    );
+    let z0: Vec<f64> = free_ids(&m).map(|i| pose_z(&sim, i)).collect();
+    let sample_every = (o.max_steps / o.samples.max(1)).max(1);
+    let mut heap_at = Heap {
+        before,
+        bodies: after_new,
+        contacts: 0,
+        contacts_peak: 0,
+    };
+    let mut log = Run::default();
+    let start = Instant::now();
+    let mut converged = false;
+    while sim.steps() < o.max_steps {
+        if heap_at.contacts == 0 {
+            heap::reset_peak();
+        }
+        let (t, cpu) = (Instant::now(), process_cpu_s());
+        sim.step().map_err(|e| e.to_string())?;
+        let s = t.elapsed().as_secs_f64();
+        log.cpu_s += process_cpu_s() - cpu;
+        if heap_at.contacts == 0 && !sim.contacts().list.is_empty() {
+            heap_at.contacts = heap::live();
+            heap_at.contacts_peak = heap::peak();
+            log.first_contacts = (sim.contacts().list.len(), sim.contacts().subs.len());
+        }
+        let moving = free_ids(&m).any(|i| sim.bodies().velocities()[i].length() > MOVING);
+        log.record(s, moving);
+        if sim.unbalanced_ratio() < o.ratio {
+            converged = true;
+            break;
+        }
+        if o.samples > 0 && sim.steps() % sample_every == 0 {
+            log.splits.push(split(&sim, &m, s));
+        }
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let settlement = free_ids(&m)
+        .zip(&z0)
+        .map(|(i, z)| z - pose_z(&sim, i))
+        .sum::<f64>()
+        / free as f64;
+    let steps = sim.steps();
+    println!("| bodies | free | steps | converged | ratio | simulated s | wall s | steps/s | block-steps/s (all bodies) | CPU s | block-steps per CPU s | free-block-steps/s | moving steps | block-steps/s while moving | mean settlement mm | contacts | sub-contacts |");
+    println!(
+        "|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    println!(
+        "| {bodies} | {free} | {steps} | {} | {:.2e} | {:.4} | {wall:.2} | {:.1} | {:.3e} | {:.2} | {:.3e} | {:.3e} | {} | {} | {:.4} | {} | {} |",
+        if converged { "yes" } else { "no" },
+        sim.unbalanced_ratio(),
+        sim.time(),
+        steps as f64 / wall,
+        (bodies as u64 * steps) as f64 / wall,
+        log.cpu_s,
+        (bodies as u64 * steps) as f64 / log.cpu_s,
+        (free as u64 * steps) as f64 / wall,
+        log.moving_steps,
+        if log.moving_steps > 0 {
+            format!("{:.3e}", (bodies as u64 * log.moving_steps) as f64 / log.moving_s)
+        } else {
+            "-".to_string()
+        },
+        settlement * 1e3,
+        sim.contacts().list.len(),
+        sim.contacts().subs.len(),
+    );
+    print_splits(&log.splits);
+    print_memory(&heap_at, bodies, log.first_contacts);
+    println!("\nLoad average at the end: {}.", crate::report::load());
+    Ok(())
+}
+
+/// CPU time of the process, all threads, user and system (`getrusage`): under the load of a
+/// shared machine, wall time also counts the time the threads wait for a core.
+fn process_cpu_s() -> f64 {
+    // SAFETY: an all-zero `rusage` is a valid value of this plain C struct.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: `usage` is a valid, writable rusage; RUSAGE_SELF is a constant Linux supports.
+    let rc = unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut usage) };
+    assert_eq!(rc, 0, "getrusage(RUSAGE_SELF) failed");
+    let s = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    s(usage.ru_utime) + s(usage.ru_stime)
+}
+
+fn free_ids(m: &Model) -> impl Iterator<Item = usize> + '_ {
+    m.fixed
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| !**f)
+        .map(|(i, _)| i)
+}
+
+fn pose_z(sim: &Simulation, i: usize) -> f64 {
+    sim.bodies().poses()[i].translation.z
+}
+
+/// Per-step times of the run.
+#[derive(Default)]
+struct Run {
+    moving_steps: u64,
+    moving_s: f64,
+    /// CPU time of the process (all threads) in the steps.
+    cpu_s: f64,
+    first_contacts: (usize, usize),
+    splits: Vec<Split>,
+}
+
+impl Run {
+    fn record(&mut self, seconds: f64, moving: bool) {
+        if moving {
+            self.moving_steps += 1;
+            self.moving_s += seconds;
+        }
+    }
+}
+
+/// The detection timed from outside on the poses of one step.
+struct Split {
+    step: u64,
+    step_s: f64,
+    broad_s: f64,
+    query_s: f64,
+    pairs: usize,
+    contacts: usize,
+    subs: usize,
+}
+
+fn split(sim: &Simulation, m: &Model, step_s: f64) -> Split {
+    let placed = sim.placed_system();
+    let blocks = placed.blocks();
+    let tol = Tolerance::with_gap(GAP).expect("a valid gap");
+    let mean = blocks.iter().map(ConvexBlock::size).sum::<f64>() / blocks.len() as f64;
+    let half = 0.5 * SKIN * mean;
+    let t = Instant::now();
+    let boxes = WideBoxes::from_fn(blocks.len(), |k| {
+        let aabb = blocks[k].aabb();
+        (aabb, tol.for_box(&aabb).gap + half)
+    });
+    let pairs: Vec<[u32; 2]> = boxes
+        .pairs(BroadPhase::default())
+        .into_iter()
+        .filter(|&[i, j]| !(m.fixed[i as usize] && m.fixed[j as usize]))
+        .collect();
+    let broad_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let contacts: usize = pairs
+        .par_iter()
+        .map_init(
+            || Detector::new(tol),
+            |det, &[i, j]| {
+                let (r, g) = det.detect_with_geometry(&blocks[i as usize], &blocks[j as usize]);
+                usize::from(matches!(r, PairResult::Contact(_)) && g.is_some())
+            },
+        )
+        .sum();
+    let query_s = t.elapsed().as_secs_f64();
+    Split {
+        step: sim.steps(),
+        step_s,
+        broad_s,
+        query_s,
+        pairs: pairs.len(),
+        contacts,
+        subs: sim.contacts().subs.len(),
+    }
+}
+
+fn print_splits(splits: &[Split]) {
+    if splits.is_empty() {
+        return;
+    }
+    println!(
+        "\nTime split, from outside on the poses after the step (the mechanics has no counters): \
+         the step's wall time; the detection on the same poses: broad phase (rebuilt by the \
+         step only when a block has moved half the skin) and the pair query with geometry on \
+         the candidate pairs; the rest (sub-contacts, joint law, force sums, integration, \
+         placing) = step - query.\n"
+    );
+    println!("| step | step s | broad phase s | pair queries s | query / step | rest s | candidate pairs | contacts | sub-contacts |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for s in splits {
+        println!(
+            "| {} | {:.4} | {:.4} | {:.4} | {:.2} | {:.4} | {} | {} | {} |",
+            s.step,
+            s.step_s,
+            s.broad_s,
+            s.query_s,
+            s.query_s / s.step_s,
+            (s.step_s - s.query_s).max(0.0),
+            s.pairs,
+            s.contacts,
+            s.subs
+        );
+    }
+}
+
+fn print_memory(h: &Heap, bodies: usize, (contacts, subs): (usize, usize)) {
+    println!(
+        "\nMemory (live heap, counting allocator): `Simulation::new` adds {:.0} bytes per body \
+         (its state, shape and placed copy of the block; the block system it is built from is \
+         not counted). `size_of`: `BodyContact` {} bytes, `SubContact` {} bytes.",
+        (h.bodies - h.before) as f64 / bodies as f64,
+        std::mem::size_of::<BodyContact>(),
+        std::mem::size_of::<SubContact>(),
+    );
+    if contacts > 0 {
+        println!(
+            "The first step with contacts ({contacts} contacts, {subs} sub-contacts, {:.2} per \
+             contact) kept {:.0} bytes per contact (sub-contacts, candidate pairs and vector \
+             slack included), {:.0} at its peak (the detection's answers before they become \
+             contacts).",
+            subs as f64 / contacts as f64,
+            (h.contacts - h.bodies) as f64 / contacts as f64,
+            (h.contacts_peak - h.bodies) as f64 / contacts as f64,
+        );
+    }
+}
+
+/// The model for `benches/yade/settle.py`.
+fn export(m: &Model, dt: f64, ratio: f64) -> String {
+    let mut s = String::new();
+    let lines = [
+        ("format", "penedge-bench mechanics 1".to_string()),
+        ("dt", format!("{dt:?}")),
+        ("kn", format!("{:?}", JOINT.kn)),
+        ("ks", format!("{:?}", JOINT.ks)),
+        ("friction_deg", format!("{:?}", JOINT.friction)),
+        ("density", format!("{DENSITY:?}")),
+        ("local_damping", format!("{LOCAL_DAMPING:?}")),
+        ("gravity", "9.81".to_string()),
+        ("ratio", format!("{ratio:?}")),
+        ("moving", format!("{MOVING:?}")),
+        ("blocks", m.system.len().to_string()),
+    ];
+    for (k, v) in lines {
+        writeln!(s, "{k} {v}").expect("writing to a String");
+    }
+    for (b, fixed) in m.system.blocks().iter().zip(&m.fixed) {
+        write!(s, "{}", u8::from(*fixed)).expect("writing to a String");
+        for v in b.vertices() {
+            write!(s, " {:?} {:?} {:?}", v.x, v.y, v.z).expect("writing to a String");
+        }
+        s.push('\n');
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_grid_side_is_the_largest_that_fits() {
+        // (n + 2)^2 (n + 1): 18, 48, 100, ...; 46^2 * 45 = 95,220 <= 1e5 < 47^2 * 46.
+        assert_eq!(side(18), 1);
+        assert_eq!(side(47), 1);
+        assert_eq!(side(48), 2);
+        assert_eq!(side(100_000), 44);
+    }
+
+    #[test]
+    fn neighbouring_blocks_of_the_model_are_at_least_a_millimetre_apart() {
+        let m = model(100, 1);
+        assert_eq!(m.system.len(), 5 * 5 * 4);
+        assert_eq!(m.fixed.iter().filter(|f| !**f).count(), 27);
+        // Along each axis, the extent of a block's corners ends at least 1 mm before its
+        // neighbour's begins (the joints are 2 mm, the turn and the shift take < 1 mm).
+        let (w, h) = (5, 4);
+        let extent = |b: usize, axis: usize| {
+            let c = m.system.blocks()[b].vertices().iter().map(|v| v[axis]);
+            (
+                c.clone().fold(f64::INFINITY, f64::min),
+                c.fold(f64::NEG_INFINITY, f64::max),
+            )
+        };
+        let id = |i: usize, j: usize, k: usize| i + w * (j + w * k);
+        let mut checked = 0;
+        for k in 0..h {
+            for j in 0..w {
+                for i in 0..w {
+                    let next = [(i + 1, j, k), (i, j + 1, k), (i, j, k + 1)];
+                    for (axis, (a, b, c)) in next.into_iter().enumerate() {
+                        if a < w && b < w && c < h {
+                            let (_, hi) = extent(id(i, j, k), axis);
+                            let (lo, _) = extent(id(a, b, c), axis);
+                            assert!(
+                                lo - hi > 1e-3,
+                                "blocks {i} {j} {k} along {axis}: {}",
+                                lo - hi
+                            );
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert_eq!(checked, 3 * 5 * 5 * 4 - 5 * 5 - 2 * 5 * 4);
+        let tol = Tolerance::with_gap(GAP).unwrap();
+        assert!(m.system.detect(&tol).penetrating.is_empty());
+    }
+}
