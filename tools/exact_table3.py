@@ -167,9 +167,7 @@ class Block:
     name: str
     halfspaces: list
     vertices: frozenset
-    faces: list = field(
-        default_factory=list
-    )  # (outward normal, offset, vertices on it)
+    faces: list = field(default_factory=list)  # (outward normal, offset, vertices on it)
     volume: Fraction = Fraction(0)
     centroid: tuple = ()
 
@@ -355,9 +353,7 @@ def pair_orbits(contacts, perms):
                     orbit.add(image)
                     todo.append(image)
         kinds = {by_pair[p].kind for p in orbit}
-        assert kinds == {c.kind}, (
-            f"type not invariant on orbit {sorted(orbit)}: {kinds}"
-        )
+        assert kinds == {c.kind}, f"type not invariant on orbit {sorted(orbit)}: {kinds}"
         seen |= orbit
         orbits.setdefault(c.kind, []).append(len(orbit))
     return orbits
@@ -426,9 +422,7 @@ def describe_pair(blocks, c, cuts):
     )
     if c.kind == "edge-edge-superposition":
         angles = [wedge_angle(blk, c.vertices) for blk in (a, b)]
-        text += "; wedge angles " + "/".join(
-            "?" if x is None else f"{x:.0f}°" for x in angles
-        )
+        text += "; wedge angles " + "/".join("?" if x is None else f"{x:.0f}°" for x in angles)
     return text
 
 
@@ -463,15 +457,11 @@ def print_symmetry(symmetry):
             print(f"   {name}: not a symmetry of this block set")
             continue
         fixed, orbits = result
-        print(
-            f"   {name}: maps the blocks onto themselves; fixed blocks: {fixed or 'none'}"
-        )
+        print(f"   {name}: maps the blocks onto themselves; fixed blocks: {fixed or 'none'}")
         for t in TYPES:
             sizes = Counter(orbits.get(t, []))
             if sizes:
-                parts = " + ".join(
-                    f"{n} of size {size}" for size, n in sorted(sizes.items())
-                )
+                parts = " + ".join(f"{n} of size {size}" for size, n in sorted(sizes.items()))
                 print(f"     {t:<26}{sum(orbits[t]):>4} pairs = orbits {parts}")
 
 
@@ -542,9 +532,7 @@ def check_dev_cases(path):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--json", action="store_true", help="print the counts as JSON")
-    parser.add_argument(
-        "--all", action="store_true", help="list the pairs of every type"
-    )
+    parser.add_argument("--all", action="store_true", help="list the pairs of every type")
     parser.add_argument(
         "--dev-cases",
         metavar="PATH",
