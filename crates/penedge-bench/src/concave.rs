@@ -15,7 +15,7 @@
 //! 3. `detect_with_geometry` and `detect` on the parts, for reference;
 //! 4. `with_bodies` (checking the parts and finding the internal faces), once per system.
 
-use crate::system::{jointed_system, timed};
+use crate::system::{jointed_system, pool, timed};
 use penedge::system::BlockSystem;
 use penedge::{ContactType, Tolerance};
 
@@ -72,11 +72,7 @@ fn glued_pairs(system: &BlockSystem, tol: &Tolerance, share: f64) -> (Vec<u32>, 
 /// `concave`: prints the table.
 pub fn run(args: &[String]) -> Result<(), String> {
     let o = parse(args)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(o.threads)
-        .build()
-        .map_err(|e| e.to_string())?;
-    pool.install(|| table(&o))
+    pool(o.threads)?.install(|| table(&o))
 }
 
 fn table(o: &Options) -> Result<(), String> {

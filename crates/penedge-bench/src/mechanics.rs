@@ -40,6 +40,7 @@
 
 use crate::heap;
 use crate::rng::SplitMix64;
+use crate::system::pool;
 use penedge::classify::PairResult;
 use penedge::glam::{DQuat, DVec3};
 use penedge::mechanics::{BodyContact, Damping, JointModel, Simulation, SubContact};
@@ -169,11 +170,7 @@ fn model(blocks: usize, seed: u64) -> Model {
 /// `mechanics`: prints the report.
 pub fn run(args: &[String]) -> Result<(), String> {
     let o = parse(args)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(o.threads)
-        .build()
-        .map_err(|e| e.to_string())?;
-    pool.install(|| settle(&o))
+    pool(o.threads)?.install(|| settle(&o))
 }
 
 /// Live heap bytes at the points of the run that the memory figures need.

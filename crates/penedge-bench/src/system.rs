@@ -75,13 +75,18 @@ fn parse(args: &[String]) -> Result<SystemOptions, String> {
     Ok(o)
 }
 
+/// A thread pool of `threads` threads for a benchmark to run in.
+pub(crate) fn pool(threads: usize) -> Result<rayon::ThreadPool, String> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| e.to_string())
+}
+
 /// `system`: prints the tables.
 pub fn run(args: &[String]) -> Result<(), String> {
     let o = parse(args)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(o.threads)
-        .build()
-        .map_err(|e| e.to_string())?;
+    let pool = pool(o.threads)?;
     println!("## Whole systems\n");
     println!(
         "{} threads; {}. Load average at the start: {}.\n",

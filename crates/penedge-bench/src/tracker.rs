@@ -14,7 +14,7 @@
 //! equal, and beside the time to place every block at its pose (`ConvexBlock::transformed`
 //! into a new `BlockSystem`), which a step without a tracker pays before detecting.
 
-use crate::system::{cube_grid, step, timed};
+use crate::system::{cube_grid, pool, step, timed};
 use penedge::block::Pose;
 use penedge::system::{BlockSystem, ContactTracker};
 use penedge::Tolerance;
@@ -61,11 +61,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
 pub fn run(args: &[String]) -> Result<(), String> {
     let o = parse(args)?;
     let tol = Tolerance::with_gap(o.gap).map_err(|e| e.to_string())?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(o.threads)
-        .build()
-        .map_err(|e| e.to_string())?;
-    pool.install(|| steps(&o, tol))
+    pool(o.threads)?.install(|| steps(&o, tol))
 }
 
 /// Which blocks a step moves.
