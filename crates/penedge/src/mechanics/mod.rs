@@ -341,8 +341,7 @@ impl Simulation {
     }
 
     fn set_fixity(&mut self, i: usize, fixity: Fixity) -> Result<(), MechanicsError> {
-        self.bodies.check(i)?;
-        self.bodies.fixity[i] = fixity;
+        self.bodies.set_fixity(i, fixity)?;
         self.built_at = None; // the pairs kept depend on which bodies move
         Ok(())
     }
@@ -362,12 +361,7 @@ impl Simulation {
 
     /// Sets a constant force on body `i`'s centroid, besides gravity and contacts.
     pub fn apply_force(&mut self, i: usize, force: DVec3) -> Result<(), MechanicsError> {
-        self.bodies.check(i)?;
-        if !force.is_finite() {
-            return Err(MechanicsError::NotFinite("applied force"));
-        }
-        self.bodies.applied[i] = force;
-        Ok(())
+        self.bodies.set_applied(i, force)
     }
 
     /// Sets body `i`'s pose (it must keep the body clear of others by the gap).
@@ -414,7 +408,7 @@ impl Simulation {
     pub fn set_mass_scaling(&mut self, on: bool) -> Result<(), MechanicsError> {
         let k = self.joints.max_stiffness();
         let free: Vec<usize> = (0..self.bodies.len())
-            .filter(|&i| self.bodies.fixity[i] == Fixity::Free)
+            .filter(|&i| self.bodies.is_free(i))
             .collect();
         let mut steps: Vec<f64> = free
             .iter()
@@ -426,7 +420,7 @@ impl Simulation {
         steps.sort_by(f64::total_cmp);
         let target = steps[steps.len() / 2];
         for i in 0..self.bodies.len() {
-            let scale = match self.bodies.fixity[i] {
+            let scale = match self.bodies.fixity(i) {
                 Fixity::Free if on => {
                     let own = integrate::critical_step(&self.bodies, i, k, 1.0);
                     (target / own).powi(2).max(1.0)
@@ -441,10 +435,8 @@ impl Simulation {
     /// The critical time step (docs/mechanics.md): the smallest bound of the free bodies.
     pub fn critical_timestep(&self) -> Result<f64, MechanicsError> {
         let k = self.joints.max_stiffness();
-        (0..self.bodies.len())
-            .filter(|&i| self.bodies.fixity[i] == Fixity::Free)
-            .map(|i| integrate::critical_step(&self.bodies, i, k, self.bodies.scale[i]))
-            .reduce(f64::min)
+        self.bodies
+            .critical_timestep(k)
             .ok_or(MechanicsError::NoFreeBody)
     }
 
@@ -577,7 +569,7 @@ impl Simulation {
         let (bodies, part_body, part_index) = (&self.bodies, &self.part_body, &self.part_index);
         self.placed.par_iter_mut().enumerate().for_each(|(k, p)| {
             let b = part_body[k] as usize;
-            if bodies.fixity[b] != Fixity::Fixed {
+            if bodies.fixity(b) != Fixity::Fixed {
                 let part = &bodies.shape(b).parts()[part_index[k] as usize];
                 p.place_from(part, &bodies.pose[b]);
             }
@@ -604,8 +596,7 @@ impl Simulation {
             let aabb = placed[k].aabb();
             (aabb, tol.for_box(&aabb).gap + half)
         });
-        let moves =
-            |k: u32| self.bodies.fixity[self.part_body[k as usize] as usize] == Fixity::Free;
+        let moves = |k: u32| self.bodies.is_free(self.part_body[k as usize] as usize);
         self.pairs = boxes
             .pairs(BroadPhase::default())
             .into_iter()
@@ -707,8 +698,8 @@ impl Simulation {
         let kick = if self.synced { 0.5 } else { 1.0 };
         let (mut largest, mut reference) = (0.0f64, 0.0f64);
         for i in 0..self.bodies.len() {
-            if self.bodies.fixity[i] == Fixity::Free {
-                let load = self.gravity * self.bodies.mass[i] + self.bodies.applied[i];
+            if self.bodies.is_free(i) {
+                let load = self.gravity * self.bodies.mass(i) + self.bodies.applied_force(i);
                 largest = largest.max((self.forces[i] + load).length());
                 reference = reference.max(load.length());
             }
@@ -755,15 +746,14 @@ mod tests {
     #[test]
     fn the_memory_figures_of_the_docs_hold() {
         use std::mem::size_of;
-        // One entry per array of `Bodies`.
+        // One entry per array of `Bodies` (the side tables hold only the bodies with a
+        // prescribed motion or an applied force).
         let body = size_of::<std::sync::Arc<crate::body::Shape>>() // shape
-            + 2 * size_of::<f64>() // density, mass
-            + 4 * size_of::<DVec3>() // inertia, velocity, angular momentum, applied force
+            + size_of::<f64>() // density
             + size_of::<Pose>()
-            + size_of::<Fixity>()
-            + size_of::<[f64; 2]>() // stiffness bounds
-            + size_of::<f64>(); // mass-scaling factor
-        assert_eq!(body, 256);
+            + 2 * size_of::<DVec3>() // velocity, angular momentum
+            + size_of::<f64>(); // mass-scaling factor, signed by the fixity
+        assert_eq!(body, 128);
         assert_eq!(size_of::<BodyContact>(), 64);
         assert_eq!(size_of::<SubContact>(), 128);
     }
