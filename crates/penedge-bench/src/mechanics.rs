@@ -43,7 +43,7 @@ use crate::rng::SplitMix64;
 use crate::system::pool;
 use penedge::classify::PairResult;
 use penedge::glam::{DQuat, DVec3};
-use penedge::mechanics::{BodyContact, Damping, JointModel, Simulation, SubContact};
+use penedge::mechanics::{BodyContact, Damping, JointModel, Simulation, StepTimings, SubContact};
 use penedge::system::{BroadPhase, WideBoxes};
 use penedge::{BlockSystem, ConvexBlock, Detector, Tolerance};
 use rayon::prelude::*;
@@ -276,6 +276,7 @@ fn settle(o: &Options) -> Result<(), String> {
         sim.contacts().list.len(),
         sim.contacts().subs.len(),
     );
+    print_phases(&sim.timings(), bodies);
     print_splits(&log.splits);
     print_memory(&heap_at, bodies, log.first_contacts);
     println!("\nLoad average at the end: {}.", crate::report::load());
@@ -374,6 +375,35 @@ fn split(sim: &Simulation, m: &Model, step_s: f64) -> Split {
         pairs: pairs.len(),
         contacts,
         subs: sim.contacts().subs.len(),
+    }
+}
+
+/// The step's own split (`Simulation::timings`: one clock reading per part and step).
+fn print_phases(t: &StepTimings, bodies: usize) {
+    let total = t.total();
+    println!(
+        "\nTime per part of the step (`Simulation::timings`, wall clock, summed over the {} \
+         steps; {} broad phases built):\n",
+        t.steps, t.rebuilds
+    );
+    println!("| part | s | share | per step ms | ns per block-step |");
+    println!("|---|---:|---:|---:|---:|");
+    let block_steps = (bodies as u64 * t.steps.max(1)) as f64;
+    for (name, s) in [
+        ("candidate pairs (travel check, broad phase)", t.pairs),
+        ("pair queries (detection)", t.detect),
+        ("sub-contacts and joint law", t.contacts),
+        ("force sums", t.forces),
+        ("integration", t.integration),
+        ("placing moved blocks", t.placement),
+        ("**total**", total),
+    ] {
+        println!(
+            "| {name} | {s:.3} | {:.2} | {:.2} | {:.0} |",
+            s / total,
+            1e3 * s / t.steps.max(1) as f64,
+            1e9 * s / block_steps
+        );
     }
 }
 

@@ -39,6 +39,7 @@ use crate::system::{BlockSystem, BroadPhase, WideBoxes};
 use crate::tolerance::{Tolerance, ToleranceError};
 use contacts::{build_contact, Found, StepInput};
 use rayon::prelude::*;
+use std::time::Instant;
 use thiserror::Error;
 
 /// Why a simulation cannot be set up or stepped.
@@ -139,6 +140,36 @@ pub struct SolveReport {
     pub converged: bool,
 }
 
+/// Cumulative wall time of each part of [`Simulation::step`], in seconds, since the
+/// simulation was made (or [`Simulation::reset_timings`]): one clock reading per part and
+/// step, none per pair.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepTimings {
+    /// Candidate pairs: the check of the bodies' travel, and the broad phase when rebuilt.
+    pub pairs: f64,
+    /// The pair queries (contacts, types, features, geometry).
+    pub detect: f64,
+    /// Sub-contacts: geometry, matching to the last step's, joint law.
+    pub contacts: f64,
+    /// The sums of the contact forces and moments per body.
+    pub forces: f64,
+    /// Damping and integration of every body.
+    pub integration: f64,
+    /// Placing the moving bodies' parts at their new poses.
+    pub placement: f64,
+    /// Steps timed.
+    pub steps: u64,
+    /// Broad phases built.
+    pub rebuilds: u64,
+}
+
+impl StepTimings {
+    /// The sum of the parts.
+    pub fn total(&self) -> f64 {
+        self.pairs + self.detect + self.contacts + self.forces + self.integration + self.placement
+    }
+}
+
 /// A rigid-block simulation: bodies, joint properties, contacts and the time stepping.
 #[derive(Clone, Debug)]
 pub struct Simulation {
@@ -169,6 +200,7 @@ pub struct Simulation {
     synced: bool,
     /// Whether the next detection is the first: its contacts are bonded.
     initial: bool,
+    timings: StepTimings,
 }
 
 impl Simulation {
@@ -221,6 +253,7 @@ impl Simulation {
             ratio: f64::INFINITY,
             synced: true,
             initial: true,
+            timings: StepTimings::default(),
         }
     }
 
@@ -490,18 +523,46 @@ impl Simulation {
         &self.moments
     }
 
+    /// The wall time spent in each part of the step so far.
+    pub fn timings(&self) -> StepTimings {
+        self.timings
+    }
+
+    /// Sets the timings to zero.
+    pub fn reset_timings(&mut self) {
+        self.timings = StepTimings::default();
+    }
+
     // ---- running ----------------------------------------------------------------------
 
     /// One step: bodies at their poses -> contacts -> sub-contacts -> forces ->
     /// integration -> new poses (docs/mechanics.md, "One step").
     pub fn step(&mut self) -> Result<(), MechanicsError> {
         let dt = self.timestep()?;
+        let mut clock = Instant::now();
+        let mut lap = |slot: &mut f64| {
+            let now = Instant::now();
+            *slot += (now - clock).as_secs_f64();
+            clock = now;
+        };
+        let mut t = self.timings;
         self.update_pairs();
-        let found = self.detect()?;
+        lap(&mut t.pairs);
+        let found = self.detect();
+        lap(&mut t.detect);
+        let found = found?;
         self.update_contacts(found, dt);
+        lap(&mut t.contacts);
         self.sum_forces();
-        self.integrate(dt)?;
+        lap(&mut t.forces);
+        let integrated = self.integrate(dt);
+        lap(&mut t.integration);
+        integrated?;
         self.place_moving();
+        lap(&mut t.placement);
+        t.steps += 1;
+        t.rebuilds = self.timings.rebuilds;
+        self.timings = t;
         self.time += dt;
         self.steps += 1;
         Ok(())
@@ -614,6 +675,7 @@ impl Simulation {
             })
             .collect();
         self.built_at = Some(self.bodies.pose.clone());
+        self.timings.rebuilds += 1;
     }
 
     /// The contacts of the candidate pairs, in pair order (the pair queries in parallel).
@@ -749,6 +811,29 @@ impl Simulation {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_timings_count_every_step_and_its_parts() {
+        let base = ConvexBlock::cuboid([-2.0, -2.0, -1.0], [2.0, 2.0, 0.0]).unwrap();
+        let cube = ConvexBlock::cuboid([-0.5, -0.5, 0.0], [0.5, 0.5, 1.0]).unwrap();
+        let mut sim = Simulation::new(&BlockSystem::new(vec![base, cube]), 2500.0).unwrap();
+        sim.fix(0).unwrap();
+        sim.cycle(5).unwrap();
+        let t = sim.timings();
+        assert_eq!((t.steps, t.rebuilds), (5, 1));
+        let parts = [
+            t.pairs,
+            t.detect,
+            t.contacts,
+            t.forces,
+            t.integration,
+            t.placement,
+        ];
+        assert!(parts.iter().all(|&s| s >= 0.0));
+        assert_eq!(t.total(), parts.iter().sum::<f64>());
+        sim.reset_timings();
+        assert_eq!(sim.timings(), StepTimings::default());
+    }
 
     /// The bytes docs/mechanics.md ("Memory") states: a body's state, a contact and a
     /// sub-contact.
