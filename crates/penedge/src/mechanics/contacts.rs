@@ -82,7 +82,8 @@ impl Contacts {
     }
 }
 
-/// A contact found by the detection this step, with its geometry.
+/// A contact found by the detection, with its geometry.
+#[derive(Clone, Debug)]
 pub(super) struct Found {
     pub parts: [u32; 2],
     pub contact: Contact,
