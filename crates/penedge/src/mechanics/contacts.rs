@@ -8,6 +8,7 @@ use crate::block::{ConvexBlock, Pose};
 use crate::classify::{Contact, ContactType, Feature};
 use crate::contact_geometry::{ContactGeometry, ContactPoints};
 use crate::geometry::DVec3;
+use glam::Vec3;
 
 /// A contact between two bodies' convex parts, as the mechanics keeps it.
 #[derive(Clone, Debug, PartialEq)]
@@ -34,8 +35,11 @@ pub struct BodyContact {
 pub struct SubContact {
     /// Where it is (world).
     pub point: DVec3,
-    /// Where it is in A's body frame (moves with A; matches sub-contacts across steps).
-    pub local: DVec3,
+    /// Where it is in A's body frame (moves with A; matches sub-contacts across steps), in
+    /// single precision: it only picks the nearest sub-contact of the last step, among points
+    /// a body size apart at most, and its 12 bytes keep a sub-contact at 112 (docs/mechanics.md,
+    /// "Memory").
+    pub local: Vec3,
     /// Its share of the contact area.
     pub area: f64,
     /// Gap along the normal (> 0 apart, < 0 overlapping).
@@ -181,8 +185,9 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
                     .iter()
                     .min_by(|x, y| {
                         x.local
+                            .as_dvec3()
                             .distance_squared(local)
-                            .total_cmp(&y.local.distance_squared(local))
+                            .total_cmp(&y.local.as_dvec3().distance_squared(local))
                     })
                     .expect("a contact has at least one sub-contact");
                 (
@@ -209,7 +214,7 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         let out = joint_law(model, area, gap, shear, bonded, slack);
         subs.push(SubContact {
             point: p,
-            local,
+            local: local.as_vec3(),
             area,
             gap,
             normal_force: out.normal_force,

@@ -753,11 +753,11 @@ impl Simulation {
                     memo.found = None;
                     match (result, geometry) {
                         (PairResult::Contact(contact), Some(geometry)) => {
-                            memo.found = Some(Found {
+                            memo.found = Some(Box::new(Found {
                                 parts: [i, j],
                                 contact,
                                 geometry,
-                            });
+                            }));
                         }
                         (PairResult::Penetrating, _) => return Outcome::Penetrating,
                         _ if !full => {
@@ -803,7 +803,7 @@ impl Simulation {
         let built: Vec<_> = self
             .memo
             .par_iter()
-            .filter_map(|m| m.found.as_ref())
+            .filter_map(|m| m.found.as_deref())
             .map(|f| build_contact(&input, f))
             .collect();
         let mut next = Contacts {
@@ -899,8 +899,9 @@ impl Simulation {
 struct PairMemo {
     /// The step of the last query (`None`: never queried since the broad phase was built).
     asked_at: Option<u64>,
-    /// The contact found then (`None`: separated).
-    found: Option<Found>,
+    /// The contact found then (`None`: separated); boxed, so that the many separated pairs
+    /// take 32 bytes each.
+    found: Option<Box<Found>>,
     /// A separated pair's certificate: the travel sum of its two bodies below which it stays
     /// separated (`-∞`: none).
     deadline: f64,
@@ -1000,6 +1001,10 @@ mod tests {
             + size_of::<f64>(); // mass-scaling factor
         assert_eq!(body, 256);
         assert_eq!(size_of::<BodyContact>(), 64);
-        assert_eq!(size_of::<SubContact>(), 128);
+        assert_eq!(size_of::<SubContact>(), 112);
+        // A face-face contact of two quadrilaterals: within the 512 bytes.
+        assert_eq!(size_of::<BodyContact>() + 4 * size_of::<SubContact>(), 512);
+        // The contact updates: per candidate pair; per body, `moved_at`, `travel`, `last_step`.
+        assert_eq!(size_of::<PairMemo>(), 32);
     }
 }
