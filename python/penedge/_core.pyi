@@ -208,6 +208,17 @@ class _SolveReport(TypedDict):
     ratio: float
     converged: bool
 
+class _StepTimings(TypedDict):
+    pairs: float
+    detect: float
+    contacts: float
+    forces: float
+    integration: float
+    placement: float
+    total: float
+    steps: int
+    rebuilds: int
+
 class _JointProperties(TypedDict):
     kn: float
     ks: float
@@ -267,6 +278,7 @@ class Simulation:
     def steps(self) -> int: ...
     @property
     def unbalanced_ratio(self) -> float: ...
+    def timings(self) -> _StepTimings: ...
     @property
     def positions(self) -> npt.NDArray[np.float64]: ...
     @property

@@ -35,10 +35,14 @@ use crate::body::BodyError;
 use crate::classify::PairResult;
 use crate::contact::Detector;
 use crate::geometry::DVec3;
-use crate::system::{BlockSystem, BroadPhase, WideBoxes};
+use crate::system::{
+    deadline, edge_certificate, holds, separation, BlockSystem, BroadPhase, WideBoxes,
+    EDGE_CERTIFICATE_STEPS,
+};
 use crate::tolerance::{Tolerance, ToleranceError};
 use contacts::{build_contact, Found, StepInput};
 use rayon::prelude::*;
+use std::time::Instant;
 use thiserror::Error;
 
 /// Why a simulation cannot be set up or stepped.
@@ -139,6 +143,42 @@ pub struct SolveReport {
     pub converged: bool,
 }
 
+/// Cumulative wall time of each part of [`Simulation::step`], in seconds, since the
+/// simulation was made (or [`Simulation::reset_timings`]): one clock reading per part and
+/// step, none per pair.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepTimings {
+    /// Candidate pairs: the check of the bodies' travel, and the broad phase when rebuilt.
+    pub pairs: f64,
+    /// The pair queries (contacts, types, features, geometry).
+    pub detect: f64,
+    /// Sub-contacts: geometry, matching to the last step's, joint law.
+    pub contacts: f64,
+    /// The sums of the contact forces and moments per body.
+    pub forces: f64,
+    /// Damping and integration of every body.
+    pub integration: f64,
+    /// Placing the moving bodies' parts at their new poses.
+    pub placement: f64,
+    /// Steps timed.
+    pub steps: u64,
+    /// Broad phases built.
+    pub rebuilds: u64,
+    /// Candidate pairs queried, summed over the steps.
+    pub queried: u64,
+    /// Candidate pairs whose two bodies had not moved since their last query (answer kept).
+    pub unmoved: u64,
+    /// Candidate pairs certified separated (answer kept).
+    pub certified: u64,
+}
+
+impl StepTimings {
+    /// The sum of the parts.
+    pub fn total(&self) -> f64 {
+        self.pairs + self.detect + self.contacts + self.forces + self.integration + self.placement
+    }
+}
+
 /// A rigid-block simulation: bodies, joint properties, contacts and the time stepping.
 #[derive(Clone, Debug)]
 pub struct Simulation {
@@ -155,6 +195,16 @@ pub struct Simulation {
     point_width: f64,
     skin: f64,
     pairs: Vec<[u32; 2]>,
+    /// Per candidate pair, its last query's answer (docs/mechanics.md, "Contact updates").
+    memo: Vec<PairMemo>,
+    /// Per body: the step whose detection first sees its current pose (the pose last changed
+    /// in any bit in the step before), the sum of the bounds of its motions (travel), and
+    /// the bound of its last step's motion.
+    moved_at: Vec<u64>,
+    travel: Vec<f64>,
+    last_step: Vec<f64>,
+    /// Whether every candidate pair is queried every step (no answer kept).
+    full_detection: bool,
     built_at: Option<Vec<Pose>>,
     contacts: Contacts,
     /// Per body, the sum of its contact forces and moments (about the centroid) last step.
@@ -169,6 +219,7 @@ pub struct Simulation {
     synced: bool,
     /// Whether the next detection is the first: its contacts are bonded.
     initial: bool,
+    timings: StepTimings,
 }
 
 impl Simulation {
@@ -210,6 +261,11 @@ impl Simulation {
             point_width: 0.2,
             skin: 0.05 * mean_size,
             pairs: Vec::new(),
+            memo: Vec::new(),
+            moved_at: vec![0; n],
+            travel: vec![0.0; n],
+            last_step: vec![0.0; n],
+            full_detection: false,
             built_at: None,
             contacts: Contacts::default(),
             forces: vec![DVec3::ZERO; n],
@@ -221,6 +277,7 @@ impl Simulation {
             ratio: f64::INFINITY,
             synced: true,
             initial: true,
+            timings: StepTimings::default(),
         }
     }
 
@@ -375,6 +432,19 @@ impl Simulation {
         Ok(())
     }
 
+    /// With `on`, every candidate pair is queried at every step, as before the contact
+    /// updates (docs/mechanics.md, "Contact updates"); off (the default), a pair whose two
+    /// bodies have not moved since its last query, or that is certified separated, keeps its
+    /// answer. Both give the same contacts, bit for bit: the switch is for comparisons.
+    pub fn set_full_detection(&mut self, on: bool) {
+        self.full_detection = on;
+    }
+
+    /// Whether every candidate pair is queried at every step.
+    pub fn full_detection(&self) -> bool {
+        self.full_detection
+    }
+
     /// Sets the time step; `None` for the automatic one (safety × critical).
     pub fn set_timestep(&mut self, dt: Option<f64>) -> Result<(), MechanicsError> {
         if let Some(dt) = dt {
@@ -482,18 +552,49 @@ impl Simulation {
         &self.moments
     }
 
+    /// The wall time spent in each part of the step so far.
+    pub fn timings(&self) -> StepTimings {
+        self.timings
+    }
+
+    /// Sets the timings to zero.
+    pub fn reset_timings(&mut self) {
+        self.timings = StepTimings::default();
+    }
+
     // ---- running ----------------------------------------------------------------------
 
     /// One step: bodies at their poses -> contacts -> sub-contacts -> forces ->
     /// integration -> new poses (docs/mechanics.md, "One step").
     pub fn step(&mut self) -> Result<(), MechanicsError> {
         let dt = self.timestep()?;
+        let mut clock = Instant::now();
+        let mut lap = |slot: &mut f64| {
+            let now = Instant::now();
+            *slot += (now - clock).as_secs_f64();
+            clock = now;
+        };
+        let mut t = self.timings;
         self.update_pairs();
-        let found = self.detect()?;
-        self.update_contacts(found, dt);
+        lap(&mut t.pairs);
+        let detected = self.detect();
+        lap(&mut t.detect);
+        let [queried, unmoved, certified] = detected?;
+        self.update_contacts(dt);
+        lap(&mut t.contacts);
         self.sum_forces();
-        self.integrate(dt)?;
+        lap(&mut t.forces);
+        let integrated = self.integrate(dt);
+        lap(&mut t.integration);
+        integrated?;
         self.place_moving();
+        lap(&mut t.placement);
+        t.steps += 1;
+        t.rebuilds = self.timings.rebuilds;
+        t.queried += queried;
+        t.unmoved += unmoved;
+        t.certified += certified;
+        self.timings = t;
         self.time += dt;
         self.steps += 1;
         Ok(())
@@ -604,50 +705,82 @@ impl Simulation {
                 self.part_body[i as usize] != self.part_body[j as usize] && (moves(i) || moves(j))
             })
             .collect();
+        self.memo = vec![PairMemo::default(); self.pairs.len()];
         self.built_at = Some(self.bodies.pose.clone());
+        self.timings.rebuilds += 1;
     }
 
-    /// The contacts of the candidate pairs, in pair order (the pair queries in parallel).
-    fn detect(&self) -> Result<Vec<Found>, MechanicsError> {
+    /// The contacts of the candidate pairs (the pair queries in parallel), kept in `memo`:
+    /// each pair is queried, or keeps its last answer when its two bodies have not moved
+    /// since (unmoved) or it is certified separated (docs/mechanics.md, "Contact updates").
+    /// The numbers of pairs queried, unmoved and certified.
+    fn detect(&mut self) -> Result<[u64; 3], MechanicsError> {
         let tol = self.tolerance;
-        let placed = &self.placed;
-        let answers: Vec<Option<Result<Found, [u32; 2]>>> = self
+        let (placed, part_body) = (&self.placed, &self.part_body);
+        let (moved_at, travel, last_step) = (&self.moved_at, &self.travel, &self.last_step);
+        let (step, full) = (self.steps, self.full_detection);
+        let bodies = &self.bodies;
+        let outcomes: Vec<Outcome> = self
             .pairs
             .par_iter()
+            .zip(&mut self.memo)
             .map_init(
                 || Detector::new(tol),
-                |det, &[i, j]| {
-                    let (result, geometry) =
-                        det.detect_with_geometry(&placed[i as usize], &placed[j as usize]);
-                    match (result, geometry) {
-                        (PairResult::Contact(contact), Some(geometry)) => Some(Ok(Found {
-                            parts: [i, j],
-                            contact,
-                            geometry,
-                        })),
-                        (PairResult::Penetrating, _) => Some(Err([i, j])),
-                        _ => None,
+                |det, (&[i, j], memo)| {
+                    let [bi, bj] =
+                        [part_body[i as usize], part_body[j as usize]].map(|b| b as usize);
+                    if let (Some(asked), false) = (memo.asked_at, full) {
+                        if moved_at[bi] <= asked && moved_at[bj] <= asked {
+                            return Outcome::Unmoved;
+                        }
+                        if memo.found.is_none() && holds(memo.deadline, [travel[bi], travel[bj]]) {
+                            return Outcome::Certified;
+                        }
                     }
+                    let (a, b) = (&placed[i as usize], &placed[j as usize]);
+                    let (result, geometry) = det.detect_with_geometry(a, b);
+                    memo.asked_at = Some(step);
+                    memo.deadline = f64::NEG_INFINITY;
+                    memo.found = None;
+                    match (result, geometry) {
+                        (PairResult::Contact(contact), Some(geometry)) => {
+                            memo.found = Some(Box::new(Found {
+                                parts: [i, j],
+                                contact,
+                                geometry,
+                            }));
+                        }
+                        (PairResult::Penetrating, _) => return Outcome::Penetrating,
+                        _ if !full => {
+                            memo.deadline =
+                                certificate(det, [a, b], [bi, bj], bodies, travel, last_step);
+                        }
+                        _ => {}
+                    }
+                    Outcome::Queried
                 },
             )
             .collect();
-        let mut found = Vec::with_capacity(answers.len());
-        for answer in answers.into_iter().flatten() {
-            match answer {
-                Ok(f) => found.push(f),
-                Err([i, j]) => {
+        let mut counts = [0u64; 3];
+        for (k, outcome) in outcomes.iter().enumerate() {
+            match outcome {
+                Outcome::Queried => counts[0] += 1,
+                Outcome::Unmoved => counts[1] += 1,
+                Outcome::Certified => counts[2] += 1,
+                Outcome::Penetrating => {
+                    let [i, j] = self.pairs[k];
                     return Err(MechanicsError::Penetration {
-                        bodies: [self.part_body[i as usize], self.part_body[j as usize]],
+                        bodies: [part_body[i as usize], part_body[j as usize]],
                         step: self.steps,
-                    })
+                    });
                 }
             }
         }
-        Ok(found)
+        Ok(counts)
     }
 
     /// Sub-contacts with their forces (in parallel per contact), matched to the last step's.
-    fn update_contacts(&mut self, found: Vec<Found>, dt: f64) {
+    fn update_contacts(&mut self, dt: f64) {
         let input = StepInput {
             bodies: &self.bodies,
             part_body: &self.part_body,
@@ -658,7 +791,12 @@ impl Simulation {
             initial: self.initial,
             point_width: self.point_width,
         };
-        let built: Vec<_> = found.par_iter().map(|f| build_contact(&input, f)).collect();
+        let built: Vec<_> = self
+            .memo
+            .par_iter()
+            .filter_map(|m| m.found.as_deref())
+            .map(|f| build_contact(&input, f))
+            .collect();
         let mut next = Contacts {
             list: Vec::with_capacity(built.len()),
             subs: Vec::with_capacity(self.contacts.subs.len()),
@@ -711,7 +849,17 @@ impl Simulation {
                 self.gravity,
                 &self.damping,
             );
+            let before = self.bodies.pose[i];
             integrate::advance(&mut self.bodies, i, f, m, dt, kick);
+            self.last_step[i] = if same_bits(&before, &self.bodies.pose[i]) {
+                0.0
+            } else {
+                // The detection of the next step is the first to see this pose.
+                self.moved_at[i] = self.steps + 1;
+                let radius = self.bodies.shape(i).radius();
+                before.displacement_bound(&self.bodies.pose[i], DVec3::ZERO, radius)
+            };
+            self.travel[i] += self.last_step[i];
             let (pose, v, l) = (
                 self.bodies.pose[i],
                 self.bodies.velocity[i],
@@ -737,9 +885,97 @@ impl Simulation {
     }
 }
 
+/// What the last query of a candidate pair found, and when.
+#[derive(Clone, Debug)]
+struct PairMemo {
+    /// The step of the last query (`None`: never queried since the broad phase was built).
+    asked_at: Option<u64>,
+    /// The contact found then (`None`: separated); boxed, so that the many separated pairs
+    /// take 32 bytes each.
+    found: Option<Box<Found>>,
+    /// A separated pair's certificate: the travel sum of its two bodies below which it stays
+    /// separated (`-∞`: none).
+    deadline: f64,
+}
+
+impl Default for PairMemo {
+    fn default() -> Self {
+        PairMemo {
+            asked_at: None,
+            found: None,
+            deadline: f64::NEG_INFINITY,
+        }
+    }
+}
+
+/// What the detection did with one candidate pair this step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Outcome {
+    Queried,
+    Unmoved,
+    Certified,
+    Penetrating,
+}
+
+/// The certificate of a pair of parts found separated (docs/mechanics.md, "Contact
+/// updates", as the `ContactTracker`'s): a face plane separating them by more than the gap,
+/// else no edge of either within the gap widened by [`EDGE_CERTIFICATE_STEPS`] times their
+/// bodies' last motions; the deadline of [`deadline`] (`-∞`: none).
+fn certificate(
+    det: &mut Detector,
+    [a, b]: [&ConvexBlock; 2],
+    [bi, bj]: [usize; 2],
+    bodies: &Bodies,
+    travel: &[f64],
+    last_step: &[f64],
+) -> f64 {
+    let gap = det.thresholds(a, b).gap;
+    let margin = separation(a, b);
+    let travels = [travel[bi], travel[bj]];
+    if margin > gap {
+        return deadline(margin, gap, travels);
+    }
+    let wider = EDGE_CERTIFICATE_STEPS * (last_step[bi] + last_step[bj]);
+    let radii = [bodies.shape(bi).radius(), bodies.shape(bj).radius()];
+    edge_certificate(det, [a, b], radii, gap, wider)
+        .map_or(f64::NEG_INFINITY, |m| deadline(m + gap, gap, travels))
+}
+
+/// Whether two poses are equal bit for bit (placing a block at either gives the same bits).
+fn same_bits(p: &Pose, q: &Pose) -> bool {
+    let bits = |p: &Pose| {
+        let (r, t) = (p.rotation.to_array(), p.translation.to_array());
+        [r[0], r[1], r[2], r[3], t[0], t[1], t[2]].map(f64::to_bits)
+    };
+    bits(p) == bits(q)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_timings_count_every_step_and_its_parts() {
+        let base = ConvexBlock::cuboid([-2.0, -2.0, -1.0], [2.0, 2.0, 0.0]).unwrap();
+        let cube = ConvexBlock::cuboid([-0.5, -0.5, 0.0], [0.5, 0.5, 1.0]).unwrap();
+        let mut sim = Simulation::new(&BlockSystem::new(vec![base, cube]), 2500.0).unwrap();
+        sim.fix(0).unwrap();
+        sim.cycle(5).unwrap();
+        let t = sim.timings();
+        assert_eq!((t.steps, t.rebuilds), (5, 1));
+        let parts = [
+            t.pairs,
+            t.detect,
+            t.contacts,
+            t.forces,
+            t.integration,
+            t.placement,
+        ];
+        assert!(parts.iter().all(|&s| s >= 0.0));
+        assert_eq!(t.total(), parts.iter().sum::<f64>());
+        sim.reset_timings();
+        assert_eq!(sim.timings(), StepTimings::default());
+    }
 
     /// The bytes docs/mechanics.md ("Memory") states: a body's state, a contact and a
     /// sub-contact.
@@ -755,6 +991,10 @@ mod tests {
             + size_of::<f64>(); // mass-scaling factor, signed by the fixity
         assert_eq!(body, 128);
         assert_eq!(size_of::<BodyContact>(), 64);
-        assert_eq!(size_of::<SubContact>(), 128);
+        assert_eq!(size_of::<SubContact>(), 112);
+        // A face-face contact of two quadrilaterals: within the issue's 512 bytes.
+        assert_eq!(size_of::<BodyContact>() + 4 * size_of::<SubContact>(), 512);
+        // The contact updates: per candidate pair; per body, `moved_at`, `travel`, `last_step`.
+        assert_eq!(size_of::<PairMemo>(), 32);
     }
 }
