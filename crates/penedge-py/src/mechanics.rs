@@ -510,9 +510,10 @@ impl Simulation {
     ///     properties apply (-1: the default), ``sub_offsets`` (m + 1,): contact ``i`` has
     ///     sub-contacts ``sub_offsets[i]:sub_offsets[i + 1]``. Per sub-contact: ``points``
     ///     (k, 3), ``areas``, ``gaps`` (> 0 apart), ``normal_forces`` (on B, > 0 in
-    ///     compression), ``shear_forces`` (k, 3) on B, ``shear_displacements`` (k, 3),
+    ///     compression; the joint's effective force, without the water's: see
+    ///     :meth:`set_water`), ``shear_forces`` (k, 3) on B, ``shear_displacements`` (k, 3),
     ///     ``states`` (0 elastic, 1 sliding, 2 open), ``bonded`` (cohesion and tension
-    ///     intact).
+    ///     intact; False: failed, the residual strength applies).
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let c = self.inner.contacts();
         let out = PyDict::new(py);
