@@ -214,3 +214,24 @@ def test_seismic_coefficient_lowers_the_wedge_factor_as_limit_equilibrium_does()
     found = math.degrees(math.atan(math.tan(math.radians(40)) / safety.factor))
     exact = math.degrees(math.atan(math.tan(math.radians(40)) / reference))
     assert found == pytest.approx(exact, abs=1.0)
+
+
+@needs_engine
+def test_residual_values_reach_the_engine_and_are_reduced_by_the_trial_factor():
+    """The residual friction and cohesion of a set go to the engine's joint model, and a
+    strength-reduction trial divides them as the peak values: tan(phi_r) / F, c_r / F."""
+    from penedge.model.engine import Engine
+
+    extra = "[joint_properties.A]\nfriction = 40\nresidual_friction = 30\nresidual_cohesion = 1e3\n"
+    setup = pm.prepare((EXAMPLES / "wedge_dry.toml").read_text() + extra)
+    engine = Engine(setup)
+    a = engine.set_ids["A"]
+    joint = engine.sim.joint(set=a)
+    assert (joint["residual_friction"], joint["residual_cohesion"]) == (30, 1e3)
+    assert engine.sim.joint()["residual_friction"] == 40  # the default: its own friction
+    engine.apply_properties({"A": engine.properties["A"].reduced(2.0)})
+    joint = engine.sim.joint(set=a)
+    assert math.tan(math.radians(joint["residual_friction"])) == pytest.approx(
+        math.tan(math.radians(30)) / 2
+    )
+    assert joint["residual_cohesion"] == pytest.approx(500)
