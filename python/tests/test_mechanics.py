@@ -193,7 +193,10 @@ def test_water_below_a_table_lifts_the_cube_by_the_water_force():
     weight, uplift = 2500.0 * 9.81, 9810.0 * 2.0
     assert 0.5 - sim.positions[1, 2] == pytest.approx((weight - uplift) / 1e9, rel=1e-3)
     # The joint carries the effective force only.
-    assert sim.contacts()["normal_forces"].sum() == pytest.approx(weight - uplift, rel=1e-3)
+    contacts = sim.contacts()
+    assert contacts["normal_forces"].sum() == pytest.approx(weight - uplift, rel=1e-3)
+    # The water force of the one face-face contact: the pressure at the base times its area.
+    assert contacts["water_forces"] == pytest.approx([9810.0 * (2.0 - contacts["points"][0, 2])])
 
 
 def test_bad_water_is_refused_by_name():

@@ -513,7 +513,9 @@ impl Simulation {
     ///     compression; the joint's effective force, without the water's: see
     ///     :meth:`set_water`), ``shear_forces`` (k, 3) on B, ``shear_displacements`` (k, 3),
     ///     ``states`` (0 elastic, 1 sliding, 2 open), ``bonded`` (cohesion and tension
-    ///     intact; False: failed, the residual strength applies).
+    ///     intact; False: failed, the residual strength applies). Per contact also
+    ///     ``water_forces`` (m,): the water force pushing B from A along the normal (0 for
+    ///     none; :meth:`set_water`).
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let c = self.inner.contacts();
         let out = PyDict::new(py);
@@ -550,6 +552,14 @@ impl Simulation {
         out.set_item("states", arrays::vector(py, states))?;
         let bonded: Vec<bool> = c.subs.iter().map(|s| s.bonded).collect();
         out.set_item("bonded", arrays::vector(py, bonded))?;
+        let water: Vec<f64> = self
+            .inner
+            .water()
+            .contact_forces(c)
+            .iter()
+            .map(|w| w.0)
+            .collect();
+        out.set_item("water_forces", arrays::vector(py, water))?;
         Ok(out)
     }
 

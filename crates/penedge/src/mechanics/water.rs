@@ -121,17 +121,18 @@ impl Water {
         (force > 0.0).then(|| (force, moment / force))
     }
 
-    /// Adds the water forces of every face-face contact to the bodies' contact forces and
-    /// moments (about their centroids): `U n` on B at the centre of pressure, `-U n` on A
-    /// (docs/mechanics.md: open or closed alike; point, edge and strip contacts carry none).
-    /// In contact order on one thread, as the sub-contacts' forces.
-    pub(super) fn add_forces(
-        &self,
-        contacts: &Contacts,
-        poses: &[Pose],
-        forces: &mut [DVec3],
-        moments: &mut [DVec3],
-    ) {
+    /// The water force of each contact, in the order of `contacts.list`: `U` (≥ 0; 0 for a
+    /// contact that carries none) and its centre of pressure.
+    pub fn contact_forces(&self, contacts: &Contacts) -> Vec<(f64, DVec3)> {
+        let mut out = vec![(0.0, DVec3::ZERO); contacts.list.len()];
+        self.each_force(contacts, |i, u, at| out[i] = (u, at));
+        out
+    }
+
+    /// Calls `f(i, U, centre)` for each contact `i` that carries a water force: the
+    /// face-face contacts' polygons (docs/mechanics.md: open or closed alike; point, edge and
+    /// strip contacts carry none), in contact order.
+    fn each_force(&self, contacts: &Contacts, mut f: impl FnMut(usize, f64, DVec3)) {
         if self.is_dry() {
             return;
         }
@@ -143,14 +144,30 @@ impl Water {
             corners.clear();
             corners.extend(contacts.subs_of(i).iter().map(|s| s.point));
             if let Some((u, at)) = self.polygon_force(c.set, &corners, c.normal) {
-                let f = c.normal * u;
-                let [a, b] = [c.bodies[0] as usize, c.bodies[1] as usize];
-                forces[b] += f;
-                moments[b] += (at - poses[b].translation).cross(f);
-                forces[a] -= f;
-                moments[a] -= (at - poses[a].translation).cross(f);
+                f(i, u, at);
             }
         }
+    }
+
+    /// Adds the water forces to the bodies' contact forces and moments (about their
+    /// centroids): `U n` on B at the centre of pressure, `-U n` on A. In contact order on one
+    /// thread, as the sub-contacts' forces.
+    pub(super) fn add_forces(
+        &self,
+        contacts: &Contacts,
+        poses: &[Pose],
+        forces: &mut [DVec3],
+        moments: &mut [DVec3],
+    ) {
+        self.each_force(contacts, |i, u, at| {
+            let c = &contacts.list[i];
+            let f = c.normal * u;
+            let [a, b] = [c.bodies[0] as usize, c.bodies[1] as usize];
+            forces[b] += f;
+            moments[b] += (at - poses[b].translation).cross(f);
+            forces[a] -= f;
+            moments[a] -= (at - poses[a].translation).cross(f);
+        });
     }
 }
 
