@@ -131,7 +131,11 @@ impl Water {
 
     /// Calls `f(i, U, centre)` for each contact `i` that carries a water force: the
     /// face-face contacts' polygons (docs/mechanics.md: open or closed alike; point, edge and
-    /// strip contacts carry none), in contact order.
+    /// strip contacts carry none), in contact order. The polygon is read from the contact's
+    /// sub-contacts, which for a face-face polygon are its corners in order (contacts.rs);
+    /// the tests of a block on a wet incline (tests/water.rs, the effective normal force)
+    /// and of a cube under a water table (python/tests/test_mechanics.py, `u A`) fail if
+    /// they are not.
     fn each_force(&self, contacts: &Contacts, mut f: impl FnMut(usize, f64, DVec3)) {
         if self.is_dry() {
             return;
