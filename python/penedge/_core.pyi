@@ -225,6 +225,8 @@ class _JointProperties(TypedDict):
     friction: float
     cohesion: float
     tension: float
+    residual_friction: float
+    residual_cohesion: float
 
 @final
 class Simulation:
@@ -244,8 +246,18 @@ class Simulation:
         cohesion: float = 0.0,
         tension: float = 0.0,
         set: int | None = None,
+        residual_friction: float | None = None,
+        residual_cohesion: float = 0.0,
     ) -> None: ...
     def joint(self, set: int | None = None) -> _JointProperties: ...
+    def set_water(
+        self,
+        level: float | None = None,
+        point: npt.ArrayLike | None = None,
+        normal: npt.ArrayLike | None = None,
+        pressures: dict[int, float] | None = None,
+        unit_weight: float = 9810.0,
+    ) -> None: ...
     @property
     def gravity(self) -> npt.NDArray[np.float64]: ...
     @gravity.setter

@@ -65,6 +65,8 @@ const JOINT: JointModel = JointModel {
     friction: 30.0,
     cohesion: 0.0,
     tension: 0.0,
+    residual_friction: None,
+    residual_cohesion: 0.0,
 };
 const LOCAL_DAMPING: f64 = 0.8;
 /// The simulation's detection gap (relative) and skin (relative to the mean block size), its

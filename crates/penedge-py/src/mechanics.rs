@@ -6,7 +6,7 @@ use crate::system::BlockSystem;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use penedge::geometry::DVec3;
-use penedge::mechanics::{self, Damping, Fixity, JointModel};
+use penedge::mechanics::{self, Damping, Fixity, JointModel, Water};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -117,12 +117,19 @@ impl Simulation {
     ///     start of the run until they fail (then 0).
     /// set : int, optional
     ///     The joint set; None for the default.
+    /// residual_friction : float, optional
+    ///     Friction angle after failure (degrees, in [0, 90)); None: `friction`.
+    /// residual_cohesion : float, default 0.0
+    ///     Cohesion after failure (3DEC's default 0). A sub-contact whose bond failed (in
+    ///     shear or tension), and one formed during the run, has the residual strength.
     ///
     /// Raises
     /// ------
     /// MechanicsError
     ///     A property out of range (the error names it).
-    #[pyo3(signature = (kn, ks, friction, cohesion = 0.0, tension = 0.0, set = None))]
+    #[pyo3(signature = (kn, ks, friction, cohesion = 0.0, tension = 0.0, set = None,
+        residual_friction = None, residual_cohesion = 0.0))]
+    #[allow(clippy::too_many_arguments)]
     fn set_joint(
         &mut self,
         kn: f64,
@@ -131,6 +138,8 @@ impl Simulation {
         cohesion: f64,
         tension: f64,
         set: Option<u32>,
+        residual_friction: Option<f64>,
+        residual_cohesion: f64,
     ) -> PyResult<()> {
         let model = JointModel {
             kn,
@@ -138,6 +147,8 @@ impl Simulation {
             friction,
             cohesion,
             tension,
+            residual_friction,
+            residual_cohesion,
         };
         match set {
             None => self.inner.set_default_joint(model),
@@ -156,7 +167,67 @@ impl Simulation {
         out.set_item("friction", m.friction)?;
         out.set_item("cohesion", m.cohesion)?;
         out.set_item("tension", m.tension)?;
+        out.set_item(
+            "residual_friction",
+            m.residual_friction.unwrap_or(m.friction),
+        )?;
+        out.set_item("residual_cohesion", m.residual_cohesion)?;
         Ok(out)
+    }
+
+    /// Sets the water pressure in the joints (``docs/mechanics.md``, "Water pressure in the
+    /// joints"): a phreatic surface, pressures per joint set, or both (a set's pressure
+    /// replaces the phreatic one on its contacts); with no argument, dry joints. The
+    /// pressure acts on the face-face contacts' polygons, pushing the blocks apart; the
+    /// joints' normal force is then the effective one.
+    ///
+    /// Parameters
+    /// ----------
+    /// level : float, optional
+    ///     A horizontal water table at this elevation (z).
+    /// point, normal : array_like (3,), optional
+    ///     An inclined phreatic surface: a point on it and its normal (not horizontal).
+    /// pressures : dict[int, float], optional
+    ///     A uniform pressure (≥ 0) on the contacts of each joint set.
+    /// unit_weight : float, default 9810.0
+    ///     ``ρw g``, the pressure per depth below the surface (depth measured along z).
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     A vertical surface, a negative pressure, a unit weight not > 0.
+    /// ValueError
+    ///     Both `level` and `point`, or `point` without `normal`.
+    #[pyo3(signature = (level = None, point = None, normal = None, pressures = None,
+        unit_weight = 9810.0))]
+    fn set_water(
+        &mut self,
+        level: Option<f64>,
+        point: Option<&Bound<'_, PyAny>>,
+        normal: Option<&Bound<'_, PyAny>>,
+        pressures: Option<std::collections::BTreeMap<u32, f64>>,
+        unit_weight: f64,
+    ) -> PyResult<()> {
+        let mut water = match (level, point, normal) {
+            (None, None, None) => Water::none(),
+            (Some(z), None, None) => Water::level(z, unit_weight).map_err(to_py_err)?,
+            (None, Some(p), Some(n)) => Water::phreatic(
+                DVec3::from_array(arrays::point(p, "point")?),
+                DVec3::from_array(arrays::point(n, "normal")?),
+                unit_weight,
+            )
+            .map_err(to_py_err)?,
+            _ => {
+                return Err(pyo3::exceptions::PyValueError::new_err(
+                    "set_water: give `level`, or `point` and `normal`, or neither",
+                ))
+            }
+        };
+        for (set, p) in pressures.unwrap_or_default() {
+            water = water.with_set_pressure(set, p).map_err(to_py_err)?;
+        }
+        self.inner.set_water(water);
+        Ok(())
     }
 
     /// Gravity, an acceleration vector (default ``(0, 0, -9.81)``).
@@ -475,9 +546,12 @@ impl Simulation {
     ///     properties apply (-1: the default), ``sub_offsets`` (m + 1,): contact ``i`` has
     ///     sub-contacts ``sub_offsets[i]:sub_offsets[i + 1]``. Per sub-contact: ``points``
     ///     (k, 3), ``areas``, ``gaps`` (> 0 apart), ``normal_forces`` (on B, > 0 in
-    ///     compression), ``shear_forces`` (k, 3) on B, ``shear_displacements`` (k, 3),
+    ///     compression; the joint's effective force, without the water's: see
+    ///     :meth:`set_water`), ``shear_forces`` (k, 3) on B, ``shear_displacements`` (k, 3),
     ///     ``states`` (0 elastic, 1 sliding, 2 open), ``bonded`` (cohesion and tension
-    ///     intact).
+    ///     intact; False: failed, the residual strength applies). Per contact also
+    ///     ``water_forces`` (m,): the water force pushing B from A along the normal (0 for
+    ///     none; :meth:`set_water`).
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let c = self.inner.contacts();
         let out = PyDict::new(py);
@@ -514,6 +588,14 @@ impl Simulation {
         out.set_item("states", arrays::vector(py, states))?;
         let bonded: Vec<bool> = c.subs.iter().map(|s| s.bonded).collect();
         out.set_item("bonded", arrays::vector(py, bonded))?;
+        let water: Vec<f64> = self
+            .inner
+            .water()
+            .contact_forces(c)
+            .iter()
+            .map(|w| w.0)
+            .collect();
+        out.set_item("water_forces", arrays::vector(py, water))?;
         Ok(out)
     }
 

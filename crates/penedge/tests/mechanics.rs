@@ -41,6 +41,7 @@ fn joint(kn: f64, friction: f64, cohesion: f64, tension: f64) -> JointModel {
         friction,
         cohesion,
         tension,
+        ..JointModel::default()
     }
 }
 

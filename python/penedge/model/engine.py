@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from penedge.model.fields import ModelError
-from penedge.model.schema import JointProperties, Model
+from penedge.model.schema import JointProperties, Model, Water
 
 
 class EngineMissingError(Exception):
@@ -38,19 +38,17 @@ def simulation_class() -> Any:
 #: them is read and checked, and its run refused with this message before any step.
 NOT_SUPPORTED = {
     "initial_stress": "initial stresses are not supported yet by the engine",
-    "water": "water pressure in the joints is not supported yet by the engine",
     "bolts": "rock bolts are not supported yet by the engine",
     "excavate": "excavation is not supported yet by the engine",
-    "residual": "residual values other than the defaults (residual_friction = friction, "
-    "residual cohesion and tension 0) are not supported yet by the engine",
+    "residual_tension": "a residual tensile strength is not supported by the engine: a failed "
+    "joint holds no tension (contacts that form during the run start failed, and a residual "
+    "tension would glue blocks that merely come near each other; docs/mechanics.md)",
 }
 
 
-def has_residual(props: JointProperties) -> bool:
-    """Whether `props` has residual values other than the engine's (friction unchanged,
-    cohesion and tension lost)."""
-    residual = props.friction if props.residual_friction is None else props.residual_friction
-    return residual != props.friction or bool(props.residual_cohesion or props.residual_tension)
+def has_residual_tension(props: JointProperties) -> bool:
+    """Whether `props` asks for a residual tensile strength (the engine has none)."""
+    return bool(props.residual_tension)
 
 
 def unsupported(model: Model) -> list[tuple[str, str]]:
@@ -58,19 +56,17 @@ def unsupported(model: Model) -> list[tuple[str, str]]:
     found = []
     if model.initial_stress is not None:
         found.append(("initial_stress", NOT_SUPPORTED["initial_stress"]))
-    if model.water is not None:
-        found.append(("water", NOT_SUPPORTED["water"]))
     if model.bolts:
         found.append(("bolts", NOT_SUPPORTED["bolts"]))
     for i, stage in enumerate(model.stages):
         if stage.kind == "excavate":
             found.append((f"stages[{i}]", NOT_SUPPORTED["excavate"]))
-        if stage.kind == "properties" and any(k.startswith("residual_") for k in stage.changes):
-            found.append((f"stages[{i}]", NOT_SUPPORTED["residual"]))
+        if stage.kind == "properties" and stage.changes.get("residual_tension"):
+            found.append((f"stages[{i}]", NOT_SUPPORTED["residual_tension"]))
     named = {"default": model.default_properties, **model.properties}
     for name, props in named.items():
-        if has_residual(props):
-            found.append((f"joint_properties.{name}", NOT_SUPPORTED["residual"]))
+        if has_residual_tension(props):
+            found.append((f"joint_properties.{name}", NOT_SUPPORTED["residual_tension"]))
             break
     return found
 
@@ -105,6 +101,8 @@ class Engine:
         self.properties = dict(model.properties)
         self.default = model.default_properties
         self.apply_properties(self.properties)
+        if model.water is not None:
+            self.apply_water(model.water)
         layout = setup.layout
         self.apply_boundary(layout.fixed, layout.velocity)
         if m.time_step is not None:
@@ -130,15 +128,33 @@ class Engine:
 
     def joint(self, props: JointProperties) -> dict[str, float]:
         """The engine's joint model of `props`."""
-        if has_residual(props):
-            raise ModelError("joint_properties", NOT_SUPPORTED["residual"])
+        if has_residual_tension(props):
+            raise ModelError("joint_properties", NOT_SUPPORTED["residual_tension"])
         return {
             "kn": props.kn,
             "ks": props.ks,
             "friction": props.friction,
             "cohesion": props.cohesion,
             "tension": props.tension,
+            "residual_friction": props.residual_friction,
+            "residual_cohesion": props.residual_cohesion,
         }
+
+    def apply_water(self, water: Water) -> None:
+        """The water in the joints: the phreatic surface (pressure per depth ``ρw g``, g the
+        magnitude of the model's static gravity, before any seismic load) and the pressures
+        per set by the sets' engine ids."""
+        surface: dict[str, Any] = {}
+        g = float(np.linalg.norm(self.setup.model.mechanics.gravity))
+        if water.phreatic is not None and g > 0:  # without gravity, no hydrostatic pressure
+            surface = {
+                "point": list(water.phreatic.point),
+                "normal": list(water.phreatic.normal),
+                "unit_weight": water.density * g,
+            }
+        self.sim.set_water(
+            **surface, pressures={self.set_ids[name]: p for name, p in water.pressures.items()}
+        )
 
     def apply_properties(self, properties: dict[str, JointProperties]) -> None:
         """Joint properties per set name (the default stays for contacts of no set)."""

@@ -24,11 +24,13 @@ mod bodies;
 mod contacts;
 mod integrate;
 mod joint;
+mod water;
 
 pub use bodies::{Bodies, Fixity};
 pub use contacts::{BodyContact, Contacts, SubContact};
 pub use integrate::{free_rotation, Damping};
 pub use joint::{JointModel, JointTable, SubState};
+pub use water::Water;
 
 use crate::block::{ConvexBlock, Pose};
 use crate::body::BodyError;
@@ -189,6 +191,7 @@ pub struct Simulation {
     /// The parts placed at their bodies' poses (a cache for the detection).
     placed: Vec<ConvexBlock>,
     joints: JointTable,
+    water: Water,
     gravity: DVec3,
     damping: Damping,
     tolerance: Tolerance,
@@ -255,6 +258,7 @@ impl Simulation {
             part_index,
             placed,
             joints: JointTable::default(),
+            water: Water::none(),
             gravity: DVec3::new(0.0, 0.0, -9.81),
             damping: Damping::default(),
             tolerance: Tolerance::with_gap(1e-3).expect("a valid gap"),
@@ -306,6 +310,16 @@ impl Simulation {
     /// Sets the joint model of joint set `set`.
     pub fn set_joint(&mut self, set: u32, model: JointModel) -> Result<(), MechanicsError> {
         self.joints.set(set, model)
+    }
+
+    /// The water in the joints.
+    pub fn water(&self) -> &Water {
+        &self.water
+    }
+
+    /// Sets the water in the joints (docs/mechanics.md, "Water pressure in the joints").
+    pub fn set_water(&mut self, water: Water) {
+        self.water = water;
     }
 
     /// Gravity (acceleration vector).
@@ -829,6 +843,9 @@ impl Simulation {
                 self.moments[a] -= (s.point - ca).cross(f);
             }
         }
+        let poses = &self.bodies.pose;
+        self.water
+            .add_forces(&self.contacts, poses, &mut self.forces, &mut self.moments);
     }
 
     /// Damps and integrates every body; the unbalanced-force ratio.
