@@ -21,11 +21,13 @@
 //! ```
 
 mod bodies;
+mod bolts;
 mod contacts;
 mod integrate;
 mod joint;
 
 pub use bodies::{Bodies, Fixity};
+pub use bolts::{Bolt, BoltElement, BoltState, Bolts};
 pub use contacts::{BodyContact, Contacts, SubContact};
 pub use integrate::{free_rotation, Damping};
 pub use joint::{JointModel, JointTable, SubState};
@@ -39,6 +41,7 @@ use crate::system::{BlockSystem, BroadPhase, WideBoxes};
 use crate::tolerance::{Tolerance, ToleranceError};
 use contacts::{build_contact, Found, StepInput};
 use rayon::prelude::*;
+use std::collections::BTreeMap;
 use thiserror::Error;
 
 /// Why a simulation cannot be set up or stepped.
@@ -123,6 +126,9 @@ pub enum MechanicsError {
     /// A block cannot be made a body.
     #[error("block {0} cannot be a body: {1}")]
     Body(usize, BodyError),
+    /// A rock bolt that cannot be installed (outside the rock, tying nothing).
+    #[error("{0}")]
+    Bolt(String),
     /// A bad detection tolerance.
     #[error("{0}")]
     Tolerance(#[from] ToleranceError),
@@ -169,6 +175,10 @@ pub struct Simulation {
     synced: bool,
     /// Whether the next detection is the first: its contacts are bonded.
     initial: bool,
+    /// Rock bolts (docs/mechanics.md, "Rock bolts").
+    bolts: Bolts,
+    /// Applied moments (world frame), per body that has one.
+    applied_moments: BTreeMap<u32, DVec3>,
 }
 
 impl Simulation {
@@ -221,6 +231,8 @@ impl Simulation {
             ratio: f64::INFINITY,
             synced: true,
             initial: true,
+            bolts: Bolts::default(),
+            applied_moments: BTreeMap::new(),
         }
     }
 
@@ -370,6 +382,56 @@ impl Simulation {
         Ok(())
     }
 
+    /// Sets a constant moment on body `i` (world frame), besides its contacts' (a dead
+    /// load: it does not turn with the body).
+    pub fn apply_moment(&mut self, i: usize, moment: DVec3) -> Result<(), MechanicsError> {
+        self.bodies.check(i)?;
+        if !moment.is_finite() {
+            return Err(MechanicsError::NotFinite("applied moment"));
+        }
+        if moment == DVec3::ZERO {
+            self.applied_moments.remove(&(i as u32));
+        } else {
+            self.applied_moments.insert(i as u32, moment);
+        }
+        Ok(())
+    }
+
+    /// Sets a constant force on body `i` acting at `point` (world, at the body's current
+    /// pose): the force on its centroid ([`Simulation::apply_force`]) and its moment about
+    /// the centroid ([`Simulation::apply_moment`]), both constant in the world frame after.
+    pub fn apply_force_at(
+        &mut self,
+        i: usize,
+        force: DVec3,
+        point: DVec3,
+    ) -> Result<(), MechanicsError> {
+        self.bodies.check(i)?;
+        if !point.is_finite() {
+            return Err(MechanicsError::NotFinite("point of the applied force"));
+        }
+        let arm = point - self.bodies.poses()[i].translation;
+        self.apply_force(i, force)?;
+        self.apply_moment(i, arm.cross(force))
+    }
+
+    /// The applied moments: `(body, moment)` for each body that has one.
+    pub fn applied_moments(&self) -> impl Iterator<Item = (usize, DVec3)> + '_ {
+        self.applied_moments.iter().map(|(&i, &m)| (i as usize, m))
+    }
+
+    /// Installs a rock bolt across the bodies its segment crosses now (docs/mechanics.md,
+    /// "Rock bolts"); its id. An error when the segment meets no body or one only.
+    pub fn add_bolt(&mut self, bolt: Bolt) -> Result<usize, MechanicsError> {
+        self.bolts
+            .install(bolt, &self.bodies, &self.placed, &self.part_body)
+    }
+
+    /// The rock bolts and the state of their elements.
+    pub fn bolts(&self) -> &Bolts {
+        &self.bolts
+    }
+
     /// Sets body `i`'s pose (it must keep the body clear of others by the gap).
     pub fn set_pose(&mut self, i: usize, pose: Pose) -> Result<(), MechanicsError> {
         self.bodies.check(i)?;
@@ -443,7 +505,10 @@ impl Simulation {
         let k = self.joints.max_stiffness();
         (0..self.bodies.len())
             .filter(|&i| self.bodies.fixity[i] == Fixity::Free)
-            .map(|i| integrate::critical_step(&self.bodies, i, k, self.bodies.scale[i]))
+            .map(|i| {
+                let contact = integrate::critical_step(&self.bodies, i, k, self.bodies.scale[i]);
+                self.bolts.critical_step(&self.bodies, i, contact)
+            })
             .reduce(f64::min)
             .ok_or(MechanicsError::NoFreeBody)
     }
@@ -480,12 +545,13 @@ impl Simulation {
         BlockSystem::new(self.placed.clone())
     }
 
-    /// Per body, the sum of its contact forces at the last step.
+    /// Per body, the sum of its contact and bolt forces at the last step.
     pub fn contact_forces(&self) -> &[DVec3] {
         &self.forces
     }
 
-    /// Per body, the sum of the moments of its contact forces about its centroid.
+    /// Per body, the sum of the moments of its contact and bolt forces about its centroid,
+    /// and of its applied moment.
     pub fn contact_moments(&self) -> &[DVec3] {
         &self.moments
     }
@@ -681,7 +747,7 @@ impl Simulation {
         self.initial = false;
     }
 
-    /// The contact forces and moments per body, summed in contact order on one thread (the
+    /// The contact (and bolt) forces and moments per body, summed in contact order on one thread (the
     /// same sum for any number of threads).
     fn sum_forces(&mut self) {
         self.forces.iter_mut().for_each(|f| *f = DVec3::ZERO);
@@ -699,6 +765,12 @@ impl Simulation {
                 self.forces[a] -= f;
                 self.moments[a] -= (s.point - ca).cross(f);
             }
+        }
+        // Rock bolts and applied moments (docs/mechanics.md, "Rock bolts").
+        self.bolts
+            .add_forces(&self.bodies, &mut self.forces, &mut self.moments);
+        for (&i, &m) in &self.applied_moments {
+            self.moments[i as usize] += m;
         }
     }
 

@@ -1,0 +1,461 @@
+//! Rock bolts: axial springs between the bodies a bolt crosses (docs/mechanics.md, "Rock
+//! bolts").
+//!
+//! A bolt is a segment (collar, direction, length) installed once: the bodies it crosses are
+//! found from the segment at the bodies' poses of that moment, in order along it, and the
+//! bolt becomes a chain of elements, one between each two consecutive bodies. Each element
+//! joins two anchor points fixed in its bodies' frames: the point where the bolt enters the
+//! first body (the face plate at the collar), the point where it leaves the last one (its
+//! far end, normally inside the rock), and the middle of its run through every body in
+//! between. So a bolt across one joint is one spring from its plate to its anchor (an
+//! end-anchored bolt); across several joints, a chain whose total stiffness is the bolt's.
+//!
+//! The axial force is `k (e - e_p)` (tension positive) with `e` the element's elongation
+//! and `e_p` its plastic elongation, up to the capacity in tension and in compression:
+//! elastic, perfectly plastic, as the axial law of 3DEC's cable elements (yield strength,
+//! no hardening). With a rupture strain, an element whose axial strain `e / l` exceeds it
+//! breaks for good (force zero), as the tensile rupture strain of 3DEC's hybrid bolts. There
+//! is no shear (dowel) resistance: the bolt acts along the line between its anchors only.
+//!
+//! The state is plain data (`pub(crate)` fields) so that a saved run can store it.
+
+use super::bodies::{Bodies, Fixity};
+use super::MechanicsError;
+use crate::block::ConvexBlock;
+use crate::geometry::DVec3;
+use std::collections::BTreeMap;
+
+/// A rock bolt to install: the segment from `collar` along `direction` for `length`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bolt {
+    /// The collar (the face plate).
+    pub collar: DVec3,
+    /// The direction into the rock (any length > 0).
+    pub direction: DVec3,
+    /// Length.
+    pub length: f64,
+    /// Axial stiffness of the whole bolt, `EA / length` (force per length).
+    pub stiffness: f64,
+    /// Axial capacity: the force at which it yields (tension and compression).
+    pub capacity: f64,
+    /// The axial strain at which an element breaks; `None`: it never breaks (perfectly
+    /// plastic).
+    pub rupture_strain: Option<f64>,
+}
+
+/// What a bolt element does now.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BoltState {
+    /// Below its capacity.
+    #[default]
+    Elastic,
+    /// At its capacity, elongating plastically.
+    Yielding,
+    /// Broken: no force any more.
+    Broken,
+}
+
+impl BoltState {
+    /// 0 elastic, 1 yielding, 2 broken.
+    pub fn code(self) -> u8 {
+        match self {
+            BoltState::Elastic => 0,
+            BoltState::Yielding => 1,
+            BoltState::Broken => 2,
+        }
+    }
+}
+
+/// One element of a bolt: an axial spring between anchors fixed in two bodies.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoltElement {
+    /// The bolt it belongs to.
+    pub(crate) bolt: u32,
+    /// Its two bodies, in order along the bolt.
+    pub(crate) bodies: [u32; 2],
+    /// The anchors in their bodies' frames.
+    pub(crate) anchors: [DVec3; 2],
+    /// Length at installation (the distance between the anchors).
+    pub(crate) rest: f64,
+    /// Axial stiffness `EA / rest`.
+    pub(crate) stiffness: f64,
+    pub(crate) capacity: f64,
+    /// Rupture strain (infinite: none).
+    pub(crate) rupture: f64,
+    /// Plastic elongation.
+    pub(crate) plastic: f64,
+    /// Elongation and axial force (tension > 0) at the last step.
+    pub(crate) elongation: f64,
+    pub(crate) force: f64,
+    pub(crate) state: BoltState,
+}
+
+impl BoltElement {
+    /// The bolt it belongs to.
+    pub fn bolt(&self) -> usize {
+        self.bolt as usize
+    }
+
+    /// Its two bodies, in order along the bolt.
+    pub fn bodies(&self) -> [usize; 2] {
+        [self.bodies[0] as usize, self.bodies[1] as usize]
+    }
+
+    /// Length at installation.
+    pub fn rest_length(&self) -> f64 {
+        self.rest
+    }
+
+    /// Elongation at the last step (negative: shortened).
+    pub fn elongation(&self) -> f64 {
+        self.elongation
+    }
+
+    /// Axial force at the last step (tension > 0).
+    pub fn force(&self) -> f64 {
+        self.force
+    }
+
+    /// Its state at the last step.
+    pub fn state(&self) -> BoltState {
+        self.state
+    }
+
+    /// The anchors in the world at the bodies' current poses.
+    pub fn ends(&self, bodies: &Bodies) -> [DVec3; 2] {
+        let poses = bodies.poses();
+        [
+            poses[self.bodies[0] as usize].apply(self.anchors[0]),
+            poses[self.bodies[1] as usize].apply(self.anchors[1]),
+        ]
+    }
+
+    /// The axial force for elongation `e`; updates the plastic elongation and the state.
+    fn load(&mut self, e: f64) -> f64 {
+        self.elongation = e;
+        if self.state == BoltState::Broken {
+            return 0.0;
+        }
+        if e > self.rupture * self.rest {
+            self.state = BoltState::Broken;
+            self.force = 0.0;
+            return 0.0;
+        }
+        let trial = self.stiffness * (e - self.plastic);
+        self.force = if trial.abs() > self.capacity {
+            self.plastic = e - trial.signum() * self.capacity / self.stiffness;
+            self.state = BoltState::Yielding;
+            trial.signum() * self.capacity
+        } else {
+            self.state = BoltState::Elastic;
+            trial
+        };
+        self.force
+    }
+}
+
+/// The bolts of a simulation: what was installed and the state of every element.
+#[derive(Clone, Debug, Default)]
+pub struct Bolts {
+    pub(crate) specs: Vec<Bolt>,
+    /// Elements, bolt after bolt, in order along each bolt.
+    pub(crate) elements: Vec<BoltElement>,
+    /// Per body with a bolt, `[Σ k, Σ k |r|²]` of its elements (critical time step).
+    pub(crate) stiffness: BTreeMap<u32, [f64; 2]>,
+}
+
+impl Bolts {
+    /// Number of bolts.
+    pub fn len(&self) -> usize {
+        self.specs.len()
+    }
+
+    /// Whether there is no bolt.
+    pub fn is_empty(&self) -> bool {
+        self.specs.is_empty()
+    }
+
+    /// The bolts as installed.
+    pub fn specs(&self) -> &[Bolt] {
+        &self.specs
+    }
+
+    /// The elements, bolt after bolt, in order along each bolt.
+    pub fn elements(&self) -> &[BoltElement] {
+        &self.elements
+    }
+
+    /// Installs `bolt` across the bodies its segment crosses now (`placed`: the parts at
+    /// their poses, `part_body` their bodies); its id.
+    pub(super) fn install(
+        &mut self,
+        bolt: Bolt,
+        bodies: &Bodies,
+        placed: &[ConvexBlock],
+        part_body: &[u32],
+    ) -> Result<usize, MechanicsError> {
+        check(&bolt)?;
+        let d = bolt.direction.normalize();
+        let end = bolt.collar + d * bolt.length;
+        let runs = crossed(placed, part_body, bolt.collar, end);
+        let text = |p: DVec3| format!("({}, {}, {})", p.x, p.y, p.z);
+        let bodies_crossed: Vec<u32> = runs.iter().map(|r| r.0).collect();
+        match bodies_crossed.as_slice() {
+            [] => {
+                return Err(MechanicsError::Bolt(format!(
+                    "the bolt from {} to {} is outside the rock (it meets no block)",
+                    text(bolt.collar),
+                    text(end)
+                )))
+            }
+            [b] => {
+                return Err(MechanicsError::Bolt(format!(
+                    "the bolt from {} to {} lies in one block ({b}): it crosses no joint and \
+                     ties nothing",
+                    text(bolt.collar),
+                    text(end)
+                )))
+            }
+            _ => {}
+        }
+        // One node per run: the entry into the first body, the exit from the last, the
+        // middle of the run through every body in between.
+        let last = runs.len() - 1;
+        let nodes: Vec<(u32, f64)> = runs
+            .iter()
+            .enumerate()
+            .map(|(k, &(b, t_in, t_out))| {
+                let t = match k {
+                    0 => t_in,
+                    k if k == last => t_out,
+                    _ => 0.5 * (t_in + t_out),
+                };
+                (b, t)
+            })
+            .collect();
+        let id = self.specs.len() as u32;
+        let ea = bolt.stiffness * bolt.length;
+        let poses = bodies.poses();
+        let local = |b: u32, t: f64| {
+            let pose = poses[b as usize];
+            pose.rotation.conjugate() * (bolt.collar + d * t - pose.translation)
+        };
+        let mut new = Vec::with_capacity(last);
+        for pair in nodes.windows(2) {
+            let [(a, ta), (b, tb)] = [pair[0], pair[1]];
+            let rest = tb - ta;
+            if a == b || rest <= 1e-12 * bolt.length {
+                continue; // two parts of one body, or no length between them
+            }
+            new.push(BoltElement {
+                bolt: id,
+                bodies: [a, b],
+                anchors: [local(a, ta), local(b, tb)],
+                rest,
+                stiffness: ea / rest,
+                capacity: bolt.capacity,
+                rupture: bolt.rupture_strain.unwrap_or(f64::INFINITY),
+                plastic: 0.0,
+                elongation: 0.0,
+                force: 0.0,
+                state: BoltState::Elastic,
+            });
+        }
+        if new.is_empty() {
+            return Err(MechanicsError::Bolt(format!(
+                "the bolt from {} to {} ties no two blocks",
+                text(bolt.collar),
+                text(end)
+            )));
+        }
+        for e in &new {
+            for (b, r) in e.bodies.iter().zip(e.anchors) {
+                let s = self.stiffness.entry(*b).or_insert([0.0; 2]);
+                s[0] += e.stiffness;
+                s[1] += e.stiffness * r.length_squared();
+            }
+        }
+        self.elements.extend(new);
+        self.specs.push(bolt);
+        Ok(id as usize)
+    }
+
+    /// Updates every element's force at the bodies' poses and adds the forces and their
+    /// moments (about the centroids) to the bodies' sums, in element order.
+    pub(super) fn add_forces(
+        &mut self,
+        bodies: &Bodies,
+        forces: &mut [DVec3],
+        moments: &mut [DVec3],
+    ) {
+        let poses = bodies.poses();
+        for e in &mut self.elements {
+            let [pa, pb] = e.ends(bodies);
+            let span = pb - pa;
+            let length = span.length();
+            let f = e.load(length - e.rest);
+            if f == 0.0 || length == 0.0 {
+                continue;
+            }
+            // Tension pulls the anchors towards each other.
+            let pull = span * (f / length);
+            let [a, b] = [e.bodies[0] as usize, e.bodies[1] as usize];
+            forces[a] += pull;
+            moments[a] += (pa - poses[a].translation).cross(pull);
+            forces[b] -= pull;
+            moments[b] -= (pb - poses[b].translation).cross(pull);
+        }
+    }
+
+    /// The critical time step of free body `i` with its bolts, from `contact`, its bound
+    /// without them (docs/mechanics.md, "Critical time step"): the bolts' stiffness adds to
+    /// the contacts', `ω² ≤ ω_c² + max(2 Σk / m, 2 Σk r² / I_min)`.
+    pub(super) fn critical_step(&self, bodies: &Bodies, i: usize, contact: f64) -> f64 {
+        let Some(&[k, kr]) = self.stiffness.get(&(i as u32)) else {
+            return contact;
+        };
+        debug_assert_eq!(bodies.fixities()[i], Fixity::Free);
+        let rate = (2.0 * k / bodies.inertial_mass(i))
+            .max(2.0 * kr / bodies.inertial_moments(i).min_element());
+        2.0 / (4.0 / (contact * contact) + rate).sqrt()
+    }
+}
+
+fn check(bolt: &Bolt) -> Result<(), MechanicsError> {
+    if !(bolt.collar.is_finite() && bolt.direction.is_finite()) {
+        return Err(MechanicsError::NotFinite("the bolt's collar or direction"));
+    }
+    if bolt.direction.length() == 0.0 {
+        return Err(MechanicsError::Bolt("the bolt's direction is zero".into()));
+    }
+    let positive = [
+        ("bolt length", bolt.length),
+        ("bolt stiffness", bolt.stiffness),
+        ("bolt capacity", bolt.capacity),
+        ("bolt rupture_strain", bolt.rupture_strain.unwrap_or(1.0)),
+    ];
+    for (name, value) in positive {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(MechanicsError::Parameter {
+                name,
+                range: "a finite number > 0",
+                value,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The runs of the segment `start -> end` through the bodies, in order along it:
+/// `(body, t_in, t_out)` with `t` the distance from `start`; consecutive runs through parts
+/// of one body merged.
+fn crossed(
+    placed: &[ConvexBlock],
+    part_body: &[u32],
+    start: DVec3,
+    end: DVec3,
+) -> Vec<(u32, f64, f64)> {
+    let length = start.distance(end);
+    let d = (end - start) / length;
+    let eps = 1e-9 * length;
+    let mut runs: Vec<(u32, f64, f64)> = placed
+        .iter()
+        .enumerate()
+        .filter_map(|(k, part)| {
+            let (mut t_in, mut t_out) = (0.0f64, length);
+            for plane in part.planes() {
+                let dn = plane.normal.dot(d);
+                let dist = plane.distance(start);
+                if dn == 0.0 {
+                    if dist > eps {
+                        return None;
+                    }
+                } else if dn < 0.0 {
+                    t_in = t_in.max(-dist / dn);
+                } else {
+                    t_out = t_out.min(-dist / dn);
+                }
+            }
+            (t_out - t_in > eps).then_some((part_body[k], t_in, t_out))
+        })
+        .collect();
+    runs.sort_by(|x, y| x.1.total_cmp(&y.1).then(x.0.cmp(&y.0)));
+    let mut merged: Vec<(u32, f64, f64)> = Vec::with_capacity(runs.len());
+    for run in runs {
+        match merged.last_mut() {
+            Some(prev) if prev.0 == run.0 => prev.2 = prev.2.max(run.2),
+            _ => merged.push(run),
+        }
+    }
+    merged
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn element(capacity: f64, rupture: f64) -> BoltElement {
+        BoltElement {
+            bolt: 0,
+            bodies: [0, 1],
+            anchors: [DVec3::ZERO; 2],
+            rest: 2.0,
+            stiffness: 10.0,
+            capacity,
+            rupture,
+            plastic: 0.0,
+            elongation: 0.0,
+            force: 0.0,
+            state: BoltState::Elastic,
+        }
+    }
+
+    #[test]
+    fn the_axial_law_is_elastic_perfectly_plastic() {
+        let mut e = element(5.0, f64::INFINITY);
+        assert_eq!(e.load(0.3), 3.0);
+        assert_eq!(e.state, BoltState::Elastic);
+        // Past the capacity: the force stays at it, the excess elongation is plastic.
+        assert_eq!(e.load(0.8), 5.0);
+        assert_eq!(e.state, BoltState::Yielding);
+        assert!((e.plastic - 0.3).abs() < 1e-15);
+        // Unloading is elastic from the plastic elongation.
+        assert!((e.load(0.6) - 3.0).abs() < 1e-12);
+        assert_eq!(e.state, BoltState::Elastic);
+        // In compression, the same capacity.
+        assert_eq!(e.load(-1.0), -5.0);
+    }
+
+    #[test]
+    fn past_its_rupture_strain_an_element_breaks_for_good() {
+        let mut e = element(1.0, 0.1); // yields at 0.1, breaks at an elongation of 0.2
+        assert_eq!(e.load(0.19), 1.0);
+        assert_eq!(e.state, BoltState::Yielding);
+        assert_eq!(e.load(0.21), 0.0);
+        assert_eq!(e.state, BoltState::Broken);
+        assert_eq!(e.load(0.0), 0.0);
+        assert_eq!(e.state, BoltState::Broken);
+    }
+
+    #[test]
+    fn a_segment_crosses_the_blocks_in_order() {
+        let blocks = vec![
+            ConvexBlock::cuboid([0.0, 0.0, 2.0], [1.0, 1.0, 3.0]).unwrap(),
+            ConvexBlock::cuboid([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]).unwrap(),
+            ConvexBlock::cuboid([0.0, 0.0, 1.0], [1.0, 1.0, 2.0]).unwrap(),
+            ConvexBlock::cuboid([5.0, 5.0, 0.0], [6.0, 6.0, 1.0]).unwrap(),
+        ];
+        let runs = crossed(
+            &blocks,
+            &[7, 8, 9, 10],
+            DVec3::new(0.5, 0.5, -1.0),
+            DVec3::new(0.5, 0.5, 2.5),
+        );
+        let want = [(8, 1.0, 2.0), (9, 2.0, 3.0), (7, 3.0, 3.5)];
+        assert_eq!(runs.len(), 3);
+        for (got, want) in runs.iter().zip(want) {
+            assert_eq!(got.0, want.0);
+            assert!((got.1 - want.1).abs() < 1e-12 && (got.2 - want.2).abs() < 1e-12);
+        }
+    }
+}
