@@ -148,8 +148,9 @@ class Bolt:
     point: tuple[float, float, float]  # collar (m)
     direction: tuple[float, float, float]  # unit vector, into the rock
     length: float  # m
-    capacity: float  # N, axial (tensile) capacity
-    stiffness: float  # N/m, axial
+    capacity: float  # N, axial capacity (it yields at it)
+    stiffness: float  # N/m, axial, of the whole length (EA / length)
+    rupture_strain: float | None = None  # axial strain at which it breaks; None: never
 
     @property
     def end(self) -> tuple[float, float, float]:
@@ -654,6 +655,7 @@ def parse_bolts(tables: list[Table]) -> list[Bolt]:
                 length=t.number("length", required=True, above=0),
                 capacity=t.number("capacity", required=True, above=0),
                 stiffness=t.number("stiffness", required=True, above=0),
+                rupture_strain=t.optional_number("rupture_strain", above=0),
             )
         )
         t.done()

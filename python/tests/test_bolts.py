@@ -1,0 +1,165 @@
+"""Rock bolts and applied moments through Python (``Simulation.add_bolt``, ``bolts()``,
+``apply_moment``, ``apply_force(point=...)``) and in model files (``[[bolts]]``, support
+pressures off the centroid). References are formulas computed here."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import penedge
+import penedge.model as pm
+from penedge.model.engine import Engine, unsupported
+from penedge.model.fields import ModelError
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
+G = 9.81
+
+
+def hanging_cube(capacity: float = 1e6, rupture_strain: float | None = None):
+    """A free 1 m cube 0.1 m under a fixed ceiling, on a bolt from the ceiling's top down
+    to the cube's centroid (one 1.5 m element)."""
+    ceiling = penedge.Block.cuboid([-1, -1, 1.1], [1, 1, 2])
+    cube = penedge.Block.cuboid([-0.5, -0.5, 0], [0.5, 0.5, 1])
+    sim = penedge.Simulation(penedge.BlockSystem([ceiling, cube]), density=2500.0)
+    sim.fix([0])
+    bolt = sim.add_bolt(
+        [0, 0, 2], [0, 0, -1], 1.5, stiffness=1e7, capacity=capacity, rupture_strain=rupture_strain
+    )
+    return sim, bolt
+
+
+def test_a_hanging_block_stretches_its_bolt_by_w_over_k():
+    sim, bolt = hanging_cube()
+    assert bolt == 0
+    report = sim.solve(ratio=1e-7, max_steps=200_000)
+    assert report["converged"]
+    weight = 2500.0 * G
+    b = sim.bolts()
+    assert b["bolt"].tolist() == [0]
+    assert b["pairs"].tolist() == [[0, 1]]
+    assert b["rest_lengths"][0] == pytest.approx(1.5)
+    assert b["forces"][0] == pytest.approx(weight, rel=1e-6)
+    assert b["elongations"][0] == pytest.approx(weight / 1e7, rel=1e-6)
+    assert b["states"].tolist() == [0]
+    assert b["ends"][0] == pytest.approx(sim.positions[1])  # anchored at the centroid
+    assert b["starts"][0] == pytest.approx([0, 0, 2])
+
+
+def test_a_bolt_below_the_weight_yields_and_one_past_its_rupture_strain_breaks():
+    weight = 2500.0 * G
+    sim, _ = hanging_cube(capacity=0.5 * weight)
+    sim.run_until(0.3)
+    b = sim.bolts()
+    assert b["states"].tolist() == [1]
+    assert b["forces"][0] == pytest.approx(0.5 * weight)
+    assert sim.positions[1, 2] < 0.5 - 0.1  # falling
+    sim, _ = hanging_cube(capacity=0.5 * weight, rupture_strain=0.01)
+    sim.run_until(0.3)
+    b = sim.bolts()
+    assert b["states"].tolist() == [2]
+    assert b["forces"][0] == 0.0
+
+
+def test_bad_bolts_are_refused_with_the_reason():
+    sim, _ = hanging_cube()
+    with pytest.raises(penedge.MechanicsError, match="outside the rock"):
+        sim.add_bolt([5, 5, 0], [0, 0, 1], 1.0, stiffness=1e7, capacity=1e5)
+    with pytest.raises(penedge.MechanicsError, match="ties nothing"):
+        sim.add_bolt([0, 0, 2], [0, 0, -1], 0.5, stiffness=1e7, capacity=1e5)
+    with pytest.raises(penedge.MechanicsError, match="bolt capacity"):
+        sim.add_bolt([0, 0, 2], [0, 0, -1], 1.5, stiffness=1e7, capacity=-1.0)
+
+
+def test_an_applied_moment_and_a_force_at_a_point_turn_a_free_body():
+    cube = penedge.Block.cuboid([-0.5, -0.5, -0.5], [0.5, 0.5, 0.5])
+    sim = penedge.Simulation(penedge.BlockSystem([cube]), density=10000.0)
+    sim.gravity = [0, 0, 0]
+    sim.set_timestep(dt=1e-4)
+    # A force F at the point p: F / m on the centroid, (p - c) x F / I about it (a cube's
+    # principal moments are all m a^2 / 6; the spin is small enough to stay on one axis).
+    sim.apply_force(0, [0, 0, 2.0], point=[0.5, 0, 0])
+    sim.step(1000)
+    t = 999.5e-4  # velocities at the half step: the first kick was a half one
+    m, inertia = 10000.0, 10000.0 / 6.0
+    assert sim.velocities[0] == pytest.approx([0, 0, 2.0 * t / m], rel=1e-9)
+    moment = np.cross([0.5, 0, 0], [0, 0, 2.0])
+    assert sim.spins[0] == pytest.approx(moment * t / inertia, rel=1e-9, abs=1e-15)
+    sim.apply_moment(0, [0, 0, 0])  # removes it
+    with pytest.raises(penedge.MechanicsError):
+        sim.apply_moment(3, [1, 0, 0])
+
+
+def tunnel_text(capacity: float | None) -> str:
+    """The tunnel roof example, its bolt with `capacity` (None: no bolt), and a solve with a
+    budget that the stable run needs a fraction of."""
+    text = (EXAMPLES / "tunnel_roof_bolt.toml").read_text()
+    head, bolt = text.split("[[bolts]]")
+    bolt, tail = bolt.split("[[monitors]]")
+    if capacity is not None:
+        bolt = bolt.replace("capacity = 600e3", f"capacity = {capacity}")
+        head += "[[bolts]]" + bolt
+    return head + "[mechanics]\nmax_steps = 20000\n\n[[monitors]]" + tail
+
+
+def weight_of_the_wedge() -> float:
+    # a pyramid of height 3 on an equilateral triangle of inradius 3 / tan 60
+    side = 2 * np.sqrt(3) * 3 / np.tan(np.radians(60))
+    return float(np.sqrt(3) / 4 * side**2 * 3 / 3 * 2700 * G)
+
+
+def solve_tunnel(capacity: float | None) -> tuple[bool, float, list[dict]]:
+    """Solves the tunnel model: (converged, the wedge's drop in m, the bolts at the end)."""
+    setup = pm.prepare(pm.parse_model(tunnel_text(capacity)))
+    engine = Engine(setup)
+    wedge = setup.layout.monitors["wedge"]
+    z0 = engine.positions()[wedge, 2]
+    report = engine.sim.solve(ratio=1e-5, max_steps=20_000)
+    return bool(report["converged"]), float(z0 - engine.positions()[wedge, 2]), engine.bolts()
+
+
+def test_the_tunnel_example_is_no_longer_refused():
+    model = pm.read_model(EXAMPLES / "tunnel_roof_bolt.toml")
+    assert unsupported(model) == []
+
+
+def test_the_tunnel_wedge_hangs_on_its_bolt_and_falls_without_it_or_with_a_weak_one():
+    weight = weight_of_the_wedge()
+    converged, drop, bolts = solve_tunnel(600e3)
+    assert converged
+    assert bolts[0]["name"] == "crown"
+    assert bolts[0]["state"] == "elastic"
+    assert bolts[0]["force"] == pytest.approx(weight, rel=1e-3)
+    assert drop == pytest.approx(weight / 50e6, rel=0.05)
+    for capacity in (None, 250e3):  # no bolt; a bolt below the weight
+        converged, drop, bolts = solve_tunnel(capacity)
+        assert not converged
+        assert drop > 30 * weight / 50e6  # falling out, not hanging
+        if capacity is not None:
+            assert bolts[0]["state"] == "yielding"
+
+
+def test_a_bolt_outside_the_rock_is_an_error_naming_its_field():
+    text = tunnel_text(600e3).replace(
+        "point = [5, 5, 0]         # the collar, on the roof", "point = [50, 5, 0]"
+    )
+    with pytest.raises(ModelError, match=r"bolts\[0\]\.point: .* outside the rock"):
+        pm.prepare(pm.parse_model(text))
+
+
+def test_a_support_pressure_off_the_centroid_runs_with_its_moment():
+    """A pressure on the top face of the Hoek & Bray wedge: that face's centre is not above
+    the tetrahedron's centroid, so the resultant has a moment about it. Once refused, the
+    model now runs: the pressure pushes the wedge into its joints and it stays."""
+    text = (EXAMPLES / "wedge_dry.toml").read_text()
+    text = text[: text.index("[[stages]]")]
+    text += '[[support]]\nregion = "wedge"\nface = "top"\npressure = 2e4\n'
+    text += '[[stages]]\ntype = "solve"\n'
+    setup = pm.prepare(pm.parse_model(text))
+    wedge = setup.layout.monitors["wedge"]
+    assert np.abs(setup.layout.support_moments[wedge]).max() > 1e3  # N m
+    outcome = pm.simulate(setup)
+    assert outcome.stable
+    assert outcome.max_displacement[0] < 0.01
