@@ -55,6 +55,56 @@ fn a_block_hanging_from_a_bolt_stretches_it_by_its_weight_over_the_stiffness() {
     assert!(sim.critical_timestep().unwrap() <= bound);
 }
 
+/// A bolt across three bodies is a chain: a fixed ceiling (z in [2.2, 3]) and two cubes
+/// hanging one under the other (z in [1.1, 2.1] and [0, 1]), a 2.5 m bolt from the ceiling's
+/// top down to the lower cube's centroid. Its nodes: the plate (t = 0), the middle of its run
+/// through the upper cube (t = 1.4, that cube's centroid) and its end (t = 2.5); so two
+/// elements of 1.4 and 1.1 m, each of stiffness EA / l with EA = k × 2.5. At equilibrium the
+/// upper element carries both weights, the lower one the lower cube's: the cubes drop by
+/// e₁ = 2W l₁ / EA and e₁ + e₂, e₂ = W l₂ / EA.
+#[test]
+fn a_bolt_across_three_bodies_is_a_chain_of_springs_carrying_what_hangs_below() {
+    let ceiling = ConvexBlock::cuboid([-1.0, -1.0, 2.2], [1.0, 1.0, 3.0]).unwrap();
+    let upper = ConvexBlock::cuboid([-0.5, -0.5, 1.1], [0.5, 0.5, 2.1]).unwrap();
+    let lower = ConvexBlock::cuboid([-0.5, -0.5, 0.0], [0.5, 0.5, 1.0]).unwrap();
+    let system = BlockSystem::new(vec![lower, ceiling, upper]);
+    let mut sim = Simulation::new(&system, DENSITY).unwrap();
+    sim.fix(1).unwrap();
+    let k = 1e7;
+    sim.add_bolt(Bolt {
+        collar: DVec3::new(0.0, 0.0, 3.0),
+        direction: DVec3::new(0.0, 0.0, -1.0),
+        length: 2.5,
+        stiffness: k,
+        capacity: 1e6,
+        rupture_strain: None,
+    })
+    .unwrap();
+    let elements = sim.bolts().elements().to_vec();
+    assert_eq!(elements.len(), 2);
+    assert_eq!(elements[0].bodies(), [1, 2]);
+    assert_eq!(elements[1].bodies(), [2, 0]);
+    let (l1, l2) = (1.4, 1.1);
+    assert!((elements[0].rest_length() - l1).abs() < 1e-12);
+    assert!((elements[1].rest_length() - l2).abs() < 1e-12);
+    let report = sim.solve(1e-7, 400_000).unwrap();
+    assert!(report.converged, "{report:?}");
+    let weight = DENSITY * G;
+    let ea = k * 2.5;
+    let (e1, e2) = (2.0 * weight * l1 / ea, weight * l2 / ea);
+    let [first, second] = [sim.bolts().elements()[0], sim.bolts().elements()[1]];
+    assert!((first.force() - 2.0 * weight).abs() < 1e-5 * weight);
+    assert!((second.force() - weight).abs() < 1e-5 * weight);
+    let poses = sim.bodies().poses();
+    let drop_upper = 1.6 - poses[2].translation.z;
+    let drop_lower = 0.5 - poses[0].translation.z;
+    assert!((drop_upper - e1).abs() < 1e-5 * e1, "{drop_upper} {e1}");
+    assert!(
+        (drop_lower - (e1 + e2)).abs() < 1e-5 * (e1 + e2),
+        "{drop_lower}"
+    );
+}
+
 /// The elastic-then-yielding fall of a cube held by a bolt of capacity C < W, undamped:
 /// from rest the bolt stretches as x(t) = (W / k)(1 − cos ωt) until k x = C, at
 /// cos ωt_y = 1 − C / W, then it yields and the cube falls with the constant acceleration
