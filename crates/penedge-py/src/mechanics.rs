@@ -286,6 +286,10 @@ impl Simulation {
     ///     compression).
     /// rupture_strain : float, optional
     ///     The axial strain at which an element breaks for good; None: never.
+    /// shear_stiffness, shear_capacity : float, optional
+    ///     A dowel at each joint the bolt crosses: shear stiffness (force per relative
+    ///     displacement across the bolt) and capacity (elastic, perfectly plastic); both or
+    ///     neither (None: axial only).
     ///
     /// Returns
     /// -------
@@ -296,7 +300,11 @@ impl Simulation {
     /// ------
     /// MechanicsError
     ///     A bolt outside the rock, in one body only, or a value out of range.
-    #[pyo3(signature = (point, direction, length, stiffness, capacity, rupture_strain = None))]
+    #[pyo3(signature = (
+        point, direction, length, stiffness, capacity, rupture_strain = None,
+        shear_stiffness = None, shear_capacity = None
+    ))]
+    #[allow(clippy::too_many_arguments)]
     fn add_bolt(
         &mut self,
         point: &Bound<'_, PyAny>,
@@ -305,7 +313,22 @@ impl Simulation {
         stiffness: f64,
         capacity: f64,
         rupture_strain: Option<f64>,
+        shear_stiffness: Option<f64>,
+        shear_capacity: Option<f64>,
     ) -> PyResult<usize> {
+        let dowel = match (shear_stiffness, shear_capacity) {
+            (None, None) => None,
+            (Some(stiffness), Some(capacity)) => Some(mechanics::Dowel {
+                stiffness,
+                capacity,
+            }),
+            _ => {
+                return Err(crate::errors::input_error(
+                    "dowel",
+                    "give both shear_stiffness and shear_capacity, or neither",
+                ))
+            }
+        };
         let bolt = mechanics::Bolt {
             collar: DVec3::from_array(arrays::point(point, "point")?),
             direction: DVec3::from_array(arrays::point(direction, "direction")?),
@@ -313,6 +336,7 @@ impl Simulation {
             stiffness,
             capacity,
             rupture_strain,
+            dowel,
         };
         self.inner.add_bolt(bolt).map_err(to_py_err)
     }
@@ -326,7 +350,8 @@ impl Simulation {
     ///     ``bolt`` (k,) the bolt id of each element, ``pairs`` (k, 2) its bodies in order
     ///     along the bolt, ``starts`` and ``ends`` (k, 3) its anchors now, ``rest_lengths``,
     ///     ``elongations`` and ``forces`` (k,) (axial, tension > 0), ``states`` (k,) 0
-    ///     elastic, 1 yielding, 2 broken.
+    ///     elastic, 1 yielding, 2 broken, ``shear_forces`` (k, 3) the dowel's force on the
+    ///     second body (zero without a dowel).
     fn bolts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let elements = self.inner.bolts().elements();
         let bodies = self.inner.bodies();
@@ -356,6 +381,11 @@ impl Simulation {
         out.set_item("forces", arrays::vector(py, values(&|e| e.force())))?;
         let states: Vec<u8> = elements.iter().map(|e| e.state().code()).collect();
         out.set_item("states", arrays::vector(py, states))?;
+        let shear: Vec<[f64; 3]> = elements
+            .iter()
+            .map(|e| e.shear_force().to_array())
+            .collect();
+        out.set_item("shear_forces", arrays::rows3(py, &shear))?;
         Ok(out)
     }
 

@@ -2,7 +2,7 @@
 //! bolts"). Every reference is a formula computed here, never a number copied from a run.
 
 use penedge::glam::DVec3;
-use penedge::mechanics::{Bolt, BoltState, JointModel, MechanicsError, Simulation};
+use penedge::mechanics::{Bolt, BoltState, Dowel, JointModel, MechanicsError, Simulation};
 use penedge::{BlockSystem, ConvexBlock};
 
 const G: f64 = 9.81;
@@ -25,6 +25,7 @@ fn hanging_cube(stiffness: f64, capacity: f64, rupture_strain: Option<f64>) -> S
             stiffness,
             capacity,
             rupture_strain,
+            dowel: None,
         })
         .unwrap();
     assert_eq!(id, 0);
@@ -78,6 +79,7 @@ fn a_bolt_across_three_bodies_is_a_chain_of_springs_carrying_what_hangs_below() 
         stiffness: k,
         capacity: 1e6,
         rupture_strain: None,
+        dowel: None,
     })
     .unwrap();
     let elements = sim.bolts().elements().to_vec();
@@ -204,6 +206,7 @@ fn roof_wedge(capacity_factor: f64) -> (Simulation, f64, f64) {
         stiffness: 5e7,
         capacity: capacity_factor * required,
         rupture_strain: None,
+        dowel: None,
     })
     .unwrap();
     assert_eq!(sim.bolts().elements()[0].bodies(), [2, 1]);
@@ -241,6 +244,82 @@ fn a_roof_wedge_falls_with_a_bolt_below_the_limit_equilibrium_force() {
     let e = sim.bolts().elements()[0];
     assert_eq!(e.state(), BoltState::Yielding);
     assert!(wedge_displacement(&sim, start) > 100.0 * required / 5e7);
+}
+
+/// A cube on a frictionless joint (φ = 0, no cohesion) pinned by a vertical bolt with a dowel
+/// of shear stiffness k_s and capacity V, pushed sideways by P at the joint's height (no
+/// tipping moment): below the capacity it stops at P / k_s with the dowel carrying P; above
+/// it, the dowel slips at V and the cube slides with acceleration (P − V) / m. The bolt's
+/// axial capacity is 1 N, so that its axial force (which resists sliding once the bolt
+/// tilts) is negligible: only the dowel acts. The bolt runs from the cube (its first body)
+/// into the base: the dowel's force on the base is +P.
+fn pinned_cube(push: f64) -> Simulation {
+    let base = ConvexBlock::cuboid([-2.0, -2.0, -1.0], [2.0, 2.0, 0.0]).unwrap();
+    let cube = ConvexBlock::cuboid([-0.5, -0.5, 0.0], [0.5, 0.5, 1.0]).unwrap();
+    let mut sim = Simulation::new(&BlockSystem::new(vec![base, cube]), DENSITY).unwrap();
+    sim.fix(0).unwrap();
+    sim.set_default_joint(JointModel {
+        kn: 1e10,
+        ks: 1e9,
+        friction: 0.0,
+        cohesion: 0.0,
+        tension: 0.0,
+    })
+    .unwrap();
+    sim.add_bolt(Bolt {
+        collar: DVec3::new(0.0, 0.0, 1.0),
+        direction: DVec3::new(0.0, 0.0, -1.0),
+        length: 1.5,
+        stiffness: 1e7,
+        capacity: 1.0,
+        rupture_strain: None,
+        dowel: Some(Dowel {
+            stiffness: 1e7,
+            capacity: 2e4,
+        }),
+    })
+    .unwrap();
+    sim.apply_force_at(1, DVec3::new(push, 0.0, 0.0), DVec3::ZERO)
+        .unwrap();
+    sim
+}
+
+#[test]
+fn a_dowel_holds_a_push_below_its_capacity_at_push_over_stiffness() {
+    let push = 1e4;
+    let mut sim = pinned_cube(push);
+    let report = sim.solve(1e-7, 400_000).unwrap();
+    assert!(report.converged, "{report:?}");
+    let e = sim.bolts().elements()[0];
+    // On the base, +P; across the bolt, which the cube's shift of P / k_s tilts.
+    let v = e.shear_force();
+    assert!(
+        (v.x - push).abs() < 1e-5 * push && v.y.abs() < 1e-5 * push,
+        "{v}"
+    );
+    let dx = sim.bodies().poses()[1].translation.x;
+    assert!((dx - push / 1e7).abs() < 1e-4 * push / 1e7, "{dx}");
+}
+
+#[test]
+fn a_dowel_past_its_capacity_slips_and_the_block_slides() {
+    let (push, capacity) = (3e4, 2e4);
+    let mut sim = pinned_cube(push);
+    // Past the elastic phase (V / k_s = 2 mm, reached at 0.02 s), while the bolt's tilt is
+    // still below 1 % (its cosine 1 within 5e-5).
+    sim.run_until(0.05).unwrap();
+    let dt = sim.timestep().unwrap();
+    let mut x = [0.0; 3];
+    for xk in &mut x {
+        *xk = sim.bodies().poses()[1].translation.x;
+        sim.cycle(200).unwrap();
+    }
+    let h = 200.0 * dt;
+    let accel = (x[2] - 2.0 * x[1] + x[0]) / (h * h);
+    let want = (push - capacity) / DENSITY;
+    assert!((accel - want).abs() < 1e-3 * want, "{accel} {want}");
+    let v = sim.bolts().elements()[0].shear_force();
+    assert!((v.length() - capacity).abs() < 1e-9 * capacity);
 }
 
 /// An applied moment M on a free body in zero gravity: its angular momentum grows as M t
@@ -289,6 +368,7 @@ fn bad_bolts_get_clear_errors() {
         stiffness: 1e7,
         capacity: 1e5,
         rupture_strain: None,
+        dowel: None,
     };
     let outside = Bolt {
         collar: DVec3::new(5.0, 5.0, 0.0),

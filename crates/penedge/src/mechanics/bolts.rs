@@ -14,8 +14,12 @@
 //! and `e_p` its plastic elongation, up to the capacity in tension and in compression:
 //! elastic, perfectly plastic, as the axial law of 3DEC's cable elements (yield strength,
 //! no hardening). With a rupture strain, an element whose axial strain `e / l` exceeds it
-//! breaks for good (force zero), as the tensile rupture strain of 3DEC's hybrid bolts. There
-//! is no shear (dowel) resistance: the bolt acts along the line between its anchors only.
+//! breaks for good (force zero), as the tensile rupture strain of 3DEC's hybrid bolts.
+//!
+//! Optionally a bolt resists shear where it crosses a joint (a dowel, as the shear springs
+//! of 3DEC's hybrid bolts and local reinforcement): at the crossing between each two
+//! consecutive bodies, a spring on the two bodies' relative displacement across the bolt
+//! (perpendicular to its current axis), elastic, perfectly plastic at the shear capacity.
 //!
 //! The state is plain data (`pub(crate)` fields) so that a saved run can store it.
 
@@ -41,6 +45,17 @@ pub struct Bolt {
     /// The axial strain at which an element breaks; `None`: it never breaks (perfectly
     /// plastic).
     pub rupture_strain: Option<f64>,
+    /// Shear (dowel) resistance at each joint it crosses; `None`: axial only.
+    pub dowel: Option<Dowel>,
+}
+
+/// The shear resistance of a bolt where it crosses a joint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dowel {
+    /// Shear stiffness (force per relative displacement across the bolt).
+    pub stiffness: f64,
+    /// Shear capacity: the shear force at which it yields.
+    pub capacity: f64,
 }
 
 /// What a bolt element does now.
@@ -88,6 +103,12 @@ pub struct BoltElement {
     pub(crate) elongation: f64,
     pub(crate) force: f64,
     pub(crate) state: BoltState,
+    /// The dowel at the joint crossing (stiffness 0: none): the crossing in both bodies'
+    /// frames, its plastic slip and its shear force on the second body (world frame).
+    pub(crate) dowel: Dowel,
+    pub(crate) crossing: [DVec3; 2],
+    pub(crate) slip: DVec3,
+    pub(crate) shear: DVec3,
 }
 
 impl BoltElement {
@@ -119,6 +140,31 @@ impl BoltElement {
     /// Its state at the last step.
     pub fn state(&self) -> BoltState {
         self.state
+    }
+
+    /// The dowel's shear force on the second body at the last step (zero without a dowel).
+    pub fn shear_force(&self) -> DVec3 {
+        self.shear
+    }
+
+    /// The shear force of the dowel for the relative displacement `u` of the second body's
+    /// crossing point from the first's, across the unit `axis`; updates the plastic slip.
+    fn shear_load(&mut self, u: DVec3, axis: DVec3) -> DVec3 {
+        let k = self.dowel.stiffness;
+        if k == 0.0 || self.state == BoltState::Broken {
+            self.shear = DVec3::ZERO;
+            return self.shear;
+        }
+        let across = |v: DVec3| v - axis * v.dot(axis);
+        let u = across(u);
+        let mut elastic = u - across(self.slip);
+        let trial = k * elastic.length();
+        if trial > self.dowel.capacity {
+            elastic *= self.dowel.capacity / trial;
+        }
+        self.slip = u - elastic;
+        self.shear = -elastic * k;
+        self.shear
     }
 
     /// The anchors in the world at the bodies' current poses.
@@ -233,15 +279,22 @@ impl Bolts {
                 (b, t)
             })
             .collect();
+        // The joint crossing between two consecutive runs: the middle of the gap between
+        // them (none, in rock).
+        let crossing_t: Vec<f64> = runs.windows(2).map(|w| 0.5 * (w[0].2 + w[1].1)).collect();
         let id = self.specs.len() as u32;
         let ea = bolt.stiffness * bolt.length;
+        let dowel = bolt.dowel.unwrap_or(Dowel {
+            stiffness: 0.0,
+            capacity: 0.0,
+        });
         let poses = bodies.poses();
         let local = |b: u32, t: f64| {
             let pose = poses[b as usize];
             pose.rotation.conjugate() * (bolt.collar + d * t - pose.translation)
         };
         let mut new = Vec::with_capacity(last);
-        for pair in nodes.windows(2) {
+        for (pair, &tc) in nodes.windows(2).zip(&crossing_t) {
             let [(a, ta), (b, tb)] = [pair[0], pair[1]];
             let rest = tb - ta;
             if a == b || rest <= 1e-12 * bolt.length {
@@ -259,6 +312,10 @@ impl Bolts {
                 elongation: 0.0,
                 force: 0.0,
                 state: BoltState::Elastic,
+                dowel,
+                crossing: [local(a, tc), local(b, tc)],
+                slip: DVec3::ZERO,
+                shear: DVec3::ZERO,
             });
         }
         if new.is_empty() {
@@ -269,10 +326,11 @@ impl Bolts {
             )));
         }
         for e in &new {
-            for (b, r) in e.bodies.iter().zip(e.anchors) {
-                let s = self.stiffness.entry(*b).or_insert([0.0; 2]);
-                s[0] += e.stiffness;
-                s[1] += e.stiffness * r.length_squared();
+            for side in 0..2 {
+                let s = self.stiffness.entry(e.bodies[side]).or_insert([0.0; 2]);
+                let (r, rc) = (e.anchors[side], e.crossing[side]);
+                s[0] += e.stiffness + e.dowel.stiffness;
+                s[1] += e.stiffness * r.length_squared() + e.dowel.stiffness * rc.length_squared();
             }
         }
         self.elements.extend(new);
@@ -294,16 +352,24 @@ impl Bolts {
             let span = pb - pa;
             let length = span.length();
             let f = e.load(length - e.rest);
-            if f == 0.0 || length == 0.0 {
-                continue;
-            }
-            // Tension pulls the anchors towards each other.
-            let pull = span * (f / length);
             let [a, b] = [e.bodies[0] as usize, e.bodies[1] as usize];
-            forces[a] += pull;
-            moments[a] += (pa - poses[a].translation).cross(pull);
-            forces[b] -= pull;
-            moments[b] -= (pb - poses[b].translation).cross(pull);
+            if f != 0.0 && length > 0.0 {
+                // Tension pulls the anchors towards each other.
+                let pull = span * (f / length);
+                forces[a] += pull;
+                moments[a] += (pa - poses[a].translation).cross(pull);
+                forces[b] -= pull;
+                moments[b] -= (pb - poses[b].translation).cross(pull);
+            }
+            if e.dowel.stiffness > 0.0 && length > 0.0 {
+                let ca = poses[a].apply(e.crossing[0]);
+                let cb = poses[b].apply(e.crossing[1]);
+                let v = e.shear_load(cb - ca, span / length);
+                forces[b] += v;
+                moments[b] += (cb - poses[b].translation).cross(v);
+                forces[a] -= v;
+                moments[a] -= (ca - poses[a].translation).cross(v);
+            }
         }
     }
 
@@ -333,6 +399,14 @@ fn check(bolt: &Bolt) -> Result<(), MechanicsError> {
         ("bolt stiffness", bolt.stiffness),
         ("bolt capacity", bolt.capacity),
         ("bolt rupture_strain", bolt.rupture_strain.unwrap_or(1.0)),
+        (
+            "bolt shear_stiffness",
+            bolt.dowel.map_or(1.0, |d| d.stiffness),
+        ),
+        (
+            "bolt shear_capacity",
+            bolt.dowel.map_or(1.0, |d| d.capacity),
+        ),
     ];
     for (name, value) in positive {
         if !(value.is_finite() && value > 0.0) {
@@ -407,7 +481,30 @@ mod tests {
             elongation: 0.0,
             force: 0.0,
             state: BoltState::Elastic,
+            dowel: Dowel {
+                stiffness: 4.0,
+                capacity: 2.0,
+            },
+            crossing: [DVec3::ZERO; 2],
+            slip: DVec3::ZERO,
+            shear: DVec3::ZERO,
         }
+    }
+
+    #[test]
+    fn the_dowel_resists_shear_across_the_bolt_up_to_its_capacity() {
+        let mut e = element(5.0, f64::INFINITY);
+        let axis = DVec3::Z;
+        // The axial part of the displacement is the element's, not the dowel's.
+        let v = e.shear_load(DVec3::new(0.25, 0.0, 7.0), axis);
+        assert_eq!(v, DVec3::new(-1.0, 0.0, 0.0));
+        // Past the capacity it slips: the force stays at it.
+        let v = e.shear_load(DVec3::new(0.0, 1.5, 0.0), axis);
+        assert!((v - DVec3::new(0.0, -2.0, 0.0)).length() < 1e-15);
+        assert!((e.slip - DVec3::new(0.0, 1.0, 0.0)).length() < 1e-15);
+        // Back by 0.25: elastic unloading from the slip.
+        let v = e.shear_load(DVec3::new(0.0, 1.25, 0.0), axis);
+        assert!((v - DVec3::new(0.0, -1.0, 0.0)).length() < 1e-15);
     }
 
     #[test]

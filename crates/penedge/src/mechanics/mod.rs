@@ -27,7 +27,7 @@ mod integrate;
 mod joint;
 
 pub use bodies::{Bodies, Fixity};
-pub use bolts::{Bolt, BoltElement, BoltState, Bolts};
+pub use bolts::{Bolt, BoltElement, BoltState, Bolts, Dowel};
 pub use contacts::{BodyContact, Contacts, SubContact};
 pub use integrate::{free_rotation, Damping};
 pub use joint::{JointModel, JointTable, SubState};
