@@ -163,3 +163,36 @@ def test_a_support_pressure_off_the_centroid_runs_with_its_moment():
     outcome = pm.simulate(setup)
     assert outcome.stable
     assert outcome.max_displacement[0] < 0.01
+
+
+def test_a_dowel_is_both_shear_values_or_neither():
+    sim, _ = hanging_cube()
+    with pytest.raises(penedge.InputError, match="both shear_stiffness and shear_capacity"):
+        sim.add_bolt([0, 0, 2], [0, 0, -1], 1.5, stiffness=1e7, capacity=1e5, shear_stiffness=1e6)
+    bolt = sim.add_bolt(
+        [0, 0, 2], [0, 0, -1], 1.5, 1e7, 1e5, shear_stiffness=1e6, shear_capacity=1e4
+    )
+    assert bolt == 1
+    assert sim.bolts()["shear_forces"].shape == (2, 3)
+    text = tunnel_text(600e3).replace("stiffness = 50e6", "stiffness = 50e6\nshear_stiffness = 1e8")
+    with pytest.raises(ModelError, match=r"bolts\[0\]\.shear_capacity: a dowel needs both"):
+        pm.parse_model(text)
+    model = pm.parse_model(
+        text.replace("shear_stiffness = 1e8", "shear_stiffness = 1e8\nshear_capacity = 2e5")
+    )
+    assert (model.bolts[0].shear_stiffness, model.bolts[0].shear_capacity) == (1e8, 2e5)
+
+
+def test_a_dowel_holds_a_push_at_push_over_its_stiffness():
+    """A cube on a frictionless joint pinned by a bolt with a dowel, pushed sideways at the
+    joint's height: it stops at P / k_s (the axial capacity of 1 N leaves the dowel alone)."""
+    base = penedge.Block.cuboid([-2, -2, -1], [2, 2, 0])
+    cube = penedge.Block.cuboid([-0.5, -0.5, 0], [0.5, 0.5, 1])
+    sim = penedge.Simulation(penedge.BlockSystem([base, cube]), density=2500.0)
+    sim.fix([0])
+    sim.set_joint(kn=1e10, ks=1e9, friction=0.0)
+    sim.add_bolt([0, 0, 1], [0, 0, -1], 1.5, 1e7, 1.0, shear_stiffness=1e7, shear_capacity=2e4)
+    sim.apply_force(1, [1e4, 0, 0], point=[0, 0, 0])
+    assert sim.solve(ratio=1e-7, max_steps=400_000)["converged"]
+    assert sim.positions[1, 0] == pytest.approx(1e4 / 1e7, rel=1e-4)
+    assert sim.bolts()["shear_forces"][0, 0] == pytest.approx(1e4, rel=1e-5)

@@ -133,6 +133,8 @@ class Engine:
                     bolt.stiffness,
                     bolt.capacity,
                     rupture_strain=bolt.rupture_strain,
+                    shear_stiffness=bolt.shear_stiffness,
+                    shear_capacity=bolt.shear_capacity,
                 )
             except penedge.MechanicsError as e:
                 raise ModelError(f"bolts[{i}]", str(e)) from e
