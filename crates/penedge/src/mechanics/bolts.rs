@@ -507,6 +507,12 @@ mod tests {
         assert!((v - DVec3::new(0.0, -1.0, 0.0)).length() < 1e-15);
     }
 
+    /// The figure of docs/mechanics.md ("Rock bolts and applied loads").
+    #[test]
+    fn a_bolt_element_takes_the_bytes_the_docs_state() {
+        assert_eq!(std::mem::size_of::<BoltElement>(), 232);
+    }
+
     #[test]
     fn the_axial_law_is_elastic_perfectly_plastic() {
         let mut e = element(5.0, f64::INFINITY);
