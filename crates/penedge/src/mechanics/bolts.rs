@@ -373,17 +373,27 @@ impl Bolts {
         }
     }
 
-    /// The critical time step of free body `i` with its bolts, from `contact`, its bound
-    /// without them (docs/mechanics.md, "Critical time step"): the bolts' stiffness adds to
-    /// the contacts', `ω² ≤ ω_c² + max(2 Σk / m, 2 Σk r² / I_min)`.
-    pub(super) fn critical_step(&self, bodies: &Bodies, i: usize, contact: f64) -> f64 {
-        let Some(&[k, kr]) = self.stiffness.get(&(i as u32)) else {
-            return contact;
-        };
-        debug_assert_eq!(bodies.fixities()[i], Fixity::Free);
-        let rate = (2.0 * k / bodies.inertial_mass(i))
-            .max(2.0 * kr / bodies.inertial_moments(i).min_element());
-        2.0 / (4.0 / (contact * contact) + rate).sqrt()
+    /// The critical time step with the bolts, from `contacts`, the free bodies' smallest
+    /// bound without them (docs/mechanics.md, "Critical time step"): a body's bolts add to
+    /// its stiffness, `ω² ≤ ω_c² + max(2 Σk / m, 2 Σk r² / I_min)`; bounded here by the
+    /// largest contact rate plus the largest bolt rate of a free body (at most √2 below the
+    /// bound body by body, and only where a body's bolts are as stiff as another's contacts).
+    pub(super) fn critical_step(&self, bodies: &Bodies, contacts: f64) -> f64 {
+        if self.stiffness.is_empty() {
+            return contacts;
+        }
+        let fixities = bodies.fixities();
+        let rate = self
+            .stiffness
+            .iter()
+            .filter(|(&i, _)| fixities[i as usize] == Fixity::Free)
+            .map(|(&i, &[k, kr])| {
+                let i = i as usize;
+                (2.0 * k / bodies.inertial_mass(i))
+                    .max(2.0 * kr / bodies.inertial_moments(i).min_element())
+            })
+            .fold(0.0, f64::max);
+        2.0 / (4.0 / (contacts * contacts) + rate).sqrt()
     }
 }
 

@@ -21,13 +21,11 @@
 //! ```
 
 mod bodies;
-mod bolts;
 mod contacts;
 mod integrate;
 mod joint;
 
 pub use bodies::{Bodies, Fixity};
-pub use bolts::{Bolt, BoltElement, BoltState, Bolts, Dowel};
 pub use contacts::{BodyContact, Contacts, SubContact};
 pub use integrate::{free_rotation, Damping};
 pub use joint::{JointModel, JointTable, SubState};
@@ -41,8 +39,10 @@ use crate::system::{BlockSystem, BroadPhase, WideBoxes};
 use crate::tolerance::{Tolerance, ToleranceError};
 use contacts::{build_contact, Found, StepInput};
 use rayon::prelude::*;
-use std::collections::BTreeMap;
 use thiserror::Error;
+
+mod bolts;
+pub use bolts::{Bolt, BoltElement, BoltState, Bolts, Dowel};
 
 /// Why a simulation cannot be set up or stepped.
 #[derive(Clone, Debug, Error, PartialEq)]
@@ -166,6 +166,10 @@ pub struct Simulation {
     /// Per body, the sum of its contact forces and moments (about the centroid) last step.
     forces: Vec<DVec3>,
     moments: Vec<DVec3>,
+    /// Rock bolts (docs/mechanics.md, "Rock bolts and applied loads").
+    bolts: Bolts,
+    /// Applied moments (world frame), per body that has one.
+    applied_moments: std::collections::BTreeMap<u32, DVec3>,
     dt: Option<f64>,
     safety: f64,
     time: f64,
@@ -175,10 +179,6 @@ pub struct Simulation {
     synced: bool,
     /// Whether the next detection is the first: its contacts are bonded.
     initial: bool,
-    /// Rock bolts (docs/mechanics.md, "Rock bolts").
-    bolts: Bolts,
-    /// Applied moments (world frame), per body that has one.
-    applied_moments: BTreeMap<u32, DVec3>,
 }
 
 impl Simulation {
@@ -224,6 +224,8 @@ impl Simulation {
             contacts: Contacts::default(),
             forces: vec![DVec3::ZERO; n],
             moments: vec![DVec3::ZERO; n],
+            bolts: Bolts::default(),
+            applied_moments: Default::default(),
             dt: None,
             safety: 0.5,
             time: 0.0,
@@ -231,8 +233,6 @@ impl Simulation {
             ratio: f64::INFINITY,
             synced: true,
             initial: true,
-            bolts: Bolts::default(),
-            applied_moments: BTreeMap::new(),
         }
     }
 
@@ -505,12 +505,10 @@ impl Simulation {
         let k = self.joints.max_stiffness();
         (0..self.bodies.len())
             .filter(|&i| self.bodies.fixity[i] == Fixity::Free)
-            .map(|i| {
-                let contact = integrate::critical_step(&self.bodies, i, k, self.bodies.scale[i]);
-                self.bolts.critical_step(&self.bodies, i, contact)
-            })
+            .map(|i| integrate::critical_step(&self.bodies, i, k, self.bodies.scale[i]))
             .reduce(f64::min)
             .ok_or(MechanicsError::NoFreeBody)
+            .map(|contacts| self.bolts.critical_step(&self.bodies, contacts))
     }
 
     /// The time step the next step takes.
@@ -752,6 +750,7 @@ impl Simulation {
     fn sum_forces(&mut self) {
         self.forces.iter_mut().for_each(|f| *f = DVec3::ZERO);
         self.moments.iter_mut().for_each(|m| *m = DVec3::ZERO);
+        self.add_bolts_and_moments();
         for (i, c) in self.contacts.list.iter().enumerate() {
             let [a, b] = [c.bodies[0] as usize, c.bodies[1] as usize];
             let (ca, cb) = (
@@ -766,7 +765,11 @@ impl Simulation {
                 self.moments[a] -= (s.point - ca).cross(f);
             }
         }
-        // Rock bolts and applied moments (docs/mechanics.md, "Rock bolts").
+    }
+
+    /// Adds the bolts' forces and the applied moments to the bodies' sums (docs/mechanics.md,
+    /// "Rock bolts and applied loads").
+    fn add_bolts_and_moments(&mut self) {
         self.bolts
             .add_forces(&self.bodies, &mut self.forces, &mut self.moments);
         for (&i, &m) in &self.applied_moments {
