@@ -431,13 +431,13 @@ class Runner:
         )
 
 
+def merge(props: JointProperties, changes: dict[str, float]) -> JointProperties:
+    """`props` with `changes`."""
+    return JointProperties(**{**props.__dict__, **changes})
+
+
 def bolt_results(engine: Any) -> list[dict[str, Any]]:
     """Per bolt at the end of the run: name, force, elongation, state (empty without bolts,
     or with an engine that has none)."""
     bolts = getattr(engine, "bolts", None)
     return bolts() if bolts is not None else []
-
-
-def merge(props: JointProperties, changes: dict[str, float]) -> JointProperties:
-    """`props` with `changes`."""
-    return JointProperties(**{**props.__dict__, **changes})
