@@ -400,11 +400,6 @@ def test_simulate_refuses_what_the_engine_cannot_run(tmp_path, stand_in, capsys)
     ("extra", "field"),
     [
         ("[initial_stress]\ntype = 'overburden'\n", "initial_stress"),
-        (
-            "[[bolts]]\npoint = [10, 5, 7]\ndirection = [-1, 0, 0]\nlength = 4\n"
-            "capacity = 1e5\nstiffness = 1e7\n",
-            "bolts",
-        ),
         ("[[stages]]\ntype = 'excavate'\nregion = 'wedge'\n", "stages[2]"),
     ],
 )

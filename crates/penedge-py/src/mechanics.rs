@@ -309,10 +309,155 @@ impl Simulation {
         self.inner.set_velocity(id, v, w).map_err(to_py_err)
     }
 
-    /// Applies a constant force on body `id`'s centroid (besides gravity and contacts).
-    fn apply_force(&mut self, id: usize, force: &Bound<'_, PyAny>) -> PyResult<()> {
+    /// Applies a constant force on body `id` (besides gravity and contacts), at its centroid,
+    /// or at `point` (world, at the body's current pose): then also the force's moment about
+    /// the centroid, replacing any applied moment. Both stay constant in the world frame.
+    #[pyo3(signature = (id, force, point = None))]
+    fn apply_force(
+        &mut self,
+        id: usize,
+        force: &Bound<'_, PyAny>,
+        point: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
         let f = DVec3::from_array(arrays::point(force, "force")?);
-        self.inner.apply_force(id, f).map_err(to_py_err)
+        match point {
+            None => self.inner.apply_force(id, f),
+            Some(p) => {
+                let p = DVec3::from_array(arrays::point(p, "point")?);
+                self.inner.apply_force_at(id, f, p)
+            }
+        }
+        .map_err(to_py_err)
+    }
+
+    /// Applies a constant moment on body `id` (world frame, about its centroid; replaces the
+    /// one set before; zero removes it).
+    fn apply_moment(&mut self, id: usize, moment: &Bound<'_, PyAny>) -> PyResult<()> {
+        let m = DVec3::from_array(arrays::point(moment, "moment")?);
+        self.inner.apply_moment(id, m).map_err(to_py_err)
+    }
+
+    /// Installs a rock bolt from `point` along `direction` for `length`, across the bodies
+    /// its segment crosses now (``docs/mechanics.md``, "Rock bolts"): one axial spring
+    /// between each two consecutive bodies, anchored at the plate (where it enters the first
+    /// body), the far end (where it leaves the last) and the middle of its run through each
+    /// body between.
+    ///
+    /// Parameters
+    /// ----------
+    /// point, direction : array_like, shape (3,)
+    ///     The collar, and the direction into the rock (any length).
+    /// length : float
+    ///     The bolt's length.
+    /// stiffness : float
+    ///     Axial stiffness of the whole bolt, ``EA / length`` (an element of length ``l``
+    ///     gets ``EA / l``).
+    /// capacity : float
+    ///     The axial force at which it yields (elastic, perfectly plastic, in tension and in
+    ///     compression).
+    /// rupture_strain : float, optional
+    ///     The axial strain at which an element breaks for good; None: never.
+    /// shear_stiffness, shear_capacity : float, optional
+    ///     A dowel at each joint the bolt crosses: shear stiffness (force per relative
+    ///     displacement across the bolt) and capacity (elastic, perfectly plastic); both or
+    ///     neither (None: axial only).
+    ///
+    /// Returns
+    /// -------
+    /// int
+    ///     The bolt's id.
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     A bolt outside the rock, in one body only, or a value out of range.
+    #[pyo3(signature = (
+        point, direction, length, stiffness, capacity, rupture_strain = None,
+        shear_stiffness = None, shear_capacity = None
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_bolt(
+        &mut self,
+        point: &Bound<'_, PyAny>,
+        direction: &Bound<'_, PyAny>,
+        length: f64,
+        stiffness: f64,
+        capacity: f64,
+        rupture_strain: Option<f64>,
+        shear_stiffness: Option<f64>,
+        shear_capacity: Option<f64>,
+    ) -> PyResult<usize> {
+        let dowel = match (shear_stiffness, shear_capacity) {
+            (None, None) => None,
+            (Some(stiffness), Some(capacity)) => Some(mechanics::Dowel {
+                stiffness,
+                capacity,
+            }),
+            _ => {
+                return Err(crate::errors::input_error(
+                    "dowel",
+                    "give both shear_stiffness and shear_capacity, or neither",
+                ))
+            }
+        };
+        let bolt = mechanics::Bolt {
+            collar: DVec3::from_array(arrays::point(point, "point")?),
+            direction: DVec3::from_array(arrays::point(direction, "direction")?),
+            length,
+            stiffness,
+            capacity,
+            rupture_strain,
+            dowel,
+        };
+        self.inner.add_bolt(bolt).map_err(to_py_err)
+    }
+
+    /// The bolt elements at the last step, as arrays (k elements, bolt after bolt, in order
+    /// along each bolt).
+    ///
+    /// Returns
+    /// -------
+    /// dict
+    ///     ``bolt`` (k,) the bolt id of each element, ``pairs`` (k, 2) its bodies in order
+    ///     along the bolt, ``starts`` and ``ends`` (k, 3) its anchors now, ``rest_lengths``,
+    ///     ``elongations`` and ``forces`` (k,) (axial, tension > 0), ``states`` (k,) 0
+    ///     elastic, 1 yielding, 2 broken, ``shear_forces`` (k, 3) the dowel's force on the
+    ///     second body (zero without a dowel).
+    fn bolts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let elements = self.inner.bolts().elements();
+        let bodies = self.inner.bodies();
+        let out = PyDict::new(py);
+        let ids: Vec<u64> = elements.iter().map(|e| e.bolt() as u64).collect();
+        out.set_item("bolt", arrays::vector(py, ids))?;
+        let pairs: Vec<[u64; 2]> = elements
+            .iter()
+            .map(|e| e.bodies().map(|b| b as u64))
+            .collect();
+        out.set_item("pairs", arrays::pairs(py, &pairs))?;
+        let ends: Vec<[DVec3; 2]> = elements.iter().map(|e| e.ends(bodies)).collect();
+        let column = |k: usize| -> Vec<[f64; 3]> { ends.iter().map(|p| p[k].to_array()).collect() };
+        out.set_item("starts", arrays::rows3(py, &column(0)))?;
+        out.set_item("ends", arrays::rows3(py, &column(1)))?;
+        let values = |f: &dyn Fn(&mechanics::BoltElement) -> f64| -> Vec<f64> {
+            elements.iter().map(f).collect()
+        };
+        out.set_item(
+            "rest_lengths",
+            arrays::vector(py, values(&|e| e.rest_length())),
+        )?;
+        out.set_item(
+            "elongations",
+            arrays::vector(py, values(&|e| e.elongation())),
+        )?;
+        out.set_item("forces", arrays::vector(py, values(&|e| e.force())))?;
+        let states: Vec<u8> = elements.iter().map(|e| e.state().code()).collect();
+        out.set_item("states", arrays::vector(py, states))?;
+        let shear: Vec<[f64; 3]> = elements
+            .iter()
+            .map(|e| e.shear_force().to_array())
+            .collect();
+        out.set_item("shear_forces", arrays::rows3(py, &shear))?;
+        Ok(out)
     }
 
     /// Sets the time step (None: automatic, `safety` × the critical step).
@@ -518,7 +663,7 @@ impl Simulation {
         arrays::read_only(arrays::vector(py, v))
     }
 
-    /// Per body, the sum of its contact forces at the last step, shape (n, 3).
+    /// Per body, the sum of its contact (and bolt) forces at the last step, shape (n, 3).
     #[getter]
     fn contact_forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let rows: Vec<[f64; 3]> = self

@@ -38,7 +38,6 @@ def simulation_class() -> Any:
 #: them is read and checked, and its run refused with this message before any step.
 NOT_SUPPORTED = {
     "initial_stress": "initial stresses are not supported yet by the engine",
-    "bolts": "rock bolts are not supported yet by the engine",
     "excavate": "excavation is not supported yet by the engine",
     "residual_tension": "a residual tensile strength is not supported by the engine: a failed "
     "joint holds no tension (contacts that form during the run start failed, and a residual "
@@ -56,8 +55,6 @@ def unsupported(model: Model) -> list[tuple[str, str]]:
     found = []
     if model.initial_stress is not None:
         found.append(("initial_stress", NOT_SUPPORTED["initial_stress"]))
-    if model.bolts:
-        found.append(("bolts", NOT_SUPPORTED["bolts"]))
     for i, stage in enumerate(model.stages):
         if stage.kind == "excavate":
             found.append((f"stages[{i}]", NOT_SUPPORTED["excavate"]))
@@ -109,20 +106,37 @@ class Engine:
             self.sim.set_timestep(dt=m.time_step)  # checked against the critical step
         if layout.support_forces is not None:
             self.apply_support(layout.support_forces, layout.support_moments)
+        self.bolt_names = self.apply_bolts(model.bolts)
 
     def apply_support(self, forces: np.ndarray, moments: np.ndarray | None) -> None:
-        """The support pressures as constant forces on the blocks' centroids. The engine
-        takes no applied moment yet: a pressure whose resultant is off the centroid is
-        refused (a face centred on its block, or symmetric faces, have none)."""
-        scale = float(np.abs(forces).max()) * self.setup.blocks.size
-        if moments is not None and np.abs(moments).max() > 1e-9 * scale:
-            raise ModelError(
-                "support",
-                "a support pressure whose resultant misses a block's centroid (a moment) is "
-                "not supported yet by the engine",
-            )
+        """The support pressures as constant forces on the blocks' centroids and, where
+        their resultant misses the centroid, constant moments about it."""
         for i in np.flatnonzero(np.abs(forces).sum(axis=1)):
             self.sim.apply_force(int(i), forces[i].tolist())
+        if moments is not None:
+            for i in np.flatnonzero(np.abs(moments).sum(axis=1)):
+                self.sim.apply_moment(int(i), moments[i].tolist())
+
+    def apply_bolts(self, bolts: list[Any]) -> list[str]:
+        """Installs the model's ``[[bolts]]`` (in order: bolt ``i`` is engine bolt ``i``);
+        their names. An engine refusal (a bolt outside the rock) names the bolt's field."""
+        import penedge
+
+        for i, bolt in enumerate(bolts):
+            try:
+                self.sim.add_bolt(
+                    bolt.point,
+                    bolt.direction,
+                    bolt.length,
+                    bolt.stiffness,
+                    bolt.capacity,
+                    rupture_strain=bolt.rupture_strain,
+                    shear_stiffness=bolt.shear_stiffness,
+                    shear_capacity=bolt.shear_capacity,
+                )
+            except penedge.MechanicsError as e:
+                raise ModelError(f"bolts[{i}]", str(e)) from e
+        return [bolt.name for bolt in bolts]
 
     # --- set-up ---------------------------------------------------------------------
 
@@ -231,6 +245,35 @@ class Engine:
     def system(self) -> Any:
         """The blocks at their current poses, as a :class:`penedge.BlockSystem`."""
         return self.sim.system()
+
+    def bolts(self) -> list[dict[str, Any]]:
+        """Per bolt: its name, its largest axial force now (N, tension > 0; over its
+        elements), its largest elongation (m) and its state: ``"elastic"``, ``"yielding"``
+        (an element at its capacity) or ``"broken"`` (an element broke)."""
+        if not self.bolt_names:
+            return []
+        data = self.sim.bolts()
+        out = []
+        for i, name in enumerate(self.bolt_names):
+            mine = data["bolt"] == i
+            states = data["states"][mine]
+            forces = data["forces"][mine]
+            state = (
+                "broken"
+                if (states == 2).any()
+                else "yielding"
+                if (states == 1).any()
+                else "elastic"
+            )
+            out.append(
+                {
+                    "name": name,
+                    "force": float(forces[np.argmax(np.abs(forces))]),
+                    "elongation": float(data["elongations"][mine].max()),
+                    "state": state,
+                }
+            )
+        return out
 
     def contacts(self) -> Any:
         """The contacts now, for the ParaView series (None when the engine gives none)."""

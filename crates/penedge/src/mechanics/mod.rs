@@ -47,6 +47,9 @@ use rayon::prelude::*;
 use std::time::Instant;
 use thiserror::Error;
 
+mod bolts;
+pub use bolts::{Bolt, BoltElement, BoltState, Bolts, Dowel};
+
 /// Why a simulation cannot be set up or stepped.
 #[derive(Clone, Debug, Error, PartialEq)]
 pub enum MechanicsError {
@@ -129,6 +132,9 @@ pub enum MechanicsError {
     /// A block cannot be made a body.
     #[error("block {0} cannot be a body: {1}")]
     Body(usize, BodyError),
+    /// A rock bolt that cannot be installed (outside the rock, tying nothing).
+    #[error("{0}")]
+    Bolt(String),
     /// A bad detection tolerance.
     #[error("{0}")]
     Tolerance(#[from] ToleranceError),
@@ -213,6 +219,10 @@ pub struct Simulation {
     /// Per body, the sum of its contact forces and moments (about the centroid) last step.
     forces: Vec<DVec3>,
     moments: Vec<DVec3>,
+    /// Rock bolts (docs/mechanics.md, "Rock bolts and applied loads").
+    bolts: Bolts,
+    /// Applied moments (world frame), per body that has one.
+    applied_moments: std::collections::BTreeMap<u32, DVec3>,
     dt: Option<f64>,
     safety: f64,
     time: f64,
@@ -274,6 +284,8 @@ impl Simulation {
             contacts: Contacts::default(),
             forces: vec![DVec3::ZERO; n],
             moments: vec![DVec3::ZERO; n],
+            bolts: Bolts::default(),
+            applied_moments: Default::default(),
             dt: None,
             safety: 0.5,
             time: 0.0,
@@ -435,6 +447,56 @@ impl Simulation {
         self.bodies.set_applied(i, force)
     }
 
+    /// Sets a constant moment on body `i` (world frame), besides its contacts' (a dead
+    /// load: it does not turn with the body).
+    pub fn apply_moment(&mut self, i: usize, moment: DVec3) -> Result<(), MechanicsError> {
+        self.bodies.check(i)?;
+        if !moment.is_finite() {
+            return Err(MechanicsError::NotFinite("applied moment"));
+        }
+        if moment == DVec3::ZERO {
+            self.applied_moments.remove(&(i as u32));
+        } else {
+            self.applied_moments.insert(i as u32, moment);
+        }
+        Ok(())
+    }
+
+    /// Sets a constant force on body `i` acting at `point` (world, at the body's current
+    /// pose): the force on its centroid ([`Simulation::apply_force`]) and its moment about
+    /// the centroid ([`Simulation::apply_moment`]), both constant in the world frame after.
+    pub fn apply_force_at(
+        &mut self,
+        i: usize,
+        force: DVec3,
+        point: DVec3,
+    ) -> Result<(), MechanicsError> {
+        self.bodies.check(i)?;
+        if !point.is_finite() {
+            return Err(MechanicsError::NotFinite("point of the applied force"));
+        }
+        let arm = point - self.bodies.poses()[i].translation;
+        self.apply_force(i, force)?;
+        self.apply_moment(i, arm.cross(force))
+    }
+
+    /// The applied moments: `(body, moment)` for each body that has one.
+    pub fn applied_moments(&self) -> impl Iterator<Item = (usize, DVec3)> + '_ {
+        self.applied_moments.iter().map(|(&i, &m)| (i as usize, m))
+    }
+
+    /// Installs a rock bolt across the bodies its segment crosses now (docs/mechanics.md,
+    /// "Rock bolts"); its id. An error when the segment meets no body or one only.
+    pub fn add_bolt(&mut self, bolt: Bolt) -> Result<usize, MechanicsError> {
+        self.bolts
+            .install(bolt, &self.bodies, &self.placed, &self.part_body)
+    }
+
+    /// The rock bolts and the state of their elements.
+    pub fn bolts(&self) -> &Bolts {
+        &self.bolts
+    }
+
     /// Sets body `i`'s pose (it must keep the body clear of others by the gap).
     pub fn set_pose(&mut self, i: usize, pose: Pose) -> Result<(), MechanicsError> {
         self.bodies.check(i)?;
@@ -522,6 +584,7 @@ impl Simulation {
         self.bodies
             .critical_timestep(k)
             .ok_or(MechanicsError::NoFreeBody)
+            .map(|contacts| self.bolts.critical_step(&self.bodies, contacts))
     }
 
     /// The time step the next step takes.
@@ -556,12 +619,13 @@ impl Simulation {
         BlockSystem::new(self.placed.clone())
     }
 
-    /// Per body, the sum of its contact forces at the last step.
+    /// Per body, the sum of its contact and bolt forces at the last step.
     pub fn contact_forces(&self) -> &[DVec3] {
         &self.forces
     }
 
-    /// Per body, the sum of the moments of its contact forces about its centroid.
+    /// Per body, the sum of the moments of its contact and bolt forces about its centroid,
+    /// and of its applied moment.
     pub fn contact_moments(&self) -> &[DVec3] {
         &self.moments
     }
@@ -824,11 +888,12 @@ impl Simulation {
         self.initial = false;
     }
 
-    /// The contact forces and moments per body, summed in contact order on one thread (the
+    /// The contact (and bolt) forces and moments per body, summed in contact order on one thread (the
     /// same sum for any number of threads).
     fn sum_forces(&mut self) {
         self.forces.iter_mut().for_each(|f| *f = DVec3::ZERO);
         self.moments.iter_mut().for_each(|m| *m = DVec3::ZERO);
+        self.add_bolts_and_moments();
         for (i, c) in self.contacts.list.iter().enumerate() {
             let [a, b] = [c.bodies[0] as usize, c.bodies[1] as usize];
             let (ca, cb) = (
@@ -846,6 +911,16 @@ impl Simulation {
         let poses = &self.bodies.pose;
         self.water
             .add_forces(&self.contacts, poses, &mut self.forces, &mut self.moments);
+    }
+
+    /// Adds the bolts' forces and the applied moments to the bodies' sums (docs/mechanics.md,
+    /// "Rock bolts and applied loads").
+    fn add_bolts_and_moments(&mut self) {
+        self.bolts
+            .add_forces(&self.bodies, &mut self.forces, &mut self.moments);
+        for (&i, &m) in &self.applied_moments {
+            self.moments[i as usize] += m;
+        }
     }
 
     /// Damps and integrates every body; the unbalanced-force ratio.
