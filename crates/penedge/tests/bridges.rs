@@ -1,0 +1,206 @@
+//! Rock bridges of finite joints (docs/generation.md, "Rock bridges"): the block a finite
+//! joint ends inside is cut through; the part of the plane outside the joint's extent is
+//! bridge faces, the part inside joint faces, each face wholly one or the other. References
+//! from the geometry of the box and the joint, not from a run.
+
+use penedge::generation::*;
+use penedge::geometry::DVec3;
+use penedge::ConvexBlock;
+
+#[allow(dead_code)]
+mod generation_support;
+
+const DIP: f64 = 30.0;
+
+/// The joint plane through the box's centre, dipping 30° towards +x: its unit normal and
+/// two unit vectors in it (`u` down the dip's opposite, along x-z; `w` = y).
+fn plane() -> (DVec3, DVec3, DVec3) {
+    let t = DIP.to_radians();
+    let n = DVec3::new(-t.sin(), 0.0, t.cos());
+    let u = DVec3::new(t.cos(), 0.0, t.sin());
+    (n, u, DVec3::Y)
+}
+
+const CENTRE: DVec3 = DVec3::new(5.0, 5.0, 5.0);
+
+/// The section of the box [0, 10]³ by the plane: it enters at x = 0 and leaves at x = 10
+/// (z from 5 - 5 tan 30° to 5 + 5 tan 30°, inside the box): a rectangle 10 / cos 30° by 10.
+fn section_area() -> f64 {
+    100.0 / DIP.to_radians().cos()
+}
+
+/// A square joint of half side `a` on the plane, centred on the box's centre.
+fn square(a: f64) -> Vec<[f64; 3]> {
+    let (_, u, w) = plane();
+    [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+        .iter()
+        .map(|&(s, t)| (CENTRE + u * (s * a) + w * (t * a)).to_array())
+        .collect()
+}
+
+fn face_area(block: &ConvexBlock, f: usize) -> f64 {
+    let v: Vec<DVec3> = block
+        .face(f)
+        .iter()
+        .map(|&i| block.vertices()[i as usize])
+        .collect();
+    let mut twice = DVec3::ZERO;
+    for k in 0..v.len() {
+        twice += v[k].cross(v[(k + 1) % v.len()]);
+    }
+    twice.length() / 2.0
+}
+
+/// The faces on the joint plane: (joint area, bridge area), each counted once (a face and
+/// its neighbour's are two faces).
+fn areas_on_plane(system: &penedge::BlockSystem) -> (f64, f64) {
+    let (n, _, _) = plane();
+    let (mut joint, mut bridge) = (0.0, 0.0);
+    for b in system.blocks() {
+        for (f, origin) in b.face_origins().iter().enumerate() {
+            let p = b.planes()[f];
+            let on = p.normal.cross(n).length() < 1e-9 && (p.point - CENTRE).dot(n).abs() < 1e-9;
+            match origin {
+                FaceOrigin::Joint { .. } if on => joint += face_area(b, f) / 2.0,
+                FaceOrigin::Bridge { .. } if on => bridge += face_area(b, f) / 2.0,
+                _ => {}
+            }
+        }
+    }
+    (joint, bridge)
+}
+
+fn spec(joint: Discontinuity) -> Spec {
+    Spec::new(Domain::cuboid([0.0; 3], [10.0; 3]).unwrap()).with(joint)
+}
+
+fn total_volume(system: &penedge::BlockSystem) -> f64 {
+    system.blocks().iter().map(|b| b.volume()).sum()
+}
+
+/// Whether every vertex of every joint face on the plane is inside the square (within
+/// 1e-9), and every bridge face on it lies outside one of the square's edge lines.
+fn faces_wholly_joint_or_bridge(system: &penedge::BlockSystem, a: f64) -> bool {
+    let (n, u, w) = plane();
+    let local = |p: DVec3| ((p - CENTRE).dot(u), (p - CENTRE).dot(w));
+    system.blocks().iter().all(|b| {
+        b.face_origins().iter().enumerate().all(|(f, origin)| {
+            let pl = b.planes()[f];
+            if pl.normal.cross(n).length() > 1e-9 {
+                return true;
+            }
+            let pts: Vec<(f64, f64)> = b
+                .face(f)
+                .iter()
+                .map(|&i| local(b.vertices()[i as usize]))
+                .collect();
+            match origin {
+                FaceOrigin::Joint { .. } => pts
+                    .iter()
+                    .all(|&(s, t)| s.abs() <= a + 1e-9 && t.abs() <= a + 1e-9),
+                FaceOrigin::Bridge { .. } => {
+                    let beyond = |k: usize| {
+                        pts.iter()
+                            .all(|&(s, t)| [s - a, -s - a, t - a, -t - a][k] >= -1e-9)
+                    };
+                    (0..4).any(beyond)
+                }
+                _ => true,
+            }
+        })
+    })
+}
+
+/// The areas of a square joint of half side `a` and its bridges, the volume, and each face
+/// wholly joint or bridge.
+fn check_square(system: &penedge::BlockSystem, a: f64) {
+    let (joint, bridge) = areas_on_plane(system);
+    assert!((joint - 4.0 * a * a).abs() < 1e-9, "joint area {joint}");
+    let expected = section_area() - 4.0 * a * a;
+    assert!(
+        (bridge - expected).abs() < 1e-9,
+        "bridge {bridge} vs {expected}"
+    );
+    assert!((total_volume(system) - 1000.0).abs() < 1e-9);
+    assert!(faces_wholly_joint_or_bridge(system, a));
+}
+
+#[test]
+fn a_square_joint_with_bridges_cuts_the_box_through() {
+    let a = 3.0;
+    let out = generate(&spec(Discontinuity::polygon(square(a)).with_bridges())).unwrap();
+    check_square(&out.system, a);
+    // Four seams cross the section: 4 pieces outside them and the joint's piece, each cut
+    // in two by the plane.
+    assert_eq!(out.system.len(), 10);
+    // The block file keeps the bridge faces.
+    let text = penedge::io::json::to_json_string(&out.system);
+    assert!(text.contains(r#""kind":"bridge""#) || text.contains(r#""kind": "bridge""#));
+    let back = penedge::io::json::from_json_str(&text).unwrap();
+    for (x, y) in back.blocks().iter().zip(out.system.blocks()) {
+        assert_eq!(x.face_origins(), y.face_origins());
+    }
+}
+
+#[test]
+fn without_bridges_the_block_is_left_whole() {
+    let out = generate(&spec(Discontinuity::polygon(square(3.0)))).unwrap();
+    assert_eq!(out.system.len(), 1);
+    assert_eq!(out.report.partial_cuts_by_entry, vec![1]);
+    assert_eq!(areas_on_plane(&out.system), (0.0, 0.0));
+}
+
+#[test]
+fn a_disc_with_bridges_has_the_disc_area() {
+    let (n, _, _) = plane();
+    let r = 2.5;
+    let disc = Discontinuity::disc(CENTRE.to_array(), Orientation::Normal(n.to_array()), r);
+    let out = generate(&spec(disc.with_bridges())).unwrap();
+    let (joint, bridge) = areas_on_plane(&out.system);
+    let disc_area = std::f64::consts::PI * r * r;
+    assert!(
+        (joint - disc_area).abs() < 1e-9,
+        "joint {joint} vs {disc_area}"
+    );
+    let expected = section_area() - disc_area;
+    assert!(
+        (bridge - expected).abs() < 1e-9,
+        "bridge {bridge} vs {expected}"
+    );
+    assert!((total_volume(&out.system) - 1000.0).abs() < 1e-9);
+}
+
+#[test]
+fn bridges_through_blocks_of_a_joint_set() {
+    // Vertical planes x = 2.5, 5, 7.5; the square reaches x = 5 ± 3 cos 30° = [2.40, 7.60],
+    // so it ends inside each of the four columns and every column is cut through.
+    let a = 3.0;
+    let set = JointSet {
+        origin: [2.5, 0.0, 0.0],
+        ..JointSet::new(Orientation::dip(90.0, 90.0), 2.5)
+    };
+    let spec = spec(Discontinuity::set(set)).with(Discontinuity::polygon(square(a)).with_bridges());
+    let out = generate(&spec).unwrap();
+    check_square(&out.system, a);
+    // Every joint and bridge face is covered by its neighbours' faces.
+    generation_support::check_faces(&out.system, 0);
+    assert_eq!(out.report.partial_cuts_by_entry, vec![0, 0]);
+}
+
+#[test]
+fn the_spec_file_takes_bridge_on_finite_joints_only() {
+    let text = |kind: &str| {
+        format!(
+            "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n\n[[joints]]\n{kind}\nbridge = true\n"
+        )
+    };
+    let disc =
+        text("type = \"disc\"\ncenter = [5, 5, 5]\nradius = 2\ndip = 30\ndip_direction = 90");
+    let spec = penedge::io::spec::parse_toml(&disc).unwrap();
+    assert!(spec.joints[0].bridge);
+    let plane = text("type = \"plane\"\npoint = [5, 5, 5]\ndip = 30\ndip_direction = 90");
+    let err = penedge::io::spec::parse_toml(&plane)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("joints[0].bridge"), "{err}");
+}
