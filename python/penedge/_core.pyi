@@ -235,6 +235,16 @@ class Simulation:
         set: int | None = None,
     ) -> None: ...
     def joint(self, set: int | None = None) -> _JointProperties: ...
+    def set_bridge(
+        self,
+        kn: float,
+        ks: float,
+        friction: float,
+        cohesion: float,
+        tension: float,
+        set: int | None = None,
+    ) -> None: ...
+    def bridge(self, set: int) -> _JointProperties: ...
     @property
     def gravity(self) -> npt.NDArray[np.float64]: ...
     @gravity.setter

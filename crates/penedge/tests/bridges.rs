@@ -204,3 +204,114 @@ fn the_spec_file_takes_bridge_on_finite_joints_only() {
         .to_string();
     assert!(err.contains("joints[0].bridge"), "{err}");
 }
+
+// ---- mechanics: a bridge holds a block on a slope until W sin θ > c A + N tan φ ----------
+
+mod slope {
+    use penedge::generation::FaceOrigin;
+    use penedge::glam::{DQuat, DVec3};
+    use penedge::mechanics::{JointModel, Simulation};
+    use penedge::{BlockSystem, ConvexBlock};
+
+    const G: f64 = 9.81;
+    const DENSITY: f64 = 2500.0;
+    const KN: f64 = 1e8;
+    const PHI: f64 = 10.0;
+    /// The slab: 1 m × 0.8 m × 0.1 m, its whole base a bridge of area A = 0.8 m².
+    const SIZE: [f64; 3] = [1.0, 0.8, 0.1];
+
+    /// The face of `block` whose outward normal is `n`, tagged `origin`.
+    fn tag(block: ConvexBlock, n: DVec3, origin: FaceOrigin) -> ConvexBlock {
+        let mut origins = block.face_origins().to_vec();
+        let f = (0..block.n_faces())
+            .max_by(|&i, &j| {
+                let d = |k: usize| block.planes()[k].normal.dot(n);
+                d(i).total_cmp(&d(j))
+            })
+            .unwrap();
+        origins[f] = origin;
+        block.with_face_origins(origins).unwrap()
+    }
+
+    /// A fixed base and the slab on it, on a slope `theta` (degrees) about a horizontal axis
+    /// at azimuth 0.5 rad (not aligned with the axes); the two touching faces tagged `origin`.
+    fn slab_on_slope(theta: f64, origin: FaceOrigin) -> (Simulation, DVec3) {
+        let frame = DQuat::from_rotation_z(0.5) * DQuat::from_rotation_x(theta.to_radians());
+        let [lx, ly, h] = SIZE;
+        let base = ConvexBlock::cuboid([-4.0, -4.0, -1.0], [4.0, 4.0, 0.0]).unwrap();
+        let slab =
+            ConvexBlock::cuboid([-lx / 2.0, -ly / 2.0, 0.0], [lx / 2.0, ly / 2.0, h]).unwrap();
+        let place = |b: ConvexBlock| b.transformed(frame, DVec3::new(30.0, 20.0, 10.0), 1.0);
+        let n = frame * DVec3::Z;
+        let base = tag(place(base), n, origin);
+        let slab = tag(place(slab), -n, origin);
+        let mut sim = Simulation::new(&BlockSystem::new(vec![base, slab]), DENSITY).unwrap();
+        sim.fix(0).unwrap();
+        (sim, n)
+    }
+
+    fn model(friction: f64, cohesion: f64) -> JointModel {
+        let mut m = JointModel::default();
+        (m.kn, m.ks, m.friction, m.cohesion, m.tension) = (KN, KN, friction, cohesion, 0.0);
+        m
+    }
+
+    /// The slab's displacement along the slope after gravity is ramped up over 0.3 s and held
+    /// to 0.6 s, and the elastic shear offset under its weight.
+    fn run(sim: &mut Simulation, n: DVec3, theta: f64) -> (f64, f64) {
+        let start = sim.bodies().poses()[1].translation;
+        while sim.time() < 0.6 {
+            let f = (sim.time() / 0.3).min(1.0);
+            sim.set_gravity(DVec3::new(0.0, 0.0, -G * f)).unwrap();
+            sim.step().unwrap();
+        }
+        let d = sim.bodies().poses()[1].translation - start;
+        let area = SIZE[0] * SIZE[1];
+        let weight = DENSITY * SIZE.iter().product::<f64>() * G;
+        let elastic = weight * theta.to_radians().sin() / (KN * area);
+        ((d - n * d.dot(n)).length(), elastic)
+    }
+
+    #[test]
+    fn a_bridge_holds_a_block_until_its_cohesion_is_overcome() {
+        // The cohesion that makes the slope of failure 30°: W sin θ = c A + W cos θ tan φ.
+        let area = SIZE[0] * SIZE[1];
+        let weight = DENSITY * SIZE.iter().product::<f64>() * G;
+        let onset = 30.0f64.to_radians();
+        let c = weight * (onset.sin() - onset.cos() * PHI.to_radians().tan()) / area;
+        let bridge = FaceOrigin::Bridge { set: 0, joint: 0 };
+        for (theta, breaks) in [(28.5, false), (31.5, true)] {
+            let t = f64::to_radians(theta);
+            assert_eq!(
+                weight * t.sin() > c * area + weight * t.cos() * PHI.to_radians().tan(),
+                breaks
+            );
+            let (mut sim, n) = slab_on_slope(theta, bridge);
+            // The joints are frictional only: the bridge alone holds the slab.
+            sim.set_default_joint(model(PHI, 0.0)).unwrap();
+            sim.set_bridge(0, model(PHI, c)).unwrap();
+            let (moved, elastic) = run(&mut sim, n, theta);
+            let contacts = sim.contacts();
+            assert!(contacts.list.iter().all(|k| k.bridge && k.set == Some(0)));
+            let bonded = contacts.subs.iter().filter(|s| s.bonded).count();
+            if breaks {
+                assert!(moved > 100.0 * elastic, "{theta}°: moved only {moved}");
+                assert_eq!(bonded, 0, "{theta}°: a broken bridge keeps no bond");
+            } else {
+                assert!(moved < 1.5 * elastic, "{theta}°: moved {moved} > {elastic}");
+                assert!(bonded > 0);
+            }
+        }
+    }
+
+    #[test]
+    fn the_same_faces_as_joint_faces_let_the_block_slide() {
+        let theta = 28.5;
+        let (mut sim, n) = slab_on_slope(theta, FaceOrigin::Joint { set: 0, joint: 0 });
+        sim.set_default_joint(model(PHI, 0.0)).unwrap();
+        sim.set_bridge(0, model(PHI, 1e9)).unwrap();
+        let (moved, elastic) = run(&mut sim, n, theta);
+        assert!(sim.contacts().list.iter().all(|k| !k.bridge));
+        assert!(moved > 100.0 * elastic, "moved only {moved}");
+    }
+}
