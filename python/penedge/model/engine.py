@@ -140,12 +140,17 @@ class Engine:
             "tension": props.tension,
         }
 
-    def apply_properties(self, properties: dict[str, JointProperties]) -> None:
-        """Joint properties per set name (the default stays for contacts of no set)."""
+    def apply_properties(self, properties: dict[str, JointProperties], factor: float = 1.0) -> None:
+        """Joint properties per set name (the default stays for contacts of no set), and the
+        rock bridges' of those sets, their strength divided by `factor` (strength reduction)."""
         self.sim.set_joint(**self.joint(self.default), set=None)
         for name, props in properties.items():
             self.properties[name] = props
             self.sim.set_joint(**self.joint(props), set=self.set_ids[name])
+            bridge = self.setup.model.bridges.get(name)
+            if bridge is not None:
+                reduced = bridge if factor == 1.0 else bridge.reduced(factor)
+                self.sim.set_bridge(**self.joint(reduced), set=self.set_ids[name])
 
     def apply_boundary(self, fixed: np.ndarray, velocity: np.ndarray) -> None:
         """Fixes, frees or drives every block as the masks say."""

@@ -369,7 +369,7 @@ class Runner:
             e = self.snapshot(index)
             if reduce_default:
                 e.default = default.reduced(factor)
-            e.apply_properties({n: p.reduced(factor) for n, p in original.items()})
+            e.apply_properties({n: p.reduced(factor) for n, p in original.items()}, factor)
             before = e.positions()
             try:
                 converged = self.solve(stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e)
