@@ -47,20 +47,18 @@ impl FaceOrigin {
         matches!(self, FaceOrigin::Boundary { .. })
     }
 
-    /// The joint set, for a joint face (not for a bridge face: see [`FaceOrigin::bridge`]).
+    /// The joint set, for a joint face or a rock-bridge face (which lies on the set's joint
+    /// plane: once broken it is a fracture of that set).
     pub fn set(self) -> Option<u32> {
         match self {
-            FaceOrigin::Joint { set, .. } => Some(set),
+            FaceOrigin::Joint { set, .. } | FaceOrigin::Bridge { set, .. } => Some(set),
             _ => None,
         }
     }
 
-    /// The joint set, for a rock-bridge face.
-    pub fn bridge(self) -> Option<u32> {
-        match self {
-            FaceOrigin::Bridge { set, .. } => Some(set),
-            _ => None,
-        }
+    /// Whether the face is a rock bridge (intact rock cut through by generation).
+    pub fn is_bridge(self) -> bool {
+        matches!(self, FaceOrigin::Bridge { .. })
     }
 
     /// A small integer code: 0 unknown, 1 boundary, 2 joint, 3 bridge (for arrays and VTK

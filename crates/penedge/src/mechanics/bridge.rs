@@ -9,7 +9,7 @@
 
 use super::joint::{JointModel, JointTable};
 use super::MechanicsError;
-use crate::block::{ConvexBlock, FaceOrigin};
+use crate::block::ConvexBlock;
 use crate::classify::Feature;
 use std::collections::BTreeMap;
 
@@ -64,10 +64,12 @@ impl BridgeTable {
     }
 }
 
-/// The model of a contact, and its set and whether it is a bridge: a contact with a bridge
-/// face on either side (a face feature of origin `Bridge`) takes the bridge model of that
-/// face's set (of two sets, the weaker, as for joints); any other contact its joint model
-/// ([`JointTable::set_of_contact`]).
+/// The model of a contact, and its set and whether it is a bridge. A face-face contact
+/// between two bridge faces is a bridge: it takes the bridge model of their set (of two sets,
+/// the weaker, as for joints). Any other contact takes its joint model
+/// ([`JointTable::set_of_contact`]), a bridge face counting as a face of its set: an edge or
+/// a vertex against a bridge face (where pieces of a cut block meet along a line) holds no
+/// area of intact rock, and once broken a bridge face is a fracture of its set.
 pub(super) fn contact_model(
     joints: &JointTable,
     bridges: &BridgeTable,
@@ -76,35 +78,26 @@ pub(super) fn contact_model(
     b: &ConvexBlock,
     fb: Feature,
 ) -> (Option<u32>, bool, JointModel) {
-    let bridge = |block: &ConvexBlock, f: Feature| match f {
+    let bridge_face = |block: &ConvexBlock, f: Feature| match f {
         Feature::Face(i) => block
             .face_origins()
             .get(i as usize)
-            .copied()
-            .and_then(FaceOrigin::bridge),
-        _ => None,
+            .is_some_and(|o| o.is_bridge()),
+        _ => false,
     };
-    let set = match (bridge(a, fa), bridge(b, fb)) {
-        (Some(x), Some(y)) if x != y => {
-            let (mx, my) = (bridges.of_set(x, joints), bridges.of_set(y, joints));
-            let key = |m: &JointModel| (m.tan_friction(), m.cohesion);
-            Some(if key(&my) < key(&mx) { y } else { x })
-        }
-        (Some(x), _) | (None, Some(x)) => Some(x),
-        (None, None) => None,
-    };
+    let set = joints.set_of_contact(a, fa, b, fb);
     match set {
-        Some(s) => (Some(s), true, bridges.of_set(s, joints)),
-        None => {
-            let set = joints.set_of_contact(a, fa, b, fb);
-            (set, false, *joints.of_set(set))
+        Some(s) if bridge_face(a, fa) && bridge_face(b, fb) => {
+            (Some(s), true, bridges.of_set(s, joints))
         }
+        _ => (set, false, *joints.of_set(set)),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::block::FaceOrigin;
 
     fn cube(origin: FaceOrigin) -> ConvexBlock {
         let b = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
@@ -145,8 +138,15 @@ mod tests {
             contact_model(&joints, &bridges, &a, e, &b, e),
             (None, false, JointModel::default())
         );
-        // A bridge against a joint face: the bridge.
-        assert!(contact_model(&joints, &bridges, &j, f, &b, f).1);
+        // A bridge face against a joint face, or an edge: the joint model of the set.
+        assert_eq!(
+            contact_model(&joints, &bridges, &j, f, &b, f),
+            (Some(1), false, weak)
+        );
+        assert_eq!(
+            contact_model(&joints, &bridges, &a, e, &b, f),
+            (Some(1), false, weak)
+        );
         intact.kn = 0.0;
         assert!(bridges.set(2, intact).is_err());
     }
