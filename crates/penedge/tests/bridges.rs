@@ -51,23 +51,28 @@ fn face_area(block: &ConvexBlock, f: usize) -> f64 {
     twice.length() / 2.0
 }
 
-/// The faces on the joint plane: (joint area, bridge area), each counted once (a face and
-/// its neighbour's are two faces).
-fn areas_on_plane(system: &penedge::BlockSystem) -> (f64, f64) {
+/// The faces on the joint plane: (joint area below, bridge area below, area above). The
+/// pieces below the plane (outward normal `n`) are split by the seams, each face wholly joint
+/// or bridge; the piece above keeps one face (outward normal `-n`), of origin joint.
+fn areas_on_plane(system: &penedge::BlockSystem) -> (f64, f64, f64) {
     let (n, _, _) = plane();
-    let (mut joint, mut bridge) = (0.0, 0.0);
+    let (mut joint, mut bridge, mut above) = (0.0, 0.0, 0.0);
     for b in system.blocks() {
         for (f, origin) in b.face_origins().iter().enumerate() {
             let p = b.planes()[f];
-            let on = p.normal.cross(n).length() < 1e-9 && (p.point - CENTRE).dot(n).abs() < 1e-9;
-            match origin {
-                FaceOrigin::Joint { .. } if on => joint += face_area(b, f) / 2.0,
-                FaceOrigin::Bridge { .. } if on => bridge += face_area(b, f) / 2.0,
-                _ => {}
+            if p.normal.cross(n).length() > 1e-9 || (p.point - CENTRE).dot(n).abs() > 1e-9 {
+                continue;
+            }
+            let area = face_area(b, f);
+            match (origin, p.normal.dot(n) > 0.0) {
+                (FaceOrigin::Joint { .. }, true) => joint += area,
+                (FaceOrigin::Bridge { .. }, true) => bridge += area,
+                (FaceOrigin::Joint { .. }, false) => above += area,
+                _ => panic!("a face on the plane of origin {origin:?}"),
             }
         }
     }
-    (joint, bridge)
+    (joint, bridge, above)
 }
 
 fn spec(joint: Discontinuity) -> Spec {
@@ -86,7 +91,7 @@ fn faces_wholly_joint_or_bridge(system: &penedge::BlockSystem, a: f64) -> bool {
     system.blocks().iter().all(|b| {
         b.face_origins().iter().enumerate().all(|(f, origin)| {
             let pl = b.planes()[f];
-            if pl.normal.cross(n).length() > 1e-9 {
+            if pl.normal.cross(n).length() > 1e-9 || pl.normal.dot(n) < 0.0 {
                 return true;
             }
             let pts: Vec<(f64, f64)> = b
@@ -114,13 +119,14 @@ fn faces_wholly_joint_or_bridge(system: &penedge::BlockSystem, a: f64) -> bool {
 /// The areas of a square joint of half side `a` and its bridges, the volume, and each face
 /// wholly joint or bridge.
 fn check_square(system: &penedge::BlockSystem, a: f64) {
-    let (joint, bridge) = areas_on_plane(system);
+    let (joint, bridge, above) = areas_on_plane(system);
     assert!((joint - 4.0 * a * a).abs() < 1e-9, "joint area {joint}");
     let expected = section_area() - 4.0 * a * a;
     assert!(
         (bridge - expected).abs() < 1e-9,
         "bridge {bridge} vs {expected}"
     );
+    assert!((above - section_area()).abs() < 1e-9, "above {above}");
     assert!((total_volume(system) - 1000.0).abs() < 1e-9);
     assert!(faces_wholly_joint_or_bridge(system, a));
 }
@@ -130,9 +136,9 @@ fn a_square_joint_with_bridges_cuts_the_box_through() {
     let a = 3.0;
     let out = generate(&spec(Discontinuity::polygon(square(a)).with_bridges())).unwrap();
     check_square(&out.system, a);
-    // Four seams cross the section: 4 pieces outside them and the joint's piece, each cut
-    // in two by the plane.
-    assert_eq!(out.system.len(), 10);
+    // Four seams cross the section: below the plane, 4 pieces outside them and the joint's
+    // piece; above it, one piece.
+    assert_eq!(out.system.len(), 6);
     // The block file keeps the bridge faces.
     let text = penedge::io::json::to_json_string(&out.system);
     assert!(text.contains(r#""kind":"bridge""#) || text.contains(r#""kind": "bridge""#));
@@ -147,7 +153,7 @@ fn without_bridges_the_block_is_left_whole() {
     let out = generate(&spec(Discontinuity::polygon(square(3.0)))).unwrap();
     assert_eq!(out.system.len(), 1);
     assert_eq!(out.report.partial_cuts_by_entry, vec![1]);
-    assert_eq!(areas_on_plane(&out.system), (0.0, 0.0));
+    assert_eq!(areas_on_plane(&out.system), (0.0, 0.0, 0.0));
 }
 
 #[test]
@@ -156,7 +162,7 @@ fn a_disc_with_bridges_has_the_disc_area() {
     let r = 2.5;
     let disc = Discontinuity::disc(CENTRE.to_array(), Orientation::Normal(n.to_array()), r);
     let out = generate(&spec(disc.with_bridges())).unwrap();
-    let (joint, bridge) = areas_on_plane(&out.system);
+    let (joint, bridge, _) = areas_on_plane(&out.system);
     let disc_area = std::f64::consts::PI * r * r;
     assert!(
         (joint - disc_area).abs() < 1e-9,

@@ -276,7 +276,9 @@ class Runner:
         if stage.kind == "solve":
             assert stage.ratio is not None
             assert stage.max_steps is not None
+            e.set_elastic(stage.elastic)
             converged = self.solve(stage, stage.ratio, stage.max_steps)
+            e.set_elastic(False)
         elif stage.kind in ("cycle", "time"):
             if stage.kind == "cycle":
                 assert stage.steps is not None

@@ -233,6 +233,7 @@ class Stage:
     tolerance: float = 0.01  # factor_of_safety
     low: float = 0.1  # factor_of_safety: search range
     high: float = 10.0
+    elastic: bool = False  # solve: bonds (cohesion, tension) unbreakable during the stage
 
 
 @dataclass(frozen=True)
@@ -791,6 +792,7 @@ def parse_stage(
             kind,
             ratio=t.number("ratio", mechanics.ratio, above=0, below=1),
             max_steps=t.integer("max_steps", mechanics.max_steps, minimum=1),
+            elastic=t.boolean("elastic", False),
         )
     elif kind == "cycle":
         stage = Stage(name, kind, steps=t.integer("steps", minimum=1))

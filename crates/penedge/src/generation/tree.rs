@@ -179,10 +179,11 @@ impl CuttingTree {
         Ok(())
     }
 
-    /// Cuts leaf `n`, which a finite joint ends inside, through: split by each seam whose
-    /// line crosses the section (the piece outside it then cut along the joint's plane with
-    /// bridge faces), then the piece inside every seam cut along the joint's plane with joint
-    /// faces.
+    /// Cuts leaf `n`, which a finite joint ends inside and whose section by the joint's
+    /// plane is `self.section`, through: along the plane with joint faces, then the piece
+    /// below the plane by each seam whose line crosses what is left of the section, the piece
+    /// beyond the seam getting bridge faces (its face on the plane and the seam's). The piece
+    /// above stays whole (docs/generation.md, "Rock bridges": why one side only).
     fn cut_bridged(
         &mut self,
         n: u32,
@@ -191,34 +192,42 @@ impl CuttingTree {
         bridged: &Bridged,
         counts: &mut CutCounts,
     ) -> Result<(), BlockError> {
-        let mut inside = n;
+        let mut section = std::mem::take(&mut self.section);
+        let Some([mut inside, _above]) = self.split_leaf(n, plane, origin, counts)? else {
+            self.section = section;
+            return Ok(());
+        };
         for seam in &bridged.seams {
-            if !self.section_crosses(inside, plane, seam)? {
+            let (mut beyond, mut within) = (false, false);
+            for &p in &section {
+                let d = seam.distance(p);
+                beyond |= d > self.eps;
+                within |= d < -self.eps;
+            }
+            if !(beyond && within) {
                 continue;
             }
-            if let Some([within, beyond]) = self.split_leaf(inside, seam, bridged.origin, counts)? {
-                self.split_leaf(beyond, plane, bridged.origin, counts)?;
-                inside = within;
+            if let Some([piece, out]) = self.split_leaf(inside, seam, bridged.origin, counts)? {
+                self.retag(out, origin, bridged.origin)?;
+                inside = piece;
+                section = clip(&section, seam);
             }
         }
-        self.split_leaf(inside, plane, origin, counts)?;
+        self.section = section;
         Ok(())
     }
 
-    /// Whether the section of leaf `n` by `plane` has points more than the length threshold
-    /// on both sides of `seam`.
-    fn section_crosses(&mut self, n: u32, plane: &Plane, seam: &Plane) -> Result<bool, BlockError> {
-        let block = &self.blocks[self.nodes[n as usize].block as usize];
-        if self.splitter.prepare(block, plane, self.eps)? != Side::Across {
-            return Ok(false);
-        }
-        let (mut out, mut within) = (false, false);
-        for p in self.splitter.section() {
-            let d = seam.distance(p);
-            out |= d > self.eps;
-            within |= d < -self.eps;
-        }
-        Ok(out && within)
+    /// The faces of leaf `n` of origin `from` get origin `to`.
+    fn retag(&mut self, n: u32, from: FaceOrigin, to: FaceOrigin) -> Result<(), BlockError> {
+        let slot = self.nodes[n as usize].block as usize;
+        let block = self.blocks[slot].clone();
+        let origins = block
+            .face_origins()
+            .iter()
+            .map(|&o| if o == from { to } else { o })
+            .collect();
+        self.blocks[slot] = block.with_face_origins(origins)?;
+        Ok(())
     }
 
     /// Splits leaf `n` by `plane` (new faces of origin `origin`) if the plane crosses it: the
@@ -312,6 +321,22 @@ struct Bridged {
     shape: JointShape,
     seams: Vec<Plane>,
     origin: FaceOrigin,
+}
+
+/// The part of a convex polygon on the inner side of `plane` (signed distance <= 0).
+fn clip(polygon: &[DVec3], plane: &Plane) -> Vec<DVec3> {
+    let mut out = Vec::with_capacity(polygon.len() + 1);
+    for k in 0..polygon.len() {
+        let (p, q) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+        let (dp, dq) = (plane.distance(p), plane.distance(q));
+        if dp <= 0.0 {
+            out.push(p);
+        }
+        if (dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0) {
+            out.push(p + (q - p) * (dp / (dp - dq)));
+        }
+    }
+    out
 }
 
 /// Whether the plane passes within `eps` of the box.

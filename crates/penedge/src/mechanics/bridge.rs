@@ -64,12 +64,13 @@ impl BridgeTable {
     }
 }
 
-/// The model of a contact, and its set and whether it is a bridge. A face-face contact
-/// between two bridge faces is a bridge: it takes the bridge model of their set (of two sets,
-/// the weaker, as for joints). Any other contact takes its joint model
-/// ([`JointTable::set_of_contact`]), a bridge face counting as a face of its set: an edge or
-/// a vertex against a bridge face (where pieces of a cut block meet along a line) holds no
-/// area of intact rock, and once broken a bridge face is a fracture of its set.
+/// The model of a contact, and its set and whether it is a bridge. A face-face contact with
+/// a bridge face on either side is a bridge (generation splits the faces on one side of the
+/// plane only, so the overlap of the two faces is then wholly bridge): it takes the bridge
+/// model of the set (of two sets, the weaker, as for joints). Any other contact takes its
+/// joint model ([`JointTable::set_of_contact`]), a bridge face counting as a face of its
+/// set: an edge or a vertex against a bridge face (where pieces of a cut block meet along a
+/// line) holds no area of intact rock, and once broken a bridge face is a fracture of its set.
 pub(super) fn contact_model(
     joints: &JointTable,
     bridges: &BridgeTable,
@@ -86,8 +87,9 @@ pub(super) fn contact_model(
         _ => false,
     };
     let set = joints.set_of_contact(a, fa, b, fb);
+    let faces = matches!((fa, fb), (Feature::Face(_), Feature::Face(_)));
     match set {
-        Some(s) if bridge_face(a, fa) && bridge_face(b, fb) => {
+        Some(s) if faces && (bridge_face(a, fa) || bridge_face(b, fb)) => {
             (Some(s), true, bridges.of_set(s, joints))
         }
         _ => (set, false, *joints.of_set(set)),
@@ -138,11 +140,9 @@ mod tests {
             contact_model(&joints, &bridges, &a, e, &b, e),
             (None, false, JointModel::default())
         );
-        // A bridge face against a joint face, or an edge: the joint model of the set.
-        assert_eq!(
-            contact_model(&joints, &bridges, &j, f, &b, f),
-            (Some(1), false, weak)
-        );
+        // A bridge face against a joint face: the bridge; against an edge: the joint model
+        // of the set.
+        assert!(contact_model(&joints, &bridges, &j, f, &b, f).1);
         assert_eq!(
             contact_model(&joints, &bridges, &a, e, &b, f),
             (Some(1), false, weak)
