@@ -258,6 +258,18 @@ class Simulation:
         pressures: dict[int, float] | None = None,
         unit_weight: float = 9810.0,
     ) -> None: ...
+    def set_bridge(
+        self,
+        kn: float,
+        ks: float,
+        friction: float,
+        cohesion: float,
+        tension: float,
+        set: int | None = None,
+        residual_friction: float | None = None,
+        residual_cohesion: float = 0.0,
+    ) -> None: ...
+    def bridge(self, set: int) -> _JointProperties: ...
     @property
     def gravity(self) -> npt.NDArray[np.float64]: ...
     @gravity.setter

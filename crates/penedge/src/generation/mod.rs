@@ -140,7 +140,11 @@ pub fn generate_with(
     for (done, j) in cut_order(&plan.records).into_iter().enumerate() {
         let record = &plan.records[j];
         let before = counts.partial;
-        let cut = tree.cut(record, j as u32, &mut counts)?;
+        let bridge = spec
+            .joints
+            .get(record.set as usize)
+            .is_some_and(|d| d.bridge);
+        let cut = tree.cut(record, j as u32, bridge, &mut counts)?;
         if cut == Cut::Full {
             return Err(GenerationError::Outgrew {
                 estimate: estimate.blocks,
@@ -219,7 +223,7 @@ pub(crate) fn cut_domain(
     let mut tree = CuttingTree::new(domain.parts(), eps, usize::MAX);
     let mut counts = CutCounts::default();
     for j in cut_order(joints) {
-        tree.cut(&joints[j], j as u32, &mut counts)?;
+        tree.cut(&joints[j], j as u32, false, &mut counts)?;
     }
     Ok(tree.into_blocks())
 }

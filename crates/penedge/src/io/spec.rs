@@ -72,6 +72,7 @@ struct RawJoint {
     center: Option<[f64; 3]>,
     radius: Option<f64>,
     vertices: Option<Vec<[f64; 3]>>,
+    bridge: Option<bool>,
 }
 
 #[derive(Deserialize, Default)]
@@ -295,7 +296,14 @@ fn unknown_type(field: &str, found: &str, expected: &'static str) -> SpecError {
 }
 
 const PLANE_FIELDS: [&str; 4] = ["point", "normal", "dip", "dip_direction"];
-const DISC_FIELDS: [&str; 5] = ["center", "normal", "dip", "dip_direction", "radius"];
+const DISC_FIELDS: [&str; 6] = [
+    "center",
+    "normal",
+    "dip",
+    "dip_direction",
+    "radius",
+    "bridge",
+];
 
 fn joint(prefix: &str, j: &RawJoint) -> Result<Discontinuity, SpecError> {
     let given = given_fields(j);
@@ -316,7 +324,7 @@ fn joint(prefix: &str, j: &RawJoint) -> Result<Discontinuity, SpecError> {
             }
         }
         "polygon" => {
-            only(prefix, "polygon", &given, &["vertices"])?;
+            only(prefix, "polygon", &given, &["vertices", "bridge"])?;
             let vertices = need(format!("{prefix}.vertices"), &j.vertices)?;
             JointKind::Polygon { vertices }
         }
@@ -326,10 +334,11 @@ fn joint(prefix: &str, j: &RawJoint) -> Result<Discontinuity, SpecError> {
         }
     };
     let name = j.name.clone();
-    Ok(Discontinuity { name, kind })
+    let bridge = j.bridge.unwrap_or(false);
+    Ok(Discontinuity { name, kind, bridge })
 }
 
-fn given_fields(j: &RawJoint) -> [(&'static str, bool); 15] {
+fn given_fields(j: &RawJoint) -> [(&'static str, bool); 16] {
     [
         ("point", j.point.is_some()),
         ("normal", j.normal.is_some()),
@@ -348,6 +357,7 @@ fn given_fields(j: &RawJoint) -> [(&'static str, bool); 15] {
         ("center", j.center.is_some()),
         ("radius", j.radius.is_some()),
         ("vertices", j.vertices.is_some()),
+        ("bridge", j.bridge.is_some()),
         ("name", false),
     ]
 }

@@ -21,12 +21,14 @@
 //! ```
 
 mod bodies;
+mod bridge;
 mod contacts;
 mod integrate;
 mod joint;
 mod water;
 
 pub use bodies::{Bodies, Fixity};
+pub use bridge::{BridgeTable, BRIDGE_STRENGTH};
 pub use contacts::{BodyContact, Contacts, SubContact};
 pub use integrate::{free_rotation, Damping};
 pub use joint::{JointModel, JointTable, SubState};
@@ -198,6 +200,7 @@ pub struct Simulation {
     placed: Vec<ConvexBlock>,
     joints: JointTable,
     water: Water,
+    bridges: BridgeTable,
     gravity: DVec3,
     damping: Damping,
     tolerance: Tolerance,
@@ -269,6 +272,7 @@ impl Simulation {
             placed,
             joints: JointTable::default(),
             water: Water::none(),
+            bridges: BridgeTable::default(),
             gravity: DVec3::new(0.0, 0.0, -9.81),
             damping: Damping::default(),
             tolerance: Tolerance::with_gap(1e-3).expect("a valid gap"),
@@ -332,6 +336,29 @@ impl Simulation {
     /// Sets the water in the joints (docs/mechanics.md, "Water pressure in the joints").
     pub fn set_water(&mut self, water: Water) {
         self.water = water;
+    }
+
+    /// The rock-bridge properties (docs/mechanics.md, "Rock bridges").
+    pub fn bridges(&self) -> &BridgeTable {
+        &self.bridges
+    }
+
+    /// Sets the intact rock's properties for the bridges of joint set `set` (contacts over
+    /// faces of origin `Bridge { set, .. }`).
+    pub fn set_bridge(&mut self, set: u32, model: JointModel) -> Result<(), MechanicsError> {
+        self.bridges.set(set, model)
+    }
+
+    /// Sets the default bridge model (bridges of sets without their own).
+    pub fn set_default_bridge(&mut self, model: JointModel) -> Result<(), MechanicsError> {
+        self.bridges.set_default(model)
+    }
+
+    /// The largest contact stiffness any model can give (joints and bridges).
+    fn max_stiffness(&self) -> f64 {
+        self.joints
+            .max_stiffness()
+            .max(self.bridges.max_stiffness())
     }
 
     /// Gravity (acceleration vector).
@@ -552,7 +579,7 @@ impl Simulation {
     /// longer set the time step. The equilibrium is the same; the motion towards it is not
     /// physical. Off: true inertia. Velocities and spins are kept.
     pub fn set_mass_scaling(&mut self, on: bool) -> Result<(), MechanicsError> {
-        let k = self.joints.max_stiffness();
+        let k = self.max_stiffness();
         let free: Vec<usize> = (0..self.bodies.len())
             .filter(|&i| self.bodies.is_free(i))
             .collect();
@@ -580,7 +607,7 @@ impl Simulation {
 
     /// The critical time step (docs/mechanics.md): the smallest bound of the free bodies.
     pub fn critical_timestep(&self) -> Result<f64, MechanicsError> {
-        let k = self.joints.max_stiffness();
+        let k = self.max_stiffness();
         self.bodies
             .critical_timestep(k)
             .ok_or(MechanicsError::NoFreeBody)
@@ -864,6 +891,7 @@ impl Simulation {
             part_body: &self.part_body,
             placed: &self.placed,
             joints: &self.joints,
+            bridges: &self.bridges,
             previous: &self.contacts,
             dt,
             initial: self.initial,
