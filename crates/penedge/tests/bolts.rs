@@ -190,6 +190,7 @@ fn roof_wedge(capacity_factor: f64) -> (Simulation, f64, f64) {
         friction: phi,
         cohesion: 0.0,
         tension: 0.0,
+        ..JointModel::default()
     })
     .unwrap();
     let beta = 30f64.to_radians();
@@ -264,6 +265,7 @@ fn pinned_cube(push: f64) -> Simulation {
         friction: 0.0,
         cohesion: 0.0,
         tension: 0.0,
+        ..JointModel::default()
     })
     .unwrap();
     sim.add_bolt(Bolt {
