@@ -15,6 +15,7 @@ use crate::block::{ConvexBlock, FaceOrigin};
 use crate::classify::{Feature, PairResult};
 use crate::contact::Detector;
 use crate::cutting::{Side, Splitter};
+use crate::generation::Extent;
 use crate::generation::{
     upward, Excavation, GenerationError, JointRecord, JointShape, Problem, SetKind, SetRecord,
     SpecError,
@@ -74,7 +75,8 @@ impl BlockSystem {
         prefix: &str,
         tol: &Tolerance,
     ) -> Result<(BlockSystem, ExcavationReport), GenerationError> {
-        let regions = excavation.regions_at(prefix)?;
+        let extent = Extent::of(&self.blocks).ok_or_else(|| misses(prefix))?;
+        let regions = excavation.regions_at(prefix, Some(&extent))?;
         let set = self.sets.len() as u32;
         let first_joint = self.joints.len() as u32;
         let mut joints = self.joints.clone();

@@ -1,0 +1,455 @@
+//! Topographic surfaces read from files: a grid of elevations (XYZ or CSV) or a triangulated
+//! surface (Wavefront OBJ, binary or ASCII STL); see `docs/generation.md`, "Slopes and
+//! topography".
+//!
+//! The kind of file is told by its extension: `.xyz`, `.csv`, `.txt`, `.dat` are grids;
+//! `.obj` and `.stl` are meshes. The readers are small hand parsers of the parts of each
+//! format a surface needs; every error says what is wrong and where (line, node, triangle).
+//!
+//! * **Grid** (`x y z` a line; commas, semicolons, tabs or spaces between; an optional
+//!   header line of names; `#` comments): the points must be the nodes of a grid, every
+//!   combination of the distinct `x` and the distinct `y` given once (the spacing may
+//!   vary). A node without an elevation (a missing line, an empty field, `nan`, `NA`) is a
+//!   hole, and an error naming the node. Each cell is cut into two triangles along its
+//!   diagonal from its lower-left `(x_i, y_j)` to its upper-right corner.
+//! * **OBJ**: `v x y z` vertices and `f` faces (indices from 1, negative from the end,
+//!   `i/t/n` forms); a face of more than three vertices is cut into a fan of triangles from
+//!   its first vertex. Other lines (normals, texture coordinates, groups) are ignored.
+//! * **STL**: binary (an 80-byte header, a triangle count, 50 bytes a triangle) when the
+//!   file's length says so, else ASCII (`solid`, `facet`, `outer loop`, three `vertex`
+//!   lines). The facets' normals are ignored.
+
+use super::IoError;
+use crate::generation::Surface;
+use std::collections::HashMap;
+use std::io::Read;
+use std::path::Path;
+
+/// The most bytes of a surface file (1 GiB).
+pub const MAX_SURFACE_BYTES: u64 = 1 << 30;
+
+/// Reads a surface file, its kind told by its extension.
+///
+/// # Errors
+///
+/// The file cannot be read ([`IoError::Io`]); it is not a surface of its kind, or has a hole
+/// in its grid ([`IoError::Syntax`], the message says what and where).
+pub fn read_surface(path: &Path) -> Result<Surface, IoError> {
+    let syntax = |message: String| IoError::Syntax {
+        path: path.to_path_buf(),
+        message,
+    };
+    let kind = Kind::of(path).map_err(syntax)?;
+    let failed = |source| IoError::io(path, source);
+    let file = std::fs::File::open(path).map_err(failed)?;
+    let mut bytes = Vec::new();
+    file.take(MAX_SURFACE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(failed)?;
+    if bytes.len() as u64 > MAX_SURFACE_BYTES {
+        return Err(syntax(format!(
+            "longer than {} MiB: too large for a surface (or an endless stream)",
+            MAX_SURFACE_BYTES >> 20
+        )));
+    }
+    let source = path.display().to_string();
+    parse_surface(kind, &bytes, &source).map_err(syntax)
+}
+
+/// The kinds of surface file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// `x y z` points on a grid.
+    Grid,
+    /// Wavefront OBJ.
+    Obj,
+    /// STL, binary or ASCII.
+    Stl,
+}
+
+impl Kind {
+    /// The kind of a file, from its extension.
+    pub fn of(path: &Path) -> Result<Kind, String> {
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        match ext.as_str() {
+            "xyz" | "csv" | "txt" | "dat" => Ok(Kind::Grid),
+            "obj" => Ok(Kind::Obj),
+            "stl" => Ok(Kind::Stl),
+            _ => Err(format!(
+                "unknown kind of surface file (extension `.{ext}`): expected .xyz, .csv, .txt \
+                 or .dat (a grid of elevations, `x y z` a line), .obj or .stl (a triangulated \
+                 surface)"
+            )),
+        }
+    }
+}
+
+/// Parses a surface file's bytes; `source` names it in the surface.
+pub fn parse_surface(kind: Kind, bytes: &[u8], source: &str) -> Result<Surface, String> {
+    let triangles = match kind {
+        Kind::Stl if is_binary_stl(bytes) => binary_stl(bytes)?,
+        Kind::Stl => ascii_stl(text(bytes, "an STL file (binary or ASCII)")?)?,
+        Kind::Obj => obj(text(bytes, "an OBJ file")?)?,
+        Kind::Grid => return grid(text(bytes, "a grid of elevations")?, source),
+    };
+    Ok(Surface::new(triangles, source))
+}
+
+fn text<'a>(bytes: &'a [u8], what: &str) -> Result<&'a str, String> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        format!(
+            "not {what}: byte {} is not text (UTF-8); a file of another kind?",
+            e.valid_up_to()
+        )
+    })
+}
+
+/// A number of a text file, or why not.
+fn number(word: &str, line: usize, what: &str) -> Result<f64, String> {
+    match word.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!(
+            "line {line}: {what} must be a finite number, got `{word}`"
+        )),
+    }
+}
+
+/// Whether a value stands for "no elevation here".
+fn is_missing(word: &str) -> bool {
+    let w = word.trim().to_ascii_lowercase();
+    w.is_empty() || w == "nan" || w == "na" || w == "null" || w == "-nan"
+}
+
+/// A grid of `x y z` points.
+fn grid(text: &str, source: &str) -> Result<Surface, String> {
+    let mut points: Vec<([f64; 2], Option<f64>, usize)> = Vec::new();
+    for (k, raw) in text.lines().enumerate() {
+        let line = k + 1;
+        let body = raw.split('#').next().unwrap_or("").trim();
+        if body.is_empty() {
+            continue;
+        }
+        let words: Vec<&str> = if body.contains([',', ';']) {
+            body.split([',', ';']).map(str::trim).collect()
+        } else {
+            body.split_whitespace().collect()
+        };
+        let numeric = |w: &str| w.parse::<f64>().is_ok();
+        if points.is_empty() && !words.iter().take(2).any(|w| numeric(w)) {
+            continue; // a header line of names
+        }
+        if words.len() != 3 {
+            return Err(format!(
+                "line {line}: expected three values `x y z`, got {} (`{}`); a grid file has \
+                 one node a line",
+                words.len(),
+                one_line(body)
+            ));
+        }
+        let x = number(words[0], line, "x")?;
+        let y = number(words[1], line, "y")?;
+        let z = if is_missing(words[2]) {
+            None
+        } else {
+            Some(number(words[2], line, "the elevation z")?)
+        };
+        points.push(([x, y], z, line));
+    }
+    if points.is_empty() {
+        return Err("no points: not a grid of elevations (`x y z` a line)".into());
+    }
+    let distinct = |k: usize| {
+        let mut v: Vec<f64> = points.iter().map(|p| p.0[k]).collect();
+        v.sort_by(f64::total_cmp);
+        v.dedup();
+        v
+    };
+    let (xs, ys) = (distinct(0), distinct(1));
+    if xs.len() < 2 || ys.len() < 2 {
+        return Err(format!(
+            "the points are not a grid: a grid needs at least 2 distinct x and 2 distinct y, \
+             got {} and {}",
+            xs.len(),
+            ys.len()
+        ));
+    }
+    let nodes = xs.len() * ys.len();
+    if nodes > 4 * points.len() {
+        return Err(format!(
+            "the points are not on a grid ({} points with {} distinct x and {} distinct y): \
+             give a grid of elevations, or a triangulated surface (.obj, .stl)",
+            points.len(),
+            xs.len(),
+            ys.len()
+        ));
+    }
+    let column: HashMap<u64, usize> = xs
+        .iter()
+        .enumerate()
+        .map(|(i, x)| (x.to_bits(), i))
+        .collect();
+    let row: HashMap<u64, usize> = ys
+        .iter()
+        .enumerate()
+        .map(|(j, y)| (y.to_bits(), j))
+        .collect();
+    let mut z = vec![f64::NAN; nodes];
+    let mut from = vec![0usize; nodes];
+    for (p, value, line) in &points {
+        let at = row[&p[1].to_bits()] * xs.len() + column[&p[0].to_bits()];
+        if from[at] != 0 {
+            return Err(format!(
+                "line {line}: the node x = {}, y = {} is given twice (first on line {})",
+                p[0], p[1], from[at]
+            ));
+        }
+        from[at] = *line;
+        match value {
+            Some(v) => z[at] = *v,
+            None => {
+                return Err(format!(
+                    "line {line}: the node x = {}, y = {} has no elevation: a hole in the \
+                     surface (every node of the grid needs one)",
+                    p[0], p[1]
+                ))
+            }
+        }
+    }
+    if let Some(at) = from.iter().position(|&l| l == 0) {
+        let missing = from.iter().filter(|&&l| l == 0).count();
+        return Err(format!(
+            "the grid ({} x {} nodes) has no elevation at x = {}, y = {}{}: a hole in the \
+             surface (every combination of the distinct x and y needs one)",
+            xs.len(),
+            ys.len(),
+            xs[at % xs.len()],
+            ys[at / xs.len()],
+            if missing > 1 {
+                format!(" and {} other nodes", missing - 1)
+            } else {
+                String::new()
+            }
+        ));
+    }
+    Ok(Surface::from_grid(&xs, &ys, &z, source))
+}
+
+fn one_line(text: &str) -> String {
+    match text.char_indices().nth(60) {
+        Some((cut, _)) => format!("{}...", &text[..cut]),
+        None => text.to_string(),
+    }
+}
+
+/// The triangles of an OBJ file.
+fn obj(text: &str) -> Result<Vec<[[f64; 3]; 3]>, String> {
+    let mut vertices: Vec<[f64; 3]> = Vec::new();
+    let mut triangles = Vec::new();
+    let mut faces = 0usize;
+    for (k, raw) in text.lines().enumerate() {
+        let line = k + 1;
+        let body = raw.split('#').next().unwrap_or("").trim();
+        let mut words = body.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let coords: Vec<&str> = words.collect();
+                if coords.len() < 3 {
+                    return Err(format!("line {line}: a vertex needs x, y and z"));
+                }
+                let mut p = [0.0; 3];
+                for (c, w) in p.iter_mut().zip(&coords) {
+                    *c = number(w, line, "a vertex coordinate")?;
+                }
+                vertices.push(p);
+            }
+            Some("f") => {
+                faces += 1;
+                let corners = words
+                    .map(|w| {
+                        let index = w.split('/').next().unwrap_or("");
+                        let i: i64 = index
+                            .parse()
+                            .map_err(|_| format!("line {line}: `{w}` is not a vertex index"))?;
+                        let n = vertices.len() as i64;
+                        let at = if i > 0 { i - 1 } else { n + i };
+                        if i == 0 || at < 0 || at >= n {
+                            return Err(format!(
+                                "line {line}: vertex index {i} is out of range (1 to {n}, or \
+                                 -1 to -{n}, the vertices defined so far)"
+                            ));
+                        }
+                        Ok(vertices[at as usize])
+                    })
+                    .collect::<Result<Vec<_>, _>>()?;
+                if corners.len() < 3 {
+                    return Err(format!("line {line}: a face needs at least 3 vertices"));
+                }
+                for c in 1..corners.len() - 1 {
+                    triangles.push([corners[0], corners[c], corners[c + 1]]);
+                }
+            }
+            _ => {}
+        }
+    }
+    if faces == 0 {
+        return Err(format!(
+            "no faces (`f` lines; {} vertices): not a triangulated surface",
+            vertices.len()
+        ));
+    }
+    Ok(triangles)
+}
+
+/// Whether STL bytes are binary: the length is that of the triangle count they declare.
+fn is_binary_stl(bytes: &[u8]) -> bool {
+    bytes.len() >= 84 && {
+        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64;
+        bytes.len() as u64 == 84 + 50 * n
+    }
+}
+
+fn binary_stl(bytes: &[u8]) -> Result<Vec<[[f64; 3]; 3]>, String> {
+    let n = (bytes.len() - 84) / 50;
+    let float = |at: usize| {
+        f32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]) as f64
+    };
+    let mut triangles = Vec::with_capacity(n);
+    for t in 0..n {
+        let base = 84 + 50 * t + 12; // past the normal
+        let p = |c: usize| [0, 1, 2].map(|k| float(base + 12 * c + 4 * k));
+        triangles.push([p(0), p(1), p(2)]);
+    }
+    if n == 0 {
+        return Err("a binary STL file of no triangles".into());
+    }
+    Ok(triangles)
+}
+
+fn ascii_stl(text: &str) -> Result<Vec<[[f64; 3]; 3]>, String> {
+    let first = text.split_whitespace().next().unwrap_or("");
+    if first != "solid" {
+        return Err(format!(
+            "not an STL file: an ASCII STL starts with `solid`, and the length ({} bytes) is \
+             not that of a binary STL (84 + 50 per triangle)",
+            text.len()
+        ));
+    }
+    let mut triangles = Vec::new();
+    let mut corners: Vec<[f64; 3]> = Vec::with_capacity(3);
+    for (k, raw) in text.lines().enumerate() {
+        let line = k + 1;
+        let mut words = raw.split_whitespace();
+        match words.next() {
+            Some("vertex") => {
+                let coords: Vec<&str> = words.collect();
+                if coords.len() != 3 {
+                    return Err(format!("line {line}: a vertex needs x, y and z"));
+                }
+                let mut p = [0.0; 3];
+                for (c, w) in p.iter_mut().zip(&coords) {
+                    *c = number(w, line, "a vertex coordinate")?;
+                }
+                corners.push(p);
+            }
+            Some("endloop") => {
+                if corners.len() != 3 {
+                    return Err(format!(
+                        "line {line}: a facet has {} vertices, not 3",
+                        corners.len()
+                    ));
+                }
+                triangles.push([corners[0], corners[1], corners[2]]);
+                corners.clear();
+            }
+            _ => {}
+        }
+    }
+    if triangles.is_empty() {
+        return Err("an STL file with no facets".into());
+    }
+    Ok(triangles)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_grid_with_a_header_and_commas_is_read_in_any_order() {
+        let text = "x,y,z\n1,0,5\n0,0,4\n0,2,6\n1,2,7\n";
+        let s = parse_surface(Kind::Grid, text.as_bytes(), "g.csv").unwrap();
+        assert_eq!(s.triangles.len(), 2);
+        assert_eq!(
+            s.triangles[0],
+            [[0.0, 0.0, 4.0], [1.0, 0.0, 5.0], [1.0, 2.0, 7.0]]
+        );
+        assert_eq!(s.source, "g.csv");
+    }
+
+    #[test]
+    fn a_grid_with_a_hole_or_a_twice_given_node_is_an_error_naming_the_node() {
+        let hole = "0 0 1\n1 0 1\n0 1 1\n2 0 1\n2 1 1\n";
+        let e = parse_surface(Kind::Grid, hole.as_bytes(), "g").unwrap_err();
+        assert!(e.contains("no elevation at x = 1, y = 1"), "{e}");
+        let nan = "0 0 1\n1 0 1\n0 1 nan\n1 1 1\n";
+        let e = parse_surface(Kind::Grid, nan.as_bytes(), "g").unwrap_err();
+        assert!(
+            e.contains("line 3: the node x = 0, y = 1 has no elevation"),
+            "{e}"
+        );
+        let twice = "0 0 1\n1 0 1\n0 1 1\n1 1 1\n0 0 2\n";
+        let e = parse_surface(Kind::Grid, twice.as_bytes(), "g").unwrap_err();
+        assert!(
+            e.contains("line 5: the node x = 0, y = 0 is given twice"),
+            "{e}"
+        );
+        let words = "0 0 1\n1 0 one\n";
+        let e = parse_surface(Kind::Grid, words.as_bytes(), "g").unwrap_err();
+        assert!(
+            e.contains("line 2: the elevation z must be a finite number"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn obj_faces_are_fanned_and_indices_may_be_negative() {
+        let text = "# a square\nv 0 0 1\nv 1 0 1\nv 1 1 2\nv 0 1 2\nvn 0 0 1\nf 1/1/1 2//1 3 4\n\
+                    f -4 -2 -1\n";
+        let t = obj(text).unwrap();
+        assert_eq!(t.len(), 3);
+        assert_eq!(t[1], [[0.0, 0.0, 1.0], [1.0, 1.0, 2.0], [0.0, 1.0, 2.0]]);
+        assert!(obj("v 0 0 0\nf 1 2 3\n")
+            .unwrap_err()
+            .contains("out of range"));
+        assert!(obj("v 0 0 0\n").unwrap_err().contains("no faces"));
+    }
+
+    #[test]
+    fn binary_and_ascii_stl_give_the_same_triangle() {
+        let tri = [[0.0, 0.0, 1.0], [2.0, 0.0, 1.5], [0.0, 3.0, 0.5]];
+        let mut bin = vec![0u8; 80];
+        bin.extend(1u32.to_le_bytes());
+        bin.extend([0u8; 12]);
+        for p in tri {
+            for c in p {
+                bin.extend((c as f32).to_le_bytes());
+            }
+        }
+        bin.extend([0u8; 2]);
+        let a = parse_surface(Kind::Stl, &bin, "b.stl").unwrap();
+        let ascii = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 1\nvertex 2 0 1.5\n\
+                     vertex 0 3 0.5\nendloop\nendfacet\nendsolid s\n";
+        let b = parse_surface(Kind::Stl, ascii.as_bytes(), "a.stl").unwrap();
+        assert_eq!(a.triangles, vec![tri]);
+        assert_eq!(b.triangles, vec![tri]);
+        // An OBJ given as STL, and a PNG-like binary, say what they are not.
+        let e = parse_surface(Kind::Stl, b"v 0 0 0\nf 1 1 1\n", "x.stl").unwrap_err();
+        assert!(e.contains("not an STL file"), "{e}");
+        let e = parse_surface(Kind::Obj, &[0x89, b'P', b'N', b'G', 0xff], "x.obj").unwrap_err();
+        assert!(e.contains("not an OBJ file"), "{e}");
+        assert!(Kind::of(Path::new("a.png")).unwrap_err().contains("`.png`"));
+    }
+}
