@@ -104,6 +104,82 @@ fn a_benched_slope_leaves_the_area_under_its_profile_times_the_length() {
     assert_close(volume(&other.system), exact, "rock left, mirrored");
 }
 
+#[test]
+fn a_slope_along_an_oblique_strike_in_a_domain_turned_with_it_leaves_the_same_rock() {
+    // The box of the first test turned about z so that its x axis is the profile's u for a
+    // strike trending N30E: u = (cos 30, -sin 30, 0), the strike d = (sin 30, cos 30, 0).
+    let t = 30f64.to_radians();
+    let (u, d) = ([t.cos(), -t.sin(), 0.0], [t.sin(), t.cos(), 0.0]);
+    let neg = |v: [f64; 3]| v.map(|x| -x);
+    let normals = [neg(u), u, neg(d), d, [0.0, 0.0, -1.0], [0.0, 0.0, 1.0]];
+    let domain = Domain::from_halfspaces(&normals, &[0.0, 20.0, 0.0, 10.0, 0.0, 15.0]).unwrap();
+    let mut s = JointSet::new(Orientation::dip(0.0, 0.0), 4.0);
+    s.origin = [0.0, 0.0, 0.45];
+    let slope = Excavation::new(ExcavationShape::Slope {
+        origin: [0.0, 0.0, 0.0],
+        trend: 30.0,
+        vertices: BENCHES.to_vec(),
+    });
+    let spec = Spec::new(domain)
+        .with(Discontinuity::set(s))
+        .with(Discontinuity::plane(
+            [5.0, 5.0, 0.0],
+            Orientation::dip(90.0, 75.0),
+        ))
+        .excavate(slope);
+    let out = generate(&spec).unwrap();
+    let exact = area_under(&BENCHES, 0.0, 20.0) * 10.0;
+    assert_close(volume(&out.system), exact, "rock left, oblique strike");
+}
+
+#[test]
+fn a_pyramid_hill_from_obj_and_stl_files_leaves_its_exact_volume() {
+    // A square pyramid on a 10 x 10 base at z = 2, apex (5, 5, 7): rock 100 x 2 + 100 x 5 / 3.
+    let dir = std::env::temp_dir().join(format!("penedge-pyramid-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let corners = [
+        [0.0, 0.0, 2.0],
+        [10.0, 0.0, 2.0],
+        [10.0, 10.0, 2.0],
+        [0.0, 10.0, 2.0],
+    ];
+    let apex = [5.0f64, 5.0, 7.0];
+    let mut obj = String::new();
+    for p in corners.iter().chain([&apex]) {
+        obj += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+    }
+    obj += "f 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n";
+    std::fs::write(dir.join("pyramid.obj"), obj).unwrap();
+    // The same triangles as binary STL, wound the other way (the winding is ignored).
+    let mut stl = vec![0u8; 80];
+    stl.extend(4u32.to_le_bytes());
+    for k in 0..4 {
+        stl.extend([0u8; 12]);
+        for p in [corners[(k + 1) % 4], corners[k], apex] {
+            p.iter().for_each(|c| stl.extend((*c as f32).to_le_bytes()));
+        }
+        stl.extend([0u8; 2]);
+    }
+    std::fs::write(dir.join("pyramid.stl"), stl).unwrap();
+    let exact = 200.0 + 500.0 / 3.0;
+    for file in ["pyramid.obj", "pyramid.stl"] {
+        let text = format!(
+            "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n\n\
+             [[joints]]\ntype = \"set\"\ndip = 20\ndip_direction = 30\nspacing = 2.2\n\n\
+             [[excavations]]\ntype = \"topography\"\nfile = \"{file}\"\n"
+        );
+        let out = generate(&parse_toml_in(&text, &dir).unwrap()).unwrap();
+        assert_close(volume(&out.system), exact, file);
+        let found = out.system.detect_bodies(&Tolerance::default());
+        assert!(
+            found.penetrating.is_empty(),
+            "{file}: {:?}",
+            found.penetrating
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Elevations of a hill on a grid: not a plane, so each cell's two triangles differ.
 fn hill(x: f64, y: f64) -> f64 {
     4.0 + 0.25 * x + 3.0 * (-((x - 8.0).powi(2) + (y - 5.0).powi(2)) / 20.0).exp()

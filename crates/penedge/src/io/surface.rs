@@ -42,14 +42,22 @@ pub fn read_surface(path: &Path) -> Result<Surface, IoError> {
     let kind = Kind::of(path).map_err(syntax)?;
     let failed = |source| IoError::io(path, source);
     let file = std::fs::File::open(path).map_err(failed)?;
+    // A path that is not a regular file (a pipe, a device) is read up to the stream limit,
+    // so that an endless stream is an error, not a hang.
+    let regular = file.metadata().map_err(failed)?.is_file();
+    let limit = if regular {
+        MAX_SURFACE_BYTES
+    } else {
+        MAX_SURFACE_BYTES.min(super::MAX_STREAM_BYTES)
+    };
     let mut bytes = Vec::new();
-    file.take(MAX_SURFACE_BYTES + 1)
+    file.take(limit + 1)
         .read_to_end(&mut bytes)
         .map_err(failed)?;
-    if bytes.len() as u64 > MAX_SURFACE_BYTES {
+    if bytes.len() as u64 > limit {
         return Err(syntax(format!(
             "longer than {} MiB: too large for a surface (or an endless stream)",
-            MAX_SURFACE_BYTES >> 20
+            limit >> 20
         )));
     }
     let source = path.display().to_string();
