@@ -203,18 +203,28 @@ fn flatten(surface: &Surface) -> Result<Vec<Flat>, String> {
         let mut p = t.map(|q| [q[0], q[1]]);
         let mut z = t.map(|q| q[2]);
         let twice = cross(p[0], p[1], p[2]);
+        let corner = |q: [f64; 3]| DVec3::from_array(q);
+        let normal = (corner(t[1]) - corner(t[0])).cross(corner(t[2]) - corner(t[0]));
         let edge = (0..3)
-            .map(|e| {
-                let (a, b) = (t[e], t[(e + 1) % 3]);
-                ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-            })
+            .map(|e| (corner(t[e]) - corner(t[(e + 1) % 3])).length())
             .fold(0.0f64, f64::max);
-        if twice.abs() <= 1e-9 * edge * edge || twice.abs() <= 1e-24 * scale * scale {
+        if !twice.is_finite() || !normal.is_finite() || !edge.is_finite() {
             return Err(format!(
-                "triangle {k} (corners {:?}, {:?}, {:?}) is vertical or has no area seen from \
-                 above: a topographic surface must be a height field, with no vertical or \
-                 overhanging part",
-                t[0], t[1], t[2]
+                "triangle {k} is too large: its size overflows (coordinates near 1e308?)"
+            ));
+        }
+        let corners = format!("(corners {:?}, {:?}, {:?})", t[0], t[1], t[2]);
+        if normal.length() <= 1e-14 * edge * edge || normal.length() <= 1e-24 * scale * scale {
+            return Err(format!(
+                "triangle {k} {corners} has no area: its corners are on one line"
+            ));
+        }
+        // Steeper than 90 - 6e-8 degrees: vertical.
+        if twice.abs() <= 1e-9 * normal.length() {
+            return Err(format!(
+                "triangle {k} {corners} is vertical: it has no area seen from above; a \
+                 topographic surface must be a height field, with no vertical or overhanging \
+                 part"
             ));
         }
         if twice < 0.0 {
@@ -238,17 +248,42 @@ fn overlapping_pair(flats: &[Flat]) -> Option<(usize, usize)> {
         }
     }
     let span = [hi[0] - lo[0], hi[1] - lo[1]];
-    let tol = 1e-9 * span[0].max(span[1]);
-    let side = ((span[0] * span[1]) / flats.len() as f64).sqrt().max(tol) * 2.0;
-    let cells = |k: usize, x: f64| {
-        let c = ((x - lo[k]) / side).floor().max(0.0);
-        c.min(((span[k] / side).floor()).max(0.0)) as usize
+    // Rounding only: neighbours share their corners bit for bit (grids, OBJ indices, STL's
+    // repeated floats), and the distance of a shared corner to a shared edge is then 0.
+    let tol = 1e-12 * lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs());
+    // Cells of about twice the mean triangle's size: at most 2048 along each axis, so a
+    // surface of extreme proportions (or coordinates) makes a bounded grid.
+    let side = 2.0 * ((span[0] * span[1]) / flats.len() as f64).sqrt();
+    let count = |k: usize| {
+        let c = (span[k] / side).ceil();
+        if c.is_finite() {
+            c.clamp(1.0, 2048.0) as usize
+        } else {
+            1
+        }
     };
-    let nx = cells(0, hi[0]) + 1;
-    let ny = cells(1, hi[1]) + 1;
-    let buckets = nx.saturating_mul(ny).clamp(1, 1 << 26);
+    let (nx, ny) = (count(0), count(1));
+    let width = [0, 1].map(|k| {
+        let n = [nx, ny][k] as f64;
+        if span[k] > 0.0 {
+            span[k] / n
+        } else {
+            1.0
+        }
+    });
+    let cells = |k: usize, x: f64| {
+        let c = ((x - lo[k]) / width[k]).floor();
+        // NaN (from coordinates too large to subtract) goes to cell 0.
+        let last = [nx, ny][k] - 1;
+        if c >= 0.0 {
+            (c.min(last as f64)) as usize
+        } else {
+            0
+        }
+    };
+    let buckets = nx * ny;
     let mut grid: Vec<Vec<u32>> = vec![Vec::new(); buckets];
-    let index = |i: usize, j: usize| (j * nx + i) % buckets;
+    let index = |i: usize, j: usize| j * nx + i;
     for (k, (a, b)) in boxes.iter().enumerate() {
         for j in cells(1, a[1])..=cells(1, b[1]) {
             for i in cells(0, a[0])..=cells(0, b[0]) {
@@ -261,9 +296,6 @@ fn overlapping_pair(flats: &[Flat]) -> Option<(usize, usize)> {
         for (x, &i) in bucket.iter().enumerate() {
             for &j in &bucket[x + 1..] {
                 let (i, j) = (i as usize, j as usize);
-                if i == j {
-                    continue; // a triangle in two cells that share a bucket
-                }
                 // Each pair once: in the cell of the low corner of their boxes' overlap.
                 let (a, b) = (boxes[i], boxes[j]);
                 let corner = [a.0[0].max(b.0[0]), a.0[1].max(b.0[1])];
@@ -425,6 +457,44 @@ mod tests {
             "{e}"
         );
         assert!(e.to_string().contains("corner x = -1, y = 0"), "{e}");
+    }
+
+    #[test]
+    fn random_triangles_of_any_size_give_regions_or_an_error_never_a_panic() {
+        let rock = extent([0.0; 3], [10.0; 3]);
+        let mut state = 11u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            state >> 11
+        };
+        let scales = [1e-300, 1e-9, 1.0, 10.0, 1e9, 1e300];
+        for round in 0..300 {
+            let n = 1 + next() as usize % 12;
+            let scale = scales[round % scales.len()];
+            let mut coord = || (next() as f64 / (1u64 << 53) as f64 - 0.25) * 14.0 * scale;
+            let triangles = (0..n)
+                .map(|_| {
+                    [
+                        [coord(), coord(), coord()],
+                        [coord(), coord(), coord()],
+                        [coord(), coord(), coord()],
+                    ]
+                })
+                .collect();
+            let _ = regions("x", &Surface::new(triangles, "random"), &rock);
+        }
+        // Two long thin triangles, crossing: a fold, found on a grid of extreme proportions.
+        let thin = Surface::new(
+            vec![
+                [[0.0, 0.0, 5.0], [1e6, 0.0, 5.0], [0.0, 1e-3, 5.0]],
+                [[1.0, 0.0, 5.0], [1e6, 1e-3, 5.0], [0.0, 1e-3, 5.0]],
+            ],
+            "thin",
+        );
+        let e = regions("x", &thin, &rock).unwrap_err();
+        assert!(e.to_string().contains("overlap"), "{e}");
     }
 
     #[test]

@@ -157,8 +157,9 @@ fn grid(text: &str, source: &str) -> Result<Surface, String> {
                 one_line(body)
             ));
         }
-        let x = number(words[0], line, "x")?;
-        let y = number(words[1], line, "y")?;
+        // `+ 0.0` makes -0 the same node as 0.
+        let x = number(words[0], line, "x")? + 0.0;
+        let y = number(words[1], line, "y")? + 0.0;
         let z = if is_missing(words[2]) {
             None
         } else {
@@ -420,6 +421,41 @@ mod tests {
             e.contains("line 2: the elevation z must be a finite number"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn any_bytes_give_a_surface_or_an_error_never_a_panic() {
+        // SplitMix64 bytes, and mutations of valid files.
+        let mut state = 7u64;
+        let mut next = || {
+            state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        };
+        let seeds: [&[u8]; 3] = [
+            b"x,y,z\n0,0,1\n1,0,2\n0,1,-0\n1,1,3\n",
+            b"v 0 0 0\nv 1 0 0\nv 0 1 1\nf 1 2 3\nf -1 -2 -3\n",
+            b"solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
+              vertex 0 1 0\nendloop\nendfacet\nendsolid\n",
+        ];
+        for round in 0..3000 {
+            let mut bytes = seeds[round % 3].to_vec();
+            for _ in 0..(next() % 6) {
+                let at = (next() as usize) % bytes.len();
+                bytes[at] = b"0123456789 -,.\nvfe/#nai"[(next() as usize) % 23];
+            }
+            if round % 10 == 0 {
+                bytes = (0..next() % 200).map(|_| next() as u8).collect();
+            }
+            for kind in [Kind::Grid, Kind::Obj, Kind::Stl] {
+                let _ = parse_surface(kind, &bytes, "fuzz");
+            }
+        }
+        // -0 and 0 are one node.
+        let s = parse_surface(Kind::Grid, seeds[0], "g").unwrap();
+        assert_eq!(s.triangles.len(), 2);
     }
 
     #[test]
