@@ -250,7 +250,12 @@ fn overlapping_pair(flats: &[Flat]) -> Option<(usize, usize)> {
     let span = [hi[0] - lo[0], hi[1] - lo[1]];
     // Rounding only: neighbours share their corners bit for bit (grids, OBJ indices, STL's
     // repeated floats), and the distance of a shared corner to a shared edge is then 0.
-    let tol = 1e-12 * lo[0].abs().max(lo[1].abs()).max(hi[0].abs()).max(hi[1].abs());
+    let tol = 1e-12
+        * lo[0]
+            .abs()
+            .max(lo[1].abs())
+            .max(hi[0].abs())
+            .max(hi[1].abs());
     // Cells of about twice the mean triangle's size: at most 2048 along each axis, so a
     // surface of extreme proportions (or coordinates) makes a bounded grid.
     let side = 2.0 * ((span[0] * span[1]) / flats.len() as f64).sqrt();

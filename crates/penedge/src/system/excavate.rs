@@ -106,11 +106,24 @@ impl BlockSystem {
         let mut report = ExcavationReport::default();
         // The pieces, each with the block it comes from.
         let mut pieces: Vec<(u32, ConvexBlock)> = Vec::with_capacity(self.len());
+        // The first joint of each region's faces.
+        let firsts: Vec<u32> = regions
+            .iter()
+            .scan(first_joint, |next, r| {
+                let first = *next;
+                *next += r.n_faces() as u32;
+                Some(first)
+            })
+            .collect();
         for (k, block) in self.blocks.iter().enumerate() {
             let mut parts = vec![block.clone()];
             let mut touched = false;
-            let mut joint = first_joint;
-            for region in &regions {
+            for (region, &joint) in regions.iter().zip(&firsts) {
+                // A slope or a surface has many regions, most far from the block: skipped
+                // before its parts are moved.
+                if !block.aabb().overlaps(&region.aabb(), eps) {
+                    continue;
+                }
                 let mut next = Vec::with_capacity(parts.len());
                 for part in parts {
                     match subtract(&part, region, set, joint, eps, &mut splitter) {
@@ -123,7 +136,6 @@ impl BlockSystem {
                     }
                 }
                 parts = next;
-                joint += region.n_faces() as u32;
             }
             if touched {
                 if parts.is_empty() {
