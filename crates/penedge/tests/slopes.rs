@@ -343,6 +343,22 @@ fn slopes_and_surfaces_are_read_from_a_spec_and_bad_ones_are_named() {
     let s = run("type = \"topography\"\nfile = \"data/ramp.xyz\"\n").unwrap();
     assert_close(volume(&s), 100.0 * (2.0 + 2.5), "rock under the ramp");
 
+    // The same ramp as an ESRI ASCII grid: nodes at the cells' centres.
+    let asc = "ncols 3\nnrows 2\nxllcenter 0\nyllcenter 0\ndx 5\ndy 10\n\
+               NODATA_value -9999\n2 4.5 7\n2 4.5 7\n";
+    std::fs::write(dir.join("data/ramp.asc"), asc).unwrap();
+    let s = run("type = \"topography\"\nfile = \"data/ramp.asc\"\n").unwrap();
+    assert_close(volume(&s), 450.0, "rock under the ramp, ESRI grid");
+    std::fs::write(
+        dir.join("data/holed.asc"),
+        asc.replace("2 4.5 7\n2", "2 -9999 7\n2"),
+    )
+    .unwrap();
+    let e = run("type = \"topography\"\nfile = \"data/holed.asc\"\n").unwrap_err();
+    assert!(
+        e.to_string().contains("(x = 5, y = 10) has no elevation"),
+        "{e}"
+    );
     // A hole: one node missing.
     let holed: String = xyz
         .lines()

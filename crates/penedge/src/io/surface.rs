@@ -1,9 +1,9 @@
-//! Topographic surfaces read from files: a grid of elevations (XYZ or CSV) or a triangulated
-//! surface (Wavefront OBJ, binary or ASCII STL); see `docs/generation.md`, "Slopes and
+//! Topographic surfaces read from files: a grid of elevations (XYZ or CSV, ESRI ASCII grid)
+//! or a triangulated surface (Wavefront OBJ, binary or ASCII STL); see `docs/generation.md`, "Slopes and
 //! topography".
 //!
-//! The kind of file is told by its extension: `.xyz`, `.csv`, `.txt`, `.dat` are grids;
-//! `.obj` and `.stl` are meshes. The readers are small hand parsers of the parts of each
+//! The kind of file is told by its extension: `.xyz`, `.csv`, `.txt`, `.dat` and `.asc`
+//! are grids; `.obj` and `.stl` are meshes. The readers are small hand parsers of the parts of each
 //! format a surface needs; every error says what is wrong and where (line, node, triangle).
 //!
 //! * **Grid** (`x y z` a line; commas, semicolons, tabs or spaces between; an optional
@@ -12,6 +12,10 @@
 //!   vary). A node without an elevation (a missing line, an empty field, `nan`, `NA`) is a
 //!   hole, and an error naming the node. Each cell is cut into two triangles along its
 //!   diagonal from its lower-left `(x_i, y_j)` to its upper-right corner.
+//! * **ESRI ASCII grid** (`.asc`): the header `ncols`, `nrows`, `xllcorner` or `xllcenter`,
+//!   `yllcorner` or `yllcenter`, `cellsize` (or `dx` and `dy`), optional `NODATA_value`,
+//!   then the rows, northernmost first. Each value is the elevation at its cell's centre;
+//!   a `NODATA_value` is a hole, and an error naming the row, column and point.
 //! * **OBJ**: `v x y z` vertices and `f` faces (indices from 1, negative from the end,
 //!   `i/t/n` forms); a face of more than three vertices is cut into a fan of triangles from
 //!   its first vertex. Other lines (normals, texture coordinates, groups) are ignored.
@@ -69,6 +73,8 @@ pub fn read_surface(path: &Path) -> Result<Surface, IoError> {
 pub enum Kind {
     /// `x y z` points on a grid.
     Grid,
+    /// An ESRI ASCII grid (`.asc`).
+    Asc,
     /// Wavefront OBJ.
     Obj,
     /// STL, binary or ASCII.
@@ -84,12 +90,13 @@ impl Kind {
             .unwrap_or_default();
         match ext.as_str() {
             "xyz" | "csv" | "txt" | "dat" => Ok(Kind::Grid),
+            "asc" => Ok(Kind::Asc),
             "obj" => Ok(Kind::Obj),
             "stl" => Ok(Kind::Stl),
             _ => Err(format!(
                 "unknown kind of surface file (extension `.{ext}`): expected .xyz, .csv, .txt \
-                 or .dat (a grid of elevations, `x y z` a line), .obj or .stl (a triangulated \
-                 surface)"
+                 or .dat (a grid of elevations, `x y z` a line), .asc (an ESRI ASCII grid), \
+                 .obj or .stl (a triangulated surface)"
             )),
         }
     }
@@ -102,6 +109,7 @@ pub fn parse_surface(kind: Kind, bytes: &[u8], source: &str) -> Result<Surface, 
         Kind::Stl => ascii_stl(text(bytes, "an STL file (binary or ASCII)")?)?,
         Kind::Obj => obj(text(bytes, "an OBJ file")?)?,
         Kind::Grid => return grid(text(bytes, "a grid of elevations")?, source),
+        Kind::Asc => return asc(text(bytes, "an ESRI ASCII grid")?, source),
     };
     Ok(Surface::new(triangles, source))
 }
@@ -241,6 +249,120 @@ fn grid(text: &str, source: &str) -> Result<Surface, String> {
             } else {
                 String::new()
             }
+        ));
+    }
+    Ok(Surface::from_grid(&xs, &ys, &z, source))
+}
+
+/// An ESRI ASCII grid: a header of `key value` lines, then the values row by row from the
+/// North.
+fn asc(text: &str, source: &str) -> Result<Surface, String> {
+    let mut header: HashMap<String, (f64, usize)> = HashMap::new();
+    let mut words = text
+        .lines()
+        .enumerate()
+        .flat_map(|(k, l)| l.split_whitespace().map(move |w| (w, k + 1)))
+        .peekable();
+    while let Some(&(word, line)) = words.peek() {
+        if word.parse::<f64>().is_ok() || word.eq_ignore_ascii_case("nan") {
+            break;
+        }
+        words.next();
+        let key = word.to_ascii_lowercase();
+        let known = [
+            "ncols",
+            "nrows",
+            "xllcorner",
+            "yllcorner",
+            "xllcenter",
+            "yllcenter",
+            "cellsize",
+            "dx",
+            "dy",
+            "nodata_value",
+        ];
+        if !known.contains(&key.as_str()) {
+            return Err(format!(
+                "line {line}: `{word}` is not a key of an ESRI ASCII grid's header (ncols, \
+                 nrows, xllcorner or xllcenter, yllcorner or yllcenter, cellsize or dx and dy, \
+                 NODATA_value)"
+            ));
+        }
+        let Some((value, at)) = words.next() else {
+            return Err(format!("line {line}: `{word}` has no value"));
+        };
+        header.insert(key, (number(value, at, word)?, at));
+    }
+    let get = |keys: &[&'static str]| keys.iter().find_map(|k| header.get(*k).map(|v| (v.0, *k)));
+    let need = |keys: &[&'static str]| {
+        get(keys).ok_or_else(|| {
+            format!(
+                "not an ESRI ASCII grid: its header has no `{}`",
+                keys.join("` or `")
+            )
+        })
+    };
+    let count = |key: &'static str| -> Result<usize, String> {
+        let (v, _) = need(&[key])?;
+        if v >= 2.0 && v.fract() == 0.0 && v <= 1e8 {
+            Ok(v as usize)
+        } else {
+            Err(format!(
+                "`{key}` must be a whole number of at least 2, got {v}"
+            ))
+        }
+    };
+    let (ncols, nrows) = (count("ncols")?, count("nrows")?);
+    let (dx, dy) = match (get(&["cellsize"]), get(&["dx"]), get(&["dy"])) {
+        (Some((c, _)), _, _) => (c, c),
+        (None, Some((dx, _)), Some((dy, _))) => (dx, dy),
+        _ => return Err("not an ESRI ASCII grid: its header has no `cellsize`".into()),
+    };
+    if !(dx > 0.0 && dy > 0.0) {
+        return Err(format!(
+            "the cell size must be greater than zero, got {dx} by {dy}"
+        ));
+    }
+    // The nodes are the cells' centres.
+    let centre = |corner: &'static str, center: &'static str, size: f64| -> Result<f64, String> {
+        let (v, key) = need(&[corner, center])?;
+        Ok(if key == corner { v + size / 2.0 } else { v })
+    };
+    let x0 = centre("xllcorner", "xllcenter", dx)?;
+    let y0 = centre("yllcorner", "yllcenter", dy)?;
+    let nodata = get(&["nodata_value"]).map(|v| v.0);
+    let xs: Vec<f64> = (0..ncols).map(|i| x0 + i as f64 * dx).collect();
+    let ys: Vec<f64> = (0..nrows).map(|j| y0 + j as f64 * dy).collect();
+    let mut z = vec![0.0; ncols * nrows];
+    for row in 0..nrows {
+        for col in 0..ncols {
+            let Some((word, line)) = words.next() else {
+                return Err(format!(
+                    "the grid ends after {} of its {} x {} values (ncols x nrows)",
+                    row * ncols + col,
+                    ncols,
+                    nrows
+                ));
+            };
+            let (x, y) = (xs[col], ys[nrows - 1 - row]);
+            let v = if is_missing(word) {
+                None
+            } else {
+                let v = number(word, line, "an elevation")?;
+                (Some(v) != nodata).then_some(v)
+            };
+            let Some(v) = v else {
+                return Err(format!(
+                    "line {line}: row {row}, column {col} (x = {x}, y = {y}) has no elevation \
+                     (NODATA): a hole in the surface"
+                ));
+            };
+            z[(nrows - 1 - row) * ncols + col] = v;
+        }
+    }
+    if let Some((word, line)) = words.next() {
+        return Err(format!(
+            "line {line}: `{word}` is past the grid's {ncols} x {nrows} values"
         ));
     }
     Ok(Surface::from_grid(&xs, &ys, &z, source))
@@ -449,13 +571,40 @@ mod tests {
             if round % 10 == 0 {
                 bytes = (0..next() % 200).map(|_| next() as u8).collect();
             }
-            for kind in [Kind::Grid, Kind::Obj, Kind::Stl] {
+            for kind in [Kind::Grid, Kind::Asc, Kind::Obj, Kind::Stl] {
                 let _ = parse_surface(kind, &bytes, "fuzz");
             }
         }
         // -0 and 0 are one node.
         let s = parse_surface(Kind::Grid, seeds[0], "g").unwrap();
         assert_eq!(s.triangles.len(), 2);
+    }
+
+    #[test]
+    fn an_esri_grid_is_read_from_the_north_and_its_nodata_is_a_hole() {
+        let text = "ncols 3\nnrows 2\nxllcorner 10\nyllcorner 20\ncellsize 2\n\
+                    NODATA_value -9999\n1 2 3\n4 5 6\n";
+        let s = parse_surface(Kind::Asc, text.as_bytes(), "g.asc").unwrap();
+        // Centres x = 11, 13, 15 and y = 21 (the second row), 23 (the first).
+        assert_eq!(s.triangles.len(), 4);
+        assert_eq!(
+            s.triangles[0],
+            [[11.0, 21.0, 4.0], [13.0, 21.0, 5.0], [13.0, 23.0, 2.0]]
+        );
+        let hole = text.replace("5 6", "-9999 6");
+        let e = parse_surface(Kind::Asc, hole.as_bytes(), "g.asc").unwrap_err();
+        assert!(
+            e.contains("row 1, column 1 (x = 13, y = 21) has no elevation"),
+            "{e}"
+        );
+        let short = text.replace("4 5 6\n", "4 5\n");
+        let e = parse_surface(Kind::Asc, short.as_bytes(), "g.asc").unwrap_err();
+        assert!(e.contains("ends after 5 of its 3 x 2 values"), "{e}");
+        let e = parse_surface(Kind::Asc, b"v 0 0 0\nf 1 1 1\n", "x.asc").unwrap_err();
+        assert!(e.contains("`v` is not a key"), "{e}");
+        let centred = text.replace("llcorner", "llcenter");
+        let s = parse_surface(Kind::Asc, centred.as_bytes(), "g.asc").unwrap();
+        assert_eq!(s.triangles[0][0], [10.0, 20.0, 4.0]);
     }
 
     #[test]
