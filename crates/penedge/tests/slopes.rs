@@ -343,6 +343,25 @@ fn slopes_and_surfaces_are_read_from_a_spec_and_bad_ones_are_named() {
     let s = run("type = \"topography\"\nfile = \"data/ramp.xyz\"\n").unwrap();
     assert_close(volume(&s), 100.0 * (2.0 + 2.5), "rock under the ramp");
 
+    // The ramp in map coordinates (eastings, northings, elevations 100 m up), brought back.
+    let mut map = String::from("x y z\n");
+    for y in [0.0, 10.0] {
+        for x in [0.0, 5.0, 10.0] {
+            map += &format!(
+                "{} {} {}\n",
+                512_300.0 + x,
+                5_100_200.0 + y,
+                102.0 + 0.5 * x
+            );
+        }
+    }
+    std::fs::write(dir.join("data/map.xyz"), map).unwrap();
+    let s = run("type = \"topography\"\nfile = \"data/map.xyz\"\n\
+                 offset = [-512300, -5100200, -100]\n")
+    .unwrap();
+    assert_close(volume(&s), 450.0, "rock under the ramp, in map coordinates");
+    let e = run("type = \"topography\"\nfile = \"data/map.xyz\"\n").unwrap_err();
+    assert!(e.to_string().contains("does not cover the rock"), "{e}");
     // The same ramp as an ESRI ASCII grid: nodes at the cells' centres.
     let asc = "ncols 3\nnrows 2\nxllcenter 0\nyllcenter 0\ndx 5\ndy 10\n\
                NODATA_value -9999\n2 4.5 7\n2 4.5 7\n";

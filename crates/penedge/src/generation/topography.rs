@@ -38,6 +38,17 @@ impl Surface {
         }
     }
 
+    /// The surface moved by `offset` (added to every point): a surface in map coordinates
+    /// (UTM eastings and northings) brought to the model's.
+    pub fn shifted(mut self, offset: [f64; 3]) -> Surface {
+        for p in self.triangles.iter_mut().flatten() {
+            for (c, d) in p.iter_mut().zip(offset) {
+                *c += d;
+            }
+        }
+        self
+    }
+
     /// The surface of a grid of elevations: `z[j * xs.len() + i]` at `(xs[i], ys[j])`, both
     /// increasing. Each cell is cut into two triangles along its diagonal from the
     /// `(xs[i], ys[j])` corner to the `(xs[i + 1], ys[j + 1])` corner.

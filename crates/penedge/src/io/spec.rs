@@ -96,6 +96,7 @@ struct RawExcavation {
     depth: Option<f64>,
     origin: Option<[f64; 3]>,
     file: Option<String>,
+    offset: Option<[f64; 3]>,
 }
 
 #[derive(Deserialize, Default)]
@@ -479,6 +480,7 @@ fn excavation(prefix: &str, e: &RawExcavation, folder: &Path) -> Result<Excavati
         ("depth", e.depth.is_some()),
         ("origin", e.origin.is_some()),
         ("file", e.file.is_some()),
+        ("offset", e.offset.is_some()),
     ];
     let field = |name: &str| format!("{prefix}.{name}");
     let shape = match e.kind.as_str() {
@@ -524,7 +526,14 @@ fn excavation(prefix: &str, e: &RawExcavation, folder: &Path) -> Result<Excavati
             }
         }
         "topography" => {
-            only(prefix, "topography", &given, &["file"])?;
+            only(prefix, "topography", &given, &["file", "offset"])?;
+            let offset = e.offset.unwrap_or([0.0; 3]);
+            if let Some(&value) = offset.iter().find(|v| !v.is_finite()) {
+                return Err(SpecError::new(
+                    field("offset"),
+                    Problem::NotFinite { value },
+                ));
+            }
             let name = need(field("file"), &e.file)?;
             let path = folder.join(&name);
             let surface = surface::read_surface(&path).map_err(|err| {
@@ -534,7 +543,9 @@ fn excavation(prefix: &str, e: &RawExcavation, folder: &Path) -> Result<Excavati
                 };
                 SpecError::new(field("file"), Problem::Invalid(why))
             })?;
-            ExcavationShape::Topography { surface }
+            ExcavationShape::Topography {
+                surface: surface.shifted(offset),
+            }
         }
         other => {
             let expected = "tunnel, cavern, shaft, slope, topography";
