@@ -9,6 +9,7 @@ use penedge::generation::{
     Surface,
 };
 use penedge::io::spec::{parse_toml, parse_toml_in};
+use penedge::io::surface::{parse_surface, Kind};
 use penedge::{BlockSystem, ContactType, Tolerance};
 use std::path::Path;
 
@@ -451,4 +452,24 @@ fn the_slope_examples_run() {
     }
     // parse_toml reads surface files relative to the current folder: a plain name there.
     assert!(parse_toml("[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n").is_ok());
+}
+
+#[test]
+fn the_surface_fuzz_target_takes_its_seeds() {
+    let seeds = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds/read_surface");
+    let mut count = 0;
+    for entry in std::fs::read_dir(seeds).unwrap() {
+        let data = std::fs::read(entry.unwrap().path()).unwrap();
+        // Each seed is a good surface: it parses and excavates the cube.
+        penedge::fuzzing::read_surface(&data);
+        let kind = [Kind::Grid, Kind::Asc, Kind::Obj, Kind::Stl][data[0] as usize % 4];
+        let surface = parse_surface(kind, &data[1..], "seed").unwrap();
+        let rock = BlockSystem::new(vec![
+            penedge::ConvexBlock::cuboid([0.0; 3], [10.0; 3]).unwrap()
+        ]);
+        let ground = Excavation::new(ExcavationShape::Topography { surface });
+        rock.excavate(&ground, &Tolerance::default()).unwrap();
+        count += 1;
+    }
+    assert_eq!(count, 5);
 }
