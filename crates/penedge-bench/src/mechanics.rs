@@ -300,7 +300,7 @@ fn settle(o: &Options) -> Result<(), String> {
 
 /// CPU time of the process, all threads, user and system (`getrusage`): under the load of a
 /// shared machine, wall time also counts the time the threads wait for a core.
-fn process_cpu_s() -> f64 {
+pub(crate) fn process_cpu_s() -> f64 {
     // SAFETY: an all-zero `rusage` is a valid value of this plain C struct.
     let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
     // SAFETY: `usage` is a valid, writable rusage; RUSAGE_SELF is a constant Linux supports.

@@ -239,12 +239,13 @@ pub struct Simulation {
 }
 
 impl Simulation {
-    /// A simulation of `system`'s blocks, one body each, all of density `density`, free and
-    /// at rest, with the default joint model, gravity `(0, 0, -9.81)`, no damping, a
-    /// detection gap of 1e-3 (relative), point contacts 0.2 of the smaller body's diameter
-    /// wide and the automatic time step.
+    /// A simulation of `system`'s blocks, one body each (a concave block, parts sharing a
+    /// body id, is one rigid body of its parts: [`Bodies::from_system`], bodies by ascending
+    /// body id), all of density `density`, free and at rest, with the default joint model,
+    /// gravity `(0, 0, -9.81)`, no damping, a detection gap of 1e-3 (relative), point
+    /// contacts 0.2 of the smaller body's diameter wide and the automatic time step.
     pub fn new(system: &BlockSystem, density: f64) -> Result<Simulation, MechanicsError> {
-        let bodies = Bodies::from_blocks(system.blocks(), density)?;
+        let bodies = Bodies::from_system(system, density)?;
         Ok(Simulation::from_bodies(bodies))
     }
 
