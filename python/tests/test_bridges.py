@@ -47,6 +47,13 @@ def generated(text):
     return system
 
 
+def test_the_report_counts_bridged_cuts_apart_from_partial_cuts():
+    _, plain = penedge.generate(tomllib.loads(SPEC))
+    assert (plain["partial_cuts_skipped"], plain["bridged_cuts"]) == (1, 0)
+    _, bridged = penedge.generate(tomllib.loads(SPEC + "bridge = true\n"))
+    assert (bridged["partial_cuts_skipped"], bridged["bridged_cuts"]) == (0, 1)
+
+
 def test_a_square_joint_with_bridges_leaves_the_rest_of_the_plane_as_bridge():
     assert len(generated(SPEC)) == 1  # the joint ends inside the box: left whole
     system = generated(SPEC + "bridge = true\n")
