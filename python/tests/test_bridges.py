@@ -222,3 +222,12 @@ def test_detection_keeps_the_face_of_the_bridge_piece_under_the_sliding_block():
     r = penedge.detect_pair(placed[sliding], placed[bridge_piece], gap=1e-3)
     # the bridge piece's top face, 5 / cos 35 by 10 m (the polygon is widened by the gap)
     assert r.area == pytest.approx(50 / math.cos(dip), rel=0.01)
+
+
+def test_solve_stage_elastic_flag():
+    stage = '[[stages]]\ntype = "solve"\nelastic = true\n'
+    assert pm.parse_model(MODEL + stage).stages[0].elastic
+    assert not pm.parse_model(MODEL + '[[stages]]\ntype = "solve"\n').stages[0].elastic
+    with pytest.raises(penedge.SpecError) as caught:
+        pm.parse_model(MODEL + stage.replace("true", "1"))
+    assert caught.value.field == "stages[0].elastic"
