@@ -139,6 +139,8 @@ fn a_square_joint_with_bridges_cuts_the_box_through() {
     // Four seams cross the section: below the plane, 4 pieces outside them and the joint's
     // piece; above it, one piece.
     assert_eq!(out.system.len(), 6);
+    assert_eq!(out.report.bridged_cuts, 1);
+    assert_eq!(out.report.partial_cuts_skipped, 0);
     // The block file keeps the bridge faces.
     let text = penedge::io::json::to_json_string(&out.system);
     assert!(text.contains(r#""kind":"bridge""#) || text.contains(r#""kind": "bridge""#));
@@ -191,6 +193,7 @@ fn bridges_through_blocks_of_a_joint_set() {
     // Every joint and bridge face is covered by its neighbours' faces.
     generation_support::check_faces(&out.system, 0);
     assert_eq!(out.report.partial_cuts_by_entry, vec![0, 0]);
+    assert_eq!(out.report.bridged_cuts, 4); // one per column
 }
 
 #[test]
