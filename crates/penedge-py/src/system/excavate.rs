@@ -25,8 +25,9 @@ impl BlockSystem {
     ///     tunnel or shaft, and the placement (``start``, ``trend``, ``plunge``, ``length``;
     ///     ``center``, ``width``, ``height``; ``top``, ``depth``); for a slope ``origin``,
     ///     ``trend`` (of the strike) and the profile's ``vertices`` ``[[u, v], ...]``; for a
-    ///     topographic surface its ``file`` (a grid of elevations ``.xyz``/``.csv``, or a
-    ///     ``.obj`` or ``.stl`` mesh; a path relative to the current folder). The air above a
+    ///     topographic surface its ``file`` (a grid of elevations ``.xyz``/``.csv``/``.asc``,
+    ///     or a ``.obj`` or ``.stl`` mesh; a path relative to the current folder) and an
+    ///     optional ``offset`` ``[dx, dy, dz]`` added to its points. The air above a
     ///     slope or a surface is removed, the rock below kept (docs/generation.md, "Slopes
     ///     and topography").
     /// gap, length, absolute_gap : float

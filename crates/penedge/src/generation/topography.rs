@@ -383,7 +383,11 @@ fn clip(t: &[[f64; 2]; 3], by: &[[f64; 2]]) -> Vec<[f64; 2]> {
 }
 
 /// The air above one triangle up to `lid`: its three vertical sides, its plane below, the
-/// lid above.
+/// lid above. The sides come first: a block is cut by them into columns (the planes that
+/// neighbouring triangles share), and only its column by the triangle's plane. With the
+/// triangle's plane first, its extension past the triangle cut the neighbouring rock at
+/// shallow angles into slivers, and a 41 x 41 grid over jointed rock made parts that the
+/// glue check found overlapping.
 fn prism(t: &Flat, lid: f64) -> Result<ConvexBlock, crate::BlockError> {
     let at = |k: usize| DVec3::new(t.p[k][0], t.p[k][1], t.z[k]);
     let mut normals = Vec::with_capacity(5);
