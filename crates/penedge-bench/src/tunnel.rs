@@ -2,7 +2,7 @@
 //! (issue 20, "Speed").
 //!
 //! `cargo run --release -p penedge-bench -- tunnel [--runs R] [--threads T] [--spacing S]
-//! [--persistence P] [--radius M]`
+//! [--persistence P] [--radius M] [--profile]`
 //!
 //! The model: the 100 m cube of `examples/three_joint_sets.toml` (three joint sets, spacing
 //! `S`, default 2.13 m: about 10^5 blocks) with a circular tunnel (radius `M`, default 8 m, 32
@@ -25,6 +25,8 @@
 //! 3. `detect_with_geometry` and `detect` on the parts, for reference;
 //! 4. `with_bodies`, once.
 //!
+//! `--profile` runs only the first, `R` times, after the set-up (for `perf record`).
+//!
 //! Rounds are interleaved (each times the four in turn) so that a change of load on a shared
 //! machine weighs on all of them alike.
 
@@ -40,6 +42,8 @@ struct Options {
     spacing: f64,
     persistence: f64,
     radius: f64,
+    /// Only `detect_bodies` on the bodies, `runs` times (for a profiler).
+    profile: bool,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -49,6 +53,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         spacing: 2.13,
         persistence: 0.7,
         radius: 8.0,
+        profile: false,
     };
     let mut it = args.iter();
     while let Some(flag) = it.next() {
@@ -62,6 +67,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--spacing" => o.spacing = real("--spacing")?,
             "--persistence" => o.persistence = real("--persistence")?,
             "--radius" => o.radius = real("--radius")?,
+            "--profile" => o.profile = true,
             other => return Err(format!("unknown option {other}")),
         }
     }
@@ -193,6 +199,12 @@ fn table(o: &Options) -> Result<(), String> {
         .filter(|(_, p)| p.len() > 1)
         .map(|(_, p)| p)
         .collect();
+    if o.profile {
+        for _ in 0..o.runs {
+            std::hint::black_box(bodies.detect_bodies(&tol));
+        }
+        return Ok(());
+    }
     let in_multi: usize = multi.iter().map(|p| p.len()).sum();
     // Geometrically non-convex: the union's volume below its hull's.
     let non_convex = multi

@@ -35,7 +35,7 @@
 //! the pairs it queries, are scattered through memory: each is asked for (prefetched) a few
 //! places ahead of its turn, which made a small step of a 50^3 grid a quarter faster.
 
-use super::body_contacts::{BodyContacts, Piece};
+use super::body_contacts::{BodyContacts, FaceMarks, Piece};
 use super::detect::{ask_ahead, SystemContacts, SLICE};
 use super::{BlockSystem, BroadPhase, WideBoxes};
 use crate::block::{ConvexBlock, Pose, Prefetch};
@@ -187,6 +187,8 @@ struct BodyTracking {
     order_bodies: Vec<[u32; 2]>,
     /// The contacts of the bodies at the current poses.
     found: BodyContacts,
+    /// The glued and covered faces (the glue never changes).
+    marks: FaceMarks,
 }
 
 /// Which stale blocks [`ContactTracker::place`] places.
@@ -271,6 +273,7 @@ impl ContactTracker {
             }
             Box::new(BodyTracking {
                 first_part,
+                marks: FaceMarks::of(system),
                 ..BodyTracking::default()
             })
         });
@@ -734,7 +737,7 @@ impl BodyTracking {
                 .map(|(_, &b)| b)
                 .collect();
             penetrating.dedup();
-            self.found = system.regions(&pieces, penetrating);
+            self.found = system.regions(&pieces, penetrating, &self.marks);
             return;
         }
         if dirty.is_empty() {
@@ -756,7 +759,7 @@ impl BodyTracking {
                         .filter_map(|&k| self.pieces[k as usize].as_deref())
                         .collect();
                     if !pieces.is_empty() {
-                        system.add_pair(&pieces, &mut fresh);
+                        system.add_pair(&pieces, &mut fresh, &self.marks);
                     }
                 }
                 (bodies, fresh)
