@@ -2,6 +2,7 @@
 
 use crate::arrays;
 use crate::errors::to_py_err;
+use crate::io::file_error;
 use crate::system::BlockSystem;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
@@ -9,6 +10,7 @@ use penedge::geometry::DVec3;
 use penedge::mechanics::{self, Damping, Fixity, JointModel};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::path::PathBuf;
 
 /// A rigid-block simulation (3DEC-style distinct element method) of a block system.
 ///
@@ -488,6 +490,40 @@ impl Simulation {
         Simulation {
             inner: self.inner.clone(),
         }
+    }
+
+    /// Writes the whole state to a restart file (``docs/mechanics.md``, "Restart files"):
+    /// bodies and their shapes, settings, joint properties, contacts with their
+    /// sub-contacts' forces, shear histories and states, time and step count. Atomic: a
+    /// temporary file renamed over `path`, never half a file. :meth:`load` gives back a
+    /// simulation whose next steps are bit for bit those this one would take.
+    ///
+    /// Parameters
+    /// ----------
+    /// path : str or os.PathLike
+    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let inner = &self.inner;
+        py.detach(|| inner.save_state(&path))
+            .map_err(file_error(&path))
+    }
+
+    /// The simulation saved by :meth:`save`, ready to go on.
+    ///
+    /// Parameters
+    /// ----------
+    /// path : str or os.PathLike
+    ///
+    /// Raises
+    /// ------
+    /// FileFormatError
+    ///     Not a restart file, another version, cut short, or a bad field (named).
+    /// OSError
+    ///     The file cannot be read.
+    #[staticmethod]
+    fn load(py: Python<'_>, path: PathBuf) -> PyResult<Simulation> {
+        py.detach(|| mechanics::Simulation::load_state(&path))
+            .map(|inner| Simulation { inner })
+            .map_err(file_error(&path))
     }
 
     /// The blocks at their current poses, as a :class:`BlockSystem` (for files and

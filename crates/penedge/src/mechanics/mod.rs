@@ -24,11 +24,13 @@ mod bodies;
 mod contacts;
 mod integrate;
 mod joint;
+mod state;
 
 pub use bodies::{Bodies, Fixity};
 pub use contacts::{BodyContact, Contacts, SubContact};
 pub use integrate::{free_rotation, Damping};
 pub use joint::{JointModel, JointTable, SubState};
+pub use state::{FORMAT as STATE_FORMAT, VERSION as STATE_VERSION};
 
 use crate::block::{ConvexBlock, Pose};
 use crate::body::BodyError;
