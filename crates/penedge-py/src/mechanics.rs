@@ -57,6 +57,8 @@ use std::path::PathBuf;
 #[pyclass(module = "penedge", name = "Simulation")]
 pub struct Simulation {
     inner: mechanics::Simulation,
+    /// The note of the restart file it was read from (:meth:`load`).
+    note: Option<String>,
 }
 
 fn body_ids(ids: Option<Vec<usize>>, n: usize) -> Vec<usize> {
@@ -84,7 +86,7 @@ impl Simulation {
         let mut inner = mechanics::Simulation::new(&system.inner, density).map_err(to_py_err)?;
         inner.set_gap(gap).map_err(to_py_err)?;
         inner.set_point_width(point_width).map_err(to_py_err)?;
-        Ok(Simulation { inner })
+        Ok(Simulation { inner, note: None })
     }
 
     /// Number of bodies.
@@ -405,6 +407,46 @@ impl Simulation {
         arrays::read_only(arrays::rows3(py, &rows))
     }
 
+    /// Removes the given bodies (the rock excavated): from the next step they take no part
+    /// (ids kept, fixed where they were; :attr:`removed`). The forces they exerted on the
+    /// bodies that stay are applied again and reduced linearly to zero over `relax_steps`
+    /// steps (the j-th step applies ``1 - (j - 1) / relax_steps`` of them; 0: at once).
+    /// ``docs/mechanics.md``, "Excavation".
+    ///
+    /// Returns
+    /// -------
+    /// dict
+    ///     ``removed`` (ids), ``loaded`` (ids of the bodies the removed ones pushed on) and
+    ///     ``forces`` (k, 3), the load on each, which relaxes.
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     An unknown body, or one removed already.
+    #[pyo3(signature = (ids, relax_steps = 0))]
+    fn excavate<'py>(
+        &mut self,
+        py: Python<'py>,
+        ids: Vec<usize>,
+        relax_steps: u64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let report = self.inner.excavate(&ids, relax_steps).map_err(to_py_err)?;
+        let out = PyDict::new(py);
+        let removed: Vec<u64> = report.removed.iter().map(|&i| i as u64).collect();
+        out.set_item("removed", arrays::vector(py, removed))?;
+        let loaded: Vec<u64> = report.loaded.iter().map(|l| l.0 as u64).collect();
+        out.set_item("loaded", arrays::vector(py, loaded))?;
+        let forces: Vec<[f64; 3]> = report.loaded.iter().map(|l| l.1.to_array()).collect();
+        out.set_item("forces", arrays::rows3(py, &forces))?;
+        Ok(out)
+    }
+
+    /// Whether each body was excavated (:meth:`excavate`), shape (n,).
+    #[getter]
+    fn removed<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        arrays::read_only(arrays::vector(py, self.inner.removed()))
+    }
+
     /// Whether each body is fixed, shape (n,).
     #[getter]
     fn fixed<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<bool>>> {
@@ -489,6 +531,7 @@ impl Simulation {
     fn copy(&self) -> Simulation {
         Simulation {
             inner: self.inner.clone(),
+            note: self.note.clone(),
         }
     }
 
@@ -501,10 +544,20 @@ impl Simulation {
     /// Parameters
     /// ----------
     /// path : str or os.PathLike
-    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+    /// note : str, optional
+    ///     Free text kept in the file for the caller (:attr:`note` of the loaded simulation):
+    ///     ``penedge simulate`` keeps where its run stands there.
+    #[pyo3(signature = (path, note = None))]
+    fn save(&self, py: Python<'_>, path: PathBuf, note: Option<String>) -> PyResult<()> {
         let inner = &self.inner;
-        py.detach(|| inner.save_state(&path))
+        py.detach(|| inner.save_state_noted(&path, note.as_deref()))
             .map_err(file_error(&path))
+    }
+
+    /// The note of the restart file this simulation was read from (None if none).
+    #[getter]
+    fn note(&self) -> Option<String> {
+        self.note.clone()
     }
 
     /// The simulation saved by :meth:`save`, ready to go on.
@@ -521,8 +574,8 @@ impl Simulation {
     ///     The file cannot be read.
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Simulation> {
-        py.detach(|| mechanics::Simulation::load_state(&path))
-            .map(|inner| Simulation { inner })
+        py.detach(|| mechanics::Simulation::load_state_noted(&path))
+            .map(|(inner, note)| Simulation { inner, note })
             .map_err(file_error(&path))
     }
 

@@ -22,12 +22,14 @@
 
 mod bodies;
 mod contacts;
+mod excavation;
 mod integrate;
 mod joint;
 mod state;
 
 pub use bodies::{Bodies, Fixity};
 pub use contacts::{BodyContact, Contacts, SubContact};
+pub use excavation::ExcavationReport;
 pub use integrate::{free_rotation, Damping};
 pub use joint::{JointModel, JointTable, SubState};
 pub use state::{FORMAT as STATE_FORMAT, VERSION as STATE_VERSION};
@@ -122,6 +124,9 @@ pub enum MechanicsError {
         /// The step.
         step: u64,
     },
+    /// A body that was excavated cannot be fixed, freed, moved, loaded or excavated again.
+    #[error("body {0} was excavated: it can no longer be fixed, freed, moved or loaded")]
+    Removed(usize),
     /// A block cannot be made a body.
     #[error("block {0} cannot be a body: {1}")]
     Body(usize, BodyError),
@@ -171,6 +176,8 @@ pub struct Simulation {
     synced: bool,
     /// Whether the next detection is the first: its contacts are bonded.
     initial: bool,
+    /// Bodies removed and the loads they leave relaxing (`excavation.rs`).
+    excavation: excavation::Excavation,
 }
 
 impl Simulation {
@@ -223,6 +230,7 @@ impl Simulation {
             ratio: f64::INFINITY,
             synced: true,
             initial: true,
+            excavation: excavation::Excavation::default(),
         }
     }
 
@@ -343,7 +351,7 @@ impl Simulation {
     }
 
     fn set_fixity(&mut self, i: usize, fixity: Fixity) -> Result<(), MechanicsError> {
-        self.bodies.check(i)?;
+        self.check_present(i)?;
         self.bodies.fixity[i] = fixity;
         self.built_at = None; // the pairs kept depend on which bodies move
         Ok(())
@@ -357,6 +365,7 @@ impl Simulation {
         velocity: DVec3,
         spin: DVec3,
     ) -> Result<(), MechanicsError> {
+        self.check_present(i)?;
         self.bodies.set_velocity(i, velocity, spin)?;
         self.synced = true;
         Ok(())
@@ -364,7 +373,7 @@ impl Simulation {
 
     /// Sets a constant force on body `i`'s centroid, besides gravity and contacts.
     pub fn apply_force(&mut self, i: usize, force: DVec3) -> Result<(), MechanicsError> {
-        self.bodies.check(i)?;
+        self.check_present(i)?;
         if !force.is_finite() {
             return Err(MechanicsError::NotFinite("applied force"));
         }
@@ -374,12 +383,21 @@ impl Simulation {
 
     /// Sets body `i`'s pose (it must keep the body clear of others by the gap).
     pub fn set_pose(&mut self, i: usize, pose: Pose) -> Result<(), MechanicsError> {
-        self.bodies.check(i)?;
+        self.check_present(i)?;
         let pose =
             Pose::new(pose.rotation, pose.translation).ok_or(MechanicsError::NotFinite("pose"))?;
         self.bodies.pose[i] = pose;
         self.place_body(i);
         self.built_at = None;
+        Ok(())
+    }
+
+    /// Body `i` exists and was not excavated.
+    fn check_present(&self, i: usize) -> Result<(), MechanicsError> {
+        self.bodies.check(i)?;
+        if self.is_removed(i) {
+            return Err(MechanicsError::Removed(i));
+        }
         Ok(())
     }
 
@@ -502,6 +520,7 @@ impl Simulation {
         let found = self.detect()?;
         self.update_contacts(found, dt);
         self.sum_forces();
+        self.apply_relaxation();
         self.integrate(dt)?;
         self.place_moving();
         self.time += dt;
@@ -612,7 +631,11 @@ impl Simulation {
             .pairs(BroadPhase::default())
             .into_iter()
             .filter(|&[i, j]| {
-                self.part_body[i as usize] != self.part_body[j as usize] && (moves(i) || moves(j))
+                let [a, b] = [self.part_body[i as usize], self.part_body[j as usize]];
+                a != b
+                    && (moves(i) || moves(j))
+                    && !self.is_removed(a as usize)
+                    && !self.is_removed(b as usize)
             })
             .collect();
         self.built_at = Some(self.bodies.pose.clone());

@@ -14,6 +14,7 @@
 //! literal or pattern lists every field: a field added to the simulation, a body, a contact
 //! or a sub-contact fails to compile here until the file has it too.
 
+use super::excavation::{Excavation, Relaxation};
 use super::{Bodies, BodyContact, Contacts, Damping, Fixity, JointModel, Simulation, SubContact};
 use super::{JointTable, SubState};
 use crate::block::{ConvexBlock, Edge, FaceOrigin, Pose};
@@ -51,6 +52,27 @@ struct StateFile {
     built_at: Option<Vec<PoseFile>>,
     contacts: Vec<ContactFile>,
     /// Per body, the sum of its contact forces and moments at the last step.
+    forces: Vec<V3>,
+    moments: Vec<V3>,
+    excavation: ExcavationFile,
+    /// Free text for the caller (`penedge simulate` keeps where its run stands there).
+    note: Option<String>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ExcavationFile {
+    /// The bodies excavated, increasing.
+    removed: Vec<u32>,
+    relaxations: Vec<RelaxationFile>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RelaxationFile {
+    steps: u64,
+    done: u64,
+    bodies: Vec<u32>,
     forces: Vec<V3>,
     moments: Vec<V3>,
 }
@@ -227,7 +249,14 @@ impl Simulation {
     /// files"): atomically, through a temporary file in the same folder renamed over
     /// `path`, so that a crash leaves the old file or the new one, never half of one.
     pub fn save_state(&self, path: &Path) -> Result<(), IoError> {
-        let file = file_of(self);
+        self.save_state_noted(path, None)
+    }
+
+    /// [`Simulation::save_state`] with a free text `note` stored in the file for the
+    /// caller ([`Simulation::load_state_noted`] gives it back).
+    pub fn save_state_noted(&self, path: &Path, note: Option<&str>) -> Result<(), IoError> {
+        let mut file = file_of(self);
+        file.note = note.map(str::to_string);
         write_atomic(path, |w: &mut dyn Write| {
             serde_json::to_writer(&mut *w, &file).map_err(std::io::Error::other)?;
             w.write_all(b"\n")
@@ -243,8 +272,13 @@ impl Simulation {
     /// simulation would have taken, bit for bit. A file that is not a restart file, of
     /// another version, cut short or with a bad field is an error naming the field.
     pub fn load_state(path: &Path) -> Result<Simulation, IoError> {
+        Simulation::load_state_noted(path).map(|(sim, _)| sim)
+    }
+
+    /// [`Simulation::load_state`] with the note the file was saved with.
+    pub fn load_state_noted(path: &Path) -> Result<(Simulation, Option<String>), IoError> {
         let text = read_text(path)?;
-        Simulation::from_state_str(&text).map_err(|e| match e {
+        Simulation::from_state_str_noted(&text).map_err(|e| match e {
             IoError::Syntax { message, .. } => IoError::Syntax {
                 path: path.to_path_buf(),
                 message,
@@ -259,9 +293,14 @@ impl Simulation {
 
     /// [`Simulation::load_state`] from a string.
     pub fn from_state_str(text: &str) -> Result<Simulation, IoError> {
-        let file: StateFile = serde_json::from_str(text).map_err(|e| syntax_error(text, e))?;
+        Simulation::from_state_str_noted(text).map(|(sim, _)| sim)
+    }
+
+    fn from_state_str_noted(text: &str) -> Result<(Simulation, Option<String>), IoError> {
+        let mut file: StateFile = serde_json::from_str(text).map_err(|e| syntax_error(text, e))?;
         check_header(Some(&file.format), Some(file.version))?;
-        simulation_of(file)
+        let note = file.note.take();
+        Ok((simulation_of(file)?, note))
     }
 }
 
@@ -343,6 +382,7 @@ fn file_of(sim: &Simulation) -> StateFile {
         ratio,
         synced,
         initial,
+        excavation,
     } = sim;
     let (shapes, shape_ids) = shape_files(bodies);
     StateFile {
@@ -376,6 +416,41 @@ fn file_of(sim: &Simulation) -> StateFile {
         contacts: contacts_file(contacts),
         forces: forces.iter().map(|f| f.to_array()).collect(),
         moments: moments.iter().map(|m| m.to_array()).collect(),
+        excavation: excavation_file(excavation),
+        note: None,
+    }
+}
+
+fn excavation_file(e: &Excavation) -> ExcavationFile {
+    let Excavation {
+        removed,
+        relaxations,
+    } = e;
+    let rows = |v: &[DVec3]| v.iter().map(|x| x.to_array()).collect();
+    ExcavationFile {
+        removed: (0..removed.len())
+            .filter(|&i| removed[i])
+            .map(|i| i as u32)
+            .collect(),
+        relaxations: relaxations
+            .iter()
+            .map(|r| {
+                let Relaxation {
+                    steps,
+                    done,
+                    bodies,
+                    forces,
+                    moments,
+                } = r;
+                RelaxationFile {
+                    steps: *steps,
+                    done: *done,
+                    bodies: bodies.clone(),
+                    forces: rows(forces),
+                    moments: rows(moments),
+                }
+            })
+            .collect(),
     }
 }
 
@@ -827,6 +902,43 @@ fn kind_of(kind: KindFile) -> ContactType {
     }
 }
 
+fn excavation_of(f: &ExcavationFile, n: usize) -> Result<Excavation, IoError> {
+    let mut out = Excavation::default();
+    if !f.removed.is_empty() {
+        out.removed = vec![false; n];
+    }
+    for (k, &i) in f.removed.iter().enumerate() {
+        let field = format!("excavation.removed[{k}]");
+        match out.removed.get_mut(i as usize) {
+            Some(r) if !*r => *r = true,
+            Some(_) => return Err(bad(field, format!("body {i} is listed twice"))),
+            None => return Err(bad(field, format!("no body {i}: the file has {n}"))),
+        }
+    }
+    for (k, r) in f.relaxations.iter().enumerate() {
+        let field = format!("excavation.relaxations[{k}]");
+        if r.done >= r.steps {
+            let msg = format!("`done` ({}) must be below `steps` ({})", r.done, r.steps);
+            return Err(bad(field, msg));
+        }
+        let m = r.bodies.len();
+        if let Some(&b) = r.bodies.iter().find(|&&b| b as usize >= n) {
+            return Err(bad(
+                format!("{field}.bodies"),
+                format!("no body {b}: the file has {n}"),
+            ));
+        }
+        out.relaxations.push(Relaxation {
+            steps: r.steps,
+            done: r.done,
+            bodies: r.bodies.clone(),
+            forces: per_body(&format!("{field}.forces"), &r.forces, m)?,
+            moments: per_body(&format!("{field}.moments"), &r.moments, m)?,
+        });
+    }
+    Ok(out)
+}
+
 /// A tolerance as stored, if it is one the setters accept.
 fn tolerance_of(t: Tolerance) -> Result<Tolerance, IoError> {
     let rebuilt = match t.absolute_gap() {
@@ -938,6 +1050,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
     let forces = per_body("forces", &file.forces, n)?;
     let moments = per_body("moments", &file.moments, n)?;
     let tolerance = tolerance_of(s.tolerance)?;
+    let excavation = excavation_of(&file.excavation, n)?;
     {
         // Every field of the simulation, so that one added to it is not forgotten here.
         let Simulation {
@@ -963,6 +1076,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             ratio,
             synced,
             initial,
+            excavation: ex,
         } = &mut sim;
         *j = joints;
         *g = gravity;
@@ -979,6 +1093,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
         *ratio = c.ratio.unwrap_or(f64::INFINITY);
         *synced = c.synced;
         *initial = c.initial;
+        *ex = excavation;
     }
     Ok(sim)
 }
