@@ -405,7 +405,6 @@ def test_simulate_refuses_what_the_engine_cannot_run(tmp_path, stand_in, capsys)
             "capacity = 1e5\nstiffness = 1e7\n",
             "bolts",
         ),
-        ("[[stages]]\ntype = 'excavate'\nregion = 'wedge'\n", "stages[2]"),
         ("[[stages]]\ntype = 'properties'\nresidual_cohesion = 1\n", "stages[2]"),
     ],
 )

@@ -81,6 +81,12 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         "default: MODEL's name with _results",
     )
     simulate.add_argument(
+        "--restart",
+        metavar="FILE",
+        help="go on from a restart file written by a `save` stage of this model: the stages "
+        "after that one run on the saved state (docs/models.md, Restart)",
+    )
+    simulate.add_argument(
         "--check",
         action="store_true",
         help="read and check the model and its blocks, print what would run, run nothing",
@@ -162,7 +168,9 @@ def run_simulate(args: argparse.Namespace) -> int:
 
     start = time.perf_counter()
     # the engine is built (and refuses a bad time step, say) before anything is written
-    runner = Runner(setup, engine_factory, progress=report, frame=frame)
+    runner = Runner(
+        setup, engine_factory, progress=report, frame=frame, folder=folder, restart=args.restart
+    )
     folder.mkdir(parents=True, exist_ok=True)
     if not args.no_series:
         from penedge.model.series import Series

@@ -40,7 +40,6 @@ NOT_SUPPORTED = {
     "initial_stress": "initial stresses are not supported yet by the engine",
     "water": "water pressure in the joints is not supported yet by the engine",
     "bolts": "rock bolts are not supported yet by the engine",
-    "excavate": "excavation is not supported yet by the engine",
     "residual": "residual values other than the defaults (residual_friction = friction, "
     "residual cohesion and tension 0) are not supported yet by the engine",
 }
@@ -63,8 +62,6 @@ def unsupported(model: Model) -> list[tuple[str, str]]:
     if model.bolts:
         found.append(("bolts", NOT_SUPPORTED["bolts"]))
     for i, stage in enumerate(model.stages):
-        if stage.kind == "excavate":
-            found.append((f"stages[{i}]", NOT_SUPPORTED["excavate"]))
         if stage.kind == "properties" and any(k.startswith("residual_") for k in stage.changes):
             found.append((f"stages[{i}]", NOT_SUPPORTED["residual"]))
     named = {"default": model.default_properties, **model.properties}
@@ -148,9 +145,12 @@ class Engine:
             self.sim.set_joint(**self.joint(props), set=self.set_ids[name])
 
     def apply_boundary(self, fixed: np.ndarray, velocity: np.ndarray) -> None:
-        """Fixes, frees or drives every block as the masks say."""
-        driven = ~np.isnan(velocity[:, 0])
-        free = ~fixed & ~driven
+        """Fixes, frees or drives every block as the masks say (excavated blocks stay
+        out)."""
+        present = ~self.removed()
+        driven = ~np.isnan(velocity[:, 0]) & present
+        fixed = fixed & present
+        free = ~fixed & ~driven & present
         if fixed.any():
             self.sim.fix(np.flatnonzero(fixed).tolist())
         if free.any():
@@ -171,6 +171,40 @@ class Engine:
         twin.sim = self.sim.copy()
         twin.properties = dict(self.properties)
         return twin
+
+    # --- excavation and restart (docs/models.md, "Excavation" and "Restart") --------
+
+    def removed(self) -> np.ndarray:
+        """Which blocks were excavated, (n,) bool."""
+        removed = getattr(self.sim, "removed", None)
+        n = len(self.setup.blocks)
+        return np.zeros(n, bool) if removed is None else np.array(removed, dtype=bool)
+
+    def excavate(self, mask: np.ndarray, relax_steps: int) -> np.ndarray:
+        """Removes the blocks of `mask` not removed yet; their forces on the rest relax over
+        `relax_steps` steps (the steps the caller takes next). The ids removed."""
+        ids = np.flatnonzero(mask & ~self.removed())
+        if len(ids):
+            self.sim.excavate(ids.tolist(), relax_steps=relax_steps)
+        return ids
+
+    def save(self, path: Any, note: str) -> None:
+        """Writes the engine's state to the restart file `path`, with `note`."""
+        self.sim.save(str(path), note=note)
+
+    def restore(self, path: Any) -> str | None:
+        """Replaces the simulation by the one of the restart file `path` (which must have
+        this model's blocks); its note."""
+        sim = simulation_class().load(str(path))
+        n = len(self.setup.blocks)
+        if len(sim) != n:
+            raise ModelError(
+                "restart",
+                f"{path} holds {len(sim)} blocks, the model {n}: it was saved from another model",
+            )
+        self.sim = sim
+        note: str | None = sim.note
+        return note
 
     # --- stepping -------------------------------------------------------------------
 
