@@ -177,6 +177,31 @@ impl Simulation {
             .map_err(to_py_err)
     }
 
+    /// Sets the initial stress the first step installs on the contacts touching then
+    /// (``docs/mechanics.md``, "Initial stresses"): tension positive, components ``xx, yy,
+    /// zz, xy, yz, zx`` (Pa), ``base + depth * per_depth`` with ``depth = max(0, surface -
+    /// z)``. Each touching sub-contact gets the normal stress ``-n·σ·n`` (kept until it
+    /// opens) and the shear force of the traction. No argument: none.
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     After the first step, or a NaN.
+    #[pyo3(signature = (base = None, per_depth = None, surface = 0.0))]
+    fn set_initial_stress(
+        &mut self,
+        base: Option<[f64; 6]>,
+        per_depth: Option<[f64; 6]>,
+        surface: f64,
+    ) -> PyResult<()> {
+        let stress = (base.is_some() || per_depth.is_some()).then(|| mechanics::InitialStress {
+            base: base.unwrap_or([0.0; 6]),
+            per_depth: per_depth.unwrap_or([0.0; 6]),
+            surface,
+        });
+        self.inner.set_initial_stress(stress).map_err(to_py_err)
+    }
+
     /// Sets the damping: local non-viscous (3DEC's, in [0, 1); :meth:`solve` uses 0.8
     /// when none is set) and mass-proportional viscous (a rate ≥ 0, in 1/s).
     #[pyo3(signature = (local = 0.0, viscous = 0.0))]
@@ -485,7 +510,8 @@ impl Simulation {
     ///     (k, 3), ``areas``, ``gaps`` (> 0 apart), ``normal_forces`` (on B, > 0 in
     ///     compression), ``shear_forces`` (k, 3) on B, ``shear_displacements`` (k, 3),
     ///     ``states`` (0 elastic, 1 sliding, 2 open), ``bonded`` (cohesion and tension
-    ///     intact).
+    ///     intact), ``prestresses`` (the normal stress an initial stress installed, > 0 in
+    ///     compression; :meth:`set_initial_stress`).
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let c = self.inner.contacts();
         let out = PyDict::new(py);
@@ -522,6 +548,7 @@ impl Simulation {
         out.set_item("states", arrays::vector(py, states))?;
         let bonded: Vec<bool> = c.subs.iter().map(|s| s.bonded).collect();
         out.set_item("bonded", arrays::vector(py, bonded))?;
+        out.set_item("prestresses", arrays::vector(py, column(&|s| s.prestress)))?;
         Ok(out)
     }
 

@@ -4,7 +4,7 @@
 use penedge::body::Shape;
 use penedge::glam::{DQuat, DVec3};
 use penedge::io::IoError;
-use penedge::mechanics::{Bodies, JointModel, Simulation, SubState};
+use penedge::mechanics::{Bodies, InitialStress, JointModel, Simulation, SubState};
 use penedge::ConvexBlock;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -121,7 +121,18 @@ fn a_restart_file_reads_back_to_the_same_file() {
     sim.set_gravity(DVec3::new(0.1, 0.0, -G)).unwrap();
     sim.prescribe(2, DVec3::new(0.01, 0.0, 0.0), DVec3::ZERO)
         .unwrap();
-    sim.cycle(300).unwrap();
+    // Small beside the blocks' weight (a stress above it would throw them off the base).
+    let stress = InitialStress::uniform([-100.0, -80.0, -120.0, 10.0, 5.0, -7.0]);
+    sim.set_initial_stress(Some(stress)).unwrap();
+    assert_eq!(
+        Simulation::from_state_str(&sim.to_state_string())
+            .unwrap()
+            .initial_stress(),
+        Some(&stress)
+    );
+    sim.step().unwrap();
+    assert!(sim.contacts().subs.iter().any(|s| s.prestress > 0.0));
+    sim.cycle(299).unwrap();
     let text = sim.to_state_string();
     let back = Simulation::from_state_str(&text).unwrap();
     assert_eq!(back.to_state_string(), text);

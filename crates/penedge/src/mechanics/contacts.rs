@@ -4,6 +4,7 @@
 
 use super::bodies::Bodies;
 use super::joint::{joint_law, JointTable, SubState};
+use super::stress::InitialStress;
 use crate::block::{ConvexBlock, Pose};
 use crate::classify::{Contact, ContactType, Feature};
 use crate::contact_geometry::{ContactGeometry, ContactPoints};
@@ -50,6 +51,9 @@ pub struct SubContact {
     pub state: SubState,
     /// Whether its bond (cohesion, tension) is intact.
     pub bonded: bool,
+    /// The normal stress installed by an initial stress (compression positive), carried
+    /// besides the elastic `-kn gap` until the sub-contact opens (`stress.rs`).
+    pub prestress: f64,
 }
 
 impl SubContact {
@@ -101,6 +105,8 @@ pub(super) struct StepInput<'a> {
     pub initial: bool,
     /// Width of point contacts relative to the smaller block's size.
     pub point_width: f64,
+    /// The stress installed on the first detection's touching sub-contacts.
+    pub initial_stress: Option<&'a InitialStress>,
 }
 
 /// The contact and its sub-contacts with their forces for this step.
@@ -174,7 +180,7 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         let local = to_body(&pose_a, p);
         // History: the nearest sub-contact of the same pair at the last step; its shear
         // stress carries over (the area shares change as the polygon does).
-        let (mut shear, mut slip, bonded) = match previous {
+        let (mut shear, mut slip, bonded, prestress) = match previous {
             Some(old) => {
                 let o = old
                     .iter()
@@ -188,11 +194,19 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
                     o.shear_force * (area / o.area),
                     o.shear_displacement,
                     o.bonded,
+                    o.prestress,
                 )
             }
-            // Bonds on the initial configuration's touching sub-contacts only: a joint open
-            // at the start has no bond.
-            None => (DVec3::ZERO, DVec3::ZERO, input.initial && gap <= slack),
+            // Bonds, and the initial stress, on the initial configuration's touching
+            // sub-contacts only: a joint open at the start has neither.
+            None => {
+                let touching = input.initial && gap <= slack;
+                let (normal, shear) = match input.initial_stress {
+                    Some(field) if touching => field.traction(p, n),
+                    _ => (0.0, DVec3::ZERO),
+                };
+                (shear * area, DVec3::ZERO, touching, normal)
+            }
         };
         // Rotated with the contact plane: onto the new plane, and about the normal by the
         // bodies' mean spin over the step (3DEC's rule).
@@ -205,7 +219,15 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         let du_s = du - n * du.dot(n);
         slip += du_s;
         shear -= du_s * (model.ks * area);
-        let out = joint_law(model, area, gap, shear, bonded, slack);
+        // The installed normal stress as an offset of the gap: (σn - kn gap) A.
+        let out = joint_law(
+            model,
+            area,
+            gap - prestress / model.kn,
+            shear,
+            bonded,
+            slack,
+        );
         subs.push(SubContact {
             point: p,
             local,
@@ -216,6 +238,11 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
             shear_displacement: slip,
             state: out.state,
             bonded: out.bonded,
+            prestress: if out.state == SubState::Open {
+                0.0
+            } else {
+                prestress
+            },
         });
     }
     let contact = BodyContact {

@@ -26,6 +26,7 @@ mod excavation;
 mod integrate;
 mod joint;
 mod state;
+mod stress;
 
 pub use bodies::{Bodies, Fixity};
 pub use contacts::{BodyContact, Contacts, SubContact};
@@ -33,6 +34,7 @@ pub use excavation::ExcavationReport;
 pub use integrate::{free_rotation, Damping};
 pub use joint::{JointModel, JointTable, SubState};
 pub use state::{FORMAT as STATE_FORMAT, VERSION as STATE_VERSION};
+pub use stress::InitialStress;
 
 use crate::block::{ConvexBlock, Pose};
 use crate::body::BodyError;
@@ -127,6 +129,9 @@ pub enum MechanicsError {
     /// A body that was excavated cannot be fixed, freed, moved, loaded or excavated again.
     #[error("body {0} was excavated: it can no longer be fixed, freed, moved or loaded")]
     Removed(usize),
+    /// An initial stress set after the first step (it is installed by the first one).
+    #[error("initial stresses are installed by the first step: set them before it")]
+    InitialStressTooLate,
     /// A block cannot be made a body.
     #[error("block {0} cannot be a body: {1}")]
     Body(usize, BodyError),
@@ -178,6 +183,8 @@ pub struct Simulation {
     initial: bool,
     /// Bodies removed and the loads they leave relaxing (`excavation.rs`).
     excavation: excavation::Excavation,
+    /// The stress installed on the first detection's contacts (`stress.rs`).
+    initial_stress: Option<InitialStress>,
 }
 
 impl Simulation {
@@ -231,6 +238,7 @@ impl Simulation {
             synced: true,
             initial: true,
             excavation: excavation::Excavation::default(),
+            initial_stress: None,
         }
     }
 
@@ -399,6 +407,24 @@ impl Simulation {
             return Err(MechanicsError::Removed(i));
         }
         Ok(())
+    }
+
+    /// Sets the initial stress (`None`: none) that the first step installs on the contacts
+    /// touching then (docs/mechanics.md, "Initial stresses"); an error after the first step.
+    pub fn set_initial_stress(
+        &mut self,
+        stress: Option<InitialStress>,
+    ) -> Result<(), MechanicsError> {
+        if !self.initial {
+            return Err(MechanicsError::InitialStressTooLate);
+        }
+        self.initial_stress = stress.map(InitialStress::validated).transpose()?;
+        Ok(())
+    }
+
+    /// The initial stress set.
+    pub fn initial_stress(&self) -> Option<&InitialStress> {
+        self.initial_stress.as_ref()
     }
 
     /// Sets the time step; `None` for the automatic one (safety × critical).
@@ -691,6 +717,7 @@ impl Simulation {
             dt,
             initial: self.initial,
             point_width: self.point_width,
+            initial_stress: self.initial_stress.as_ref(),
         };
         let built: Vec<_> = found.par_iter().map(|f| build_contact(&input, f)).collect();
         let mut next = Contacts {
@@ -790,6 +817,6 @@ mod tests {
             + size_of::<f64>(); // mass-scaling factor
         assert_eq!(body, 256);
         assert_eq!(size_of::<BodyContact>(), 64);
-        assert_eq!(size_of::<SubContact>(), 128);
+        assert_eq!(size_of::<SubContact>(), 136);
     }
 }

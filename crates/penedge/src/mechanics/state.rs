@@ -16,7 +16,7 @@
 
 use super::excavation::{Excavation, Relaxation};
 use super::{Bodies, BodyContact, Contacts, Damping, Fixity, JointModel, Simulation, SubContact};
-use super::{JointTable, SubState};
+use super::{InitialStress, JointTable, SubState};
 use crate::block::{ConvexBlock, Edge, FaceOrigin, Pose};
 use crate::body::Shape;
 use crate::classify::ContactType;
@@ -89,6 +89,16 @@ struct SettingsFile {
     timestep: Option<f64>,
     safety: f64,
     joints: JointsFile,
+    /// The stress the first step installs (`null`: none).
+    initial_stress: Option<StressFile>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StressFile {
+    base: [f64; 6],
+    per_depth: [f64; 6],
+    surface: f64,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -227,6 +237,7 @@ struct SubFile {
     shear_displacement: V3,
     state: StateCode,
     bonded: bool,
+    prestress: f64,
 }
 
 #[derive(Clone, Copy, Serialize, Deserialize)]
@@ -383,6 +394,7 @@ fn file_of(sim: &Simulation) -> StateFile {
         synced,
         initial,
         excavation,
+        initial_stress,
     } = sim;
     let (shapes, shape_ids) = shape_files(bodies);
     StateFile {
@@ -397,6 +409,18 @@ fn file_of(sim: &Simulation) -> StateFile {
             timestep: *dt,
             safety: *safety,
             joints: joints_file(joints),
+            initial_stress: initial_stress.as_ref().map(|f| {
+                let InitialStress {
+                    base,
+                    per_depth,
+                    surface,
+                } = *f;
+                StressFile {
+                    base,
+                    per_depth,
+                    surface,
+                }
+            }),
         },
         clock: ClockFile {
             time: *time,
@@ -619,6 +643,7 @@ fn sub_file(s: &SubContact) -> SubFile {
         shear_displacement,
         state,
         bonded,
+        prestress,
     } = *s;
     SubFile {
         point: point.to_array(),
@@ -634,6 +659,7 @@ fn sub_file(s: &SubContact) -> SubFile {
             SubState::Open => StateCode::Open,
         },
         bonded,
+        prestress,
     }
 }
 
@@ -887,6 +913,7 @@ fn sub_of(field: &str, s: &SubFile) -> Result<SubContact, IoError> {
             StateCode::Open => SubState::Open,
         },
         bonded: s.bonded,
+        prestress: x("prestress", s.prestress)?,
     })
 }
 
@@ -1051,6 +1078,18 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
     let moments = per_body("moments", &file.moments, n)?;
     let tolerance = tolerance_of(s.tolerance)?;
     let excavation = excavation_of(&file.excavation, n)?;
+    let initial_stress = match &s.initial_stress {
+        None => None,
+        Some(f) => Some(
+            InitialStress {
+                base: f.base,
+                per_depth: f.per_depth,
+                surface: f.surface,
+            }
+            .validated()
+            .map_err(mechanics("settings.initial_stress"))?,
+        ),
+    };
     {
         // Every field of the simulation, so that one added to it is not forgotten here.
         let Simulation {
@@ -1077,6 +1116,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             synced,
             initial,
             excavation: ex,
+            initial_stress: stress,
         } = &mut sim;
         *j = joints;
         *g = gravity;
@@ -1094,6 +1134,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
         *synced = c.synced;
         *initial = c.initial;
         *ex = excavation;
+        *stress = initial_stress;
     }
     Ok(sim)
 }
