@@ -198,11 +198,15 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
                 )
             }
             // Bonds, and the initial stress, on the initial configuration's touching
-            // sub-contacts only: a joint open at the start has neither.
+            // sub-contacts only: a joint open at the start has neither. The stress acts
+            // across joint faces: face-face contacts only (a vertex or an edge touching has
+            // no real area to carry it).
             None => {
                 let touching = input.initial && gap <= slack;
                 let (normal, shear) = match input.initial_stress {
-                    Some(field) if touching => field.traction(p, n),
+                    Some(field) if touching && found.contact.kind == ContactType::FaceFace => {
+                        field.traction(p, n)
+                    }
                     _ => (0.0, DVec3::ZERO),
                 };
                 (shear * area, DVec3::ZERO, touching, normal)

@@ -3,7 +3,8 @@
 //!
 //! Rigid blocks have no stress inside; what a stressed rock mass means for them is the
 //! forces across its joints. So an initial stress `σ(p)` is installed on each sub-contact
-//! found touching at the first detection, at its point `p`, as the traction `σ n` across
+//! of a face-face contact found touching at the first detection (a vertex or an edge
+//! touching has no real area to carry a stress), at its point `p`, as the traction `σ n` across
 //! the contact plane (normal `n` from A to B): a **normal stress** `σn = -n·σ·n`
 //! (compression positive, as the normal forces) kept by the sub-contact besides its elastic
 //! `-kn gap` (its normal force is `(σn - kn gap) A`), and a **shear force** `-(σ n - (n·σ·n)
