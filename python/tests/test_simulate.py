@@ -399,7 +399,6 @@ def test_simulate_refuses_what_the_engine_cannot_run(tmp_path, stand_in, capsys)
     ("extra", "field"),
     [
         ("[joint_properties.A]\nresidual_friction = 30\n", "joint_properties.A"),
-        ("[initial_stress]\ntype = 'overburden'\n", "initial_stress"),
         (
             "[[bolts]]\npoint = [10, 5, 7]\ndirection = [-1, 0, 0]\nlength = 4\n"
             "capacity = 1e5\nstiffness = 1e7\n",

@@ -156,3 +156,156 @@ def test_a_save_stage_needs_a_file_name(file):
         pm.parse_model(column(f'[[stages]]\ntype = "save"\nfile = "{file}"\n'))
     with pytest.raises(pm.ModelError, match=r"stages\[0\].file"):
         pm.parse_model(column('[[stages]]\ntype = "save"\n'))
+
+
+BOX = """
+[domain]
+type = "box"
+min = [0, 0, 0]
+max = [3, 3, 3]
+
+[[joints]]
+type = "set"
+name = "x"
+dip = 90
+dip_direction = 90
+spacing = 1
+origin = [1, 0, 0]
+number = 2
+
+[[joints]]
+type = "set"
+name = "y"
+dip = 90
+dip_direction = 0
+spacing = 1
+origin = [0, 1, 0]
+number = 2
+
+[[joints]]
+type = "set"
+name = "z"
+dip = 0
+dip_direction = 0
+spacing = 1
+origin = [0, 0, 1]
+number = 2
+
+[rock]
+density = 2500
+
+[mechanics]
+gravity = [0, 0, 0]
+
+[joint_properties.default]
+kn = 1e9
+ks = 1e9
+friction = 40
+
+[initial_stress]
+type = "uniform"
+xx = -2e6
+yy = -1e6
+zz = -3e6
+xy = 0.5e6
+
+[[stages]]
+type = "cycle"
+steps = 50
+"""
+
+
+@needs_engine
+def test_a_confined_block_under_an_initial_stress_stays_put():
+    """A 3 x 3 x 3 box of cubes, the 26 outer ones fixed, the middle one free, gravity off,
+    under a uniform stress with shear: the middle block's six faces carry the stress's
+    traction (installed as the first step's contact forces), which balance: it stays put."""
+    faces = ["bottom", "top", "east", "west", "north", "south"]
+    boundary = "".join(
+        f'[[boundary]]\nregion = {{type = "face", face = "{f}"}}\ncondition = "fixed"\n'
+        for f in faces
+    )
+    setup = pm.prepare(BOX + boundary)
+    assert int((~setup.layout.fixed).sum()) == 1
+    from penedge.model.engine import Engine
+    from penedge.model.run import Runner
+
+    runner = Runner(setup, Engine)
+    outcome = runner.run()
+    assert np.abs(outcome.displacement).max() < 1e-9
+    c = runner.engine.sim.contacts()
+    middle = int(np.flatnonzero(~setup.layout.fixed)[0])
+    touching = np.flatnonzero((c["pairs"] == middle).any(axis=1))
+    assert len(touching) == 26  # faces, edges and corners of its neighbours
+    mine = touching[c["types"][touching] == penedge.FACE_FACE]
+    assert len(mine) == 6
+    corners = touching[c["types"][touching] != penedge.FACE_FACE]
+    assert not c["prestresses"][off_of(c, corners)].any()
+    # The normal stress of each face: -n.sigma.n, e.g. 3 MPa across the horizontal joints.
+    sigma = np.array([[-2e6, 0.5e6, 0], [0.5e6, -1e6, 0], [0, 0, -3e6]])
+    off = c["sub_offsets"]
+    for k in mine:
+        n = c["normals"][k]
+        expected = -n @ sigma @ n
+        assert np.allclose(c["prestresses"][off[k] : off[k + 1]], expected, rtol=1e-9)
+
+
+def off_of(c, contacts):
+    """The sub-contact indices of `contacts`."""
+    off = c["sub_offsets"].astype(np.int64)
+    return np.concatenate([np.arange(off[k], off[k + 1]) for k in contacts])
+
+
+def test_an_overburden_is_the_engine_field_of_the_model():
+    from penedge.model.engine import initial_stress_of
+
+    text = BOX.replace(
+        'type = "uniform"\nxx = -2e6\nyy = -1e6\nzz = -3e6\nxy = 0.5e6',
+        'type = "overburden"\nk0_x = 1.5\nk0_y = 0.5',
+    )
+    text = text.replace("gravity = [0, 0, 0]", "gravity = [0, 0, -10]")
+    boundary = '[[boundary]]\nregion = {type = "face", face = "bottom"}\ncondition = "fixed"\n'
+    field = initial_stress_of(pm.prepare(text + boundary))
+    assert field["surface"] == 3.0  # the top of the blocks
+    assert field["per_depth"] == [-2500 * 10 * 1.5, -2500 * 10 * 0.5, -2500 * 10, 0, 0, 0]
+
+
+@needs_engine
+def test_the_outputs_mark_or_leave_out_the_excavated_rock(tmp_path):
+    """The ParaView frames after an excavation flag the removed block (cell data
+    ``excavated``); the picture of the final state leaves it out."""
+    import xml.etree.ElementTree as ET
+
+    from penedge.cli.simulate import without_excavated
+
+    model = tmp_path / "column.toml"
+    model.write_text(column(EXCAVATE.format(relax=20), seismic=False))
+    out = tmp_path / "out"
+    assert cli.main(["simulate", str(model), "-o", str(out), "--no-pictures", "--quiet"]) == 0
+    last = sorted((out / "series").glob("blocks_*.vtu"))[-1]
+    arrays = {a.get("Name"): a.text for a in ET.parse(last).iter("DataArray")}
+    assert [int(v) for v in arrays["excavated"].split()].count(1) == 1
+    setup = pm.prepare(model)
+    from penedge.model.engine import Engine
+    from penedge.model.run import Runner
+
+    runner = Runner(setup, Engine)
+    outcome = runner.run()
+    shown, displacement = without_excavated(
+        runner.engine, runner.engine.system(), outcome.displacement
+    )
+    assert len(shown.blocks) == len(displacement) == 4
+
+
+@needs_engine
+def test_the_excavation_example_runs_and_restarts(tmp_path):
+    example = EXAMPLES / "column_excavation.toml"
+    whole = pm.simulate(example, folder=tmp_path)
+    resumed = pm.simulate(example, folder=tmp_path / "again", restart=tmp_path / "settled.json")
+    assert [s.kind for s in resumed.stages] == ["excavate", "cycle"]
+    assert np.array_equal(resumed.displacement, whole.displacement)
+    # The two blocks above the excavated one fell; the one below did not move.
+    z = pm.prepare(example).blocks.centroids[:, 2]
+    fell = whole.displacement[z > 3, 2]
+    assert (fell < -1e-3).all()
+    assert abs(whole.displacement[(z > 1) & (z < 2), 2]).max() < 1e-4

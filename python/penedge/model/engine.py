@@ -37,7 +37,6 @@ def simulation_class() -> Any:
 #: Model features that the engine does not run yet: (field, why). A model using one of
 #: them is read and checked, and its run refused with this message before any step.
 NOT_SUPPORTED = {
-    "initial_stress": "initial stresses are not supported yet by the engine",
     "water": "water pressure in the joints is not supported yet by the engine",
     "bolts": "rock bolts are not supported yet by the engine",
     "residual": "residual values other than the defaults (residual_friction = friction, "
@@ -55,8 +54,6 @@ def has_residual(props: JointProperties) -> bool:
 def unsupported(model: Model) -> list[tuple[str, str]]:
     """The features of `model` the engine cannot run: ``(field, message)`` pairs."""
     found = []
-    if model.initial_stress is not None:
-        found.append(("initial_stress", NOT_SUPPORTED["initial_stress"]))
     if model.water is not None:
         found.append(("water", NOT_SUPPORTED["water"]))
     if model.bolts:
@@ -70,6 +67,28 @@ def unsupported(model: Model) -> list[tuple[str, str]]:
             found.append((f"joint_properties.{name}", NOT_SUPPORTED["residual"]))
             break
     return found
+
+
+def initial_stress_of(setup: Any) -> dict[str, Any] | None:
+    """The engine's initial stress field of the model's ``[initial_stress]`` (None if it has
+    none): tension positive, ``base + max(0, surface - z) * per_depth`` (docs/models.md).
+    An overburden's unit weight is its density times the magnitude of the model's gravity
+    (without the seismic load); its surface defaults to the top of the blocks."""
+    stress = setup.model.initial_stress
+    if stress is None:
+        return None
+    if stress.kind == "uniform":
+        return {"base": list(stress.components), "per_depth": None, "surface": 0.0}
+    m = setup.model.mechanics
+    density = m.density if stress.density is None else stress.density
+    weight = density * float(np.linalg.norm(m.gravity))
+    if stress.surface is None:
+        surface = float(np.asarray(setup.system.arrays().vertices)[:, 2].max())
+    else:
+        surface = stress.surface
+    kx, ky = stress.k0
+    per_depth = [-weight * kx, -weight * ky, -weight, 0.0, 0.0, 0.0]
+    return {"base": None, "per_depth": per_depth, "surface": surface}
 
 
 def refuse_unsupported(model: Model) -> None:
@@ -108,6 +127,9 @@ class Engine:
             self.sim.set_timestep(dt=m.time_step)  # checked against the critical step
         if layout.support_forces is not None:
             self.apply_support(layout.support_forces, layout.support_moments)
+        stress = initial_stress_of(setup)
+        if stress is not None:
+            self.sim.set_initial_stress(**stress)
 
     def apply_support(self, forces: np.ndarray, moments: np.ndarray | None) -> None:
         """The support pressures as constant forces on the blocks' centroids. The engine

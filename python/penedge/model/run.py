@@ -428,7 +428,6 @@ class Runner:
         ).reshape(n, 3)
         e.default = JointProperties(**note["default"])
         e.properties = {k: JointProperties(**v) for k, v in note["properties"].items()}
-        self.record("restart")
 
     # --- factor of safety -----------------------------------------------------------
 
