@@ -158,40 +158,20 @@ def test_a_save_stage_needs_a_file_name(file):
         pm.parse_model(column('[[stages]]\ntype = "save"\n'))
 
 
-BOX = """
-[domain]
-type = "box"
-min = [0, 0, 0]
-max = [3, 3, 3]
+def joint_set(name: str, dip: int, dip_direction: int, origin: str) -> str:
+    """A set of two joints 1 m apart through `origin`."""
+    return (
+        f'[[joints]]\ntype = "set"\nname = "{name}"\ndip = {dip}\ndip_direction = '
+        f"{dip_direction}\nspacing = 1\norigin = {origin}\nnumber = 2\n\n"
+    )
 
-[[joints]]
-type = "set"
-name = "x"
-dip = 90
-dip_direction = 90
-spacing = 1
-origin = [1, 0, 0]
-number = 2
 
-[[joints]]
-type = "set"
-name = "y"
-dip = 90
-dip_direction = 0
-spacing = 1
-origin = [0, 1, 0]
-number = 2
-
-[[joints]]
-type = "set"
-name = "z"
-dip = 0
-dip_direction = 0
-spacing = 1
-origin = [0, 0, 1]
-number = 2
-
-[rock]
+BOX = (
+    '[domain]\ntype = "box"\nmin = [0, 0, 0]\nmax = [3, 3, 3]\n\n'
+    + joint_set("x", 90, 90, "[1, 0, 0]")
+    + joint_set("y", 90, 0, "[0, 1, 0]")
+    + joint_set("z", 0, 0, "[0, 0, 1]")
+    + """[rock]
 density = 2500
 
 [mechanics]
@@ -213,6 +193,7 @@ xy = 0.5e6
 type = "cycle"
 steps = 50
 """
+)
 
 
 @needs_engine
