@@ -208,12 +208,25 @@ class _SolveReport(TypedDict):
     ratio: float
     converged: bool
 
+class _StepTimings(TypedDict):
+    pairs: float
+    detect: float
+    contacts: float
+    forces: float
+    integration: float
+    placement: float
+    total: float
+    steps: int
+    rebuilds: int
+
 class _JointProperties(TypedDict):
     kn: float
     ks: float
     friction: float
     cohesion: float
     tension: float
+    residual_friction: float
+    residual_cohesion: float
 
 @final
 class Simulation:
@@ -233,8 +246,18 @@ class Simulation:
         cohesion: float = 0.0,
         tension: float = 0.0,
         set: int | None = None,
+        residual_friction: float | None = None,
+        residual_cohesion: float = 0.0,
     ) -> None: ...
     def joint(self, set: int | None = None) -> _JointProperties: ...
+    def set_water(
+        self,
+        level: float | None = None,
+        point: npt.ArrayLike | None = None,
+        normal: npt.ArrayLike | None = None,
+        pressures: dict[int, float] | None = None,
+        unit_weight: float = 9810.0,
+    ) -> None: ...
     @property
     def gravity(self) -> npt.NDArray[np.float64]: ...
     @gravity.setter
@@ -251,7 +274,22 @@ class Simulation:
     def set_velocity(
         self, id: int, velocity: npt.ArrayLike, spin: npt.ArrayLike | None = None
     ) -> None: ...
-    def apply_force(self, id: int, force: npt.ArrayLike) -> None: ...
+    def apply_force(
+        self, id: int, force: npt.ArrayLike, point: npt.ArrayLike | None = None
+    ) -> None: ...
+    def apply_moment(self, id: int, moment: npt.ArrayLike) -> None: ...
+    def add_bolt(
+        self,
+        point: npt.ArrayLike,
+        direction: npt.ArrayLike,
+        length: float,
+        stiffness: float,
+        capacity: float,
+        rupture_strain: float | None = None,
+        shear_stiffness: float | None = None,
+        shear_capacity: float | None = None,
+    ) -> int: ...
+    def bolts(self) -> dict[str, npt.NDArray[Any]]: ...
     def set_timestep(self, dt: float | None = None, safety: float | None = None) -> None: ...
     def set_mass_scaling(self, on: bool) -> None: ...
     @property
@@ -267,6 +305,7 @@ class Simulation:
     def steps(self) -> int: ...
     @property
     def unbalanced_ratio(self) -> float: ...
+    def timings(self) -> _StepTimings: ...
     @property
     def positions(self) -> npt.NDArray[np.float64]: ...
     @property

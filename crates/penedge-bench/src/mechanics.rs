@@ -2,7 +2,10 @@
 //! boundary blocks, to equilibrium (issue 18, "Speed").
 //!
 //! `cargo run --release -p penedge-bench -- mechanics [--blocks N] [--threads T]
-//! [--ratio R] [--max-steps S] [--samples K] [--seed X] [--export FILE]`
+//! [--ratio R] [--max-steps S] [--samples K] [--seed X] [--export FILE] [--full 0|1]`
+//!
+//! `--full 1` queries every candidate pair at every step (`Simulation::set_full_detection`,
+//! the step before the contact updates), for comparison.
 //!
 //! **The model** (`N` blocks at most, default 100,000): a grid of `(n + 2) × (n + 2) ×
 //! (n + 1)` unit cubes, `n` the largest that fits in `N`, at a spacing of 1.002 (open joints
@@ -43,7 +46,7 @@ use crate::rng::SplitMix64;
 use crate::system::pool;
 use penedge::classify::PairResult;
 use penedge::glam::{DQuat, DVec3};
-use penedge::mechanics::{BodyContact, Damping, JointModel, Simulation, SubContact};
+use penedge::mechanics::{BodyContact, Damping, JointModel, Simulation, StepTimings, SubContact};
 use penedge::system::{BroadPhase, WideBoxes};
 use penedge::{BlockSystem, ConvexBlock, Detector, Tolerance};
 use rayon::prelude::*;
@@ -62,6 +65,8 @@ const JOINT: JointModel = JointModel {
     friction: 30.0,
     cohesion: 0.0,
     tension: 0.0,
+    residual_friction: None,
+    residual_cohesion: 0.0,
 };
 const LOCAL_DAMPING: f64 = 0.8;
 /// The simulation's detection gap (relative) and skin (relative to the mean block size), its
@@ -79,6 +84,8 @@ struct Options {
     samples: u64,
     seed: u64,
     export: Option<String>,
+    /// Query every candidate pair every step (`Simulation::set_full_detection`).
+    full: bool,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -90,6 +97,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         samples: 8,
         seed: 18,
         export: None,
+        full: false,
     };
     for pair in args.chunks(2) {
         let [flag, value] = pair else {
@@ -103,6 +111,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--samples" => o.samples = crate::number(value)?,
             "--seed" => o.seed = crate::number(value)?,
             "--export" => o.export = Some(value.clone()),
+            "--full" => o.full = crate::number::<u8>(value)? != 0,
             other => return Err(format!("unknown option {other}")),
         }
     }
@@ -192,6 +201,7 @@ fn settle(o: &Options) -> Result<(), String> {
         sim.fix(i).map_err(|e| e.to_string())?;
     }
     sim.set_default_joint(JOINT).map_err(|e| e.to_string())?;
+    sim.set_full_detection(o.full);
     sim.set_damping(Damping {
         local: LOCAL_DAMPING,
         viscous: 0.0,
@@ -203,11 +213,16 @@ fn settle(o: &Options) -> Result<(), String> {
     }
     println!(
         "### Mechanics: {bodies} unit cubes ({free} free, {} fixed: floor and walls) settling \
-         to an unbalanced-force ratio of {:e}, {} threads\n\n{}; load average at the start: {}. \
+         to an unbalanced-force ratio of {:e}, {} threads, {}\n\n{}; load average at the start: {}. \
          Time step {dt:.4e} s (automatic: 0.5 × critical).\n",
         bodies - free,
         o.ratio,
         o.threads,
+        if o.full {
+            "every candidate pair queried every step (--full 1)"
+        } else {
+            "contact updates (answers kept for unmoved and certified pairs)"
+        },
         crate::report::machine(),
         crate::report::load(),
     );
@@ -276,6 +291,7 @@ fn settle(o: &Options) -> Result<(), String> {
         sim.contacts().list.len(),
         sim.contacts().subs.len(),
     );
+    print_phases(&sim.timings(), bodies);
     print_splits(&log.splits);
     print_memory(&heap_at, bodies, log.first_contacts);
     println!("\nLoad average at the end: {}.", crate::report::load());
@@ -374,6 +390,40 @@ fn split(sim: &Simulation, m: &Model, step_s: f64) -> Split {
         pairs: pairs.len(),
         contacts,
         subs: sim.contacts().subs.len(),
+    }
+}
+
+/// The step's own split (`Simulation::timings`: one clock reading per part and step).
+fn print_phases(t: &StepTimings, bodies: usize) {
+    let total = t.total();
+    println!(
+        "\nTime per part of the step (`Simulation::timings`, wall clock, summed over the {} \
+         steps; {} broad phases built). Candidate pairs per step: {:.0} queried, {:.0} kept \
+         unmoved, {:.0} kept certified separated.\n",
+        t.steps,
+        t.rebuilds,
+        t.queried as f64 / t.steps.max(1) as f64,
+        t.unmoved as f64 / t.steps.max(1) as f64,
+        t.certified as f64 / t.steps.max(1) as f64,
+    );
+    println!("| part | s | share | per step ms | ns per block-step |");
+    println!("|---|---:|---:|---:|---:|");
+    let block_steps = (bodies as u64 * t.steps.max(1)) as f64;
+    for (name, s) in [
+        ("candidate pairs (travel check, broad phase)", t.pairs),
+        ("pair queries (detection)", t.detect),
+        ("sub-contacts and joint law", t.contacts),
+        ("force sums", t.forces),
+        ("integration", t.integration),
+        ("placing moved blocks", t.placement),
+        ("**total**", total),
+    ] {
+        println!(
+            "| {name} | {s:.3} | {:.2} | {:.2} | {:.0} |",
+            s / total,
+            1e3 * s / t.steps.max(1) as f64,
+            1e9 * s / block_steps
+        );
     }
 }
 

@@ -15,6 +15,7 @@ fn joint() -> JointModel {
         friction: 40.0,
         cohesion: 0.0,
         tension: 0.0,
+        ..JointModel::default()
     }
 }
 

@@ -153,7 +153,7 @@ fn a_relaxation_survives_a_restart() {
     let mut first = straight.clone();
     straight.cycle(160).unwrap();
     first.cycle(40).unwrap();
-    let mut resumed = Simulation::from_state_str(&first.to_state_string()).unwrap();
+    let mut resumed = Simulation::from_state_str(&first.to_state_string().unwrap()).unwrap();
     assert_eq!(resumed.removed(), first.removed());
     resumed.cycle(120).unwrap();
     assert_eq!(resumed.bodies().poses(), straight.bodies().poses());

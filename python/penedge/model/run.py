@@ -123,6 +123,7 @@ class Outcome:
     ratio: float
     target: float = 1e-5  # the model's equilibrium ratio ([mechanics].ratio)
     error: str | None = None  # the engine's error that stopped the run
+    bolts: list[dict[str, Any]] = field(default_factory=list)  # per bolt, at the end
 
     @property
     def stable(self) -> bool:
@@ -255,6 +256,7 @@ class Runner:
             target=self.model.mechanics.ratio,
             error=error,
         )
+        out.bolts = bolt_results(e)
         return out
 
     def record(self, stage: str) -> None:
@@ -551,3 +553,10 @@ def check_excavations(model: Model, regions: dict[str, np.ndarray]) -> None:
 def merge(props: JointProperties, changes: dict[str, float]) -> JointProperties:
     """`props` with `changes`."""
     return JointProperties(**{**props.__dict__, **changes})
+
+
+def bolt_results(engine: Any) -> list[dict[str, Any]]:
+    """Per bolt at the end of the run: name, force, elongation, state (empty without bolts,
+    or with an engine that has none)."""
+    bolts = getattr(engine, "bolts", None)
+    return bolts() if bolts is not None else []

@@ -148,8 +148,11 @@ class Bolt:
     point: tuple[float, float, float]  # collar (m)
     direction: tuple[float, float, float]  # unit vector, into the rock
     length: float  # m
-    capacity: float  # N, axial (tensile) capacity
-    stiffness: float  # N/m, axial
+    capacity: float  # N, axial capacity (it yields at it)
+    stiffness: float  # N/m, axial, of the whole length (EA / length)
+    rupture_strain: float | None = None  # axial strain at which it breaks; None: never
+    shear_stiffness: float | None = None  # N/m, dowel at each joint crossed; None: axial only
+    shear_capacity: float | None = None  # N, the dowel's capacity (with shear_stiffness)
 
     @property
     def end(self) -> tuple[float, float, float]:
@@ -656,10 +659,22 @@ def parse_bolts(tables: list[Table]) -> list[Bolt]:
                 length=t.number("length", required=True, above=0),
                 capacity=t.number("capacity", required=True, above=0),
                 stiffness=t.number("stiffness", required=True, above=0),
+                rupture_strain=t.optional_number("rupture_strain", above=0),
+                **parse_dowel(t),
             )
         )
         t.done()
     return bolts
+
+
+def parse_dowel(t: Table) -> dict[str, float | None]:
+    """A bolt's optional dowel: ``shear_stiffness`` and ``shear_capacity``, both or neither."""
+    stiffness = t.optional_number("shear_stiffness", above=0)
+    capacity = t.optional_number("shear_capacity", above=0)
+    if (stiffness is None) != (capacity is None):
+        missing = "shear_capacity" if capacity is None else "shear_stiffness"
+        raise ModelError(t.field(missing), "a dowel needs both shear_stiffness and shear_capacity")
+    return {"shear_stiffness": stiffness, "shear_capacity": capacity}
 
 
 def parse_support(t: Table, regions: dict[str, Region]) -> Support:

@@ -9,6 +9,7 @@ use crate::block::{ConvexBlock, Pose};
 use crate::classify::{Contact, ContactType, Feature};
 use crate::contact_geometry::{ContactGeometry, ContactPoints};
 use crate::geometry::DVec3;
+use glam::Vec3;
 
 /// A contact between two bodies' convex parts, as the mechanics keeps it.
 #[derive(Clone, Debug, PartialEq)]
@@ -35,8 +36,11 @@ pub struct BodyContact {
 pub struct SubContact {
     /// Where it is (world).
     pub point: DVec3,
-    /// Where it is in A's body frame (moves with A; matches sub-contacts across steps).
-    pub local: DVec3,
+    /// Where it is in A's body frame (moves with A; matches sub-contacts across steps), in
+    /// single precision: it only picks the nearest sub-contact of the last step, among points
+    /// a body size apart at most, and its 12 bytes keep a sub-contact at 112 (docs/mechanics.md,
+    /// "Memory").
+    pub local: Vec3,
     /// Its share of the contact area.
     pub area: f64,
     /// Gap along the normal (> 0 apart, < 0 overlapping).
@@ -86,7 +90,8 @@ impl Contacts {
     }
 }
 
-/// A contact found by the detection this step, with its geometry.
+/// A contact found by the detection, with its geometry.
+#[derive(Clone, Debug)]
 pub(super) struct Found {
     pub parts: [u32; 2],
     pub contact: Contact,
@@ -173,8 +178,20 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         }
         gaps[shallow] = gaps[deep];
     }
-    let mean_spin =
-        0.5 * (input.bodies.spin(bodies[0] as usize) + input.bodies.spin(bodies[1] as usize));
+    // The bodies' motion, once per contact: velocities, spins and centroids.
+    let motion = bodies.map(|i| {
+        let i = i as usize;
+        (
+            input.bodies.velocity(i),
+            input.bodies.spin(i),
+            input.bodies.pose[i].translation,
+        )
+    });
+    let mean_spin = 0.5 * (motion[0].1 + motion[1].1);
+    // Rotated with the contact plane: onto the new plane, and about the normal by the
+    // bodies' mean spin over the step (3DEC's rule).
+    let twist = glam::DQuat::from_axis_angle(n, mean_spin.dot(n) * input.dt);
+    let point_velocity = |(v, w, c): (DVec3, DVec3, DVec3), p: DVec3| v + w.cross(p - c);
     let mut subs = Vec::with_capacity(points.len());
     for ((&p, &area), &gap) in points.iter().zip(&areas).zip(&gaps) {
         let local = to_body(&pose_a, p);
@@ -186,8 +203,9 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
                     .iter()
                     .min_by(|x, y| {
                         x.local
+                            .as_dvec3()
                             .distance_squared(local)
-                            .total_cmp(&y.local.distance_squared(local))
+                            .total_cmp(&y.local.as_dvec3().distance_squared(local))
                     })
                     .expect("a contact has at least one sub-contact");
                 (
@@ -212,13 +230,9 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
                 (shear * area, DVec3::ZERO, touching, normal)
             }
         };
-        // Rotated with the contact plane: onto the new plane, and about the normal by the
-        // bodies' mean spin over the step (3DEC's rule).
-        let twist = glam::DQuat::from_axis_angle(n, mean_spin.dot(n) * input.dt);
         shear = twist * onto_plane(shear, n);
         slip = twist * onto_plane(slip, n);
-        let relative = point_velocity(input.bodies, bodies[1] as usize, p)
-            - point_velocity(input.bodies, bodies[0] as usize, p);
+        let relative = point_velocity(motion[1], p) - point_velocity(motion[0], p);
         let du = relative * input.dt;
         let du_s = du - n * du.dot(n);
         slip += du_s;
@@ -234,7 +248,7 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         );
         subs.push(SubContact {
             point: p,
-            local,
+            local: local.as_vec3(),
             area,
             gap,
             normal_force: out.normal_force,
@@ -259,11 +273,6 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         count: subs.len() as u32,
     };
     (contact, subs)
-}
-
-/// The velocity of the point `p` moving with body `i`.
-fn point_velocity(bodies: &Bodies, i: usize, p: DVec3) -> DVec3 {
-    bodies.velocity(i) + bodies.spin(i).cross(p - bodies.pose[i].translation)
 }
 
 /// A point in the body frame of the pose.

@@ -113,10 +113,11 @@ impl Simulation {
         }
         for i in report.removed.iter().copied() {
             self.excavation.removed[i] = true;
-            self.bodies.fixity[i] = Fixity::Fixed;
+            self.bodies.set_fixity(i, Fixity::Fixed)?;
+            self.bodies.set_applied(i, DVec3::ZERO)?;
             self.bodies.velocity[i] = DVec3::ZERO;
             self.bodies.momentum[i] = DVec3::ZERO;
-            self.bodies.applied[i] = DVec3::ZERO;
+            self.applied_moments.remove(&(i as u32));
         }
         // Their contacts go now (the pairs are rebuilt without them at the next step).
         let removed = &self.excavation.removed;

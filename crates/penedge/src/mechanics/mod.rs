@@ -27,6 +27,7 @@ mod integrate;
 mod joint;
 mod state;
 mod stress;
+mod water;
 
 pub use bodies::{Bodies, Fixity};
 pub use contacts::{BodyContact, Contacts, SubContact};
@@ -35,17 +36,25 @@ pub use integrate::{free_rotation, Damping};
 pub use joint::{JointModel, JointTable, SubState};
 pub use state::{FORMAT as STATE_FORMAT, VERSION as STATE_VERSION};
 pub use stress::InitialStress;
+pub use water::Water;
 
 use crate::block::{ConvexBlock, Pose};
 use crate::body::BodyError;
 use crate::classify::PairResult;
 use crate::contact::Detector;
 use crate::geometry::DVec3;
-use crate::system::{BlockSystem, BroadPhase, WideBoxes};
+use crate::system::{
+    deadline, edge_certificate, holds, separation, BlockSystem, BroadPhase, WideBoxes,
+    EDGE_CERTIFICATE_STEPS,
+};
 use crate::tolerance::{Tolerance, ToleranceError};
 use contacts::{build_contact, Found, StepInput};
 use rayon::prelude::*;
+use std::time::Instant;
 use thiserror::Error;
+
+mod bolts;
+pub use bolts::{Bolt, BoltElement, BoltState, Bolts, Dowel};
 
 /// Why a simulation cannot be set up or stepped.
 #[derive(Clone, Debug, Error, PartialEq)]
@@ -135,6 +144,9 @@ pub enum MechanicsError {
     /// A block cannot be made a body.
     #[error("block {0} cannot be a body: {1}")]
     Body(usize, BodyError),
+    /// A rock bolt that cannot be installed (outside the rock, tying nothing).
+    #[error("{0}")]
+    Bolt(String),
     /// A bad detection tolerance.
     #[error("{0}")]
     Tolerance(#[from] ToleranceError),
@@ -151,6 +163,42 @@ pub struct SolveReport {
     pub converged: bool,
 }
 
+/// Cumulative wall time of each part of [`Simulation::step`], in seconds, since the
+/// simulation was made (or [`Simulation::reset_timings`]): one clock reading per part and
+/// step, none per pair.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepTimings {
+    /// Candidate pairs: the check of the bodies' travel, and the broad phase when rebuilt.
+    pub pairs: f64,
+    /// The pair queries (contacts, types, features, geometry).
+    pub detect: f64,
+    /// Sub-contacts: geometry, matching to the last step's, joint law.
+    pub contacts: f64,
+    /// The sums of the contact forces and moments per body.
+    pub forces: f64,
+    /// Damping and integration of every body.
+    pub integration: f64,
+    /// Placing the moving bodies' parts at their new poses.
+    pub placement: f64,
+    /// Steps timed.
+    pub steps: u64,
+    /// Broad phases built.
+    pub rebuilds: u64,
+    /// Candidate pairs queried, summed over the steps.
+    pub queried: u64,
+    /// Candidate pairs whose two bodies had not moved since their last query (answer kept).
+    pub unmoved: u64,
+    /// Candidate pairs certified separated (answer kept).
+    pub certified: u64,
+}
+
+impl StepTimings {
+    /// The sum of the parts.
+    pub fn total(&self) -> f64 {
+        self.pairs + self.detect + self.contacts + self.forces + self.integration + self.placement
+    }
+}
+
 /// A rigid-block simulation: bodies, joint properties, contacts and the time stepping.
 #[derive(Clone, Debug)]
 pub struct Simulation {
@@ -161,17 +209,32 @@ pub struct Simulation {
     /// The parts placed at their bodies' poses (a cache for the detection).
     placed: Vec<ConvexBlock>,
     joints: JointTable,
+    water: Water,
     gravity: DVec3,
     damping: Damping,
     tolerance: Tolerance,
     point_width: f64,
     skin: f64,
     pairs: Vec<[u32; 2]>,
+    /// Per candidate pair, its last query's answer (docs/mechanics.md, "Contact updates").
+    memo: Vec<PairMemo>,
+    /// Per body: the step whose detection first sees its current pose (the pose last changed
+    /// in any bit in the step before), the sum of the bounds of its motions (travel), and
+    /// the bound of its last step's motion.
+    moved_at: Vec<u64>,
+    travel: Vec<f64>,
+    last_step: Vec<f64>,
+    /// Whether every candidate pair is queried every step (no answer kept).
+    full_detection: bool,
     built_at: Option<Vec<Pose>>,
     contacts: Contacts,
     /// Per body, the sum of its contact forces and moments (about the centroid) last step.
     forces: Vec<DVec3>,
     moments: Vec<DVec3>,
+    /// Rock bolts (docs/mechanics.md, "Rock bolts and applied loads").
+    bolts: Bolts,
+    /// Applied moments (world frame), per body that has one.
+    applied_moments: std::collections::BTreeMap<u32, DVec3>,
     dt: Option<f64>,
     safety: f64,
     time: f64,
@@ -185,6 +248,7 @@ pub struct Simulation {
     excavation: excavation::Excavation,
     /// The stress installed on the first detection's contacts (`stress.rs`).
     initial_stress: Option<InitialStress>,
+    timings: StepTimings,
 }
 
 impl Simulation {
@@ -220,16 +284,24 @@ impl Simulation {
             part_index,
             placed,
             joints: JointTable::default(),
+            water: Water::none(),
             gravity: DVec3::new(0.0, 0.0, -9.81),
             damping: Damping::default(),
             tolerance: Tolerance::with_gap(1e-3).expect("a valid gap"),
             point_width: 0.2,
             skin: 0.05 * mean_size,
             pairs: Vec::new(),
+            memo: Vec::new(),
+            moved_at: vec![0; n],
+            travel: vec![0.0; n],
+            last_step: vec![0.0; n],
+            full_detection: false,
             built_at: None,
             contacts: Contacts::default(),
             forces: vec![DVec3::ZERO; n],
             moments: vec![DVec3::ZERO; n],
+            bolts: Bolts::default(),
+            applied_moments: Default::default(),
             dt: None,
             safety: 0.5,
             time: 0.0,
@@ -239,6 +311,7 @@ impl Simulation {
             initial: true,
             excavation: excavation::Excavation::default(),
             initial_stress: None,
+            timings: StepTimings::default(),
         }
     }
 
@@ -267,6 +340,16 @@ impl Simulation {
     /// Sets the joint model of joint set `set`.
     pub fn set_joint(&mut self, set: u32, model: JointModel) -> Result<(), MechanicsError> {
         self.joints.set(set, model)
+    }
+
+    /// The water in the joints.
+    pub fn water(&self) -> &Water {
+        &self.water
+    }
+
+    /// Sets the water in the joints (docs/mechanics.md, "Water pressure in the joints").
+    pub fn set_water(&mut self, water: Water) {
+        self.water = water;
     }
 
     /// Gravity (acceleration vector).
@@ -360,7 +443,7 @@ impl Simulation {
 
     fn set_fixity(&mut self, i: usize, fixity: Fixity) -> Result<(), MechanicsError> {
         self.check_present(i)?;
-        self.bodies.fixity[i] = fixity;
+        self.bodies.set_fixity(i, fixity)?;
         self.built_at = None; // the pairs kept depend on which bodies move
         Ok(())
     }
@@ -382,11 +465,57 @@ impl Simulation {
     /// Sets a constant force on body `i`'s centroid, besides gravity and contacts.
     pub fn apply_force(&mut self, i: usize, force: DVec3) -> Result<(), MechanicsError> {
         self.check_present(i)?;
-        if !force.is_finite() {
-            return Err(MechanicsError::NotFinite("applied force"));
+        self.bodies.set_applied(i, force)
+    }
+
+    /// Sets a constant moment on body `i` (world frame), besides its contacts' (a dead
+    /// load: it does not turn with the body).
+    pub fn apply_moment(&mut self, i: usize, moment: DVec3) -> Result<(), MechanicsError> {
+        self.check_present(i)?;
+        if !moment.is_finite() {
+            return Err(MechanicsError::NotFinite("applied moment"));
         }
-        self.bodies.applied[i] = force;
+        if moment == DVec3::ZERO {
+            self.applied_moments.remove(&(i as u32));
+        } else {
+            self.applied_moments.insert(i as u32, moment);
+        }
         Ok(())
+    }
+
+    /// Sets a constant force on body `i` acting at `point` (world, at the body's current
+    /// pose): the force on its centroid ([`Simulation::apply_force`]) and its moment about
+    /// the centroid ([`Simulation::apply_moment`]), both constant in the world frame after.
+    pub fn apply_force_at(
+        &mut self,
+        i: usize,
+        force: DVec3,
+        point: DVec3,
+    ) -> Result<(), MechanicsError> {
+        self.bodies.check(i)?;
+        if !point.is_finite() {
+            return Err(MechanicsError::NotFinite("point of the applied force"));
+        }
+        let arm = point - self.bodies.poses()[i].translation;
+        self.apply_force(i, force)?;
+        self.apply_moment(i, arm.cross(force))
+    }
+
+    /// The applied moments: `(body, moment)` for each body that has one.
+    pub fn applied_moments(&self) -> impl Iterator<Item = (usize, DVec3)> + '_ {
+        self.applied_moments.iter().map(|(&i, &m)| (i as usize, m))
+    }
+
+    /// Installs a rock bolt across the bodies its segment crosses now (docs/mechanics.md,
+    /// "Rock bolts"); its id. An error when the segment meets no body or one only.
+    pub fn add_bolt(&mut self, bolt: Bolt) -> Result<usize, MechanicsError> {
+        self.bolts
+            .install(bolt, &self.bodies, &self.placed, &self.part_body)
+    }
+
+    /// The rock bolts and the state of their elements.
+    pub fn bolts(&self) -> &Bolts {
+        &self.bolts
     }
 
     /// Sets body `i`'s pose (it must keep the body clear of others by the gap).
@@ -427,6 +556,19 @@ impl Simulation {
         self.initial_stress.as_ref()
     }
 
+    /// With `on`, every candidate pair is queried at every step, as before the contact
+    /// updates (docs/mechanics.md, "Contact updates"); off (the default), a pair whose two
+    /// bodies have not moved since its last query, or that is certified separated, keeps its
+    /// answer. Both give the same contacts, bit for bit: the switch is for comparisons.
+    pub fn set_full_detection(&mut self, on: bool) {
+        self.full_detection = on;
+    }
+
+    /// Whether every candidate pair is queried at every step.
+    pub fn full_detection(&self) -> bool {
+        self.full_detection
+    }
+
     /// Sets the time step; `None` for the automatic one (safety × critical).
     pub fn set_timestep(&mut self, dt: Option<f64>) -> Result<(), MechanicsError> {
         if let Some(dt) = dt {
@@ -460,7 +602,7 @@ impl Simulation {
     pub fn set_mass_scaling(&mut self, on: bool) -> Result<(), MechanicsError> {
         let k = self.joints.max_stiffness();
         let free: Vec<usize> = (0..self.bodies.len())
-            .filter(|&i| self.bodies.fixity[i] == Fixity::Free)
+            .filter(|&i| self.bodies.is_free(i))
             .collect();
         let mut steps: Vec<f64> = free
             .iter()
@@ -472,7 +614,7 @@ impl Simulation {
         steps.sort_by(f64::total_cmp);
         let target = steps[steps.len() / 2];
         for i in 0..self.bodies.len() {
-            let scale = match self.bodies.fixity[i] {
+            let scale = match self.bodies.fixity(i) {
                 Fixity::Free if on => {
                     let own = integrate::critical_step(&self.bodies, i, k, 1.0);
                     (target / own).powi(2).max(1.0)
@@ -487,11 +629,10 @@ impl Simulation {
     /// The critical time step (docs/mechanics.md): the smallest bound of the free bodies.
     pub fn critical_timestep(&self) -> Result<f64, MechanicsError> {
         let k = self.joints.max_stiffness();
-        (0..self.bodies.len())
-            .filter(|&i| self.bodies.fixity[i] == Fixity::Free)
-            .map(|i| integrate::critical_step(&self.bodies, i, k, self.bodies.scale[i]))
-            .reduce(f64::min)
+        self.bodies
+            .critical_timestep(k)
             .ok_or(MechanicsError::NoFreeBody)
+            .map(|contacts| self.bolts.critical_step(&self.bodies, contacts))
     }
 
     /// The time step the next step takes.
@@ -526,14 +667,25 @@ impl Simulation {
         BlockSystem::new(self.placed.clone())
     }
 
-    /// Per body, the sum of its contact forces at the last step.
+    /// Per body, the sum of its contact and bolt forces at the last step.
     pub fn contact_forces(&self) -> &[DVec3] {
         &self.forces
     }
 
-    /// Per body, the sum of the moments of its contact forces about its centroid.
+    /// Per body, the sum of the moments of its contact and bolt forces about its centroid,
+    /// and of its applied moment.
     pub fn contact_moments(&self) -> &[DVec3] {
         &self.moments
+    }
+
+    /// The wall time spent in each part of the step so far.
+    pub fn timings(&self) -> StepTimings {
+        self.timings
+    }
+
+    /// Sets the timings to zero.
+    pub fn reset_timings(&mut self) {
+        self.timings = StepTimings::default();
     }
 
     // ---- running ----------------------------------------------------------------------
@@ -542,13 +694,34 @@ impl Simulation {
     /// integration -> new poses (docs/mechanics.md, "One step").
     pub fn step(&mut self) -> Result<(), MechanicsError> {
         let dt = self.timestep()?;
+        let mut clock = Instant::now();
+        let mut lap = |slot: &mut f64| {
+            let now = Instant::now();
+            *slot += (now - clock).as_secs_f64();
+            clock = now;
+        };
+        let mut t = self.timings;
         self.update_pairs();
-        let found = self.detect()?;
-        self.update_contacts(found, dt);
+        lap(&mut t.pairs);
+        let detected = self.detect();
+        lap(&mut t.detect);
+        let [queried, unmoved, certified] = detected?;
+        self.update_contacts(dt);
+        lap(&mut t.contacts);
         self.sum_forces();
         self.apply_relaxation();
-        self.integrate(dt)?;
+        lap(&mut t.forces);
+        let integrated = self.integrate(dt);
+        lap(&mut t.integration);
+        integrated?;
         self.place_moving();
+        lap(&mut t.placement);
+        t.steps += 1;
+        t.rebuilds = self.timings.rebuilds;
+        t.queried += queried;
+        t.unmoved += unmoved;
+        t.certified += certified;
+        self.timings = t;
         self.time += dt;
         self.steps += 1;
         Ok(())
@@ -624,7 +797,7 @@ impl Simulation {
         let (bodies, part_body, part_index) = (&self.bodies, &self.part_body, &self.part_index);
         self.placed.par_iter_mut().enumerate().for_each(|(k, p)| {
             let b = part_body[k] as usize;
-            if bodies.fixity[b] != Fixity::Fixed {
+            if bodies.fixity(b) != Fixity::Fixed {
                 let part = &bodies.shape(b).parts()[part_index[k] as usize];
                 p.place_from(part, &bodies.pose[b]);
             }
@@ -651,8 +824,7 @@ impl Simulation {
             let aabb = placed[k].aabb();
             (aabb, tol.for_box(&aabb).gap + half)
         });
-        let moves =
-            |k: u32| self.bodies.fixity[self.part_body[k as usize] as usize] == Fixity::Free;
+        let moves = |k: u32| self.bodies.is_free(self.part_body[k as usize] as usize);
         self.pairs = boxes
             .pairs(BroadPhase::default())
             .into_iter()
@@ -664,50 +836,82 @@ impl Simulation {
                     && !self.is_removed(b as usize)
             })
             .collect();
+        self.memo = vec![PairMemo::default(); self.pairs.len()];
         self.built_at = Some(self.bodies.pose.clone());
+        self.timings.rebuilds += 1;
     }
 
-    /// The contacts of the candidate pairs, in pair order (the pair queries in parallel).
-    fn detect(&self) -> Result<Vec<Found>, MechanicsError> {
+    /// The contacts of the candidate pairs (the pair queries in parallel), kept in `memo`:
+    /// each pair is queried, or keeps its last answer when its two bodies have not moved
+    /// since (unmoved) or it is certified separated (docs/mechanics.md, "Contact updates").
+    /// The numbers of pairs queried, unmoved and certified.
+    fn detect(&mut self) -> Result<[u64; 3], MechanicsError> {
         let tol = self.tolerance;
-        let placed = &self.placed;
-        let answers: Vec<Option<Result<Found, [u32; 2]>>> = self
+        let (placed, part_body) = (&self.placed, &self.part_body);
+        let (moved_at, travel, last_step) = (&self.moved_at, &self.travel, &self.last_step);
+        let (step, full) = (self.steps, self.full_detection);
+        let bodies = &self.bodies;
+        let outcomes: Vec<Outcome> = self
             .pairs
             .par_iter()
+            .zip(&mut self.memo)
             .map_init(
                 || Detector::new(tol),
-                |det, &[i, j]| {
-                    let (result, geometry) =
-                        det.detect_with_geometry(&placed[i as usize], &placed[j as usize]);
-                    match (result, geometry) {
-                        (PairResult::Contact(contact), Some(geometry)) => Some(Ok(Found {
-                            parts: [i, j],
-                            contact,
-                            geometry,
-                        })),
-                        (PairResult::Penetrating, _) => Some(Err([i, j])),
-                        _ => None,
+                |det, (&[i, j], memo)| {
+                    let [bi, bj] =
+                        [part_body[i as usize], part_body[j as usize]].map(|b| b as usize);
+                    if let (Some(asked), false) = (memo.asked_at, full) {
+                        if moved_at[bi] <= asked && moved_at[bj] <= asked {
+                            return Outcome::Unmoved;
+                        }
+                        if memo.found.is_none() && holds(memo.deadline, [travel[bi], travel[bj]]) {
+                            return Outcome::Certified;
+                        }
                     }
+                    let (a, b) = (&placed[i as usize], &placed[j as usize]);
+                    let (result, geometry) = det.detect_with_geometry(a, b);
+                    memo.asked_at = Some(step);
+                    memo.deadline = f64::NEG_INFINITY;
+                    memo.found = None;
+                    match (result, geometry) {
+                        (PairResult::Contact(contact), Some(geometry)) => {
+                            memo.found = Some(Box::new(Found {
+                                parts: [i, j],
+                                contact,
+                                geometry,
+                            }));
+                        }
+                        (PairResult::Penetrating, _) => return Outcome::Penetrating,
+                        _ if !full => {
+                            memo.deadline =
+                                certificate(det, [a, b], [bi, bj], bodies, travel, last_step);
+                        }
+                        _ => {}
+                    }
+                    Outcome::Queried
                 },
             )
             .collect();
-        let mut found = Vec::with_capacity(answers.len());
-        for answer in answers.into_iter().flatten() {
-            match answer {
-                Ok(f) => found.push(f),
-                Err([i, j]) => {
+        let mut counts = [0u64; 3];
+        for (k, outcome) in outcomes.iter().enumerate() {
+            match outcome {
+                Outcome::Queried => counts[0] += 1,
+                Outcome::Unmoved => counts[1] += 1,
+                Outcome::Certified => counts[2] += 1,
+                Outcome::Penetrating => {
+                    let [i, j] = self.pairs[k];
                     return Err(MechanicsError::Penetration {
-                        bodies: [self.part_body[i as usize], self.part_body[j as usize]],
+                        bodies: [part_body[i as usize], part_body[j as usize]],
                         step: self.steps,
-                    })
+                    });
                 }
             }
         }
-        Ok(found)
+        Ok(counts)
     }
 
     /// Sub-contacts with their forces (in parallel per contact), matched to the last step's.
-    fn update_contacts(&mut self, found: Vec<Found>, dt: f64) {
+    fn update_contacts(&mut self, dt: f64) {
         let input = StepInput {
             bodies: &self.bodies,
             part_body: &self.part_body,
@@ -719,7 +923,12 @@ impl Simulation {
             point_width: self.point_width,
             initial_stress: self.initial_stress.as_ref(),
         };
-        let built: Vec<_> = found.par_iter().map(|f| build_contact(&input, f)).collect();
+        let built: Vec<_> = self
+            .memo
+            .par_iter()
+            .filter_map(|m| m.found.as_deref())
+            .map(|f| build_contact(&input, f))
+            .collect();
         let mut next = Contacts {
             list: Vec::with_capacity(built.len()),
             subs: Vec::with_capacity(self.contacts.subs.len()),
@@ -733,11 +942,12 @@ impl Simulation {
         self.initial = false;
     }
 
-    /// The contact forces and moments per body, summed in contact order on one thread (the
+    /// The contact (and bolt) forces and moments per body, summed in contact order on one thread (the
     /// same sum for any number of threads).
     fn sum_forces(&mut self) {
         self.forces.iter_mut().for_each(|f| *f = DVec3::ZERO);
         self.moments.iter_mut().for_each(|m| *m = DVec3::ZERO);
+        self.add_bolts_and_moments();
         for (i, c) in self.contacts.list.iter().enumerate() {
             let [a, b] = [c.bodies[0] as usize, c.bodies[1] as usize];
             let (ca, cb) = (
@@ -752,6 +962,19 @@ impl Simulation {
                 self.moments[a] -= (s.point - ca).cross(f);
             }
         }
+        let poses = &self.bodies.pose;
+        self.water
+            .add_forces(&self.contacts, poses, &mut self.forces, &mut self.moments);
+    }
+
+    /// Adds the bolts' forces and the applied moments to the bodies' sums (docs/mechanics.md,
+    /// "Rock bolts and applied loads").
+    fn add_bolts_and_moments(&mut self) {
+        self.bolts
+            .add_forces(&self.bodies, &mut self.forces, &mut self.moments);
+        for (&i, &m) in &self.applied_moments {
+            self.moments[i as usize] += m;
+        }
     }
 
     /// Damps and integrates every body; the unbalanced-force ratio.
@@ -759,8 +982,8 @@ impl Simulation {
         let kick = if self.synced { 0.5 } else { 1.0 };
         let (mut largest, mut reference) = (0.0f64, 0.0f64);
         for i in 0..self.bodies.len() {
-            if self.bodies.fixity[i] == Fixity::Free {
-                let load = self.gravity * self.bodies.mass[i] + self.bodies.applied[i];
+            if self.bodies.is_free(i) {
+                let load = self.gravity * self.bodies.mass(i) + self.bodies.applied_force(i);
                 largest = largest.max((self.forces[i] + load).length());
                 reference = reference.max(load.length());
             }
@@ -772,7 +995,17 @@ impl Simulation {
                 self.gravity,
                 &self.damping,
             );
+            let before = self.bodies.pose[i];
             integrate::advance(&mut self.bodies, i, f, m, dt, kick);
+            self.last_step[i] = if same_bits(&before, &self.bodies.pose[i]) {
+                0.0
+            } else {
+                // The detection of the next step is the first to see this pose.
+                self.moved_at[i] = self.steps + 1;
+                let radius = self.bodies.shape(i).radius();
+                before.displacement_bound(&self.bodies.pose[i], DVec3::ZERO, radius)
+            };
+            self.travel[i] += self.last_step[i];
             let (pose, v, l) = (
                 self.bodies.pose[i],
                 self.bodies.velocity[i],
@@ -798,25 +1031,118 @@ impl Simulation {
     }
 }
 
+/// What the last query of a candidate pair found, and when.
+#[derive(Clone, Debug)]
+struct PairMemo {
+    /// The step of the last query (`None`: never queried since the broad phase was built).
+    asked_at: Option<u64>,
+    /// The contact found then (`None`: separated); boxed, so that the many separated pairs
+    /// take 32 bytes each.
+    found: Option<Box<Found>>,
+    /// A separated pair's certificate: the travel sum of its two bodies below which it stays
+    /// separated (`-∞`: none).
+    deadline: f64,
+}
+
+impl Default for PairMemo {
+    fn default() -> Self {
+        PairMemo {
+            asked_at: None,
+            found: None,
+            deadline: f64::NEG_INFINITY,
+        }
+    }
+}
+
+/// What the detection did with one candidate pair this step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Outcome {
+    Queried,
+    Unmoved,
+    Certified,
+    Penetrating,
+}
+
+/// The certificate of a pair of parts found separated (docs/mechanics.md, "Contact
+/// updates", as the `ContactTracker`'s): a face plane separating them by more than the gap,
+/// else no edge of either within the gap widened by [`EDGE_CERTIFICATE_STEPS`] times their
+/// bodies' last motions; the deadline of [`deadline`] (`-∞`: none).
+fn certificate(
+    det: &mut Detector,
+    [a, b]: [&ConvexBlock; 2],
+    [bi, bj]: [usize; 2],
+    bodies: &Bodies,
+    travel: &[f64],
+    last_step: &[f64],
+) -> f64 {
+    let gap = det.thresholds(a, b).gap;
+    let margin = separation(a, b);
+    let travels = [travel[bi], travel[bj]];
+    if margin > gap {
+        return deadline(margin, gap, travels);
+    }
+    let wider = EDGE_CERTIFICATE_STEPS * (last_step[bi] + last_step[bj]);
+    let radii = [bodies.shape(bi).radius(), bodies.shape(bj).radius()];
+    edge_certificate(det, [a, b], radii, gap, wider)
+        .map_or(f64::NEG_INFINITY, |m| deadline(m + gap, gap, travels))
+}
+
+/// Whether two poses are equal bit for bit (placing a block at either gives the same bits).
+fn same_bits(p: &Pose, q: &Pose) -> bool {
+    let bits = |p: &Pose| {
+        let (r, t) = (p.rotation.to_array(), p.translation.to_array());
+        [r[0], r[1], r[2], r[3], t[0], t[1], t[2]].map(f64::to_bits)
+    };
+    bits(p) == bits(q)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_timings_count_every_step_and_its_parts() {
+        let base = ConvexBlock::cuboid([-2.0, -2.0, -1.0], [2.0, 2.0, 0.0]).unwrap();
+        let cube = ConvexBlock::cuboid([-0.5, -0.5, 0.0], [0.5, 0.5, 1.0]).unwrap();
+        let mut sim = Simulation::new(&BlockSystem::new(vec![base, cube]), 2500.0).unwrap();
+        sim.fix(0).unwrap();
+        sim.cycle(5).unwrap();
+        let t = sim.timings();
+        assert_eq!((t.steps, t.rebuilds), (5, 1));
+        let parts = [
+            t.pairs,
+            t.detect,
+            t.contacts,
+            t.forces,
+            t.integration,
+            t.placement,
+        ];
+        assert!(parts.iter().all(|&s| s >= 0.0));
+        assert_eq!(t.total(), parts.iter().sum::<f64>());
+        sim.reset_timings();
+        assert_eq!(sim.timings(), StepTimings::default());
+    }
 
     /// The bytes docs/mechanics.md ("Memory") states: a body's state, a contact and a
     /// sub-contact.
     #[test]
     fn the_memory_figures_of_the_docs_hold() {
         use std::mem::size_of;
-        // One entry per array of `Bodies`.
+        // One entry per array of `Bodies` (the side tables hold only the bodies with a
+        // prescribed motion or an applied force).
         let body = size_of::<std::sync::Arc<crate::body::Shape>>() // shape
-            + 2 * size_of::<f64>() // density, mass
-            + 4 * size_of::<DVec3>() // inertia, velocity, angular momentum, applied force
+            + size_of::<f64>() // density
             + size_of::<Pose>()
-            + size_of::<Fixity>()
-            + size_of::<[f64; 2]>() // stiffness bounds
-            + size_of::<f64>(); // mass-scaling factor
-        assert_eq!(body, 256);
+            + 2 * size_of::<DVec3>() // velocity, angular momentum
+            + size_of::<f64>(); // mass-scaling factor, signed by the fixity
+        assert_eq!(body, 128);
         assert_eq!(size_of::<BodyContact>(), 64);
-        assert_eq!(size_of::<SubContact>(), 136);
+        // 112 without the normal stress of an initial stress (`prestress`, 8 bytes).
+        assert_eq!(size_of::<SubContact>(), 120);
+        // A face-face contact of two quadrilaterals: 32 above the issue's 512 bytes (the
+        // initial stress's; docs/mechanics.md, "Memory").
+        assert_eq!(size_of::<BodyContact>() + 4 * size_of::<SubContact>(), 544);
+        // The contact updates: per candidate pair; per body, `moved_at`, `travel`, `last_step`.
+        assert_eq!(size_of::<PairMemo>(), 32);
     }
 }

@@ -91,7 +91,7 @@ const TRAVEL_SLACK: f64 = 1.0 + ROUNDING_FLOOR + 4.0 * f64::EPSILON;
 /// while `m - (ti - ti0) - (tj - tj0) > g + floor growth`, that is while
 /// `(ti + tj) * TRAVEL_SLACK < m - g + ti0 + tj0` (less the rounding of this sum). One
 /// number per pair, so that checking a certified pair reads 16 bytes and two travels.
-fn deadline(margin: f64, gap: f64, travel: [f64; 2]) -> f64 {
+pub(crate) fn deadline(margin: f64, gap: f64, travel: [f64; 2]) -> f64 {
     if margin <= gap {
         return f64::NEG_INFINITY;
     }
@@ -102,7 +102,7 @@ fn deadline(margin: f64, gap: f64, travel: [f64; 2]) -> f64 {
 /// Whether a certificate with deadline `deadline` ([`deadline`]) still answers its pair, the
 /// blocks having travelled `travel` in all.
 #[inline]
-fn holds(deadline: f64, travel: [f64; 2]) -> bool {
+pub(crate) fn holds(deadline: f64, travel: [f64; 2]) -> bool {
     (travel[0] + travel[1]) * TRAVEL_SLACK < deadline
 }
 
@@ -528,7 +528,7 @@ impl ContactTracker {
 
 /// How many steps like the last one an edge certificate is sized for (see
 /// [`edge_certificate`]): a wider gap costs nothing more but holds for fewer pairs.
-const EDGE_CERTIFICATE_STEPS: f64 = 8.0;
+pub(crate) const EDGE_CERTIFICATE_STEPS: f64 = 8.0;
 
 /// A certificate for a pair separated at gap `gap` without a separating face plane (edges
 /// or vertices facing each other): the travel sum, since now, below which it stays
@@ -545,7 +545,7 @@ const EDGE_CERTIFICATE_STEPS: f64 = 8.0;
 /// widens it by at most that growth times `r / ρ`. So the pair stays separated while
 /// `f (t_a + t_b) < wider` with `f` the larger factor of the two blocks; a rounding allowance
 /// is taken off.
-fn edge_certificate(
+pub(crate) fn edge_certificate(
     det: &mut Detector,
     [a, b]: [&ConvexBlock; 2],
     radii: [f64; 2],
@@ -573,7 +573,7 @@ fn edge_certificate(
 
 /// The largest separation by a face plane of either block: every vertex of the other block
 /// is at least this far beyond it (negative when no plane separates).
-fn separation(a: &ConvexBlock, b: &ConvexBlock) -> f64 {
+pub(crate) fn separation(a: &ConvexBlock, b: &ConvexBlock) -> f64 {
     let by = |x: &ConvexBlock, y: &ConvexBlock| {
         x.planes()
             .iter()

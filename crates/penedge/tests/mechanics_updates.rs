@@ -1,0 +1,183 @@
+//! The contact updates of the mechanics (docs/mechanics.md, "Contact updates"): a pair that
+//! keeps its answer (its bodies unmoved, or certified separated) must give, step after
+//! step, the contacts and forces of a run that queries every candidate pair, bit for bit.
+//! Each test also checks that the run did keep answers, so that it exercises them.
+
+use penedge::glam::{DQuat, DVec3};
+use penedge::mechanics::{JointModel, Simulation};
+use penedge::{BlockSystem, ContactType, ConvexBlock};
+
+fn joint(friction: f64) -> JointModel {
+    JointModel {
+        kn: 1e9,
+        ks: 1e9,
+        friction,
+        ..JointModel::default()
+    }
+}
+
+/// The bits of a number, so that `-0.0` and `0.0` differ and the comparison is exact.
+fn bits(v: DVec3) -> [u64; 3] {
+    v.to_array().map(f64::to_bits)
+}
+
+/// Steps `cheap` and a copy forced to query every pair `steps` times, comparing after each
+/// step the poses, velocities, contacts (pair, type, normal) and every sub-contact (point,
+/// area, gap, forces, history, state), bit for bit. Returns the contact types of each step
+/// and the cheap run's counts of kept answers (unmoved, certified).
+fn compare(mut cheap: Simulation, steps: u64) -> (Vec<Vec<ContactType>>, u64, u64) {
+    let mut full = cheap.clone();
+    full.set_full_detection(true);
+    assert!(!cheap.full_detection());
+    let mut types = Vec::new();
+    for step in 0..steps {
+        cheap.step().unwrap();
+        full.step().unwrap();
+        let (c, f) = (cheap.contacts(), full.contacts());
+        assert_eq!(
+            c.list.len(),
+            f.list.len(),
+            "step {step}: number of contacts"
+        );
+        for (x, y) in c.list.iter().zip(&f.list) {
+            assert_eq!(
+                (x.parts, x.kind, bits(x.normal), x.first, x.count),
+                (y.parts, y.kind, bits(y.normal), y.first, y.count),
+                "step {step}"
+            );
+        }
+        assert_eq!(c.subs.len(), f.subs.len(), "step {step}");
+        for (x, y) in c.subs.iter().zip(&f.subs) {
+            assert_eq!(
+                (bits(x.point), x.area.to_bits(), x.gap.to_bits()),
+                (bits(y.point), y.area.to_bits(), y.gap.to_bits()),
+                "step {step}: sub-contact geometry"
+            );
+            assert_eq!(
+                (x.normal_force.to_bits(), bits(x.shear_force)),
+                (y.normal_force.to_bits(), bits(y.shear_force)),
+                "step {step}: sub-contact forces"
+            );
+            assert_eq!(x, y, "step {step}: sub-contact");
+        }
+        for (p, q) in cheap.bodies().poses().iter().zip(full.bodies().poses()) {
+            assert_eq!(bits(p.translation), bits(q.translation), "step {step}");
+            assert_eq!(p.rotation.to_array(), q.rotation.to_array(), "step {step}");
+        }
+        types.push(c.list.iter().map(|c| c.kind).collect());
+    }
+    let (t, u) = (cheap.timings(), full.timings());
+    // The full run queried every candidate pair of every step.
+    assert_eq!((u.unmoved, u.certified), (0, 0));
+    assert_eq!(t.queried + t.unmoved + t.certified, u.queried);
+    (types, t.unmoved, t.certified)
+}
+
+/// Unit cubes in a box, jittered and a little apart (as `penedge-bench mechanics`): they fall
+/// onto the floor and onto each other. Pairs of diagonal neighbours are separated without a
+/// separating face plane (edge certificates), the others by a face plane or in contact.
+#[test]
+fn a_settling_stack_keeps_every_contact_of_a_full_detection() {
+    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
+    let mut blocks = Vec::new();
+    let mut fixed = Vec::new();
+    let (w, h) = (4, 4);
+    let mut seed = 7u64;
+    let mut next = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    for k in 0..h {
+        for j in 0..w {
+            for i in 0..w {
+                let wall = k == 0 || i == 0 || j == 0 || i == w - 1 || j == w - 1;
+                let centre = DVec3::new(i as f64, j as f64, k as f64) * 1.002 + 0.5;
+                let (turn, shift) = if wall {
+                    (DQuat::IDENTITY, DVec3::ZERO)
+                } else {
+                    let axis = DVec3::new(next(), next(), next() + 2.0).normalize();
+                    (
+                        DQuat::from_axis_angle(axis, 5e-4 * next()),
+                        DVec3::new(next(), next(), next()) * 1e-4,
+                    )
+                };
+                blocks.push(unit.transformed(turn, centre + shift, 1.0));
+                fixed.push(wall);
+            }
+        }
+    }
+    let mut sim = Simulation::new(&BlockSystem::new(blocks), 2500.0).unwrap();
+    for (i, _) in fixed.iter().enumerate().filter(|(_, f)| **f) {
+        sim.fix(i).unwrap();
+    }
+    sim.set_default_joint(joint(30.0)).unwrap();
+    sim.set_damping(penedge::mechanics::Damping {
+        local: 0.8,
+        viscous: 0.0,
+    })
+    .unwrap();
+    // The three free layers land on the floor and on each other within these steps.
+    let (types, _, certified) = compare(sim, 900);
+    assert!(certified > 0, "no pair was certified separated");
+    let faces = |s: &Vec<ContactType>| s.iter().filter(|&&t| t == ContactType::FaceFace).count();
+    assert!(
+        faces(&types[899]) > faces(&types[0]),
+        "the blocks did not land"
+    );
+}
+
+/// A cube sliding without friction on a fixed base towards its edge, past a fixed post a few
+/// centimetres to its side: its contact with the base is face-face until it tips over the
+/// edge, then edge-face; the pair with the post is certified separated on the way.
+#[test]
+fn a_block_sliding_off_an_edge_changes_type_at_the_step_of_a_full_detection() {
+    let base = ConvexBlock::cuboid([-2.0, -2.0, -1.0], [2.0, 2.0, 0.0]).unwrap();
+    let post = ConvexBlock::cuboid([0.0, 0.53, 0.0], [1.0, 1.5, 1.0]).unwrap();
+    let cube = ConvexBlock::cuboid([0.7, -0.5, 0.0], [1.7, 0.5, 1.0]).unwrap();
+    let mut sim = Simulation::new(&BlockSystem::new(vec![base, post, cube]), 2500.0).unwrap();
+    sim.fix(0).unwrap();
+    sim.fix(1).unwrap();
+    sim.set_default_joint(joint(0.0)).unwrap();
+    sim.set_velocity(2, DVec3::new(1.0, 0.0, 0.0), DVec3::ZERO)
+        .unwrap();
+    let steps = (0.9 / sim.timestep().unwrap()) as u64;
+    let (types, _, certified) = compare(sim, steps);
+    assert!(certified > 0, "the pair with the post was never certified");
+    let with_base = |s: &Vec<ContactType>| s.first().copied();
+    assert_eq!(with_base(&types[0]), Some(ContactType::FaceFace));
+    let change = types
+        .iter()
+        .position(|s| with_base(s) != Some(ContactType::FaceFace))
+        .expect("the cube never left the face");
+    // It tips once its centroid passes the edge (x = 2): after 0.8 s at 1 m/s.
+    assert_eq!(with_base(&types[change]), Some(ContactType::EdgeFace));
+    assert!(
+        change as u64 > steps / 2,
+        "changed at step {change} of {steps}"
+    );
+}
+
+/// Without gravity, a cube lying on the base at a zero gap carries no force and does not move
+/// (its pose keeps every bit), while another cube flies past: the pairs of the still cube keep
+/// their answers (unmoved) and the contacts stay those of a full detection.
+#[test]
+fn pairs_of_bodies_at_rest_keep_their_answers() {
+    let base = ConvexBlock::cuboid([-3.0, -2.0, -1.0], [3.0, 2.0, 0.0]).unwrap();
+    let still = ConvexBlock::cuboid([-2.0, -0.5, 0.0], [-1.0, 0.5, 1.0]).unwrap();
+    let flying = ConvexBlock::cuboid([-0.9, -0.5, 0.0005], [0.1, 0.5, 1.0005]).unwrap();
+    let mut sim = Simulation::new(&BlockSystem::new(vec![base, still, flying]), 2500.0).unwrap();
+    sim.fix(0).unwrap();
+    sim.set_gravity(DVec3::ZERO).unwrap();
+    sim.set_default_joint(joint(30.0)).unwrap();
+    sim.set_velocity(2, DVec3::new(2.0, 0.0, -0.01), DVec3::new(0.0, 0.0, 0.1))
+        .unwrap();
+    let (_, unmoved, _) = compare(sim, 400);
+    // Its pair with the base is queried at the first step and after each rebuild of the
+    // broad phase (the flying cube travels more than half the skin), kept otherwise.
+    assert!(
+        unmoved > 300,
+        "the still cube's pair was kept {unmoved} times"
+    );
+}
