@@ -803,7 +803,8 @@ impl Simulation {
         out.set_item("states", arrays::vector(py, states))?;
         let bonded: Vec<bool> = c.subs.iter().map(|s| s.bonded).collect();
         out.set_item("bonded", arrays::vector(py, bonded))?;
-        out.set_item("prestresses", arrays::vector(py, column(&|s| s.prestress)))?;
+        let prestresses: Vec<f64> = (0..c.subs.len()).map(|k| c.prestress(k)).collect();
+        out.set_item("prestresses", arrays::vector(py, prestresses))?;
         let water: Vec<f64> = self
             .inner
             .water()

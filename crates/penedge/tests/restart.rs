@@ -132,7 +132,7 @@ fn a_restart_file_reads_back_to_the_same_file() {
         Some(&stress)
     );
     sim.step().unwrap();
-    assert!(sim.contacts().subs.iter().any(|s| s.prestress > 0.0));
+    assert!(sim.contacts().prestresses.iter().any(|&p| p > 0.0));
     sim.cycle(299).unwrap();
     let text = sim.to_state_string().unwrap();
     let back = Simulation::from_state_str(&text).unwrap();

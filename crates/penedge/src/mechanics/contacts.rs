@@ -55,9 +55,6 @@ pub struct SubContact {
     pub state: SubState,
     /// Whether its bond (cohesion, tension) is intact.
     pub bonded: bool,
-    /// The normal stress installed by an initial stress (compression positive), carried
-    /// besides the elastic `-kn gap` until the sub-contact opens (`stress.rs`).
-    pub prestress: f64,
 }
 
 impl SubContact {
@@ -75,6 +72,11 @@ pub struct Contacts {
     pub list: Vec<BodyContact>,
     /// Sub-contacts, in the contacts' order.
     pub subs: Vec<SubContact>,
+    /// Per sub-contact, the normal stress an initial stress installed (compression
+    /// positive), carried besides the elastic `-kn gap` until the sub-contact opens
+    /// (`stress.rs`); empty when no sub-contact has one (a side table: only runs with an
+    /// initial stress pay its 8 bytes per sub-contact). Read it with [`Contacts::prestress`].
+    pub prestresses: Vec<f64>,
 }
 
 impl Contacts {
@@ -84,9 +86,15 @@ impl Contacts {
         &self.subs[c.first as usize..(c.first + c.count) as usize]
     }
 
-    fn find(&self, parts: [u32; 2]) -> Option<&[SubContact]> {
+    /// The installed normal stress of sub-contact `k` (0 when none).
+    pub fn prestress(&self, k: usize) -> f64 {
+        self.prestresses.get(k).copied().unwrap_or(0.0)
+    }
+
+    /// The sub-contacts of the contact of `parts`, and the index of its first.
+    fn find(&self, parts: [u32; 2]) -> Option<(usize, &[SubContact])> {
         let i = self.list.binary_search_by_key(&parts, |c| c.parts).ok()?;
-        Some(self.subs_of(i))
+        Some((self.list[i].first as usize, self.subs_of(i)))
     }
 }
 
@@ -115,7 +123,10 @@ pub(super) struct StepInput<'a> {
 }
 
 /// The contact and its sub-contacts with their forces for this step.
-pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, Vec<SubContact>) {
+pub(super) fn build_contact(
+    input: &StepInput,
+    found: &Found,
+) -> (BodyContact, Vec<SubContact>, Vec<f64>) {
     let [pa, pb] = found.parts;
     let (a, b) = (&input.placed[pa as usize], &input.placed[pb as usize]);
     let bodies = [input.part_body[pa as usize], input.part_body[pb as usize]];
@@ -193,15 +204,17 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
     let twist = glam::DQuat::from_axis_angle(n, mean_spin.dot(n) * input.dt);
     let point_velocity = |(v, w, c): (DVec3, DVec3, DVec3), p: DVec3| v + w.cross(p - c);
     let mut subs = Vec::with_capacity(points.len());
+    let mut prestresses = Vec::with_capacity(points.len());
     for ((&p, &area), &gap) in points.iter().zip(&areas).zip(&gaps) {
         let local = to_body(&pose_a, p);
         // History: the nearest sub-contact of the same pair at the last step; its shear
         // stress carries over (the area shares change as the polygon does).
         let (mut shear, mut slip, bonded, prestress) = match previous {
-            Some(old) => {
-                let o = old
+            Some((first, old)) => {
+                let (k, o) = old
                     .iter()
-                    .min_by(|x, y| {
+                    .enumerate()
+                    .min_by(|(_, x), (_, y)| {
                         x.local
                             .as_dvec3()
                             .distance_squared(local)
@@ -212,7 +225,7 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
                     o.shear_force * (area / o.area),
                     o.shear_displacement,
                     o.bonded,
-                    o.prestress,
+                    input.previous.prestress(first + k),
                 )
             }
             // Bonds, and the initial stress, on the initial configuration's touching
@@ -256,11 +269,11 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
             shear_displacement: slip,
             state: out.state,
             bonded: out.bonded,
-            prestress: if out.state == SubState::Open {
-                0.0
-            } else {
-                prestress
-            },
+        });
+        prestresses.push(if out.state == SubState::Open {
+            0.0
+        } else {
+            prestress
         });
     }
     let contact = BodyContact {
@@ -272,7 +285,7 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         first: 0,
         count: subs.len() as u32,
     };
-    (contact, subs)
+    (contact, subs, prestresses)
 }
 
 /// A point in the body frame of the pose.

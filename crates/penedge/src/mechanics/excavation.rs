@@ -124,10 +124,16 @@ impl Simulation {
         let old = std::mem::take(&mut self.contacts);
         for (k, c) in old.list.iter().enumerate() {
             if !(removed[c.bodies[0] as usize] || removed[c.bodies[1] as usize]) {
-                let mut c = c.clone();
-                c.first = self.contacts.subs.len() as u32;
+                let mut kept = c.clone();
+                kept.first = self.contacts.subs.len() as u32;
                 self.contacts.subs.extend_from_slice(old.subs_of(k));
-                self.contacts.list.push(c);
+                if !old.prestresses.is_empty() {
+                    let range = c.first as usize..(c.first + c.count) as usize;
+                    self.contacts
+                        .prestresses
+                        .extend_from_slice(&old.prestresses[range]);
+                }
+                self.contacts.list.push(kept);
             }
         }
         self.built_at = None;

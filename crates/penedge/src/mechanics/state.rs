@@ -657,13 +657,18 @@ fn contacts_file(contacts: &Contacts) -> Vec<ContactFile> {
                 kind: kind_file(*kind),
                 normal: normal.to_array(),
                 set: *set,
-                subs: contacts.subs_of(i).iter().map(sub_file).collect(),
+                subs: contacts
+                    .subs_of(i)
+                    .iter()
+                    .enumerate()
+                    .map(|(k, sub)| sub_file(sub, contacts.prestress(c.first as usize + k)))
+                    .collect(),
             }
         })
         .collect()
 }
 
-fn sub_file(s: &SubContact) -> SubFile {
+fn sub_file(s: &SubContact, prestress: f64) -> SubFile {
     let SubContact {
         point,
         local,
@@ -674,7 +679,6 @@ fn sub_file(s: &SubContact) -> SubFile {
         shear_displacement,
         state,
         bonded,
-        prestress,
     } = *s;
     SubFile {
         point: point.to_array(),
@@ -908,8 +912,10 @@ fn contacts_of(files: &[ContactFile], part_body: &[u32]) -> Result<Contacts, IoE
         }
         let first = out.subs.len() as u32;
         for (k, s) in f.subs.iter().enumerate() {
-            out.subs
-                .push(sub_of(&format!("contacts[{i}].subs[{k}]"), s)?);
+            let field = format!("contacts[{i}].subs[{k}]");
+            out.subs.push(sub_of(&field, s)?);
+            out.prestresses
+                .push(finite(format!("{field}.prestress"), s.prestress)?);
         }
         out.list.push(BodyContact {
             parts: f.parts,
@@ -920,6 +926,10 @@ fn contacts_of(files: &[ContactFile], part_body: &[u32]) -> Result<Contacts, IoE
             first,
             count: f.subs.len() as u32,
         });
+    }
+    // The side table only when a sub-contact has an installed stress, as a step leaves it.
+    if out.prestresses.iter().all(|&p| p == 0.0) {
+        out.prestresses.clear();
     }
     Ok(out)
 }
@@ -941,7 +951,6 @@ fn sub_of(field: &str, s: &SubFile) -> Result<SubContact, IoError> {
             StateCode::Open => SubState::Open,
         },
         bonded: s.bonded,
-        prestress: x("prestress", s.prestress)?,
     })
 }
 
