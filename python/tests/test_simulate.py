@@ -396,25 +396,6 @@ def test_simulate_refuses_what_the_engine_cannot_run(tmp_path, stand_in, capsys)
     assert not (tmp_path / "out").exists()
 
 
-@pytest.mark.parametrize(
-    ("extra", "field"),
-    [
-        ("[initial_stress]\ntype = 'overburden'\n", "initial_stress"),
-        ("[[stages]]\ntype = 'excavate'\nregion = 'wedge'\n", "stages[2]"),
-    ],
-)
-def test_what_the_engine_cannot_run_is_refused_by_name(extra, field, tmp_path, stand_in, capsys):
-    model = tmp_path / "model.toml"
-    model.write_text(WEDGE.read_text() + extra)
-    assert cli.main(["simulate", str(model), "--check"]) == 0
-    assert f"cannot run yet {field}: " in " ".join(capsys.readouterr().out.split())
-    assert cli.main(["simulate", str(model), "-o", str(tmp_path / "out")]) == 1
-    err = capsys.readouterr().err
-    assert err.startswith(f"penedge: error: {field}: ")
-    assert "not supported yet by the engine" in err
-    assert not (tmp_path / "out").exists()
-
-
 def test_simulate_without_engine(tmp_path, monkeypatch, capsys):
     monkeypatch.delattr(penedge, "Simulation", raising=False)
     assert cli.main(["simulate", str(WEDGE), "-o", str(tmp_path / "out")]) == 1

@@ -41,7 +41,7 @@ fn interruptible<T: Send + 'static>(
 }
 
 /// The Python exception of a core file error about `path`.
-fn file_error(path: &Path) -> impl Fn(IoError) -> PyErr + '_ {
+pub(crate) fn file_error(path: &Path) -> impl Fn(IoError) -> PyErr + '_ {
     move |e| to_py_err(Error::from(e).in_file(path))
 }
 

@@ -2,6 +2,7 @@
 
 use crate::arrays;
 use crate::errors::to_py_err;
+use crate::io::file_error;
 use crate::system::BlockSystem;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
@@ -9,6 +10,7 @@ use penedge::geometry::DVec3;
 use penedge::mechanics::{self, Damping, Fixity, JointModel, Water};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::path::PathBuf;
 
 /// A rigid-block simulation (3DEC-style distinct element method) of a block system.
 ///
@@ -55,6 +57,8 @@ use pyo3::types::PyDict;
 #[pyclass(module = "penedge", name = "Simulation")]
 pub struct Simulation {
     inner: mechanics::Simulation,
+    /// The note of the restart file it was read from (:meth:`load`).
+    note: Option<String>,
 }
 
 /// A joint model as a dict of its properties.
@@ -98,7 +102,7 @@ impl Simulation {
         let mut inner = mechanics::Simulation::new(&system.inner, density).map_err(to_py_err)?;
         inner.set_gap(gap).map_err(to_py_err)?;
         inner.set_point_width(point_width).map_err(to_py_err)?;
-        Ok(Simulation { inner })
+        Ok(Simulation { inner, note: None })
     }
 
     /// Number of bodies.
@@ -303,6 +307,31 @@ impl Simulation {
         self.inner
             .set_gravity(DVec3::from_array(g))
             .map_err(to_py_err)
+    }
+
+    /// Sets the initial stress the first step installs on the contacts touching then
+    /// (``docs/mechanics.md``, "Initial stresses"): tension positive, components ``xx, yy,
+    /// zz, xy, yz, zx`` (Pa), ``base + depth * per_depth`` with ``depth = max(0, surface -
+    /// z)``. Each touching sub-contact gets the normal stress ``-n·σ·n`` (kept until it
+    /// opens) and the shear force of the traction. No argument: none.
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     After the first step, or a NaN.
+    #[pyo3(signature = (base = None, per_depth = None, surface = 0.0))]
+    fn set_initial_stress(
+        &mut self,
+        base: Option<[f64; 6]>,
+        per_depth: Option<[f64; 6]>,
+        surface: f64,
+    ) -> PyResult<()> {
+        let stress = (base.is_some() || per_depth.is_some()).then(|| mechanics::InitialStress {
+            base: base.unwrap_or([0.0; 6]),
+            per_depth: per_depth.unwrap_or([0.0; 6]),
+            surface,
+        });
+        self.inner.set_initial_stress(stress).map_err(to_py_err)
     }
 
     /// Sets the damping: local non-viscous (3DEC's, in [0, 1); :meth:`solve` uses 0.8
@@ -716,6 +745,46 @@ impl Simulation {
         arrays::read_only(arrays::rows3(py, &rows))
     }
 
+    /// Removes the given bodies (the rock excavated): from the next step they take no part
+    /// (ids kept, fixed where they were; :attr:`removed`). The forces they exerted on the
+    /// bodies that stay are applied again and reduced linearly to zero over `relax_steps`
+    /// steps (the j-th step applies ``1 - (j - 1) / relax_steps`` of them; 0: at once).
+    /// ``docs/mechanics.md``, "Excavation".
+    ///
+    /// Returns
+    /// -------
+    /// dict
+    ///     ``removed`` (ids), ``loaded`` (ids of the bodies the removed ones pushed on) and
+    ///     ``forces`` (k, 3), the load on each, which relaxes.
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     An unknown body, or one removed already.
+    #[pyo3(signature = (ids, relax_steps = 0))]
+    fn excavate<'py>(
+        &mut self,
+        py: Python<'py>,
+        ids: Vec<usize>,
+        relax_steps: u64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let report = self.inner.excavate(&ids, relax_steps).map_err(to_py_err)?;
+        let out = PyDict::new(py);
+        let removed: Vec<u64> = report.removed.iter().map(|&i| i as u64).collect();
+        out.set_item("removed", arrays::vector(py, removed))?;
+        let loaded: Vec<u64> = report.loaded.iter().map(|l| l.0 as u64).collect();
+        out.set_item("loaded", arrays::vector(py, loaded))?;
+        let forces: Vec<[f64; 3]> = report.loaded.iter().map(|l| l.1.to_array()).collect();
+        out.set_item("forces", arrays::rows3(py, &forces))?;
+        Ok(out)
+    }
+
+    /// Whether each body was excavated (:meth:`excavate`), shape (n,).
+    #[getter]
+    fn removed<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        arrays::read_only(arrays::vector(py, self.inner.removed()))
+    }
+
     /// Whether each body is fixed, shape (n,).
     #[getter]
     fn fixed<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<bool>>> {
@@ -756,9 +825,10 @@ impl Simulation {
     ///     compression; the joint's effective force, without the water's: see
     ///     :meth:`set_water`), ``shear_forces`` (k, 3) on B, ``shear_displacements`` (k, 3),
     ///     ``states`` (0 elastic, 1 sliding, 2 open), ``bonded`` (cohesion and tension
-    ///     intact; False: failed, the residual strength applies). Per contact also
-    ///     ``water_forces`` (m,): the water force pushing B from A along the normal (0 for
-    ///     none; :meth:`set_water`).
+    ///     intact; False: failed, the residual strength applies), ``prestresses`` (the
+    ///     normal stress an initial stress installed, > 0 in compression;
+    ///     :meth:`set_initial_stress`). Per contact also ``water_forces`` (m,): the water
+    ///     force pushing B from A along the normal (0 for none; :meth:`set_water`).
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let c = self.inner.contacts();
         let out = PyDict::new(py);
@@ -797,6 +867,8 @@ impl Simulation {
         out.set_item("states", arrays::vector(py, states))?;
         let bonded: Vec<bool> = c.subs.iter().map(|s| s.bonded).collect();
         out.set_item("bonded", arrays::vector(py, bonded))?;
+        let prestresses: Vec<f64> = (0..c.subs.len()).map(|k| c.prestress(k)).collect();
+        out.set_item("prestresses", arrays::vector(py, prestresses))?;
         let water: Vec<f64> = self
             .inner
             .water()
@@ -814,7 +886,52 @@ impl Simulation {
     fn copy(&self) -> Simulation {
         Simulation {
             inner: self.inner.clone(),
+            note: self.note.clone(),
         }
+    }
+
+    /// Writes the whole state to a restart file (``docs/mechanics.md``, "Restart files"):
+    /// bodies and their shapes, settings, joint properties, contacts with their
+    /// sub-contacts' forces, shear histories and states, time and step count. Atomic: a
+    /// temporary file renamed over `path`, never half a file. :meth:`load` gives back a
+    /// simulation whose next steps are bit for bit those this one would take.
+    ///
+    /// Parameters
+    /// ----------
+    /// path : str or os.PathLike
+    /// note : str, optional
+    ///     Free text kept in the file for the caller (:attr:`note` of the loaded simulation):
+    ///     ``penedge simulate`` keeps where its run stands there.
+    #[pyo3(signature = (path, note = None))]
+    fn save(&self, py: Python<'_>, path: PathBuf, note: Option<String>) -> PyResult<()> {
+        let inner = &self.inner;
+        py.detach(|| inner.save_state_noted(&path, note.as_deref()))
+            .map_err(file_error(&path))
+    }
+
+    /// The note of the restart file this simulation was read from (None if none).
+    #[getter]
+    fn note(&self) -> Option<String> {
+        self.note.clone()
+    }
+
+    /// The simulation saved by :meth:`save`, ready to go on.
+    ///
+    /// Parameters
+    /// ----------
+    /// path : str or os.PathLike
+    ///
+    /// Raises
+    /// ------
+    /// FileFormatError
+    ///     Not a restart file, another version, cut short, or a bad field (named).
+    /// OSError
+    ///     The file cannot be read.
+    #[staticmethod]
+    fn load(py: Python<'_>, path: PathBuf) -> PyResult<Simulation> {
+        py.detach(|| mechanics::Simulation::load_state_noted(&path))
+            .map(|(inner, note)| Simulation { inner, note })
+            .map_err(file_error(&path))
     }
 
     /// The blocks at their current poses, as a :class:`BlockSystem` (for files and

@@ -81,6 +81,12 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         "default: MODEL's name with _results",
     )
     simulate.add_argument(
+        "--restart",
+        metavar="FILE",
+        help="go on from a restart file written by a `save` stage of this model: the stages "
+        "after that one run on the saved state (docs/models.md, Restart)",
+    )
+    simulate.add_argument(
         "--check",
         action="store_true",
         help="read and check the model and its blocks, print what would run, run nothing",
@@ -148,12 +154,16 @@ def run_simulate(args: argparse.Namespace) -> int:
         if args.html:
             frames.append((engine.time, engine.system(), displacement))
         if series is not None:
+            from penedge.model.run import removed_of
+
+            removed = removed_of(engine)
             series.write(
                 engine.time,
                 engine.system(),
                 displacement,
                 engine.velocities(),
                 engine.contacts(),
+                excavated=removed if removed.any() else None,
             )
 
     def report(engine: Any, stage: Any, done: int, total: int | None) -> None:
@@ -162,7 +172,9 @@ def run_simulate(args: argparse.Namespace) -> int:
 
     start = time.perf_counter()
     # the engine is built (and refuses a bad time step, say) before anything is written
-    runner = Runner(setup, engine_factory, progress=report, frame=frame)
+    runner = Runner(
+        setup, engine_factory, progress=report, frame=frame, folder=folder, restart=args.restart
+    )
     folder.mkdir(parents=True, exist_ok=True)
     if not args.no_series:
         from penedge.model.series import Series
@@ -426,11 +438,10 @@ def write_results(
         written.append(str(png))
         picture = folder / OUTPUT_NAMES["picture"]
         final = runner.engine.system()
+        present, shown = without_excavated(runner.engine, final, outcome.displacement)
 
         def displacement_png(handle: IO[bytes]) -> None:
-            save_displacement(
-                final, outcome.displacement, handle, title=title, threshold=outcome.threshold
-            )
+            save_displacement(present, shown, handle, title=title, threshold=outcome.threshold)
 
         write_via_temp(picture, True, displacement_png)
         written.append(str(picture))
@@ -451,6 +462,20 @@ def write_results(
     summary_path = folder / OUTPUT_NAMES["summary"]
     written.insert(0, str(summary_path))
     return written
+
+
+def without_excavated(engine: Any, system: Any, displacement: Any) -> tuple[Any, Any]:
+    """The blocks (and their displacements) that an excavate stage has not removed, for the
+    picture of the final state: the rock taken out is not drawn."""
+    import penedge
+    from penedge.model.run import removed_of
+
+    removed = removed_of(engine)
+    blocks = system.blocks
+    if not removed.any() or len(blocks) != len(removed):
+        return system, displacement
+    keep = [b for b, gone in zip(blocks, removed, strict=True) if not gone]
+    return penedge.BlockSystem(keep), displacement[~removed]
 
 
 def write_summary_json(folder: Path, summary: dict[str, Any]) -> None:

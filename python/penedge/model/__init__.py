@@ -144,20 +144,29 @@ def prepare(source: str | Path | Mapping[str, Any] | Model, progress: Any = None
 
     model = load_model(source)
     system, report = penedge.generate(model.spec, progress=progress)
+    from penedge.model.run import check_excavations
+
     blocks = Blocks.of(system)
-    return Setup(model, system, report, blocks, resolve(model, blocks))
+    layout = resolve(model, blocks)
+    check_excavations(model, layout.regions)
+    return Setup(model, system, report, blocks, layout)
 
 
 def simulate(
     source: str | Path | Mapping[str, Any] | Model | Setup,
     progress: Any = None,
     frame: Any = None,
+    folder: str | Path | None = None,
+    restart: str | Path | None = None,
 ) -> Any:
     """Reads and checks a model (or takes a :class:`Setup`), runs its stages on the engine
     and returns the :class:`~penedge.model.run.Outcome` (displacements and velocities as
-    numpy arrays, the history, the factor of safety if a stage asked for it)."""
+    numpy arrays, the history, the factor of safety if a stage asked for it). ``save``
+    stages write into `folder` (default: the current folder); `restart` goes on from a
+    restart file one of them wrote (docs/models.md, "Restart")."""
     from penedge.model.engine import Engine
     from penedge.model.run import Runner
 
     setup = source if isinstance(source, Setup) else prepare(source)
-    return Runner(setup, Engine, progress=progress, frame=frame).run()
+    runner = Runner(setup, Engine, progress=progress, frame=frame, folder=folder, restart=restart)
+    return runner.run()

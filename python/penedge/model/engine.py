@@ -37,8 +37,6 @@ def simulation_class() -> Any:
 #: Model features that the engine does not run yet: (field, why). A model using one of
 #: them is read and checked, and its run refused with this message before any step.
 NOT_SUPPORTED = {
-    "initial_stress": "initial stresses are not supported yet by the engine",
-    "excavate": "excavation is not supported yet by the engine",
     "residual_tension": "a residual tensile strength is not supported by the engine: a failed "
     "joint holds no tension (contacts that form during the run start failed, and a residual "
     "tension would glue blocks that merely come near each other; docs/mechanics.md)",
@@ -53,11 +51,7 @@ def has_residual_tension(props: JointProperties) -> bool:
 def unsupported(model: Model) -> list[tuple[str, str]]:
     """The features of `model` the engine cannot run: ``(field, message)`` pairs."""
     found = []
-    if model.initial_stress is not None:
-        found.append(("initial_stress", NOT_SUPPORTED["initial_stress"]))
     for i, stage in enumerate(model.stages):
-        if stage.kind == "excavate":
-            found.append((f"stages[{i}]", NOT_SUPPORTED["excavate"]))
         if stage.kind == "properties" and stage.changes.get("residual_tension"):
             found.append((f"stages[{i}]", NOT_SUPPORTED["residual_tension"]))
     named = {"default": model.default_properties, **model.properties}
@@ -66,6 +60,28 @@ def unsupported(model: Model) -> list[tuple[str, str]]:
             found.append((f"joint_properties.{name}", NOT_SUPPORTED["residual_tension"]))
             break
     return found
+
+
+def initial_stress_of(setup: Any) -> dict[str, Any] | None:
+    """The engine's initial stress field of the model's ``[initial_stress]`` (None if it has
+    none): tension positive, ``base + max(0, surface - z) * per_depth`` (docs/models.md).
+    An overburden's unit weight is its density times the magnitude of the model's gravity
+    (without the seismic load); its surface defaults to the top of the blocks."""
+    stress = setup.model.initial_stress
+    if stress is None:
+        return None
+    if stress.kind == "uniform":
+        return {"base": list(stress.components), "per_depth": None, "surface": 0.0}
+    m = setup.model.mechanics
+    density = m.density if stress.density is None else stress.density
+    weight = density * float(np.linalg.norm(m.gravity))
+    if stress.surface is None:
+        surface = float(np.asarray(setup.system.arrays().vertices)[:, 2].max())
+    else:
+        surface = stress.surface
+    kx, ky = stress.k0
+    per_depth = [-weight * kx, -weight * ky, -weight, 0.0, 0.0, 0.0]
+    return {"base": None, "per_depth": per_depth, "surface": surface}
 
 
 def refuse_unsupported(model: Model) -> None:
@@ -107,6 +123,9 @@ class Engine:
         if layout.support_forces is not None:
             self.apply_support(layout.support_forces, layout.support_moments)
         self.bolt_names = self.apply_bolts(model.bolts)
+        stress = initial_stress_of(setup)
+        if stress is not None:
+            self.sim.set_initial_stress(**stress)
 
     def apply_support(self, forces: np.ndarray, moments: np.ndarray | None) -> None:
         """The support pressures as constant forces on the blocks' centroids and, where
@@ -203,9 +222,12 @@ class Engine:
                 self.sim.set_bridge(**{**self.joint(bridge), **strong}, set=self.set_ids[name])
 
     def apply_boundary(self, fixed: np.ndarray, velocity: np.ndarray) -> None:
-        """Fixes, frees or drives every block as the masks say."""
-        driven = ~np.isnan(velocity[:, 0])
-        free = ~fixed & ~driven
+        """Fixes, frees or drives every block as the masks say (excavated blocks stay
+        out)."""
+        present = ~self.removed()
+        driven = ~np.isnan(velocity[:, 0]) & present
+        fixed = fixed & present
+        free = ~fixed & ~driven & present
         if fixed.any():
             self.sim.fix(np.flatnonzero(fixed).tolist())
         if free.any():
@@ -226,6 +248,40 @@ class Engine:
         twin.sim = self.sim.copy()
         twin.properties = dict(self.properties)
         return twin
+
+    # --- excavation and restart (docs/models.md, "Excavation" and "Restart") --------
+
+    def removed(self) -> np.ndarray:
+        """Which blocks were excavated, (n,) bool."""
+        removed = getattr(self.sim, "removed", None)
+        n = len(self.setup.blocks)
+        return np.zeros(n, bool) if removed is None else np.array(removed, dtype=bool)
+
+    def excavate(self, mask: np.ndarray, relax_steps: int) -> np.ndarray:
+        """Removes the blocks of `mask` not removed yet; their forces on the rest relax over
+        `relax_steps` steps (the steps the caller takes next). The ids removed."""
+        ids = np.flatnonzero(mask & ~self.removed())
+        if len(ids):
+            self.sim.excavate(ids.tolist(), relax_steps=relax_steps)
+        return ids
+
+    def save(self, path: Any, note: str) -> None:
+        """Writes the engine's state to the restart file `path`, with `note`."""
+        self.sim.save(str(path), note=note)
+
+    def restore(self, path: Any) -> str | None:
+        """Replaces the simulation by the one of the restart file `path` (which must have
+        this model's blocks); its note."""
+        sim = simulation_class().load(str(path))
+        n = len(self.setup.blocks)
+        if len(sim) != n:
+            raise ModelError(
+                "restart",
+                f"{path} holds {len(sim)} blocks, the model {n}: it was saved from another model",
+            )
+        self.sim = sim
+        note: str | None = sim.note
+        return note
 
     # --- stepping -------------------------------------------------------------------
 

@@ -14,16 +14,19 @@ interface of :class:`penedge.model.engine.Engine`.
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from penedge._core import PenedgeError
 from penedge.model.check import apply_boundary
-from penedge.model.schema import JointProperties, Stage
+from penedge.model.fields import ModelError
+from penedge.model.schema import JointProperties, Model, Stage
 
 
 @dataclass
@@ -163,6 +166,11 @@ class Runner:
         when the stage's length is not known, as for a solve).
     frame : callable, optional
         ``frame(engine, displacement)`` when a ParaView frame is due.
+    folder : path, optional
+        Where a ``save`` stage's relative ``file`` goes (default: the current folder).
+    restart : path, optional
+        A restart file written by a ``save`` stage of this model: the run goes on from it,
+        with the stages after that one (docs/models.md, "Restart").
     """
 
     def __init__(
@@ -171,6 +179,8 @@ class Runner:
         factory: Callable[[Any], Any],
         progress: Progress | None = None,
         frame: Callable[[Any, np.ndarray], None] | None = None,
+        folder: str | Path | None = None,
+        restart: str | Path | None = None,
     ) -> None:
         self.setup = setup
         self.model = setup.model
@@ -184,6 +194,11 @@ class Runner:
         self.velocity = setup.layout.velocity.copy()
         self.last_frame = -1
         self.chunk = self.model.results.history_every
+        self.folder = Path(folder) if folder is not None else Path()
+        self.first = 0  # the first stage to run (after a restart, the one after the save)
+        check_excavations(self.model, setup.layout.regions)
+        if restart is not None:
+            self.restore(Path(restart))
 
     # --- the run --------------------------------------------------------------------
 
@@ -195,6 +210,8 @@ class Runner:
         self.write_frame()
         error = None
         for index, stage in enumerate(self.model.stages):
+            if index < self.first:
+                continue
             start = (self.engine.steps, self.engine.time)
             try:
                 results.append(self.run_stage(index, stage))
@@ -308,6 +325,10 @@ class Runner:
             e.apply_boundary(self.fixed, self.velocity)
         elif stage.kind == "reset":
             self.reference = e.positions()
+        elif stage.kind == "excavate":
+            self.excavate(stage)
+        elif stage.kind == "save":
+            self.save(index, stage)
         elif stage.kind == "factor_of_safety":
             safety = self.factor_of_safety(index, stage)
         else:  # pragma: no cover - refused before the run (engine.unsupported)
@@ -344,6 +365,74 @@ class Runner:
                 return True
         return False
 
+    # --- excavation and restart (docs/models.md) ---------------------------------------
+
+    def excavate(self, stage: Stage) -> None:
+        """Removes the blocks of the stage's region (their centroid in it), then steps
+        ``relax_steps`` steps while their forces on the rock that stays relax to zero."""
+        assert stage.region is not None
+        self.engine.excavate(self.setup.layout.regions[stage.region], stage.relax_steps)
+        done = 0
+        while done < stage.relax_steps:
+            k = min(self.chunk, stage.relax_steps - done)
+            self.advance(stage, k, stage.relax_steps)
+            done += k
+            self.report(stage, done, stage.relax_steps)
+
+    def save(self, index: int, stage: Stage) -> None:
+        """Writes a restart file: the engine's state, with a note of where the run stands
+        (the next stage, the displacement reference, the boundary masks, the joint
+        properties of the model's sets) so that ``--restart`` goes on from here."""
+        assert stage.file is not None
+        path = Path(stage.file)
+        if not path.is_absolute():
+            path = self.folder / path
+        e = self.engine
+        note = {
+            "penedge_simulate": RESTART_NOTE_VERSION,
+            "title": self.model.title,
+            "next_stage": index + 1,
+            "stage": stage.name,
+            "reference": self.reference.tolist(),
+            "fixed": self.fixed.tolist(),
+            "velocity": [[None if math.isnan(x) else x for x in row] for row in self.velocity],
+            "default": e.default.__dict__,
+            "properties": {name: p.__dict__ for name, p in e.properties.items()},
+        }
+        e.save(path, json.dumps(note))
+
+    def restore(self, path: Path) -> None:
+        """Goes on from the restart file `path` (see :meth:`save`)."""
+        e = self.engine
+        text = e.restore(path)
+        self.reference = e.positions()
+        try:
+            note = json.loads(text) if text else None
+        except json.JSONDecodeError:
+            note = None
+        if not (isinstance(note, dict) and note.get("penedge_simulate") == RESTART_NOTE_VERSION):
+            return  # a state saved outside a model run: every stage runs on it
+        n = len(self.reference)
+        if note["next_stage"] > len(self.model.stages):
+            raise ModelError(
+                "restart",
+                f"{path} was saved after stage {note['next_stage'] - 1} ({note['stage']}), "
+                f"but the model has {len(self.model.stages)} stages",
+            )
+        unknown = set(note["properties"]) - set(self.model.set_names)
+        if unknown:
+            raise ModelError(
+                "restart", f"{path} has joint sets the model has not: {', '.join(sorted(unknown))}"
+            )
+        self.first = note["next_stage"]
+        self.reference = np.array(note["reference"], dtype=float).reshape(n, 3)
+        self.fixed = np.array(note["fixed"], dtype=bool)
+        self.velocity = np.array(
+            [[math.nan if x is None else x for x in row] for row in note["velocity"]], dtype=float
+        ).reshape(n, 3)
+        e.default = JointProperties(**note["default"])
+        e.properties = {k: JointProperties(**v) for k, v in note["properties"].items()}
+
     # --- factor of safety -----------------------------------------------------------
 
     def snapshot(self, index: int) -> Any:
@@ -365,7 +454,7 @@ class Runner:
         reduce_default = not stage.sets
         original = {name: self.engine.properties[name] for name in names}
         default = self.engine.default
-        free = ~(self.fixed | ~np.isnan(self.velocity[:, 0]))
+        free = ~(self.fixed | ~np.isnan(self.velocity[:, 0]) | removed_of(self.engine))
         threshold = self.model.results.moved
         trials: list[Trial] = []
 
@@ -431,6 +520,36 @@ class Runner:
             failing_blocks=[] if failing is None else failing.moved,
             trials=trials,
         )
+
+
+#: The version of the note a ``save`` stage keeps in its restart file.
+RESTART_NOTE_VERSION = 1
+
+
+def removed_of(engine: Any) -> np.ndarray:
+    """The blocks `engine` has excavated (none for an engine that cannot excavate)."""
+    removed = getattr(engine, "removed", None)
+    n = len(engine.positions())
+    return np.zeros(n, bool) if removed is None else np.asarray(removed(), dtype=bool)
+
+
+def check_excavations(model: Model, regions: dict[str, np.ndarray]) -> None:
+    """Before any step: each ``excavate`` stage has rock left to remove (its region's
+    blocks are not all removed by earlier stages)."""
+    removed: np.ndarray | None = None
+    for i, stage in enumerate(model.stages):
+        if stage.kind != "excavate" or stage.region is None:
+            continue
+        mask = regions[stage.region]
+        if removed is None:
+            removed = np.zeros(len(mask), bool)
+        if not (mask & ~removed).any():
+            raise ModelError(
+                f"stages[{i}].region",
+                "every block of its region was excavated by an earlier stage: "
+                "this stage removes nothing",
+            )
+        removed |= mask
 
 
 def merge(props: JointProperties, changes: dict[str, float]) -> JointProperties:

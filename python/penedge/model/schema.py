@@ -222,7 +222,8 @@ class Stage:
     """One ``[[stages]]`` entry. `kind` picks which fields are meaningful."""
 
     name: str
-    kind: str  # solve, cycle, time, properties, excavate, boundary, reset, factor_of_safety
+    kind: str  # solve, cycle, time, properties, excavate, boundary, reset, save,
+    # factor_of_safety
     ratio: float | None = None  # solve, factor_of_safety
     max_steps: int | None = None  # solve, factor_of_safety
     steps: int | None = None  # cycle
@@ -231,6 +232,7 @@ class Stage:
     changes: dict[str, float] = field(default_factory=dict)  # properties
     region: str | None = None  # excavate
     relax_steps: int = 100  # excavate
+    file: str | None = None  # save: the restart file (relative: in the results folder)
     boundary: Boundary | None = None  # boundary
     velocity: float = 1e-4  # factor_of_safety: m/s, still moving above this
     tolerance: float = 0.01  # factor_of_safety
@@ -775,6 +777,7 @@ STAGE_KINDS = (
     "excavate",
     "boundary",
     "reset",
+    "save",
     "factor_of_safety",
 )
 
@@ -840,6 +843,8 @@ def parse_stage(
         stage = Stage(name, kind, boundary=boundary)
     elif kind == "reset":
         stage = Stage(name, kind)
+    elif kind == "save":
+        stage = Stage(name, kind, file=parse_save_file(t))
     else:
         stage = Stage(
             name,
@@ -856,6 +861,14 @@ def parse_stage(
             raise ModelError(t.field("high"), f"must be greater than low ({stage.low:g})")
     t.done()
     return stage
+
+
+def parse_save_file(t: Table) -> str:
+    """A save stage's ``file``: a non-empty path (a restart file, docs/models.md)."""
+    file = t.text("file")
+    if not file.strip() or file.endswith(("/", "\\")):
+        raise ModelError(t.field("file"), f"must be a file name or path, got {file!r}")
+    return file
 
 
 def any_base() -> JointProperties:

@@ -30,10 +30,16 @@ def _floats(values: np.ndarray) -> str:
 
 
 def vtu_text(
-    system: Any, displacement: np.ndarray, velocity: np.ndarray, moving: np.ndarray
+    system: Any,
+    displacement: np.ndarray,
+    velocity: np.ndarray,
+    moving: np.ndarray,
+    excavated: np.ndarray | None = None,
 ) -> str:
     """The VTU file of `system` with per-block ``displacement`` (m, vector and
-    ``displacement_magnitude``), ``velocity`` (m/s) and ``moving`` (0/1) cell data."""
+    ``displacement_magnitude``), ``velocity`` (m/s) and ``moving`` (0/1) cell data, and
+    ``excavated`` (0/1: removed by an excavate stage; threshold it away in ParaView) when
+    given."""
     a = system.arrays()
     vertices = np.asarray(a.vertices)
     vertex_offsets = np.asarray(a.vertex_offsets)
@@ -69,6 +75,8 @@ def vtu_text(
         _array("Float64", "velocity", _floats(velocity), 3),
         _array("UInt8", "moving", _ints(moving.astype(np.uint8))),
     ]
+    if excavated is not None:
+        data.append(_array("UInt8", "excavated", _ints(excavated.astype(np.uint8))))
     return "\n".join(
         [
             '<?xml version="1.0"?>',
@@ -195,10 +203,11 @@ class Series:
         displacement: np.ndarray,
         velocity: np.ndarray,
         contacts: dict[str, Any] | None = None,
+        excavated: np.ndarray | None = None,
     ) -> None:
         """One frame, then the indexes. A frame at the time of the last one replaces it."""
         moving = np.linalg.norm(velocity, axis=1) > self.speed
-        text = vtu_text(system, displacement, velocity, moving)
+        text = vtu_text(system, displacement, velocity, moving, excavated)
         self._add(self.entries, self.index, "blocks", "vtu", time, text)
         if contacts is not None:
             text = vtp_text(contacts)

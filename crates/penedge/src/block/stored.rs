@@ -1,7 +1,7 @@
 //! Building a [`ConvexBlock`] from everything a block file stores, without recomputing it.
 
 use super::build::{check_face_lists, check_points, check_range};
-use super::{BlockError, BlockParts, ConvexBlock, FaceOrigin};
+use super::{BlockError, BlockParts, ConvexBlock, Edge, FaceOrigin};
 use crate::geometry::{Aabb, Plane};
 use crate::tolerance::Tolerance;
 
@@ -73,6 +73,43 @@ impl ConvexBlock {
         }
         check_on_planes(&block, tol.for_box(&scale).length)?;
         Ok(block)
+    }
+}
+
+impl ConvexBlock {
+    /// This block (as [`ConvexBlock::from_parts`] rebuilt it) with its edges, volume and
+    /// centroid as stored by a restart file (`mechanics::state`): a body-frame part was made
+    /// by [`ConvexBlock::transformed`], which keeps the edges' order and transforms the
+    /// centroid rather than recomputing them, and the detection reads both (feature ids,
+    /// normals), so a resumed run needs them bit for bit. The stored edges must be this
+    /// block's edges (in any order) and the volume within `1e-9` of its own, relatively;
+    /// the centroid must be finite (the caller checks its distance).
+    pub(crate) fn with_stored(
+        mut self,
+        edges: Vec<Edge>,
+        volume: f64,
+        centroid: crate::geometry::DVec3,
+    ) -> Result<ConvexBlock, String> {
+        let key = |e: &Edge| (e.vertices, e.faces);
+        let (mut given, mut own) = (edges.clone(), self.edges.clone());
+        given.sort_by_key(key);
+        own.sort_by_key(key);
+        if given != own {
+            return Err("the edges are not those of the block's faces".into());
+        }
+        if !(volume.is_finite() && (volume - self.volume).abs() <= 1e-9 * self.volume) {
+            return Err(format!(
+                "the volume {volume} is not the block's ({})",
+                self.volume
+            ));
+        }
+        if !centroid.is_finite() {
+            return Err("the centroid is not finite".into());
+        }
+        self.edges = edges;
+        self.volume = volume;
+        self.centroid = centroid;
+        Ok(self)
     }
 }
 

@@ -53,6 +53,28 @@ impl Shape {
         Ok((shape, pose))
     }
 
+    /// A shape as a restart file stores it (`mechanics::state`): its body-frame parts and
+    /// mass properties, kept bit for bit rather than recomputed.
+    pub(crate) fn from_stored(
+        parts: Vec<ConvexBlock>,
+        volume: f64,
+        moments: DVec3,
+        radius: f64,
+    ) -> Result<Shape, BodyError> {
+        if parts.is_empty() {
+            return Err(BodyError::NoParts);
+        }
+        if !(volume.is_finite() && moments.is_finite() && radius.is_finite()) {
+            return Err(BodyError::NotFinite);
+        }
+        Ok(Shape {
+            parts,
+            volume,
+            moments,
+            radius,
+        })
+    }
+
     /// The convex parts, in the body frame.
     pub fn parts(&self) -> &[ConvexBlock] {
         &self.parts

@@ -249,7 +249,7 @@ fn needed_length(system: &BlockSystem, scale: Option<Aabb>) -> Option<f64> {
 
 /// The largest distance of a face vertex from its face's plane, or of a vertex outside a
 /// face's plane (what [`ConvexBlock::from_parts_in`] checks).
-fn off_planes(b: &ConvexBlock) -> f64 {
+pub(crate) fn off_planes(b: &ConvexBlock) -> f64 {
     let mut worst = 0.0_f64;
     for (f, plane) in b.planes().iter().enumerate() {
         for &v in b.face(f) {

@@ -5,6 +5,7 @@
 use super::bodies::Bodies;
 use super::bridge::{contact_model, BridgeTable};
 use super::joint::{joint_law, JointTable, SubState};
+use super::stress::InitialStress;
 use crate::block::{ConvexBlock, Pose};
 use crate::classify::{Contact, ContactType, Feature};
 use crate::contact_geometry::{ContactGeometry, ContactPoints};
@@ -74,6 +75,11 @@ pub struct Contacts {
     pub list: Vec<BodyContact>,
     /// Sub-contacts, in the contacts' order.
     pub subs: Vec<SubContact>,
+    /// Per sub-contact, the normal stress an initial stress installed (compression
+    /// positive), carried besides the elastic `-kn gap` until the sub-contact opens
+    /// (`stress.rs`); empty when no sub-contact has one (a side table: only runs with an
+    /// initial stress pay its 8 bytes per sub-contact). Read it with [`Contacts::prestress`].
+    pub prestresses: Vec<f64>,
 }
 
 impl Contacts {
@@ -83,9 +89,15 @@ impl Contacts {
         &self.subs[c.first as usize..(c.first + c.count) as usize]
     }
 
-    fn find(&self, parts: [u32; 2]) -> Option<&[SubContact]> {
+    /// The installed normal stress of sub-contact `k` (0 when none).
+    pub fn prestress(&self, k: usize) -> f64 {
+        self.prestresses.get(k).copied().unwrap_or(0.0)
+    }
+
+    /// The sub-contacts of the contact of `parts`, and the index of its first.
+    fn find(&self, parts: [u32; 2]) -> Option<(usize, &[SubContact])> {
         let i = self.list.binary_search_by_key(&parts, |c| c.parts).ok()?;
-        Some(self.subs_of(i))
+        Some((self.list[i].first as usize, self.subs_of(i)))
     }
 }
 
@@ -110,10 +122,15 @@ pub(super) struct StepInput<'a> {
     pub initial: bool,
     /// Width of point contacts relative to the smaller block's size.
     pub point_width: f64,
+    /// The stress installed on the first detection's touching sub-contacts.
+    pub initial_stress: Option<&'a InitialStress>,
 }
 
 /// The contact and its sub-contacts with their forces for this step.
-pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, Vec<SubContact>) {
+pub(super) fn build_contact(
+    input: &StepInput,
+    found: &Found,
+) -> (BodyContact, Vec<SubContact>, Vec<f64>) {
     let [pa, pb] = found.parts;
     let (a, b) = (&input.placed[pa as usize], &input.placed[pb as usize]);
     let bodies = [input.part_body[pa as usize], input.part_body[pb as usize]];
@@ -190,15 +207,17 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
     let twist = glam::DQuat::from_axis_angle(n, mean_spin.dot(n) * input.dt);
     let point_velocity = |(v, w, c): (DVec3, DVec3, DVec3), p: DVec3| v + w.cross(p - c);
     let mut subs = Vec::with_capacity(points.len());
+    let mut prestresses = Vec::with_capacity(points.len());
     for ((&p, &area), &gap) in points.iter().zip(&areas).zip(&gaps) {
         let local = to_body(&pose_a, p);
         // History: the nearest sub-contact of the same pair at the last step; its shear
         // stress carries over (the area shares change as the polygon does).
-        let (mut shear, mut slip, bonded) = match previous {
-            Some(old) => {
-                let o = old
+        let (mut shear, mut slip, bonded, prestress) = match previous {
+            Some((first, old)) => {
+                let (k, o) = old
                     .iter()
-                    .min_by(|x, y| {
+                    .enumerate()
+                    .min_by(|(_, x), (_, y)| {
                         x.local
                             .as_dvec3()
                             .distance_squared(local)
@@ -209,11 +228,23 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
                     o.shear_force * (area / o.area),
                     o.shear_displacement,
                     o.bonded,
+                    input.previous.prestress(first + k),
                 )
             }
-            // Bonds on the initial configuration's touching sub-contacts only: a joint open
-            // at the start has no bond.
-            None => (DVec3::ZERO, DVec3::ZERO, input.initial && gap <= slack),
+            // Bonds, and the initial stress, on the initial configuration's touching
+            // sub-contacts only: a joint open at the start has neither. The stress acts
+            // across joint faces: face-face contacts only (a vertex or an edge touching has
+            // no real area to carry it).
+            None => {
+                let touching = input.initial && gap <= slack;
+                let (normal, shear) = match input.initial_stress {
+                    Some(field) if touching && found.contact.kind == ContactType::FaceFace => {
+                        field.traction(p, n)
+                    }
+                    _ => (0.0, DVec3::ZERO),
+                };
+                (shear * area, DVec3::ZERO, touching, normal)
+            }
         };
         shear = twist * onto_plane(shear, n);
         slip = twist * onto_plane(slip, n);
@@ -222,7 +253,15 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         let du_s = du - n * du.dot(n);
         slip += du_s;
         shear -= du_s * (model.ks * area);
-        let out = joint_law(model, area, gap, shear, bonded, slack);
+        // The installed normal stress as an offset of the gap: (σn - kn gap) A.
+        let out = joint_law(
+            model,
+            area,
+            gap - prestress / model.kn,
+            shear,
+            bonded,
+            slack,
+        );
         subs.push(SubContact {
             point: p,
             local: local.as_vec3(),
@@ -233,6 +272,11 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
             shear_displacement: slip,
             state: out.state,
             bonded: out.bonded,
+        });
+        prestresses.push(if out.state == SubState::Open {
+            0.0
+        } else {
+            prestress
         });
     }
     let contact = BodyContact {
@@ -245,7 +289,7 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         first: 0,
         count: subs.len() as u32,
     };
-    (contact, subs)
+    (contact, subs, prestresses)
 }
 
 /// A point in the body frame of the pose.

@@ -118,6 +118,11 @@ impl JointTable {
         Ok(())
     }
 
+    /// The sets with their own model, in increasing set order.
+    pub fn sets(&self) -> impl Iterator<Item = (u32, &JointModel)> + '_ {
+        self.sets.iter().map(|(&s, m)| (s, m))
+    }
+
     /// The model of set `set` (the default when it has none).
     pub fn of_set(&self, set: Option<u32>) -> &JointModel {
         set.and_then(|s| self.sets.get(&s)).unwrap_or(&self.default)

@@ -23,15 +23,21 @@
 mod bodies;
 mod bridge;
 mod contacts;
+mod excavation;
 mod integrate;
 mod joint;
+mod state;
+mod stress;
 mod water;
 
 pub use bodies::{Bodies, Fixity};
 pub use bridge::{BridgeTable, BRIDGE_STRENGTH};
 pub use contacts::{BodyContact, Contacts, SubContact};
+pub use excavation::ExcavationReport;
 pub use integrate::{free_rotation, Damping};
 pub use joint::{JointModel, JointTable, SubState};
+pub use state::{FORMAT as STATE_FORMAT, VERSION as STATE_VERSION};
+pub use stress::InitialStress;
 pub use water::Water;
 
 use crate::block::{ConvexBlock, Pose};
@@ -131,6 +137,12 @@ pub enum MechanicsError {
         /// The step.
         step: u64,
     },
+    /// A body that was excavated cannot be fixed, freed, moved, loaded or excavated again.
+    #[error("body {0} was excavated: it can no longer be fixed, freed, moved or loaded")]
+    Removed(usize),
+    /// An initial stress set after the first step (it is installed by the first one).
+    #[error("initial stresses are installed by the first step: set them before it")]
+    InitialStressTooLate,
     /// A block cannot be made a body.
     #[error("block {0} cannot be a body: {1}")]
     Body(usize, BodyError),
@@ -235,6 +247,10 @@ pub struct Simulation {
     synced: bool,
     /// Whether the next detection is the first: its contacts are bonded.
     initial: bool,
+    /// Bodies removed and the loads they leave relaxing (`excavation.rs`).
+    excavation: excavation::Excavation,
+    /// The stress installed on the first detection's contacts (`stress.rs`).
+    initial_stress: Option<InitialStress>,
     timings: StepTimings,
 }
 
@@ -298,6 +314,8 @@ impl Simulation {
             ratio: f64::INFINITY,
             synced: true,
             initial: true,
+            excavation: excavation::Excavation::default(),
+            initial_stress: None,
             timings: StepTimings::default(),
         }
     }
@@ -452,6 +470,7 @@ impl Simulation {
     }
 
     fn set_fixity(&mut self, i: usize, fixity: Fixity) -> Result<(), MechanicsError> {
+        self.check_present(i)?;
         self.bodies.set_fixity(i, fixity)?;
         self.built_at = None; // the pairs kept depend on which bodies move
         Ok(())
@@ -465,6 +484,7 @@ impl Simulation {
         velocity: DVec3,
         spin: DVec3,
     ) -> Result<(), MechanicsError> {
+        self.check_present(i)?;
         self.bodies.set_velocity(i, velocity, spin)?;
         self.synced = true;
         Ok(())
@@ -472,13 +492,14 @@ impl Simulation {
 
     /// Sets a constant force on body `i`'s centroid, besides gravity and contacts.
     pub fn apply_force(&mut self, i: usize, force: DVec3) -> Result<(), MechanicsError> {
+        self.check_present(i)?;
         self.bodies.set_applied(i, force)
     }
 
     /// Sets a constant moment on body `i` (world frame), besides its contacts' (a dead
     /// load: it does not turn with the body).
     pub fn apply_moment(&mut self, i: usize, moment: DVec3) -> Result<(), MechanicsError> {
-        self.bodies.check(i)?;
+        self.check_present(i)?;
         if !moment.is_finite() {
             return Err(MechanicsError::NotFinite("applied moment"));
         }
@@ -527,13 +548,40 @@ impl Simulation {
 
     /// Sets body `i`'s pose (it must keep the body clear of others by the gap).
     pub fn set_pose(&mut self, i: usize, pose: Pose) -> Result<(), MechanicsError> {
-        self.bodies.check(i)?;
+        self.check_present(i)?;
         let pose =
             Pose::new(pose.rotation, pose.translation).ok_or(MechanicsError::NotFinite("pose"))?;
         self.bodies.pose[i] = pose;
         self.place_body(i);
         self.built_at = None;
         Ok(())
+    }
+
+    /// Body `i` exists and was not excavated.
+    fn check_present(&self, i: usize) -> Result<(), MechanicsError> {
+        self.bodies.check(i)?;
+        if self.is_removed(i) {
+            return Err(MechanicsError::Removed(i));
+        }
+        Ok(())
+    }
+
+    /// Sets the initial stress (`None`: none) that the first step installs on the contacts
+    /// touching then (docs/mechanics.md, "Initial stresses"); an error after the first step.
+    pub fn set_initial_stress(
+        &mut self,
+        stress: Option<InitialStress>,
+    ) -> Result<(), MechanicsError> {
+        if !self.initial {
+            return Err(MechanicsError::InitialStressTooLate);
+        }
+        self.initial_stress = stress.map(InitialStress::validated).transpose()?;
+        Ok(())
+    }
+
+    /// The initial stress set.
+    pub fn initial_stress(&self) -> Option<&InitialStress> {
+        self.initial_stress.as_ref()
     }
 
     /// With `on`, every candidate pair is queried at every step, as before the contact
@@ -689,6 +737,7 @@ impl Simulation {
         self.update_contacts(dt);
         lap(&mut t.contacts);
         self.sum_forces();
+        self.apply_relaxation();
         lap(&mut t.forces);
         let integrated = self.integrate(dt);
         lap(&mut t.integration);
@@ -808,7 +857,11 @@ impl Simulation {
             .pairs(BroadPhase::default())
             .into_iter()
             .filter(|&[i, j]| {
-                self.part_body[i as usize] != self.part_body[j as usize] && (moves(i) || moves(j))
+                let [a, b] = [self.part_body[i as usize], self.part_body[j as usize]];
+                a != b
+                    && (moves(i) || moves(j))
+                    && !self.is_removed(a as usize)
+                    && !self.is_removed(b as usize)
             })
             .collect();
         self.memo = vec![PairMemo::default(); self.pairs.len()];
@@ -897,6 +950,7 @@ impl Simulation {
             dt,
             initial: self.initial,
             point_width: self.point_width,
+            initial_stress: self.initial_stress.as_ref(),
         };
         let built: Vec<_> = self
             .memo
@@ -907,11 +961,16 @@ impl Simulation {
         let mut next = Contacts {
             list: Vec::with_capacity(built.len()),
             subs: Vec::with_capacity(self.contacts.subs.len()),
+            prestresses: Vec::new(),
         };
-        for (mut c, subs) in built {
+        let stressed = built.iter().any(|b| b.2.iter().any(|&p| p != 0.0));
+        for (mut c, subs, prestresses) in built {
             c.first = next.subs.len() as u32;
             next.list.push(c);
             next.subs.extend(subs);
+            if stressed {
+                next.prestresses.extend(prestresses);
+            }
         }
         self.contacts = next;
         self.initial = false;
@@ -1113,7 +1172,8 @@ mod tests {
         assert_eq!(body, 128);
         assert_eq!(size_of::<BodyContact>(), 64);
         assert_eq!(size_of::<SubContact>(), 112);
-        // A face-face contact of two quadrilaterals: within the 512 bytes.
+        // A face-face contact of two quadrilaterals: within the 512 bytes (an
+        // initial stress adds 8 per sub-contact in a side table, in the runs that have one).
         assert_eq!(size_of::<BodyContact>() + 4 * size_of::<SubContact>(), 512);
         // The contact updates: per candidate pair; per body, `moved_at`, `travel`, `last_step`.
         assert_eq!(size_of::<PairMemo>(), 32);

@@ -1,0 +1,1168 @@
+//! Restart files: the whole state of a [`Simulation`] as a versioned JSON file, written
+//! atomically, from which a run continues bit for bit as if it had not stopped
+//! (docs/mechanics.md, "Restart files").
+//!
+//! What a step reads is in the file: the bodies' shapes (body-frame parts, bit for bit) and
+//! state, the joint properties and every setting, the contacts with their sub-contacts'
+//! forces, shear histories and states, the candidate pairs and the poses they were built
+//! at, the clock and the flags of the leapfrog. What a step derives from them (the parts
+//! placed at the poses, masses and inertias, the stiffness bounds) is recomputed by the same
+//! code, with the same result. Numbers are written in the shortest form that reads back to
+//! the same `f64` (serde_json's `float_roundtrip`).
+//!
+//! Each struct goes through one function each way (`*_file` and `*_of`) whose struct
+//! literal or pattern lists every field: a field added to the simulation, a body, a contact
+//! or a sub-contact fails to compile here until the file has it too.
+
+use super::excavation::{Excavation, Relaxation};
+use super::{Bodies, BodyContact, Contacts, Damping, Fixity, JointModel, Simulation, SubContact};
+use super::{InitialStress, JointTable, SubState};
+use crate::block::{ConvexBlock, Edge, FaceOrigin, Pose};
+use crate::body::Shape;
+use crate::classify::ContactType;
+use crate::geometry::{Aabb, DVec3, Plane};
+use crate::io::{read_text, write_atomic, IoError};
+use crate::tolerance::Tolerance;
+use glam::DQuat;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::Path;
+use std::sync::Arc;
+
+/// The value of the `format` field of a restart file.
+pub const FORMAT: &str = "penedge-state";
+/// The version of the restart file written (and the only one read).
+pub const VERSION: u32 = 1;
+
+type V3 = [f64; 3];
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StateFile {
+    format: String,
+    version: u32,
+    settings: SettingsFile,
+    clock: ClockFile,
+    shapes: Vec<ShapeFile>,
+    bodies: Vec<BodyFile>,
+    contacts: Vec<ContactFile>,
+    /// Per body, the sum of its contact forces and moments at the last step.
+    forces: Vec<V3>,
+    moments: Vec<V3>,
+    excavation: ExcavationFile,
+    /// Free text for the caller (`penedge simulate` keeps where its run stands there).
+    note: Option<String>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ExcavationFile {
+    /// The bodies excavated, increasing.
+    removed: Vec<u32>,
+    relaxations: Vec<RelaxationFile>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RelaxationFile {
+    steps: u64,
+    done: u64,
+    bodies: Vec<u32>,
+    forces: Vec<V3>,
+    moments: Vec<V3>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SettingsFile {
+    gravity: V3,
+    damping: DampingFile,
+    tolerance: Tolerance,
+    point_width: f64,
+    skin: f64,
+    /// The time step set (`null`: automatic, `safety` × critical).
+    timestep: Option<f64>,
+    safety: f64,
+    joints: JointsFile,
+    /// The stress the first step installs (`null`: none).
+    initial_stress: Option<StressFile>,
+    /// Every candidate pair queried at every step (a switch for comparisons).
+    full_detection: bool,
+    /// Applied moments (world frame): `[body, [x, y, z]]` per body that has one.
+    applied_moments: Vec<(u32, V3)>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StressFile {
+    base: [f64; 6],
+    per_depth: [f64; 6],
+    surface: f64,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DampingFile {
+    local: f64,
+    viscous: f64,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct JointsFile {
+    default: JointFile,
+    sets: Vec<SetJointFile>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SetJointFile {
+    set: u32,
+    model: JointFile,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct JointFile {
+    kn: f64,
+    ks: f64,
+    friction: f64,
+    cohesion: f64,
+    tension: f64,
+    residual_friction: Option<f64>,
+    residual_cohesion: f64,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ClockFile {
+    time: f64,
+    steps: u64,
+    /// The unbalanced-force ratio of the last step (`null`: none yet, infinite).
+    ratio: Option<f64>,
+    /// Velocities at the whole step (the next step starts with a half kick).
+    synced: bool,
+    /// The next detection is the first (its touching sub-contacts get bonds).
+    initial: bool,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ShapeFile {
+    parts: Vec<PartFile>,
+    volume: f64,
+    moments: V3,
+    radius: f64,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PartFile {
+    vertices: Vec<V3>,
+    faces: Vec<Vec<u32>>,
+    /// Per face, the outward unit normal and a point.
+    planes: Vec<[f64; 6]>,
+    origins: Vec<FaceOrigin>,
+    /// Per edge, its two vertices and its two faces.
+    edges: Vec<[u32; 4]>,
+    volume: f64,
+    centroid: V3,
+    /// The largest distance of a face vertex off its plane, relative to the part's box
+    /// diagonal, the part was made with (the check on reading allows twice it).
+    flatness: f64,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BodyFile {
+    shape: u32,
+    density: f64,
+    pose: PoseFile,
+    velocity: V3,
+    /// Angular momentum, world frame.
+    momentum: V3,
+    fixity: FixityFile,
+    applied: V3,
+    /// Mass-scaling factor.
+    scale: f64,
+}
+
+#[derive(Clone, Copy, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PoseFile {
+    /// Unit quaternion `[x, y, z, w]`.
+    rotation: [f64; 4],
+    translation: V3,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum FixityFile {
+    Free,
+    Fixed,
+    Prescribed { velocity: V3, spin: V3 },
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ContactFile {
+    parts: [u32; 2],
+    bodies: [u32; 2],
+    kind: KindFile,
+    normal: V3,
+    set: Option<u32>,
+    subs: Vec<SubFile>,
+}
+
+#[derive(Clone, Copy, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum KindFile {
+    VertexVertex,
+    VertexEdge,
+    EdgeEdge,
+    EdgeEdgeSuperposition,
+    VertexFace,
+    EdgeFace,
+    FaceFace,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SubFile {
+    point: V3,
+    local: V3,
+    area: f64,
+    gap: f64,
+    normal_force: f64,
+    shear_force: V3,
+    shear_displacement: V3,
+    state: StateCode,
+    bonded: bool,
+    prestress: f64,
+}
+
+#[derive(Clone, Copy, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum StateCode {
+    Elastic,
+    Sliding,
+    Open,
+}
+
+/// Only the header, to say what a file that is not a restart file is.
+#[derive(Deserialize)]
+struct Header {
+    format: Option<String>,
+    version: Option<u32>,
+}
+
+impl Simulation {
+    /// Writes the whole state to `path` (a restart file, docs/mechanics.md "Restart
+    /// files"): atomically, through a temporary file in the same folder renamed over
+    /// `path`, so that a crash leaves the old file or the new one, never half of one.
+    pub fn save_state(&self, path: &Path) -> Result<(), IoError> {
+        self.save_state_noted(path, None)
+    }
+
+    /// [`Simulation::save_state`] with a free text `note` stored in the file for the
+    /// caller ([`Simulation::load_state_noted`] gives it back).
+    pub fn save_state_noted(&self, path: &Path, note: Option<&str>) -> Result<(), IoError> {
+        if let Some(e) = unsaved(self) {
+            return Err(e);
+        }
+        let mut file = file_of(self);
+        file.note = note.map(str::to_string);
+        write_atomic(path, |w: &mut dyn Write| {
+            serde_json::to_writer(&mut *w, &file).map_err(std::io::Error::other)?;
+            w.write_all(b"\n")
+        })
+    }
+
+    /// The whole state as a JSON string (the content of [`Simulation::save_state`]'s file).
+    pub fn to_state_string(&self) -> Result<String, IoError> {
+        if let Some(e) = unsaved(self) {
+            return Err(e);
+        }
+        Ok(serde_json::to_string(&file_of(self)).expect("plain data always serialises"))
+    }
+
+    /// A simulation read back from a restart file: its next step is the one the saved
+    /// simulation would have taken, bit for bit. A file that is not a restart file, of
+    /// another version, cut short or with a bad field is an error naming the field.
+    pub fn load_state(path: &Path) -> Result<Simulation, IoError> {
+        Simulation::load_state_noted(path).map(|(sim, _)| sim)
+    }
+
+    /// [`Simulation::load_state`] with the note the file was saved with.
+    pub fn load_state_noted(path: &Path) -> Result<(Simulation, Option<String>), IoError> {
+        let text = read_text(path)?;
+        Simulation::from_state_str_noted(&text).map_err(|e| match e {
+            IoError::Syntax { message, .. } => IoError::Syntax {
+                path: path.to_path_buf(),
+                message,
+            },
+            IoError::Format { field, message } => IoError::Syntax {
+                path: path.to_path_buf(),
+                message: format!("field `{field}`: {message}"),
+            },
+            other => other,
+        })
+    }
+
+    /// [`Simulation::load_state`] from a string.
+    pub fn from_state_str(text: &str) -> Result<Simulation, IoError> {
+        Simulation::from_state_str_noted(text).map(|(sim, _)| sim)
+    }
+
+    fn from_state_str_noted(text: &str) -> Result<(Simulation, Option<String>), IoError> {
+        let mut file: StateFile = serde_json::from_str(text).map_err(|e| syntax_error(text, e))?;
+        check_header(Some(&file.format), Some(file.version))?;
+        let note = file.note.take();
+        Ok((simulation_of(file)?, note))
+    }
+}
+
+fn bad(field: impl Into<String>, message: impl Into<String>) -> IoError {
+    IoError::Format {
+        field: field.into(),
+        message: message.into(),
+    }
+}
+
+/// What is wrong with a file serde could not read: its header if that is wrong (another
+/// kind of file, another version), else what the parser said (cut short, a bad field).
+fn syntax_error(text: &str, e: serde_json::Error) -> IoError {
+    let header = serde_json::from_str::<Header>(text).ok();
+    if let Some(h) = &header {
+        if let Err(wrong) = check_header(h.format.as_deref(), h.version) {
+            return wrong;
+        }
+    }
+    let cut = if e.is_eof() {
+        " (the file is cut short: a copy or a write that did not finish?)"
+    } else {
+        ""
+    };
+    IoError::Syntax {
+        path: "<string>".into(),
+        message: format!("not a readable penedge restart file: {e}{cut}"),
+    }
+}
+
+fn check_header(format: Option<&str>, version: Option<u32>) -> Result<(), IoError> {
+    match format {
+        Some(FORMAT) => {}
+        Some(other) => {
+            let msg = format!("this is a `{other}` file, not a restart file (`{FORMAT}`)");
+            return Err(bad("format", msg));
+        }
+        None => {
+            return Err(bad(
+                "format",
+                format!("missing: not a restart file (`{FORMAT}`)"),
+            ))
+        }
+    }
+    match version {
+        Some(VERSION) => Ok(()),
+        Some(v) => Err(bad(
+            "version",
+            format!("restart files of version {v} cannot be read by this penedge (it reads version {VERSION})"),
+        )),
+        None => Err(bad("version", "missing")),
+    }
+}
+
+// ---- writing --------------------------------------------------------------------------
+
+/// Why a simulation cannot be saved yet: what the file does not hold.
+fn unsaved(sim: &Simulation) -> Option<IoError> {
+    if !sim.water.is_dry() {
+        return Some(bad(
+            "water",
+            "restart files do not hold water pressures yet",
+        ));
+    }
+    if !sim.bolts.is_empty() {
+        return Some(bad("bolts", "restart files do not hold rock bolts yet"));
+    }
+    None
+}
+
+fn file_of(sim: &Simulation) -> StateFile {
+    let Simulation {
+        bodies,
+        // Derived from the shapes and poses (recomputed by `Simulation::from_bodies`).
+        part_body: _,
+        part_index: _,
+        placed: _,
+        joints,
+        // Not in the file yet: `save_state` refuses a simulation with water or bolts.
+        water: _,
+        bolts: _,
+        gravity,
+        damping,
+        tolerance,
+        point_width,
+        skin,
+        // Caches of the contact update, rebuilt at the first step after loading: the
+        // candidate pairs, their last answers and the bodies' travel since. They decide
+        // which pairs are queried, never what a query answers: the contacts are the same
+        // bit for bit (docs/mechanics.md, "Contact updates").
+        pairs: _,
+        memo: _,
+        moved_at: _,
+        travel: _,
+        last_step: _,
+        built_at: _,
+        full_detection,
+        applied_moments,
+        // Wall-clock diagnostics, not state.
+        timings: _,
+        contacts,
+        forces,
+        moments,
+        dt,
+        safety,
+        time,
+        steps,
+        ratio,
+        synced,
+        initial,
+        excavation,
+        initial_stress,
+    } = sim;
+    let (shapes, shape_ids) = shape_files(bodies);
+    StateFile {
+        format: FORMAT.to_string(),
+        version: VERSION,
+        settings: SettingsFile {
+            gravity: gravity.to_array(),
+            damping: damping_file(damping),
+            tolerance: *tolerance,
+            point_width: *point_width,
+            skin: *skin,
+            timestep: *dt,
+            safety: *safety,
+            joints: joints_file(joints),
+            full_detection: *full_detection,
+            applied_moments: applied_moments
+                .iter()
+                .map(|(&b, m)| (b, m.to_array()))
+                .collect(),
+            initial_stress: initial_stress.as_ref().map(|f| {
+                let InitialStress {
+                    base,
+                    per_depth,
+                    surface,
+                } = *f;
+                StressFile {
+                    base,
+                    per_depth,
+                    surface,
+                }
+            }),
+        },
+        clock: ClockFile {
+            time: *time,
+            steps: *steps,
+            ratio: ratio.is_finite().then_some(*ratio),
+            synced: *synced,
+            initial: *initial,
+        },
+        shapes,
+        bodies: (0..bodies.len())
+            .map(|i| body_file(bodies, i, shape_ids[i]))
+            .collect(),
+        contacts: contacts_file(contacts),
+        forces: forces.iter().map(|f| f.to_array()).collect(),
+        moments: moments.iter().map(|m| m.to_array()).collect(),
+        excavation: excavation_file(excavation),
+        note: None,
+    }
+}
+
+fn excavation_file(e: &Excavation) -> ExcavationFile {
+    let Excavation {
+        removed,
+        relaxations,
+    } = e;
+    let rows = |v: &[DVec3]| v.iter().map(|x| x.to_array()).collect();
+    ExcavationFile {
+        removed: (0..removed.len())
+            .filter(|&i| removed[i])
+            .map(|i| i as u32)
+            .collect(),
+        relaxations: relaxations
+            .iter()
+            .map(|r| {
+                let Relaxation {
+                    steps,
+                    done,
+                    bodies,
+                    forces,
+                    moments,
+                } = r;
+                RelaxationFile {
+                    steps: *steps,
+                    done: *done,
+                    bodies: bodies.clone(),
+                    forces: rows(forces),
+                    moments: rows(moments),
+                }
+            })
+            .collect(),
+    }
+}
+
+fn damping_file(d: &Damping) -> DampingFile {
+    let Damping { local, viscous } = *d;
+    DampingFile { local, viscous }
+}
+
+fn joint_file(m: &JointModel) -> JointFile {
+    let JointModel {
+        kn,
+        ks,
+        friction,
+        cohesion,
+        tension,
+        residual_friction,
+        residual_cohesion,
+    } = *m;
+    JointFile {
+        kn,
+        ks,
+        friction,
+        cohesion,
+        tension,
+        residual_friction,
+        residual_cohesion,
+    }
+}
+
+fn joints_file(joints: &JointTable) -> JointsFile {
+    JointsFile {
+        default: joint_file(joints.default_model()),
+        sets: joints
+            .sets()
+            .map(|(set, m)| SetJointFile {
+                set,
+                model: joint_file(m),
+            })
+            .collect(),
+    }
+}
+
+/// The distinct shapes (bodies of one shape share it) and each body's shape index.
+fn shape_files(bodies: &Bodies) -> (Vec<ShapeFile>, Vec<u32>) {
+    let mut index: HashMap<*const Shape, u32> = HashMap::new();
+    let mut files = Vec::new();
+    let ids = (0..bodies.len())
+        .map(|i| {
+            let shape = bodies.shape(i);
+            *index.entry(Arc::as_ptr(shape)).or_insert_with(|| {
+                files.push(shape_file(shape));
+                (files.len() - 1) as u32
+            })
+        })
+        .collect();
+    (files, ids)
+}
+
+fn shape_file(shape: &Shape) -> ShapeFile {
+    ShapeFile {
+        parts: shape.parts().iter().map(part_file).collect(),
+        volume: shape.volume(),
+        moments: shape.principal_moments().to_array(),
+        radius: shape.radius(),
+    }
+}
+
+fn part_file(b: &ConvexBlock) -> PartFile {
+    let diagonal = b.aabb().diagonal();
+    PartFile {
+        vertices: b.vertices().iter().map(|v| v.to_array()).collect(),
+        faces: b.faces().map(<[u32]>::to_vec).collect(),
+        planes: b
+            .planes()
+            .iter()
+            .map(|p| {
+                let (n, q) = (p.normal, p.point);
+                [n.x, n.y, n.z, q.x, q.y, q.z]
+            })
+            .collect(),
+        origins: b.face_origins().to_vec(),
+        edges: b
+            .edges()
+            .iter()
+            .map(|e| [e.vertices[0], e.vertices[1], e.faces[0], e.faces[1]])
+            .collect(),
+        volume: b.volume(),
+        centroid: b.centroid().to_array(),
+        flatness: crate::io::json::off_planes(b) / diagonal,
+    }
+}
+
+/// Body `i` through the accessors of `Bodies` (its fields are private to bodies.rs: a
+/// per-body quantity added there needs a line here and in `body_of`). Masses, inertias and
+/// stiffness bounds derive from the shape and the density.
+fn body_file(bodies: &Bodies, i: usize, shape: u32) -> BodyFile {
+    BodyFile {
+        shape,
+        density: bodies.densities()[i],
+        pose: pose_file(&bodies.pose[i]),
+        velocity: bodies.velocity[i].to_array(),
+        momentum: bodies.momentum[i].to_array(),
+        fixity: match bodies.fixity(i) {
+            Fixity::Free => FixityFile::Free,
+            Fixity::Fixed => FixityFile::Fixed,
+            Fixity::Prescribed { velocity, spin } => FixityFile::Prescribed {
+                velocity: velocity.to_array(),
+                spin: spin.to_array(),
+            },
+        },
+        applied: bodies.applied_force(i).to_array(),
+        scale: bodies.mass_scale(i),
+    }
+}
+
+fn pose_file(p: &Pose) -> PoseFile {
+    PoseFile {
+        rotation: p.rotation.to_array(),
+        translation: p.translation.to_array(),
+    }
+}
+
+fn contacts_file(contacts: &Contacts) -> Vec<ContactFile> {
+    contacts
+        .list
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let BodyContact {
+                parts,
+                bodies,
+                kind,
+                normal,
+                set,
+                // Derived from the order of the sub-contacts.
+                first: _,
+                count: _,
+            } = c;
+            ContactFile {
+                parts: *parts,
+                bodies: *bodies,
+                kind: kind_file(*kind),
+                normal: normal.to_array(),
+                set: *set,
+                subs: contacts
+                    .subs_of(i)
+                    .iter()
+                    .enumerate()
+                    .map(|(k, sub)| sub_file(sub, contacts.prestress(c.first as usize + k)))
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
+fn sub_file(s: &SubContact, prestress: f64) -> SubFile {
+    let SubContact {
+        point,
+        local,
+        area,
+        gap,
+        normal_force,
+        shear_force,
+        shear_displacement,
+        state,
+        bonded,
+    } = *s;
+    SubFile {
+        point: point.to_array(),
+        local: local.as_dvec3().to_array(),
+        area,
+        gap,
+        normal_force,
+        shear_force: shear_force.to_array(),
+        shear_displacement: shear_displacement.to_array(),
+        state: match state {
+            SubState::Elastic => StateCode::Elastic,
+            SubState::Sliding => StateCode::Sliding,
+            SubState::Open => StateCode::Open,
+        },
+        bonded,
+        prestress,
+    }
+}
+
+fn kind_file(kind: ContactType) -> KindFile {
+    match kind {
+        ContactType::VertexVertex => KindFile::VertexVertex,
+        ContactType::VertexEdge => KindFile::VertexEdge,
+        ContactType::EdgeEdge => KindFile::EdgeEdge,
+        ContactType::EdgeEdgeSuperposition => KindFile::EdgeEdgeSuperposition,
+        ContactType::VertexFace => KindFile::VertexFace,
+        ContactType::EdgeFace => KindFile::EdgeFace,
+        ContactType::FaceFace => KindFile::FaceFace,
+    }
+}
+
+// ---- reading --------------------------------------------------------------------------
+
+fn finite(field: impl Into<String>, v: f64) -> Result<f64, IoError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(bad(field, "must be a finite number"))
+    }
+}
+
+fn vec3(field: impl Into<String>, v: V3) -> Result<DVec3, IoError> {
+    let out = DVec3::from_array(v);
+    if out.is_finite() {
+        Ok(out)
+    } else {
+        Err(bad(field, "must have finite components"))
+    }
+}
+
+/// A pose as stored: a unit quaternion (kept as it is, not normalised again: a resumed
+/// run needs the same bits) and a translation.
+fn pose_of(field: &str, p: &PoseFile) -> Result<Pose, IoError> {
+    let rotation = DQuat::from_array(p.rotation);
+    let translation = vec3(format!("{field}.translation"), p.translation)?;
+    if !(rotation.is_finite() && (rotation.length_squared() - 1.0).abs() <= 1e-12) {
+        return Err(bad(
+            format!("{field}.rotation"),
+            format!(
+                "must be a unit quaternion [x, y, z, w], got {:?}",
+                p.rotation
+            ),
+        ));
+    }
+    Ok(Pose {
+        rotation,
+        translation,
+    })
+}
+
+fn mechanics(field: impl Into<String>) -> impl FnOnce(super::MechanicsError) -> IoError {
+    let field = field.into();
+    move |e| bad(field, e.to_string())
+}
+
+fn joint_of(field: &str, f: &JointFile) -> Result<JointModel, IoError> {
+    let JointFile {
+        kn,
+        ks,
+        friction,
+        cohesion,
+        tension,
+        residual_friction,
+        residual_cohesion,
+    } = *f;
+    JointModel {
+        kn,
+        ks,
+        friction,
+        cohesion,
+        tension,
+        residual_friction,
+        residual_cohesion,
+    }
+    .validated()
+    .map_err(mechanics(field))
+}
+
+fn shape_of(i: usize, f: &ShapeFile) -> Result<Shape, IoError> {
+    let field = format!("shapes[{i}]");
+    let parts = f
+        .parts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| part_of(&format!("{field}.parts[{k}]"), p))
+        .collect::<Result<Vec<_>, _>>()?;
+    let moments = vec3(format!("{field}.moments"), f.moments)?;
+    let positive = |name: &str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(bad(
+                format!("{field}.{name}"),
+                "must be a finite number > 0",
+            ))
+        }
+    };
+    positive("volume", f.volume)?;
+    positive("radius", f.radius)?;
+    if moments.min_element() <= 0.0 {
+        return Err(bad(format!("{field}.moments"), "must be > 0"));
+    }
+    Shape::from_stored(parts, f.volume, moments, f.radius).map_err(|e| bad(field, e.to_string()))
+}
+
+fn part_of(field: &str, f: &PartFile) -> Result<ConvexBlock, IoError> {
+    let planes: Vec<Plane> = f
+        .planes
+        .iter()
+        .map(|p| Plane {
+            normal: DVec3::new(p[0], p[1], p[2]),
+            point: DVec3::new(p[3], p[4], p[5]),
+        })
+        .collect();
+    let flatness = finite(format!("{field}.flatness"), f.flatness)?;
+    let length = (2.0 * flatness).max(Tolerance::default().length());
+    let tol = Tolerance::new(0.0, length.min(0.5 * crate::tolerance::MAX_LENGTH))
+        .map_err(|e| bad(format!("{field}.flatness"), e.to_string()))?;
+    let block = ConvexBlock::from_parts(&f.vertices, &f.faces, &planes, &f.origins, &tol)
+        .map_err(|e| bad(field, e.to_string()))?;
+    let edges = f
+        .edges
+        .iter()
+        .map(|e| Edge {
+            vertices: [e[0], e[1]],
+            faces: [e[2], e[3]],
+        })
+        .collect();
+    let centroid = vec3(format!("{field}.centroid"), f.centroid)?;
+    let within = Aabb::of_points(block.vertices());
+    if centroid.cmplt(within.min).any() || centroid.cmpgt(within.max).any() {
+        return Err(bad(format!("{field}.centroid"), "lies outside the part"));
+    }
+    block
+        .with_stored(edges, f.volume, centroid)
+        .map_err(|e| bad(field, e))
+}
+
+fn body_of(
+    bodies: &mut Bodies,
+    i: usize,
+    f: &BodyFile,
+    shapes: &[Arc<Shape>],
+) -> Result<(), IoError> {
+    let field = |name: &str| format!("bodies[{i}].{name}");
+    let shape = shapes.get(f.shape as usize).ok_or_else(|| {
+        let msg = format!("no shape {}: the file has {}", f.shape, shapes.len());
+        bad(field("shape"), msg)
+    })?;
+    if !(f.density.is_finite() && f.density > 0.0) {
+        return Err(bad(field("density"), "must be a finite number > 0"));
+    }
+    let pose = pose_of(&field("pose"), &f.pose)?;
+    let id = bodies.push(shape.clone(), pose, f.density);
+    if !(f.scale.is_finite() && f.scale >= 1.0) {
+        return Err(bad(field("scale"), "must be a finite number >= 1"));
+    }
+    bodies.set_scale(id, f.scale);
+    let fixity = match f.fixity {
+        FixityFile::Free => Fixity::Free,
+        FixityFile::Fixed => Fixity::Fixed,
+        FixityFile::Prescribed { velocity, spin } => Fixity::Prescribed {
+            velocity: vec3(field("fixity.velocity"), velocity)?,
+            spin: vec3(field("fixity.spin"), spin)?,
+        },
+    };
+    bodies
+        .set_fixity(id, fixity)
+        .map_err(mechanics(field("fixity")))?;
+    bodies
+        .set_applied(id, vec3(field("applied"), f.applied)?)
+        .map_err(mechanics(field("applied")))?;
+    // Last: the state as it was (`set_scale` rescales the momentum).
+    bodies.velocity[id] = vec3(field("velocity"), f.velocity)?;
+    bodies.momentum[id] = vec3(field("momentum"), f.momentum)?;
+    Ok(())
+}
+
+fn contacts_of(files: &[ContactFile], part_body: &[u32]) -> Result<Contacts, IoError> {
+    let mut out = Contacts::default();
+    for (i, f) in files.iter().enumerate() {
+        let field = |name: &str| format!("contacts[{i}].{name}");
+        let [p, q] = f.parts;
+        if !(p < q && (q as usize) < part_body.len()) {
+            let msg = format!(
+                "must be two part ids, smaller first, below {}; got {:?}",
+                part_body.len(),
+                f.parts
+            );
+            return Err(bad(field("parts"), msg));
+        }
+        if let Some(last) = out.list.last() {
+            if last.parts >= f.parts {
+                return Err(bad(
+                    field("parts"),
+                    "contacts must be sorted by their parts",
+                ));
+            }
+        }
+        let bodies = [part_body[p as usize], part_body[q as usize]];
+        if f.bodies != bodies {
+            let msg = format!("must be the parts' bodies {bodies:?}, got {:?}", f.bodies);
+            return Err(bad(field("bodies"), msg));
+        }
+        let normal = vec3(field("normal"), f.normal)?;
+        if (normal.length_squared() - 1.0).abs() > 1e-9 {
+            return Err(bad(field("normal"), "must be a unit vector"));
+        }
+        if f.subs.is_empty() {
+            return Err(bad(field("subs"), "a contact has at least one sub-contact"));
+        }
+        let first = out.subs.len() as u32;
+        for (k, s) in f.subs.iter().enumerate() {
+            let field = format!("contacts[{i}].subs[{k}]");
+            out.subs.push(sub_of(&field, s)?);
+            out.prestresses
+                .push(finite(format!("{field}.prestress"), s.prestress)?);
+        }
+        out.list.push(BodyContact {
+            parts: f.parts,
+            bodies,
+            kind: kind_of(f.kind),
+            normal,
+            set: f.set,
+            first,
+            count: f.subs.len() as u32,
+        });
+    }
+    // The side table only when a sub-contact has an installed stress, as a step leaves it.
+    if out.prestresses.iter().all(|&p| p == 0.0) {
+        out.prestresses.clear();
+    }
+    Ok(out)
+}
+
+fn sub_of(field: &str, s: &SubFile) -> Result<SubContact, IoError> {
+    let v = |name: &str, x: V3| vec3(format!("{field}.{name}"), x);
+    let x = |name: &str, x: f64| finite(format!("{field}.{name}"), x);
+    Ok(SubContact {
+        point: v("point", s.point)?,
+        local: v("local", s.local)?.as_vec3(),
+        area: x("area", s.area)?,
+        gap: x("gap", s.gap)?,
+        normal_force: x("normal_force", s.normal_force)?,
+        shear_force: v("shear_force", s.shear_force)?,
+        shear_displacement: v("shear_displacement", s.shear_displacement)?,
+        state: match s.state {
+            StateCode::Elastic => SubState::Elastic,
+            StateCode::Sliding => SubState::Sliding,
+            StateCode::Open => SubState::Open,
+        },
+        bonded: s.bonded,
+    })
+}
+
+fn kind_of(kind: KindFile) -> ContactType {
+    match kind {
+        KindFile::VertexVertex => ContactType::VertexVertex,
+        KindFile::VertexEdge => ContactType::VertexEdge,
+        KindFile::EdgeEdge => ContactType::EdgeEdge,
+        KindFile::EdgeEdgeSuperposition => ContactType::EdgeEdgeSuperposition,
+        KindFile::VertexFace => ContactType::VertexFace,
+        KindFile::EdgeFace => ContactType::EdgeFace,
+        KindFile::FaceFace => ContactType::FaceFace,
+    }
+}
+
+fn excavation_of(f: &ExcavationFile, n: usize) -> Result<Excavation, IoError> {
+    let mut out = Excavation::default();
+    if !f.removed.is_empty() {
+        out.removed = vec![false; n];
+    }
+    for (k, &i) in f.removed.iter().enumerate() {
+        let field = format!("excavation.removed[{k}]");
+        match out.removed.get_mut(i as usize) {
+            Some(r) if !*r => *r = true,
+            Some(_) => return Err(bad(field, format!("body {i} is listed twice"))),
+            None => return Err(bad(field, format!("no body {i}: the file has {n}"))),
+        }
+    }
+    for (k, r) in f.relaxations.iter().enumerate() {
+        let field = format!("excavation.relaxations[{k}]");
+        if r.done >= r.steps {
+            let msg = format!("`done` ({}) must be below `steps` ({})", r.done, r.steps);
+            return Err(bad(field, msg));
+        }
+        let m = r.bodies.len();
+        if let Some(&b) = r.bodies.iter().find(|&&b| b as usize >= n) {
+            return Err(bad(
+                format!("{field}.bodies"),
+                format!("no body {b}: the file has {n}"),
+            ));
+        }
+        out.relaxations.push(Relaxation {
+            steps: r.steps,
+            done: r.done,
+            bodies: r.bodies.clone(),
+            forces: per_body(&format!("{field}.forces"), &r.forces, m)?,
+            moments: per_body(&format!("{field}.moments"), &r.moments, m)?,
+        });
+    }
+    Ok(out)
+}
+
+/// A tolerance as stored, if it is one the setters accept.
+fn tolerance_of(t: Tolerance) -> Result<Tolerance, IoError> {
+    let rebuilt = match t.absolute_gap() {
+        None => Tolerance::new(t.gap(), t.length()),
+        Some(gap) => Tolerance::new(0.0, t.length()).and_then(|r| r.and_absolute_gap(gap)),
+    }
+    .map_err(|e| bad("settings.tolerance", e.to_string()))?;
+    if rebuilt != t {
+        return Err(bad("settings.tolerance", "not a tolerance penedge makes"));
+    }
+    Ok(t)
+}
+
+fn per_body(field: &str, values: &[V3], n: usize) -> Result<Vec<DVec3>, IoError> {
+    if values.len() != n {
+        let msg = format!("must have one entry per body ({n}), has {}", values.len());
+        return Err(bad(field, msg));
+    }
+    values
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| vec3(format!("{field}[{i}]"), v))
+        .collect()
+}
+
+fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
+    let shapes = file
+        .shapes
+        .iter()
+        .enumerate()
+        .map(|(i, s)| shape_of(i, s).map(Arc::new))
+        .collect::<Result<Vec<_>, _>>()?;
+    if file.bodies.is_empty() {
+        return Err(bad("bodies", "a simulation has at least one body"));
+    }
+    let mut bodies = Bodies::default();
+    for (i, b) in file.bodies.iter().enumerate() {
+        body_of(&mut bodies, i, b, &shapes)?;
+    }
+    let n = bodies.len();
+    let mut sim = Simulation::from_bodies(bodies);
+    let s = &file.settings;
+    let gravity = vec3("settings.gravity", s.gravity)?;
+    let damping = Damping {
+        local: s.damping.local,
+        viscous: s.damping.viscous,
+    };
+    sim.set_damping(damping)
+        .map_err(mechanics("settings.damping"))?;
+    sim.set_point_width(s.point_width)
+        .map_err(mechanics("settings.point_width"))?;
+    sim.set_safety(s.safety)
+        .map_err(mechanics("settings.safety"))?;
+    let mut joints = JointTable::default();
+    joints
+        .set_default(joint_of("settings.joints.default", &s.joints.default)?)
+        .map_err(mechanics("settings.joints.default"))?;
+    for (k, j) in s.joints.sets.iter().enumerate() {
+        let field = format!("settings.joints.sets[{k}]");
+        joints
+            .set(j.set, joint_of(&field, &j.model)?)
+            .map_err(mechanics(field))?;
+    }
+    if !(s.skin.is_finite() && s.skin > 0.0) {
+        return Err(bad("settings.skin", "must be a finite number > 0"));
+    }
+    if let Some(dt) = s.timestep {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(bad(
+                "settings.timestep",
+                "must be a finite number > 0 or null",
+            ));
+        }
+    }
+    let c = &file.clock;
+    finite("clock.time", c.time)?;
+    if let Some(r) = c.ratio {
+        if !(r.is_finite() && r >= 0.0) {
+            return Err(bad("clock.ratio", "must be a finite number >= 0 or null"));
+        }
+    }
+    let mut moments_applied = std::collections::BTreeMap::new();
+    for (k, &(b, m)) in s.applied_moments.iter().enumerate() {
+        let field = format!("settings.applied_moments[{k}]");
+        if b as usize >= n {
+            return Err(bad(field, format!("no body {b}: the file has {n}")));
+        }
+        moments_applied.insert(b, vec3(field, m)?);
+    }
+    let contacts = contacts_of(&file.contacts, &sim.part_body)?;
+    let forces = per_body("forces", &file.forces, n)?;
+    let moments = per_body("moments", &file.moments, n)?;
+    let tolerance = tolerance_of(s.tolerance)?;
+    let excavation = excavation_of(&file.excavation, n)?;
+    let initial_stress = match &s.initial_stress {
+        None => None,
+        Some(f) => Some(
+            InitialStress {
+                base: f.base,
+                per_depth: f.per_depth,
+                surface: f.surface,
+            }
+            .validated()
+            .map_err(mechanics("settings.initial_stress"))?,
+        ),
+    };
+    {
+        // Every field of the simulation, so that one added to it is not forgotten here.
+        let Simulation {
+            bodies: _,
+            part_body: _,
+            part_index: _,
+            placed: _,
+            joints: j,
+            water: _,
+            bolts: _,
+            pairs: _,
+            memo: _,
+            moved_at: _,
+            travel: _,
+            last_step: _,
+            built_at: _,
+            full_detection,
+            applied_moments,
+            timings: _,
+            gravity: g,
+            damping: _,
+            tolerance: t,
+            point_width: _,
+            skin,
+            contacts: cs,
+            forces: f,
+            moments: m,
+            dt,
+            safety: _,
+            time,
+            steps,
+            ratio,
+            synced,
+            initial,
+            excavation: ex,
+            initial_stress: stress,
+        } = &mut sim;
+        *j = joints;
+        *g = gravity;
+        *t = tolerance;
+        *skin = s.skin;
+        *full_detection = s.full_detection;
+        *applied_moments = moments_applied;
+        *cs = contacts;
+        *f = forces;
+        *m = moments;
+        *dt = s.timestep;
+        *time = c.time;
+        *steps = c.steps;
+        *ratio = c.ratio.unwrap_or(f64::INFINITY);
+        *synced = c.synced;
+        *initial = c.initial;
+        *ex = excavation;
+        *stress = initial_stress;
+    }
+    Ok(sim)
+}

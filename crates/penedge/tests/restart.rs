@@ -1,0 +1,230 @@
+//! Restart files (issue 19, docs/mechanics.md "Restart files"): a run of N + M steps is bit
+//! for bit the run of N steps, saved, read back and stepped M more; bad files are named.
+
+use penedge::body::Shape;
+use penedge::glam::{DQuat, DVec3};
+use penedge::io::IoError;
+use penedge::mechanics::{Bodies, InitialStress, JointModel, Simulation, SubState};
+use penedge::ConvexBlock;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+const G: f64 = 9.81;
+
+/// A fixed base tilted by 40° (steeper than the 30° friction: the slab on it slides), a
+/// slab on it, an L-shaped body of two parts resting on it and a flat square spinning in
+/// its plane on it; cohesion on the default joint (bonds that break as the slab slides), a
+/// set with its own properties, local damping off, gravity along -z.
+fn scene() -> Simulation {
+    let frame = DQuat::from_rotation_z(0.6) * DQuat::from_rotation_x(40f64.to_radians());
+    let place = |b: ConvexBlock| b.transformed(frame, DVec3::new(10.0, -5.0, 2.0), 1.0);
+    let base = place(ConvexBlock::cuboid([-5.0, -5.0, -1.0], [5.0, 5.0, 0.0]).unwrap());
+    let slab = place(ConvexBlock::cuboid([-0.5, -0.4, 0.0], [0.5, 0.4, 0.3]).unwrap());
+    let leg = place(ConvexBlock::cuboid([2.0, 2.0, 0.0], [3.0, 2.5, 0.5]).unwrap());
+    let arm = place(ConvexBlock::cuboid([2.0, 2.5, 0.0], [2.5, 3.5, 0.5]).unwrap());
+    let cube = place(ConvexBlock::cuboid([-3.0, -3.0, 0.0], [-2.4, -2.4, 0.2]).unwrap());
+    let mut bodies = Bodies::default();
+    for parts in [vec![base], vec![slab], vec![leg, arm], vec![cube]] {
+        let (shape, pose) = Shape::from_parts(&parts).unwrap();
+        bodies.push(Arc::new(shape), pose, 2500.0);
+    }
+    let mut sim = Simulation::from_bodies(bodies);
+    sim.fix(0).unwrap();
+    let joint = JointModel {
+        kn: 1e8,
+        ks: 1e8,
+        friction: 30.0,
+        cohesion: 2e3,
+        tension: 1e3,
+        ..JointModel::default()
+    };
+    sim.set_default_joint(joint).unwrap();
+    sim.set_joint(
+        3,
+        JointModel {
+            friction: 20.0,
+            ..joint
+        },
+    )
+    .unwrap();
+    sim.set_velocity(3, DVec3::ZERO, frame * DVec3::new(0.0, 0.0, 0.2))
+        .unwrap();
+    sim
+}
+
+/// Everything a step reads or reports, compared with `==` (bit for bit, as f64 `==` is
+/// for the finite values here).
+fn assert_same(a: &Simulation, b: &Simulation) {
+    assert_eq!(a.steps(), b.steps());
+    assert_eq!(a.time().to_bits(), b.time().to_bits());
+    assert_eq!(
+        a.unbalanced_ratio().to_bits(),
+        b.unbalanced_ratio().to_bits()
+    );
+    assert_eq!(a.bodies().poses(), b.bodies().poses());
+    assert_eq!(a.bodies().velocities(), b.bodies().velocities());
+    assert_eq!(a.bodies().angular_momenta(), b.bodies().angular_momenta());
+    assert_eq!(a.contacts().list, b.contacts().list);
+    assert_eq!(a.contacts().subs, b.contacts().subs);
+    assert_eq!(a.contact_forces(), b.contact_forces());
+    assert_eq!(a.contact_moments(), b.contact_moments());
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("penedge-restart-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn a_resumed_run_is_bit_for_bit_the_uninterrupted_one() {
+    let (n, m) = (1500, 700);
+    let mut straight = scene();
+    straight.cycle(n + m).unwrap();
+    // The run has what a restart must carry: a sliding sub-contact with shear history.
+    let sliding = straight
+        .contacts()
+        .subs
+        .iter()
+        .filter(|s| s.state == SubState::Sliding)
+        .count();
+    assert!(sliding > 0, "no sliding sub-contact");
+    assert!(straight
+        .contacts()
+        .subs
+        .iter()
+        .any(|s| s.shear_displacement.length() > 1e-4));
+    let dir = scratch("resume");
+    for stop in [0, 1, n] {
+        let mut first = scene();
+        first.cycle(stop).unwrap();
+        let path = dir.join(format!("at-{stop}.json"));
+        first.save_state(&path).unwrap();
+        let mut resumed = Simulation::load_state(&path).unwrap();
+        assert_same(&first, &resumed);
+        resumed.cycle(n + m - stop).unwrap();
+        assert_same(&straight, &resumed);
+    }
+    // No temporary file is left beside them.
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names.len(), 3, "{names:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The file reads back to the same file: nothing is lost or rounded.
+#[test]
+fn a_restart_file_reads_back_to_the_same_file() {
+    let mut sim = scene();
+    sim.set_gravity(DVec3::new(0.1, 0.0, -G)).unwrap();
+    sim.prescribe(2, DVec3::new(0.01, 0.0, 0.0), DVec3::ZERO)
+        .unwrap();
+    // Small beside the blocks' weight (a stress above it would throw them off the base).
+    let stress = InitialStress::uniform([-100.0, -80.0, -120.0, 10.0, 5.0, -7.0]);
+    sim.set_initial_stress(Some(stress)).unwrap();
+    assert_eq!(
+        Simulation::from_state_str(&sim.to_state_string().unwrap())
+            .unwrap()
+            .initial_stress(),
+        Some(&stress)
+    );
+    sim.step().unwrap();
+    assert!(sim.contacts().prestresses.iter().any(|&p| p > 0.0));
+    sim.cycle(299).unwrap();
+    let text = sim.to_state_string().unwrap();
+    let back = Simulation::from_state_str(&text).unwrap();
+    assert_eq!(back.to_state_string().unwrap(), text);
+    assert_same(&sim, &back);
+    assert_eq!(back.gravity(), sim.gravity());
+    assert_eq!(back.joints().of_set(Some(3)).friction, 20.0);
+    assert_eq!(back.bodies().fixities(), sim.bodies().fixities());
+    assert_eq!(back.timestep().unwrap(), sim.timestep().unwrap());
+}
+
+fn error_of(text: &str) -> String {
+    match Simulation::from_state_str(text) {
+        Ok(_) => panic!("read a bad file"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn a_bad_restart_file_is_named() {
+    let mut sim = scene();
+    sim.cycle(200).unwrap();
+    let text = sim.to_state_string().unwrap();
+    // Cut short (a copy that did not finish).
+    let cut = error_of(&text[..text.len() / 2]);
+    assert!(cut.contains("cut short"), "{cut}");
+    // Another kind of file.
+    let blocks = penedge::io::json::to_json_string(&sim.placed_system());
+    let other = error_of(&blocks);
+    assert!(
+        other.contains("penedge-blocks") && other.contains("not a restart file"),
+        "{other}"
+    );
+    // Another version.
+    let v = error_of(&text.replacen("\"version\":1", "\"version\":99", 1));
+    assert!(v.contains("version 99"), "{v}");
+    // Edited by hand into nonsense: each names its field.
+    let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    type Edit = fn(&mut serde_json::Value);
+    let cases: Vec<(&str, Edit)> = vec![
+        ("bodies[1].shape", |j| j["bodies"][1]["shape"] = 99.into()),
+        ("bodies[2].density", |j| {
+            j["bodies"][2]["density"] = (-1.0).into()
+        }),
+        ("bodies[1].pose.rotation", |j| {
+            j["bodies"][1]["pose"]["rotation"][0] = 0.5.into()
+        }),
+        ("contacts[0].parts", |j| {
+            j["contacts"][0]["parts"] = serde_json::json!([3, 1])
+        }),
+        ("contacts[0].subs", |j| {
+            j["contacts"][0]["subs"] = serde_json::json!([])
+        }),
+        ("settings.joints.default", |j| {
+            j["settings"]["joints"]["default"]["friction"] = 95.0.into()
+        }),
+        ("shapes[0].parts[0]", |j| {
+            j["shapes"][0]["parts"][0]["vertices"][0][0] = 1e3.into()
+        }),
+        ("forces", |j| j["forces"] = serde_json::json!([])),
+    ];
+    for (field, edit) in cases {
+        let original = json.clone();
+        edit(&mut json);
+        let e = error_of(&json.to_string());
+        assert!(e.contains(field), "`{field}` not named in: {e}");
+        json = original;
+    }
+    // An unknown field (a typo) is named too.
+    json["clock"]["stpes"] = 3.into();
+    let e = error_of(&json.to_string());
+    assert!(e.contains("stpes"), "{e}");
+}
+
+#[test]
+fn a_missing_file_or_folder_is_an_error_and_leaves_nothing() {
+    let dir = scratch("missing");
+    let sim = scene();
+    let nowhere = dir.join("no-such-folder").join("state.json");
+    match sim.save_state(&nowhere) {
+        Err(IoError::Io { path, .. }) => assert_eq!(path, nowhere),
+        other => panic!("{other:?}"),
+    }
+    assert!(!dir.join("no-such-folder").exists());
+    let e = Simulation::load_state(&dir.join("absent.json")).unwrap_err();
+    assert!(e.to_string().contains("absent.json"), "{e}");
+    // A good file overwritten by a good file: the new one, whole.
+    let path = dir.join("state.json");
+    sim.save_state(&path).unwrap();
+    let mut later = scene();
+    later.cycle(10).unwrap();
+    later.save_state(&path).unwrap();
+    assert_eq!(Simulation::load_state(&path).unwrap().steps(), 10);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
