@@ -144,6 +144,36 @@ fn a_restart_file_reads_back_to_the_same_file() {
     assert_eq!(back.timestep().unwrap(), sim.timestep().unwrap());
 }
 
+#[test]
+fn rock_bridge_models_survive_a_restart_file() {
+    let mut sim = scene();
+    let intact = JointModel {
+        kn: 2e8,
+        ks: 2e8,
+        friction: 45.0,
+        cohesion: 1e6,
+        tension: 5e5,
+        ..JointModel::default()
+    };
+    sim.set_bridge(3, intact).unwrap();
+    sim.set_default_bridge(JointModel {
+        cohesion: 2e6,
+        ..intact
+    })
+    .unwrap();
+    sim.cycle(10).unwrap();
+    let back = Simulation::from_state_str(&sim.to_state_string().unwrap()).unwrap();
+    let models = |s: &Simulation| -> Vec<(u32, JointModel)> {
+        s.bridges().sets().map(|(k, m)| (k, *m)).collect()
+    };
+    assert_eq!(models(&back), vec![(3, intact)]);
+    assert_eq!(back.bridges().default_model().unwrap().cohesion, 2e6);
+    let flags =
+        |s: &Simulation| -> Vec<bool> { s.contacts().list.iter().map(|c| c.bridge).collect() };
+    assert_eq!(flags(&back), flags(&sim));
+    assert_same(&sim, &back);
+}
+
 fn error_of(text: &str) -> String {
     match Simulation::from_state_str(text) {
         Ok(_) => panic!("read a bad file"),

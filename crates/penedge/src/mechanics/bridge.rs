@@ -39,6 +39,16 @@ impl BridgeTable {
         Ok(())
     }
 
+    /// The default bridge model set (`None`: the built-in one).
+    pub fn default_model(&self) -> Option<&JointModel> {
+        self.default.as_ref()
+    }
+
+    /// The bridge models set per joint set, by increasing set.
+    pub fn sets(&self) -> impl Iterator<Item = (u32, &JointModel)> + '_ {
+        self.sets.iter().map(|(&s, m)| (s, m))
+    }
+
     /// The bridge model of set `set`: its own, else the default set, else the set's joint
     /// stiffness with [`BRIDGE_STRENGTH`].
     pub fn of_set(&self, set: u32, joints: &JointTable) -> JointModel {

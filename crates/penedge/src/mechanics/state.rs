@@ -16,7 +16,7 @@
 
 use super::excavation::{Excavation, Relaxation};
 use super::{Bodies, BodyContact, Contacts, Damping, Fixity, JointModel, Simulation, SubContact};
-use super::{InitialStress, JointTable, SubState};
+use super::{BridgeTable, InitialStress, JointTable, SubState};
 use crate::block::{ConvexBlock, Edge, FaceOrigin, Pose};
 use crate::body::Shape;
 use crate::classify::ContactType;
@@ -85,6 +85,8 @@ struct SettingsFile {
     timestep: Option<f64>,
     safety: f64,
     joints: JointsFile,
+    /// The rock bridges' models (`default`: `null` for the built-in one).
+    bridges: BridgesFile,
     /// The stress the first step installs (`null`: none).
     initial_stress: Option<StressFile>,
     /// Every candidate pair queried at every step (a switch for comparisons).
@@ -112,6 +114,13 @@ struct DampingFile {
 #[serde(deny_unknown_fields)]
 struct JointsFile {
     default: JointFile,
+    sets: Vec<SetJointFile>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BridgesFile {
+    default: Option<JointFile>,
     sets: Vec<SetJointFile>,
 }
 
@@ -212,6 +221,8 @@ struct ContactFile {
     kind: KindFile,
     normal: V3,
     set: Option<u32>,
+    /// Over a rock bridge (the set's bridge model applies).
+    bridge: bool,
     subs: Vec<SubFile>,
 }
 
@@ -398,6 +409,7 @@ fn file_of(sim: &Simulation) -> StateFile {
         part_index: _,
         placed: _,
         joints,
+        bridges,
         // Not in the file yet: `save_state` refuses a simulation with water or bolts.
         water: _,
         bolts: _,
@@ -446,6 +458,16 @@ fn file_of(sim: &Simulation) -> StateFile {
             timestep: *dt,
             safety: *safety,
             joints: joints_file(joints),
+            bridges: BridgesFile {
+                default: bridges.default_model().map(joint_file),
+                sets: bridges
+                    .sets()
+                    .map(|(set, m)| SetJointFile {
+                        set,
+                        model: joint_file(m),
+                    })
+                    .collect(),
+            },
             full_detection: *full_detection,
             applied_moments: applied_moments
                 .iter()
@@ -647,6 +669,7 @@ fn contacts_file(contacts: &Contacts) -> Vec<ContactFile> {
                 kind,
                 normal,
                 set,
+                bridge,
                 // Derived from the order of the sub-contacts.
                 first: _,
                 count: _,
@@ -657,6 +680,7 @@ fn contacts_file(contacts: &Contacts) -> Vec<ContactFile> {
                 kind: kind_file(*kind),
                 normal: normal.to_array(),
                 set: *set,
+                bridge: *bridge,
                 subs: contacts
                     .subs_of(i)
                     .iter()
@@ -923,6 +947,7 @@ fn contacts_of(files: &[ContactFile], part_body: &[u32]) -> Result<Contacts, IoE
             kind: kind_of(f.kind),
             normal,
             set: f.set,
+            bridge: f.bridge,
             first,
             count: f.subs.len() as u32,
         });
@@ -1066,6 +1091,18 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             .set(j.set, joint_of(&field, &j.model)?)
             .map_err(mechanics(field))?;
     }
+    let mut bridges = BridgeTable::default();
+    if let Some(d) = &s.bridges.default {
+        bridges
+            .set_default(joint_of("settings.bridges.default", d)?)
+            .map_err(mechanics("settings.bridges.default"))?;
+    }
+    for (k, j) in s.bridges.sets.iter().enumerate() {
+        let field = format!("settings.bridges.sets[{k}]");
+        bridges
+            .set(j.set, joint_of(&field, &j.model)?)
+            .map_err(mechanics(field))?;
+    }
     if !(s.skin.is_finite() && s.skin > 0.0) {
         return Err(bad("settings.skin", "must be a finite number > 0"));
     }
@@ -1117,6 +1154,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             part_index: _,
             placed: _,
             joints: j,
+            bridges: br,
             water: _,
             bolts: _,
             pairs: _,
@@ -1147,6 +1185,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             initial_stress: stress,
         } = &mut sim;
         *j = joints;
+        *br = bridges;
         *g = gravity;
         *t = tolerance;
         *skin = s.skin;
