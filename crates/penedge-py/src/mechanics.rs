@@ -23,7 +23,9 @@ use std::path::PathBuf;
 /// Parameters
 /// ----------
 /// system : BlockSystem
-///     The blocks (one body each), at rest and free.
+///     The blocks, at rest and free: one body each, except that a concave block (parts sharing
+///     a body id, :meth:`BlockSystem.with_bodies`) is one rigid body of all its parts, with
+///     the mass, centroid and inertia of their union; bodies then go by ascending body id.
 /// density : float, default 2700.0
 ///     Density of every block (mass per volume; :meth:`set_density` per block).
 /// gap : float, default 1e-3

@@ -108,6 +108,13 @@ class Engine:
         m = model.mechanics
         self.setup = setup
         self.sim = simulation(setup.system, density=m.density, gap=m.gap, point_width=m.point_width)
+        if len(self.sim) != len(setup.system):
+            # A concave block is one body of several blocks: the masks below go per block.
+            raise ModelError(
+                "blocks",
+                "concave blocks (blocks of several parts) are not supported yet by the "
+                "model's boundary conditions, which are set per block",
+            )
         self.sim.gravity = list(model.gravity)
         self.sim.set_damping(local=m.damping)
         self.set_ids = {name: i for i, name in enumerate(model.set_names)}

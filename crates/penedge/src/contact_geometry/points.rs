@@ -37,20 +37,37 @@ pub(super) fn contact_points(
         (Feature::Edge(ea), Feature::Edge(eb)) if contact.kind == ContactType::EdgeEdge => {
             point(crossing_point(a, ea, b, eb).unwrap_or_else(|| centroid(representative)))
         }
-        (Feature::Edge(e), _) => segment(representative, edge_direction(a, e), plane, length),
-        (_, Feature::Edge(e)) => segment(representative, edge_direction(b, e), plane, length),
+        (Feature::Edge(e), _) => segment(representative, a, e, plane, length),
+        (_, Feature::Edge(e)) => segment(representative, b, e, plane, length),
         (Feature::Face(_), Feature::Face(_)) => convex_polygon(representative, plane, length),
     }
 }
 
-/// The two extreme points along `d` (the plane's origin if there are none), or their
-/// midpoint when closer than `length`.
-fn segment(points: &[DVec3], d: DVec3, plane: &ContactPlane, length: f64) -> ContactPoints {
-    let origin = points.first().copied().unwrap_or_else(|| plane.origin());
-    let along = |p: &&DVec3| d.dot(**p - origin);
-    let first = points.iter().min_by(|p, q| along(p).total_cmp(&along(q)));
-    let last = points.iter().max_by(|p, q| along(p).total_cmp(&along(q)));
-    let [p, q] = [first, last].map(|p| plane.project(p.copied().unwrap_or(origin)));
+/// The stretch of edge `e` of `block` between the representative points' extremes along it
+/// (the plane's origin if there are none), projected on the contact plane; their midpoint
+/// when closer than `length`.
+///
+/// The ends are taken on the edge's line, not at the extreme points themselves: a face-face
+/// contact collapsed below the length threshold (two faces overlapping in a strip narrower than
+/// it, reported as an edge-edge superposition) has its extreme points on opposite sides of the
+/// strip, and the segment between them was the strip's diagonal rather than the edge.
+fn segment(
+    points: &[DVec3],
+    block: &ConvexBlock,
+    e: u32,
+    plane: &ContactPlane,
+    length: f64,
+) -> ContactPoints {
+    let d = edge_direction(block, e);
+    let base = block.vertices()[block.edges()[e as usize].vertices[0] as usize];
+    let along = |p: &DVec3| d.dot(*p - base);
+    let low = points.iter().map(along).fold(f64::INFINITY, f64::min);
+    let high = points.iter().map(along).fold(f64::NEG_INFINITY, f64::max);
+    let [p, q] = if points.is_empty() {
+        [plane.origin(); 2]
+    } else {
+        [low, high].map(|t| plane.project(base + d * t))
+    };
     if p.distance(q) <= length {
         ContactPoints::Point((p + q) * 0.5)
     } else {
