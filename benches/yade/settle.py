@@ -17,13 +17,20 @@
 # computed in Python by a PyRunner every CHECK steps (default 10; the run may thus go up to
 # CHECK - 1 steps past the point), and its own time is measured and reported apart.
 #
+# With a `speed` above 0 in the model (penedge-bench mechanics --speed V --export ...), the run
+# also stops, as settled, at the first check at which the fastest free block is slower than
+# `speed` (m/s) after one has been faster than `moving`: the physical criterion for the time to
+# the same settled state (penedge checks it every step, this script every CHECK steps).
+#
 # Prints one line `RESULT key=value ...` with: bodies, free, steps, converged, ratio, wall_s,
 # check_s (the criterion's own time), cpu_s (CPU time of the process, all threads, while
 # stepping, the criterion's taken out) and block_steps_per_cpu_s (the figure that the load of
 # a shared machine distorts least), block_steps_per_s (all bodies, criterion time taken
 # out), moving_steps and block_steps_per_s_moving (over the check intervals that began with a
 # free block faster than the model's `moving` speed), settlement_mm (mean settlement of the
-# free blocks), contacts (real interactions at the end).
+# free blocks), contacts (real interactions at the end), settled_by (ratio or speed),
+# fastest_mps (the fastest free block at the end), kinetic_j (kinetic energy of the free
+# blocks, translation and rotation) and simulated_s.
 
 import math
 import os
@@ -82,6 +89,7 @@ def main():
     g = float(settings["gravity"])
     target = float(settings["ratio"])
     moving_speed = float(settings["moving"])
+    settled_speed = float(settings.get("speed", "0"))
     mat = PolyhedraMat(
         density=float(settings["density"]),
         young=2.0 * kn,
@@ -117,6 +125,7 @@ def main():
     state = {"ratio": math.inf, "converged": False, "check_s": 0.0, "moving": True}
     state["check_cpu_s"] = 0.0
     state.update(moving_steps=0, moving_s=0.0, last_t=None, last_iter=0)
+    state.update(moved=False, settled_by="-", fastest=math.inf)
 
     def check():
         """Every CHECK steps, after the integrator (this step's forces are still summed)."""
@@ -126,8 +135,12 @@ def main():
             state["moving_s"] += t - state["last_t"]
         ratio, fastest = ratio_and_speed()
         state["ratio"], state["moving"] = ratio, fastest > moving_speed
+        state["moved"] = state["moved"] or state["moving"]
+        state["fastest"] = fastest
         if ratio < target:
-            state["converged"] = True
+            state["converged"], state["settled_by"] = True, "ratio"
+        elif settled_speed > 0 and state["moved"] and fastest < settled_speed:
+            state["converged"], state["settled_by"] = True, "speed"
         done = time.perf_counter()
         state["check_s"] += done - t
         state["check_cpu_s"] += time.process_time() - cpu_t
@@ -148,6 +161,11 @@ def main():
     cpu = time.process_time() - cpu_start - state["check_cpu_s"]
     settlement = sum(z0[i] - O.bodies[i].state.pos[2] for i in free) / len(free)
     contacts = O.interactions.countReal()
+    kinetic = sum(
+        0.5 * O.bodies[i].state.mass * O.bodies[i].state.vel.squaredNorm()
+        + 0.5 * O.bodies[i].state.angVel.dot(O.bodies[i].state.angMom)
+        for i in free
+    )
     bodies = len(ids)
     result = {
         "bodies": bodies,
@@ -164,6 +182,10 @@ def main():
         "block_steps_per_s_moving": f"{bodies * moving_steps / moving_s:.3e}" if moving_s else "-",
         "settlement_mm": f"{settlement * 1e3:.4f}",
         "contacts": contacts,
+        "settled_by": state["settled_by"],
+        "fastest_mps": f"{state['fastest']:.3e}",
+        "kinetic_j": f"{kinetic:.3e}",
+        "simulated_s": f"{O.time:.4f}",
         "threads": os.environ.get("OMP_NUM_THREADS", "?"),
     }
     print("RESULT " + " ".join(f"{k}={v}" for k, v in result.items()), flush=True)

@@ -258,6 +258,18 @@ class Simulation:
         pressures: dict[int, float] | None = None,
         unit_weight: float = 9810.0,
     ) -> None: ...
+    def set_bridge(
+        self,
+        kn: float,
+        ks: float,
+        friction: float,
+        cohesion: float,
+        tension: float,
+        set: int | None = None,
+        residual_friction: float | None = None,
+        residual_cohesion: float = 0.0,
+    ) -> None: ...
+    def bridge(self, set: int) -> _JointProperties: ...
     @property
     def gravity(self) -> npt.NDArray[np.float64]: ...
     @gravity.setter
@@ -350,9 +362,12 @@ class ContactTracker:
         gap: float = 1e-12,
         length: float | None = None,
         absolute_gap: float | None = None,
+        bodies: bool | None = None,
     ) -> Self: ...
     @property
     def contacts(self) -> SystemContacts: ...
+    @property
+    def body_contacts(self) -> BodyContacts | None: ...
     def update(self, rotations: npt.ArrayLike, translations: npt.ArrayLike) -> _UpdateReport: ...
 
 @final

@@ -67,6 +67,7 @@ def test_every_example_reads_and_checks():
         "block_column.toml",
         "column_excavation.toml",
         "slope_planar.toml",
+        "slope_step_path.toml",
         "tunnel_roof_bolt.toml",
         "wedge_dry.toml",
         "wedge_water.toml",

@@ -2,7 +2,7 @@
 //! boundary blocks, to equilibrium (issue 18, "Speed").
 //!
 //! `cargo run --release -p penedge-bench -- mechanics [--blocks N] [--threads T]
-//! [--ratio R] [--max-steps S] [--samples K] [--seed X] [--export FILE] [--full 0|1]`
+//! [--ratio R] [--speed V] [--max-steps S] [--samples K] [--seed X] [--export FILE] [--full 0|1]`
 //!
 //! `--full 1` queries every candidate pair at every step (`Simulation::set_full_detection`,
 //! the step before the contact updates), for comparison.
@@ -23,6 +23,11 @@
 //! per second over all steps and over the steps while blocks move (the fastest free block
 //! faster than 1 mm/s), the CPU time of the process in the steps (all threads: the figure the
 //! load of a shared machine distorts least) and block-steps per CPU second, the state reached (mean settlement of the free blocks, the ratio).
+//!
+//! With `--speed V` the run also stops, as settled, at the first step at which the fastest
+//! free block is slower than `V` (m/s) after one has been faster than the moving speed
+//! (1 mm/s): a physical criterion that YADE's run (`settle.py`, given the same `speed` in the
+//! exported model) checks the same way, for the time to the same settled state.
 //!
 //! **Time split** (the mechanics has no counters of its own): at `K` steps spread over the
 //! run (default 8), the detection alone is timed from outside on the same poses
@@ -80,6 +85,8 @@ struct Options {
     blocks: usize,
     threads: usize,
     ratio: f64,
+    /// Settled when the fastest free block is slower than this (m/s), after moving.
+    speed: Option<f64>,
     max_steps: u64,
     samples: u64,
     seed: u64,
@@ -93,6 +100,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         blocks: 100_000,
         threads: 2,
         ratio: 1e-5,
+        speed: None,
         max_steps: 20_000,
         samples: 8,
         seed: 18,
@@ -107,6 +115,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--blocks" => o.blocks = crate::number(value)?,
             "--threads" => o.threads = crate::number(value)?,
             "--ratio" => o.ratio = crate::number(value)?,
+            "--speed" => o.speed = Some(crate::number(value)?),
             "--max-steps" => o.max_steps = crate::number(value)?,
             "--samples" => o.samples = crate::number(value)?,
             "--seed" => o.seed = crate::number(value)?,
@@ -123,6 +132,11 @@ fn parse(args: &[String]) -> Result<Options, String> {
     }
     if !(o.ratio.is_finite() && o.ratio > 0.0) {
         return Err(format!("--ratio must be a number > 0, got {}", o.ratio));
+    }
+    if let Some(v) = o.speed {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(format!("--speed must be a number > 0, got {v}"));
+        }
     }
     Ok(o)
 }
@@ -209,7 +223,8 @@ fn settle(o: &Options) -> Result<(), String> {
     .map_err(|e| e.to_string())?;
     let dt = sim.timestep().map_err(|e| e.to_string())?;
     if let Some(path) = &o.export {
-        std::fs::write(path, export(&m, dt, o.ratio)).map_err(|e| format!("{path}: {e}"))?;
+        std::fs::write(path, export(&m, dt, o.ratio, o.speed))
+            .map_err(|e| format!("{path}: {e}"))?;
     }
     println!(
         "### Mechanics: {bodies} unit cubes ({free} free, {} fixed: floor and walls) settling \
@@ -237,6 +252,8 @@ fn settle(o: &Options) -> Result<(), String> {
     let mut log = Run::default();
     let start = Instant::now();
     let mut converged = false;
+    // Whether a free block has been faster than the moving speed (for `--speed`).
+    let mut moved = false;
     while sim.steps() < o.max_steps {
         if heap_at.contacts == 0 {
             heap::reset_peak();
@@ -250,10 +267,19 @@ fn settle(o: &Options) -> Result<(), String> {
             heap_at.contacts_peak = heap::peak();
             log.first_contacts = (sim.contacts().list.len(), sim.contacts().subs.len());
         }
-        let moving = free_ids(&m).any(|i| sim.bodies().velocities()[i].length() > MOVING);
+        let fastest = free_ids(&m)
+            .map(|i| sim.bodies().velocities()[i].length())
+            .fold(0.0, f64::max);
+        let moving = fastest > MOVING;
+        moved |= moving;
         log.record(s, moving);
         if sim.unbalanced_ratio() < o.ratio {
             converged = true;
+            break;
+        }
+        if o.speed.is_some_and(|v| moved && fastest < v) {
+            converged = true;
+            log.settled_by_speed = true;
             break;
         }
         if o.samples > 0 && sim.steps() % sample_every == 0 {
@@ -273,7 +299,11 @@ fn settle(o: &Options) -> Result<(), String> {
     );
     println!(
         "| {bodies} | {free} | {steps} | {} | {:.2e} | {:.4} | {wall:.2} | {:.1} | {:.3e} | {:.2} | {:.3e} | {:.3e} | {} | {} | {:.4} | {} | {} |",
-        if converged { "yes" } else { "no" },
+        match (converged, log.settled_by_speed) {
+            (true, true) => "yes (speed)",
+            (true, false) => "yes (ratio)",
+            _ => "no",
+        },
         sim.unbalanced_ratio(),
         sim.time(),
         steps as f64 / wall,
@@ -292,6 +322,14 @@ fn settle(o: &Options) -> Result<(), String> {
         sim.contacts().subs.len(),
     );
     print_phases(&sim.timings(), bodies);
+    let fastest = free_ids(&m)
+        .map(|i| sim.bodies().velocities()[i].length())
+        .fold(0.0, f64::max);
+    let kinetic: f64 = free_ids(&m).map(|i| sim.bodies().kinetic_energy(i)).sum();
+    println!(
+        "\nAt the end: fastest free block {fastest:.3e} m/s, kinetic energy of the free blocks \
+         {kinetic:.3e} J."
+    );
     print_splits(&log.splits);
     print_memory(&heap_at, bodies, log.first_contacts);
     println!("\nLoad average at the end: {}.", crate::report::load());
@@ -300,7 +338,7 @@ fn settle(o: &Options) -> Result<(), String> {
 
 /// CPU time of the process, all threads, user and system (`getrusage`): under the load of a
 /// shared machine, wall time also counts the time the threads wait for a core.
-fn process_cpu_s() -> f64 {
+pub(crate) fn process_cpu_s() -> f64 {
     // SAFETY: an all-zero `rusage` is a valid value of this plain C struct.
     let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
     // SAFETY: `usage` is a valid, writable rusage; RUSAGE_SELF is a constant Linux supports.
@@ -329,6 +367,8 @@ struct Run {
     moving_s: f64,
     /// CPU time of the process (all threads) in the steps.
     cpu_s: f64,
+    /// Whether the run stopped on `--speed` rather than on the ratio.
+    settled_by_speed: bool,
     first_contacts: (usize, usize),
     splits: Vec<Split>,
 }
@@ -479,7 +519,7 @@ fn print_memory(h: &Heap, bodies: usize, (contacts, subs): (usize, usize)) {
 }
 
 /// The model for `benches/yade/settle.py`.
-fn export(m: &Model, dt: f64, ratio: f64) -> String {
+fn export(m: &Model, dt: f64, ratio: f64, speed: Option<f64>) -> String {
     let mut s = String::new();
     let lines = [
         ("format", "penedge-bench mechanics 1".to_string()),
@@ -492,6 +532,8 @@ fn export(m: &Model, dt: f64, ratio: f64) -> String {
         ("gravity", "9.81".to_string()),
         ("ratio", format!("{ratio:?}")),
         ("moving", format!("{MOVING:?}")),
+        // 0: no speed criterion.
+        ("speed", format!("{:?}", speed.unwrap_or(0.0))),
         ("blocks", m.system.len().to_string()),
     ];
     for (k, v) in lines {

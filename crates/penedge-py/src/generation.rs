@@ -47,7 +47,8 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 ///     The blocks, with the domain, joint table and face origins.
 /// report : dict
 ///     ``blocks``, ``joint_planes``, ``splits``, ``partial_cuts_skipped`` (finite joints that
-///     end inside a block, which is left whole), ``partial_cuts_by_entry``,
+///     end inside a block, which is left whole), ``partial_cuts_by_entry``, ``bridged_cuts``
+///     (finite joints with rock bridges that end inside a block, which is cut through),
 ///     ``set_planes_outside``, ``retried_cuts``, ``domain_volume``, ``block_volume``,
 ///     ``volume_error``, ``slivers`` (``policy``, ``min_volume``, ``min_thickness``,
 ///     ``count``, ``volume``, ``kept_ids``) and ``tiny`` (blocks below 1e-3 of the median

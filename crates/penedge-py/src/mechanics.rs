@@ -61,6 +61,22 @@ pub struct Simulation {
     note: Option<String>,
 }
 
+/// A joint model as a dict of its properties.
+fn model_dict<'py>(py: Python<'py>, m: &JointModel) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    out.set_item("kn", m.kn)?;
+    out.set_item("ks", m.ks)?;
+    out.set_item("friction", m.friction)?;
+    out.set_item("cohesion", m.cohesion)?;
+    out.set_item("tension", m.tension)?;
+    out.set_item(
+        "residual_friction",
+        m.residual_friction.unwrap_or(m.friction),
+    )?;
+    out.set_item("residual_cohesion", m.residual_cohesion)?;
+    Ok(out)
+}
+
 fn body_ids(ids: Option<Vec<usize>>, n: usize) -> Vec<usize> {
     ids.unwrap_or_else(|| (0..n).collect())
 }
@@ -161,22 +177,67 @@ impl Simulation {
         .map_err(to_py_err)
     }
 
+    /// Sets the intact rock's properties for the rock bridges of joint set `set` (contacts
+    /// over faces of origin kind 3, "bridge", made by a finite joint generated with
+    /// ``bridge = true``), or the default for bridges of sets without their own
+    /// (``set=None``). Bridges bond where they touch at the start of the run and, once they
+    /// fail, keep friction only; without a call, a set's bridges have its joint stiffness and
+    /// friction 45°, cohesion 10 MPa, tension 5 MPa. See ``docs/mechanics.md``, "Rock
+    /// bridges".
+    ///
+    /// Parameters
+    /// ----------
+    /// kn, ks : float
+    ///     Normal and shear stiffness, stress per displacement (> 0).
+    /// friction : float
+    ///     Friction angle in degrees, in [0, 90).
+    /// cohesion, tension : float
+    ///     The intact rock's cohesion and tensile strength (stresses ≥ 0).
+    /// set : int, optional
+    ///     The joint set; None for the default.
+    /// residual_friction : float, optional
+    ///     Friction angle after failure (default: `friction`).
+    /// residual_cohesion : float, default 0.0
+    ///     Cohesion after failure.
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     A property out of range (the error names it).
+    #[pyo3(signature = (kn, ks, friction, cohesion, tension, set = None,
+        residual_friction = None, residual_cohesion = 0.0))]
+    #[allow(clippy::too_many_arguments)]
+    fn set_bridge(
+        &mut self,
+        kn: f64,
+        ks: f64,
+        friction: f64,
+        cohesion: f64,
+        tension: f64,
+        set: Option<u32>,
+        residual_friction: Option<f64>,
+        residual_cohesion: f64,
+    ) -> PyResult<()> {
+        let mut model = JointModel::default();
+        (model.kn, model.ks, model.friction) = (kn, ks, friction);
+        (model.cohesion, model.tension) = (cohesion, tension);
+        (model.residual_friction, model.residual_cohesion) = (residual_friction, residual_cohesion);
+        match set {
+            None => self.inner.set_default_bridge(model),
+            Some(s) => self.inner.set_bridge(s, model),
+        }
+        .map_err(to_py_err)
+    }
+
+    /// The bridge properties of set `set` (its own, else the default), as a dict.
+    fn bridge<'py>(&self, py: Python<'py>, set: u32) -> PyResult<Bound<'py, PyDict>> {
+        model_dict(py, &self.inner.bridges().of_set(set, self.inner.joints()))
+    }
+
     /// The joint properties of set `set` (None: the default), as a dict.
     #[pyo3(signature = (set = None))]
     fn joint<'py>(&self, py: Python<'py>, set: Option<u32>) -> PyResult<Bound<'py, PyDict>> {
-        let m = self.inner.joints().of_set(set);
-        let out = PyDict::new(py);
-        out.set_item("kn", m.kn)?;
-        out.set_item("ks", m.ks)?;
-        out.set_item("friction", m.friction)?;
-        out.set_item("cohesion", m.cohesion)?;
-        out.set_item("tension", m.tension)?;
-        out.set_item(
-            "residual_friction",
-            m.residual_friction.unwrap_or(m.friction),
-        )?;
-        out.set_item("residual_cohesion", m.residual_cohesion)?;
-        Ok(out)
+        model_dict(py, self.inner.joints().of_set(set))
     }
 
     /// Sets the water pressure in the joints (``docs/mechanics.md``, "Water pressure in the
@@ -757,7 +818,8 @@ impl Simulation {
     /// dict
     ///     Per contact (m rows): ``pairs`` (m, 2) body ids A < B, ``types`` (m,) contact type
     ///     codes 1..7, ``normals`` (m, 3) from A to B, ``sets`` (m,) the joint set whose
-    ///     properties apply (-1: the default), ``sub_offsets`` (m + 1,): contact ``i`` has
+    ///     properties apply (-1: the default), ``bridges`` (m,) whether it is over a rock
+    ///     bridge (the set's bridge properties apply), ``sub_offsets`` (m + 1,): contact ``i`` has
     ///     sub-contacts ``sub_offsets[i]:sub_offsets[i + 1]``. Per sub-contact: ``points``
     ///     (k, 3), ``areas``, ``gaps`` (> 0 apart), ``normal_forces`` (on B, > 0 in
     ///     compression; the joint's effective force, without the water's: see
@@ -778,6 +840,8 @@ impl Simulation {
         out.set_item("normals", arrays::rows3(py, &normals))?;
         let sets: Vec<i64> = c.list.iter().map(|c| c.set.map_or(-1, i64::from)).collect();
         out.set_item("sets", arrays::vector(py, sets))?;
+        let bridges: Vec<bool> = c.list.iter().map(|c| c.bridge).collect();
+        out.set_item("bridges", arrays::vector(py, bridges))?;
         let mut offsets: Vec<u64> = c.list.iter().map(|c| u64::from(c.first)).collect();
         offsets.push(c.subs.len() as u64);
         out.set_item("sub_offsets", arrays::vector(py, offsets))?;

@@ -217,3 +217,59 @@ fn a_wedge_with_water_slides_below_its_limit_equilibrium_friction_angle() {
         }
     }
 }
+
+/// The water forces are summed in contact order on one thread: a jointed block mass under a
+/// water table that crosses it moves bit for bit the same with 1 and 3 threads.
+#[test]
+fn water_gives_the_same_motion_for_any_number_of_threads() {
+    // Joint planes n · x = d through a 3 × 3 × 2 m box.
+    const CUTS: [([f64; 3], f64); 4] = [
+        ([1.0, 0.1, 0.0], 1.5),
+        ([0.1, 1.0, 0.2], 1.4),
+        ([0.0, 0.2, 1.0], 0.5),
+        ([0.3, -0.2, 1.0], 1.4),
+    ];
+    let system = BlockSystem::from_domain_cut(
+        ConvexBlock::cuboid([0.0; 3], [3.0, 3.0, 2.0]).unwrap(),
+        &CUTS.map(|c| c.0),
+        &CUTS.map(|c| c.1),
+        &penedge::Tolerance::default(),
+    )
+    .unwrap();
+    let motion = |threads: usize| -> (Vec<u64>, f64, bool) {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut sim = Simulation::new(&system, 2500.0).unwrap();
+            let low: Vec<usize> = (0..system.len())
+                .filter(|&i| system.blocks()[i].centroid().z < 0.5)
+                .collect();
+            low.iter().for_each(|&i| sim.fix(i).unwrap());
+            sim.set_default_joint(joint(15.0)).unwrap();
+            sim.set_water(Water::level(1.2, 9810.0).unwrap());
+            sim.cycle(100).unwrap();
+            let water: f64 = sim
+                .water()
+                .contact_forces(sim.contacts())
+                .iter()
+                .map(|w| w.0)
+                .sum();
+            let poses = sim.bodies().poses().iter().flat_map(|p| {
+                p.translation
+                    .to_array()
+                    .into_iter()
+                    .chain(p.rotation.to_array())
+            });
+            let moved = sim.bodies().velocities().iter().any(|v| *v != DVec3::ZERO);
+            (poses.map(f64::to_bits).collect(), water, moved)
+        })
+    };
+    let (one, water, moved) = motion(1);
+    assert!(
+        water > 0.0 && moved,
+        "no water force ({water}) or nothing moved"
+    );
+    assert_eq!(motion(3).0, one);
+}

@@ -204,6 +204,8 @@ def format_summary(summary: dict[str, Any], system: Any) -> str:
             )
         )
     lines.append(row("partial cuts skipped", partial_cuts(report, summary["sets"])))
+    if report.get("bridged_cuts"):
+        lines.append(row("bridged cuts", f"{report['bridged_cuts']} (cut through, rock bridges)"))
     lines.append(row("slivers", slivers(report["slivers"])))
     if "tiny" in report:
         lines.append(row("tiny blocks", tiny(report["tiny"])))

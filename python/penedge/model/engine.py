@@ -189,12 +189,37 @@ class Engine:
             **surface, pressures={self.set_ids[name]: p for name, p in water.pressures.items()}
         )
 
-    def apply_properties(self, properties: dict[str, JointProperties]) -> None:
-        """Joint properties per set name (the default stays for contacts of no set)."""
+    def apply_properties(self, properties: dict[str, JointProperties], factor: float = 1.0) -> None:
+        """Joint properties per set name (the default stays for contacts of no set), and the
+        rock bridges' of those sets, their strength divided by `factor` (strength reduction)."""
         self.sim.set_joint(**self.joint(self.default), set=None)
         for name, props in properties.items():
             self.properties[name] = props
             self.sim.set_joint(**self.joint(props), set=self.set_ids[name])
+            bridge = self.setup.model.bridges.get(name)
+            if bridge is not None:
+                reduced = bridge if factor == 1.0 else bridge.reduced(factor)
+                self.sim.set_bridge(**self.joint(reduced), set=self.set_ids[name])
+
+    #: The cohesion and tensile strength (Pa) of an elastic solve: no bond fails.
+    UNBREAKABLE = 1e30
+
+    def set_elastic(self, on: bool) -> None:
+        """With `on`, every joint and bridge model gets an unbreakable bond (cohesion and
+        tension :attr:`UNBREAKABLE`; friction and stiffness kept): a ``solve`` stage with
+        ``elastic = true`` reaches the initial equilibrium without the bonds failing under
+        the sudden load of gravity (3DEC's advice: equilibrium with high strength first). Off:
+        the model's properties again."""
+        if not on:
+            self.apply_properties(dict(self.properties))
+            return
+        strong = {"cohesion": self.UNBREAKABLE, "tension": self.UNBREAKABLE}
+        self.sim.set_joint(**{**self.joint(self.default), **strong}, set=None)
+        for name, props in self.properties.items():
+            self.sim.set_joint(**{**self.joint(props), **strong}, set=self.set_ids[name])
+            bridge = self.setup.model.bridges.get(name)
+            if bridge is not None:
+                self.sim.set_bridge(**{**self.joint(bridge), **strong}, set=self.set_ids[name])
 
     def apply_boundary(self, fixed: np.ndarray, velocity: np.ndarray) -> None:
         """Fixes, frees or drives every block as the masks say (excavated blocks stay

@@ -295,7 +295,9 @@ class Runner:
         if stage.kind == "solve":
             assert stage.ratio is not None
             assert stage.max_steps is not None
+            e.set_elastic(stage.elastic)
             converged = self.solve(stage, stage.ratio, stage.max_steps)
+            e.set_elastic(False)
         elif stage.kind in ("cycle", "time"):
             if stage.kind == "cycle":
                 assert stage.steps is not None
@@ -460,7 +462,7 @@ class Runner:
             e = self.snapshot(index)
             if reduce_default:
                 e.default = default.reduced(factor)
-            e.apply_properties({n: p.reduced(factor) for n, p in original.items()})
+            e.apply_properties({n: p.reduced(factor) for n, p in original.items()}, factor)
             before = e.positions()
             try:
                 converged = self.solve(stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e)

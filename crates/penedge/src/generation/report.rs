@@ -18,6 +18,10 @@ pub struct GenerationReport {
     pub partial_cuts_skipped: usize,
     /// The same, per spec entry.
     pub partial_cuts_by_entry: Vec<usize>,
+    /// Finite joints with rock bridges that ended inside a block, which was cut through
+    /// (block-joint pairs; docs/generation.md, "Rock bridges").
+    #[serde(default)]
+    pub bridged_cuts: usize,
     /// Planes of joint sets with a given number that miss the domain, left out.
     pub set_planes_outside: usize,
     /// Cuts redone with exact signs because the pieces did not close with the length
@@ -163,6 +167,7 @@ pub(crate) fn summarise(
         splits: counts.splits,
         partial_cuts_skipped: counts.partial,
         partial_cuts_by_entry: Vec::new(),
+        bridged_cuts: counts.bridged,
         set_planes_outside: plan.outside,
         retried_cuts: counts.retried,
         domain_volume,

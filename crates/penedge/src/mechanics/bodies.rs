@@ -399,3 +399,31 @@ pub(super) fn stiffness_bounds(shape: &Shape) -> [f64; 2] {
     }
     out
 }
+
+impl Bodies {
+    /// One body per body of `system` ([`crate::BlockSystem::body_parts`], by ascending body
+    /// id): a concave block (parts sharing a body id, [`crate::BlockSystem::with_bodies`]) is
+    /// one rigid body of all its parts, with the mass, centroid and inertia of their union
+    /// ([`Shape::from_parts`]); each block of a system without concave blocks is its own
+    /// body, in block order (as [`Bodies::from_blocks`]). Density `density`, at rest.
+    pub fn from_system(
+        system: &crate::BlockSystem,
+        density: f64,
+    ) -> Result<Bodies, MechanicsError> {
+        if !system.has_concave() {
+            return Bodies::from_blocks(system.blocks(), density);
+        }
+        check_density(density)?;
+        let mut bodies = Bodies::default();
+        for (i, (_, parts)) in system.body_parts().into_iter().enumerate() {
+            let blocks: Vec<ConvexBlock> = parts
+                .iter()
+                .map(|&k| system.blocks()[k as usize].clone())
+                .collect();
+            let (shape, pose) =
+                Shape::from_parts(&blocks).map_err(|e| MechanicsError::Body(i, e))?;
+            bodies.push(Arc::new(shape), pose, density);
+        }
+        Ok(bodies)
+    }
+}

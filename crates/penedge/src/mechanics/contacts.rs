@@ -3,6 +3,7 @@
 //! (docs/mechanics.md, steps 2 to 4).
 
 use super::bodies::Bodies;
+use super::bridge::{contact_model, BridgeTable};
 use super::joint::{joint_law, JointTable, SubState};
 use super::stress::InitialStress;
 use crate::block::{ConvexBlock, Pose};
@@ -24,6 +25,8 @@ pub struct BodyContact {
     pub normal: DVec3,
     /// The joint set whose properties apply (`None`: the default).
     pub set: Option<u32>,
+    /// Whether it is over a rock bridge (the bridge properties of `set` apply).
+    pub bridge: bool,
     /// The first of its sub-contacts in [`Contacts::subs`].
     pub first: u32,
     /// How many sub-contacts it has.
@@ -112,6 +115,7 @@ pub(super) struct StepInput<'a> {
     pub part_body: &'a [u32],
     pub placed: &'a [ConvexBlock],
     pub joints: &'a JointTable,
+    pub bridges: &'a BridgeTable,
     pub previous: &'a Contacts,
     pub dt: f64,
     /// Whether new pairs are bonded (the first detection of a run).
@@ -132,10 +136,9 @@ pub(super) fn build_contact(
     let bodies = [input.part_body[pa as usize], input.part_body[pb as usize]];
     let g = &found.geometry;
     let n = g.normal();
-    let set = input
-        .joints
-        .set_of_contact(a, found.contact.feature_a, b, found.contact.feature_b);
-    let model = input.joints.of_set(set);
+    let (fa, fb) = (found.contact.feature_a, found.contact.feature_b);
+    let (set, bridge, model) = contact_model(input.joints, input.bridges, a, fa, b, fb);
+    let model = &model;
     // The smaller body's diameter (twice its radius about the centroid): the same whatever
     // its orientation, unlike a bounding box.
     let diameter = 2.0
@@ -282,6 +285,7 @@ pub(super) fn build_contact(
         kind: found.contact.kind,
         normal: n,
         set,
+        bridge,
         first: 0,
         count: subs.len() as u32,
     };

@@ -21,6 +21,7 @@
 //! ```
 
 mod bodies;
+mod bridge;
 mod contacts;
 mod excavation;
 mod integrate;
@@ -30,6 +31,7 @@ mod stress;
 mod water;
 
 pub use bodies::{Bodies, Fixity};
+pub use bridge::{BridgeTable, BRIDGE_STRENGTH};
 pub use contacts::{BodyContact, Contacts, SubContact};
 pub use excavation::ExcavationReport;
 pub use integrate::{free_rotation, Damping};
@@ -210,6 +212,7 @@ pub struct Simulation {
     placed: Vec<ConvexBlock>,
     joints: JointTable,
     water: Water,
+    bridges: BridgeTable,
     gravity: DVec3,
     damping: Damping,
     tolerance: Tolerance,
@@ -252,12 +255,13 @@ pub struct Simulation {
 }
 
 impl Simulation {
-    /// A simulation of `system`'s blocks, one body each, all of density `density`, free and
-    /// at rest, with the default joint model, gravity `(0, 0, -9.81)`, no damping, a
-    /// detection gap of 1e-3 (relative), point contacts 0.2 of the smaller body's diameter
-    /// wide and the automatic time step.
+    /// A simulation of `system`'s blocks, one body each (a concave block, parts sharing a
+    /// body id, is one rigid body of its parts: [`Bodies::from_system`], bodies by ascending
+    /// body id), all of density `density`, free and at rest, with the default joint model,
+    /// gravity `(0, 0, -9.81)`, no damping, a detection gap of 1e-3 (relative), point
+    /// contacts 0.2 of the smaller body's diameter wide and the automatic time step.
     pub fn new(system: &BlockSystem, density: f64) -> Result<Simulation, MechanicsError> {
-        let bodies = Bodies::from_blocks(system.blocks(), density)?;
+        let bodies = Bodies::from_system(system, density)?;
         Ok(Simulation::from_bodies(bodies))
     }
 
@@ -285,6 +289,7 @@ impl Simulation {
             placed,
             joints: JointTable::default(),
             water: Water::none(),
+            bridges: BridgeTable::default(),
             gravity: DVec3::new(0.0, 0.0, -9.81),
             damping: Damping::default(),
             tolerance: Tolerance::with_gap(1e-3).expect("a valid gap"),
@@ -350,6 +355,29 @@ impl Simulation {
     /// Sets the water in the joints (docs/mechanics.md, "Water pressure in the joints").
     pub fn set_water(&mut self, water: Water) {
         self.water = water;
+    }
+
+    /// The rock-bridge properties (docs/mechanics.md, "Rock bridges").
+    pub fn bridges(&self) -> &BridgeTable {
+        &self.bridges
+    }
+
+    /// Sets the intact rock's properties for the bridges of joint set `set` (contacts over
+    /// faces of origin `Bridge { set, .. }`).
+    pub fn set_bridge(&mut self, set: u32, model: JointModel) -> Result<(), MechanicsError> {
+        self.bridges.set(set, model)
+    }
+
+    /// Sets the default bridge model (bridges of sets without their own).
+    pub fn set_default_bridge(&mut self, model: JointModel) -> Result<(), MechanicsError> {
+        self.bridges.set_default(model)
+    }
+
+    /// The largest contact stiffness any model can give (joints and bridges).
+    fn max_stiffness(&self) -> f64 {
+        self.joints
+            .max_stiffness()
+            .max(self.bridges.max_stiffness())
     }
 
     /// Gravity (acceleration vector).
@@ -600,7 +628,7 @@ impl Simulation {
     /// longer set the time step. The equilibrium is the same; the motion towards it is not
     /// physical. Off: true inertia. Velocities and spins are kept.
     pub fn set_mass_scaling(&mut self, on: bool) -> Result<(), MechanicsError> {
-        let k = self.joints.max_stiffness();
+        let k = self.max_stiffness();
         let free: Vec<usize> = (0..self.bodies.len())
             .filter(|&i| self.bodies.is_free(i))
             .collect();
@@ -628,7 +656,7 @@ impl Simulation {
 
     /// The critical time step (docs/mechanics.md): the smallest bound of the free bodies.
     pub fn critical_timestep(&self) -> Result<f64, MechanicsError> {
-        let k = self.joints.max_stiffness();
+        let k = self.max_stiffness();
         self.bodies
             .critical_timestep(k)
             .ok_or(MechanicsError::NoFreeBody)
@@ -917,6 +945,7 @@ impl Simulation {
             part_body: &self.part_body,
             placed: &self.placed,
             joints: &self.joints,
+            bridges: &self.bridges,
             previous: &self.contacts,
             dt,
             initial: self.initial,

@@ -85,6 +85,9 @@ struct SettingsFile {
     timestep: Option<f64>,
     safety: f64,
     joints: JointsFile,
+    /// The intact rock's properties over rock bridges: `default` (`null`: none set) and
+    /// per set.
+    bridges: BridgesFile,
     /// The stress the first step installs (`null`: none).
     initial_stress: Option<StressFile>,
     /// Every candidate pair queried at every step (a switch for comparisons).
@@ -112,6 +115,13 @@ struct DampingFile {
 #[serde(deny_unknown_fields)]
 struct JointsFile {
     default: JointFile,
+    sets: Vec<SetJointFile>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BridgesFile {
+    default: Option<JointFile>,
     sets: Vec<SetJointFile>,
 }
 
@@ -212,6 +222,8 @@ struct ContactFile {
     kind: KindFile,
     normal: V3,
     set: Option<u32>,
+    /// Over a rock bridge (the bridge properties of `set` apply).
+    bridge: bool,
     subs: Vec<SubFile>,
 }
 
@@ -398,6 +410,7 @@ fn file_of(sim: &Simulation) -> StateFile {
         part_index: _,
         placed: _,
         joints,
+        bridges,
         // Not in the file yet: `save_state` refuses a simulation with water or bolts.
         water: _,
         bolts: _,
@@ -446,6 +459,16 @@ fn file_of(sim: &Simulation) -> StateFile {
             timestep: *dt,
             safety: *safety,
             joints: joints_file(joints),
+            bridges: BridgesFile {
+                default: bridges.default_model().map(joint_file),
+                sets: bridges
+                    .sets()
+                    .map(|(set, m)| SetJointFile {
+                        set,
+                        model: joint_file(m),
+                    })
+                    .collect(),
+            },
             full_detection: *full_detection,
             applied_moments: applied_moments
                 .iter()
@@ -647,6 +670,7 @@ fn contacts_file(contacts: &Contacts) -> Vec<ContactFile> {
                 kind,
                 normal,
                 set,
+                bridge,
                 // Derived from the order of the sub-contacts.
                 first: _,
                 count: _,
@@ -657,6 +681,7 @@ fn contacts_file(contacts: &Contacts) -> Vec<ContactFile> {
                 kind: kind_file(*kind),
                 normal: normal.to_array(),
                 set: *set,
+                bridge: *bridge,
                 subs: contacts
                     .subs_of(i)
                     .iter()
@@ -923,6 +948,7 @@ fn contacts_of(files: &[ContactFile], part_body: &[u32]) -> Result<Contacts, IoE
             kind: kind_of(f.kind),
             normal,
             set: f.set,
+            bridge: f.bridge,
             first,
             count: f.subs.len() as u32,
         });
@@ -1084,6 +1110,18 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             return Err(bad("clock.ratio", "must be a finite number >= 0 or null"));
         }
     }
+    let mut bridge_table = super::bridge::BridgeTable::default();
+    if let Some(d) = &s.bridges.default {
+        bridge_table
+            .set_default(joint_of("settings.bridges.default", d)?)
+            .map_err(mechanics("settings.bridges.default"))?;
+    }
+    for (k, b) in s.bridges.sets.iter().enumerate() {
+        let field = format!("settings.bridges.sets[{k}]");
+        bridge_table
+            .set(b.set, joint_of(&field, &b.model)?)
+            .map_err(mechanics(field))?;
+    }
     let mut moments_applied = std::collections::BTreeMap::new();
     for (k, &(b, m)) in s.applied_moments.iter().enumerate() {
         let field = format!("settings.applied_moments[{k}]");
@@ -1117,6 +1155,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             part_index: _,
             placed: _,
             joints: j,
+            bridges: br,
             water: _,
             bolts: _,
             pairs: _,
@@ -1147,6 +1186,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             initial_stress: stress,
         } = &mut sim;
         *j = joints;
+        *br = bridge_table;
         *g = gravity;
         *t = tolerance;
         *skin = s.skin;

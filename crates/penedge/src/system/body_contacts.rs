@@ -24,6 +24,7 @@ use super::detect::{narrow_phase, Cancelled, DetectProgress, PairContact};
 use super::BlockSystem;
 use crate::block::ConvexBlock;
 use crate::classify::{contact_type, Contact, ContactType, Feature, PairResult};
+use crate::contact::Detector;
 use crate::contact_geometry::ContactPoints;
 use crate::geometry::DVec3;
 use crate::tolerance::Tolerance;
@@ -77,7 +78,7 @@ pub struct BodyContacts {
 
 impl BodyContacts {
     /// No contact.
-    fn empty() -> Self {
+    pub(super) fn empty() -> Self {
         BodyContacts {
             piece_offsets: vec![0],
             piece_point_offsets: vec![0],
@@ -98,6 +99,59 @@ impl BodyContacts {
             .extend(moved(&other.piece_point_offsets, points));
     }
 
+    /// Appends regions `range` of `other` (their pieces and points).
+    fn append_regions(&mut self, other: &BodyContacts, range: std::ops::Range<usize>) {
+        if range.is_empty() {
+            return;
+        }
+        let pieces =
+            other.piece_offsets[range.start] as usize..other.piece_offsets[range.end] as usize;
+        let points = other.piece_point_offsets[pieces.start] as usize
+            ..other.piece_point_offsets[pieces.end] as usize;
+        let (piece_shift, point_shift) = (
+            self.pieces.len() as u64 - pieces.start as u64,
+            self.piece_points.len() as u64 - points.start as u64,
+        );
+        self.contacts
+            .extend_from_slice(&other.contacts[range.clone()]);
+        self.piece_offsets.extend(
+            other.piece_offsets[range.start + 1..=range.end]
+                .iter()
+                .map(|x| x + piece_shift),
+        );
+        self.piece_point_offsets.extend(
+            other.piece_point_offsets[pieces.start + 1..=pieces.end]
+                .iter()
+                .map(|x| x + point_shift),
+        );
+        self.pieces.extend_from_slice(&other.pieces[pieces]);
+        self.piece_points
+            .extend_from_slice(&other.piece_points[points]);
+    }
+
+    /// These contacts with those of some pairs of bodies replaced: `replaced` holds those
+    /// pairs, sorted and distinct, each with its new regions and, if it penetrates, itself in
+    /// `penetrating`. A step of [`super::ContactTracker`] that changes few pairs of bodies
+    /// builds its regions this way, copying the others' stretches whole.
+    pub(super) fn with_pairs_replaced(&self, replaced: &[([u32; 2], BodyContacts)]) -> Self {
+        debug_assert!(replaced.windows(2).all(|w| w[0].0 < w[1].0));
+        let mut out = BodyContacts::empty();
+        let (mut at, mut pen) = (0, 0);
+        for (bodies, fresh) in replaced {
+            let before = at + self.contacts[at..].partition_point(|c| c.bodies < *bodies);
+            out.append_regions(self, at..before);
+            at = before + self.contacts[before..].partition_point(|c| c.bodies == *bodies);
+            out.append(fresh.clone());
+            let p = pen + self.penetrating[pen..].partition_point(|b| b < bodies);
+            out.penetrating.extend_from_slice(&self.penetrating[pen..p]);
+            pen = p + usize::from(self.penetrating.get(p) == Some(bodies));
+            out.penetrating.extend_from_slice(&fresh.penetrating);
+        }
+        out.append_regions(self, at..self.contacts.len());
+        out.penetrating.extend_from_slice(&self.penetrating[pen..]);
+        out
+    }
+
     /// The pieces of region `i`.
     pub fn pieces_of(&self, i: usize) -> &[PairContact] {
         &self.pieces[self.piece_offsets[i] as usize..self.piece_offsets[i + 1] as usize]
@@ -110,11 +164,61 @@ impl BodyContacts {
     }
 }
 
+/// Per block, its glued faces and its faces covered by glue, as bit masks (faces 0 to 63; a
+/// face beyond is looked up in the glue's sorted lists): the regions ask for them for every
+/// part face they look at, where the binary searches of the lists took a fifth of
+/// `detect_bodies` on the tunnel benchmark (docs/benchmarks.md).
+#[derive(Clone, Debug, Default)]
+pub(super) struct FaceMarks {
+    glued: Vec<u64>,
+    covered: Vec<u64>,
+}
+
+impl FaceMarks {
+    /// The marks of `system`'s glue (empty without concave blocks).
+    pub(super) fn of(system: &BlockSystem) -> FaceMarks {
+        let Some(glue) = &system.glue else {
+            return FaceMarks::default();
+        };
+        let mark = |list: &[(u32, u32)]| {
+            let mut masks = vec![0u64; system.len()];
+            for &(block, face) in list.iter().filter(|(_, f)| *f < 64) {
+                masks[block as usize] |= 1 << face;
+            }
+            masks
+        };
+        FaceMarks {
+            glued: mark(&glue.glued),
+            covered: mark(&glue.covered),
+        }
+    }
+
+    /// Whether face `f` of `block` has glue on it ([`BlockSystem::is_glued_face`]).
+    fn glued(&self, system: &BlockSystem, block: u32, f: u32) -> bool {
+        match self.glued.get(block as usize) {
+            Some(mask) if f < 64 => mask >> f & 1 != 0,
+            Some(_) => system.is_glued_face(block, f),
+            None => false,
+        }
+    }
+
+    /// Whether face `f` of `block` is covered by glue ([`BlockSystem::is_internal_face`]).
+    fn covered(&self, system: &BlockSystem, block: u32, f: u32) -> bool {
+        match self.covered.get(block as usize) {
+            Some(mask) if f < 64 => mask >> f & 1 != 0,
+            Some(_) => system.is_internal_face(block, f),
+            None => false,
+        }
+    }
+}
+
 /// A part contact, oriented from the first body to the second.
-#[derive(Clone, Debug)]
-struct Piece {
-    bodies: [u32; 2],
-    parts: [u32; 2],
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Piece {
+    /// The bodies, smaller first.
+    pub(super) bodies: [u32; 2],
+    /// The parts, of `bodies[0]` first.
+    pub(super) parts: [u32; 2],
     contact: Contact,
     normal: DVec3,
     distance: f64,
@@ -180,30 +284,14 @@ impl BlockSystem {
             &pairs,
             tol,
             progress,
-            |det, pair, a, b| {
-                let (result, geometry) = det.detect_with_geometry(a, b);
-                match (result, geometry) {
-                    (PairResult::Contact(contact), Some(g)) => {
-                        let length = det.thresholds(a, b).length;
-                        let piece = Piece {
-                            bodies: pair.map(|k| self.body_of(k)),
-                            parts: pair,
-                            contact,
-                            normal: g.normal(),
-                            distance: g.distance(),
-                            area: g.area(),
-                            points: g.into_shape(),
-                            length,
-                        };
-                        Outcome::Contact(Box::new(piece.oriented()))
-                    }
-                    (PairResult::Penetrating, _) => {
-                        let mut bodies = pair.map(|k| self.body_of(k));
-                        bodies.sort_unstable();
-                        Outcome::Penetrating(bodies)
-                    }
-                    _ => Outcome::Separated,
+            |det, pair, a, b| match self.query_parts(det, pair, a, b) {
+                (_, Some(piece)) => Outcome::Contact(piece),
+                (PairResult::Penetrating, None) => {
+                    let mut bodies = pair.map(|k| self.body_of(k));
+                    bodies.sort_unstable();
+                    Outcome::Penetrating(bodies)
                 }
+                _ => Outcome::Separated,
             },
             |_, outcomes| {
                 for outcome in outcomes {
@@ -217,18 +305,56 @@ impl BlockSystem {
         )?;
         penetrating.sort_unstable();
         penetrating.dedup();
-        let order = if self.has_concave() {
+        let ordered: Vec<&Piece> = if self.has_concave() {
             sorted(&pieces)
+                .into_iter()
+                .map(|k| &pieces[k as usize])
+                .collect()
         } else {
-            (0..pieces.len() as u32).collect()
+            pieces.iter().collect()
         };
-        Ok(self.regions(&pieces, &order, penetrating))
+        Ok(self.regions(&ordered, penetrating, &FaceMarks::of(self)))
     }
 
-    /// The regions of the pieces taken in `order` (by bodies, then parts): stretches of whole
-    /// pairs of bodies in parallel, then joined in order.
-    fn regions(&self, pieces: &[Piece], order: &[u32], penetrating: Vec<[u32; 2]>) -> BodyContacts {
-        let bodies_at = |k: usize| pieces[order[k] as usize].bodies;
+    /// The part query of blocks `pair` (`a`, `b`), as [`BlockSystem::detect_bodies`] asks it:
+    /// the answer and, for a contact, its piece (oriented from the first body to the second).
+    pub(super) fn query_parts(
+        &self,
+        det: &mut Detector,
+        pair: [u32; 2],
+        a: &ConvexBlock,
+        b: &ConvexBlock,
+    ) -> (PairResult, Option<Box<Piece>>) {
+        let (result, geometry) = det.detect_with_geometry(a, b);
+        let piece = match (&result, geometry) {
+            (PairResult::Contact(contact), Some(g)) => Some(Box::new(
+                Piece {
+                    bodies: pair.map(|k| self.body_of(k)),
+                    parts: pair,
+                    contact: *contact,
+                    normal: g.normal(),
+                    distance: g.distance(),
+                    area: g.area(),
+                    length: det.thresholds(a, b).length,
+                    points: g.into_shape(),
+                }
+                .oriented(),
+            )),
+            _ => None,
+        };
+        (result, piece)
+    }
+
+    /// The regions of the pieces, given in order (by bodies, then parts), less the pairs of
+    /// bodies in `penetrating` (sorted): stretches of whole pairs of bodies in parallel, then
+    /// joined in order.
+    pub(super) fn regions(
+        &self,
+        pieces: &[&Piece],
+        penetrating: Vec<[u32; 2]>,
+        marks: &FaceMarks,
+    ) -> BodyContacts {
+        let bodies_at = |k: usize| pieces[k].bodies;
         const STRETCH: usize = 1 << 12;
         let mut bounds = vec![0];
         while *bounds.last().expect("not empty") < pieces.len() {
@@ -250,11 +376,11 @@ impl BlockSystem {
                     group.clear();
                     let mut end = start;
                     while end < w[1] && bodies_at(end) == bodies {
-                        group.push(&pieces[order[end] as usize]);
+                        group.push(pieces[end]);
                         end += 1;
                     }
                     if penetrating.binary_search(&bodies).is_err() {
-                        self.add_pair(&group, &mut out);
+                        self.add_pair(&group, &mut out, marks);
                     }
                     start = end;
                 }
@@ -269,10 +395,10 @@ impl BlockSystem {
         out
     }
 
-    /// Adds the regions of one pair of bodies.
-    fn add_pair(&self, pieces: &[&Piece], out: &mut BodyContacts) {
+    /// Adds the regions of one pair of bodies (its pieces in order).
+    pub(super) fn add_pair(&self, pieces: &[&Piece], out: &mut BodyContacts, marks: &FaceMarks) {
         if let [p] = pieces {
-            if !self.touches_glue(p) {
+            if !self.touches_glue(p, marks) {
                 // The common case (convex blocks): the piece is the region.
                 let area = if p.contact.kind == ContactType::FaceFace {
                     p.area
@@ -285,8 +411,8 @@ impl BlockSystem {
         for (region, members) in group(pieces).iter().enumerate() {
             let members: Vec<&Piece> = members.iter().map(|&k| pieces[k]).collect();
             let (kind, face_normal) = match members[..] {
-                [p] if !self.touches_glue(p) => (p.contact.kind, Some(p.normal)),
-                _ => self.region_type(&members),
+                [p] if !self.touches_glue(p, marks) => (p.contact.kind, Some(p.normal)),
+                _ => self.region_type(&members, marks),
             };
             let faced: Vec<&&Piece> = members.iter().filter(|p| bears_face(p)).collect();
             let largest = faced.iter().max_by(|p, q| p.area.total_cmp(&q.area));
@@ -310,14 +436,14 @@ impl BlockSystem {
 
     /// Whether a feature of the piece is a face with glue on it, or an edge or vertex of
     /// such a face: the part's feature may then not be the body's.
-    fn touches_glue(&self, piece: &Piece) -> bool {
+    fn touches_glue(&self, piece: &Piece, marks: &FaceMarks) -> bool {
         let features = [piece.contact.feature_a, piece.contact.feature_b];
         piece.parts.iter().zip(features).any(|(&part, feature)| {
             if !self.is_part_of_concave(part) {
                 return false;
             }
             let block = &self.blocks()[part as usize];
-            let glued = |f: u32| self.is_glued_face(part, f);
+            let glued = |f: u32| marks.glued(self, part, f);
             match feature {
                 Feature::Face(_) => false,
                 Feature::Edge(e) => block.edges()[e as usize].faces.into_iter().any(glued),
@@ -335,7 +461,7 @@ impl BlockSystem {
     /// The type of a region from the real features of both bodies (module docs, step 3),
     /// and its normal when a body holds it with a face: that face's (from the first body to
     /// the second), or `normalize(n0 - n1)` for two faces.
-    fn region_type(&self, members: &[&Piece]) -> (ContactType, Option<DVec3>) {
+    fn region_type(&self, members: &[&Piece], marks: &FaceMarks) -> (ContactType, Option<DVec3>) {
         let points: Vec<DVec3> = members
             .iter()
             .flat_map(|p| p.points.as_slice().iter().copied())
@@ -345,7 +471,7 @@ impl BlockSystem {
             let mut parts: Vec<u32> = members.iter().map(|p| p.parts[side]).collect();
             parts.sort_unstable();
             parts.dedup();
-            self.holding_planes(&parts, &points, length)
+            self.holding_planes(&parts, &points, length, marks)
         });
         let feature = |n: &[DVec3]| match n.len() {
             1 => Feature::Face(0),
@@ -368,14 +494,21 @@ impl BlockSystem {
 
     /// The normals of the distinct planes of the non-internal faces of `parts` that hold
     /// every point: each point within `length` of the plane and of one of its faces.
-    fn holding_planes(&self, parts: &[u32], points: &[DVec3], length: f64) -> Vec<DVec3> {
+    fn holding_planes(
+        &self,
+        parts: &[u32],
+        points: &[DVec3],
+        length: f64,
+        marks: &FaceMarks,
+    ) -> Vec<DVec3> {
         let mut planes: Vec<crate::geometry::Plane> = Vec::new();
         let mut holds: Vec<Vec<bool>> = Vec::new();
         for &part in parts {
             let block = &self.blocks()[part as usize];
             for (f, plane) in block.planes().iter().enumerate() {
-                if self.is_internal_face(part, f as u32)
-                    || points.iter().any(|&x| plane.distance(x).abs() > length)
+                // The distances first: most faces fail them at the first point.
+                if points.iter().any(|&x| plane.distance(x).abs() > length)
+                    || marks.covered(self, part, f as u32)
                 {
                     continue;
                 }
@@ -581,14 +714,25 @@ fn segment_distance(p: DVec3, q: DVec3, x: DVec3) -> f64 {
 
 /// Whether `x` lies within `length` of face `f` of `block`, in the face's plane: inside
 /// every edge of the face widened by `length`.
+///
+/// With `c = n × (q - p)` (inward, of length |pq|), the test `c/|c| · (x - p) ≥ -length` is
+/// taken as `d ≥ 0 or d² ≤ length² |c|²` (`d = c · (x - p)`): no square root or division,
+/// which this loop, run for every point of a region on every face that holds them, spent
+/// most of its time on.
 fn in_face(block: &ConvexBlock, f: usize, x: DVec3, length: f64) -> bool {
     let face = block.face(f);
     let v = block.vertices();
     let n = block.planes()[f].normal;
-    (0..face.len()).all(|k| {
-        let (p, q) = (v[face[k] as usize], v[face[(k + 1) % face.len()] as usize]);
-        let inward = n.cross(q - p).normalize_or_zero();
-        inward.dot(x - p) >= -length
+    let Some(&last) = face.last() else {
+        return false;
+    };
+    let mut p = v[last as usize];
+    face.iter().all(|&k| {
+        let q = v[k as usize];
+        let c = n.cross(q - p);
+        let d = c.dot(x - p);
+        p = q;
+        d >= 0.0 || d * d <= length * length * c.length_squared()
     })
 }
 
