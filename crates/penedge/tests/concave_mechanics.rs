@@ -94,6 +94,7 @@ fn joint(kn: f64) -> JointModel {
         friction: 30.0,
         cohesion: 0.0,
         tension: 0.0,
+        ..JointModel::default()
     }
 }
 

@@ -27,6 +27,16 @@ pub struct BridgeTable {
 }
 
 impl BridgeTable {
+    /// The default bridge model, if one was set.
+    pub fn default_model(&self) -> Option<&JointModel> {
+        self.default.as_ref()
+    }
+
+    /// The sets with their own bridge model, in increasing set order.
+    pub fn sets(&self) -> impl Iterator<Item = (u32, &JointModel)> + '_ {
+        self.sets.iter().map(|(&s, m)| (s, m))
+    }
+
     /// Sets the default bridge model (bridges of sets without their own).
     pub fn set_default(&mut self, model: JointModel) -> Result<(), MechanicsError> {
         self.default = Some(model.validated()?);
@@ -37,16 +47,6 @@ impl BridgeTable {
     pub fn set(&mut self, set: u32, model: JointModel) -> Result<(), MechanicsError> {
         self.sets.insert(set, model.validated()?);
         Ok(())
-    }
-
-    /// The default bridge model set (`None`: the built-in one).
-    pub fn default_model(&self) -> Option<&JointModel> {
-        self.default.as_ref()
-    }
-
-    /// The bridge models set per joint set, by increasing set.
-    pub fn sets(&self) -> impl Iterator<Item = (u32, &JointModel)> + '_ {
-        self.sets.iter().map(|(&s, m)| (s, m))
     }
 
     /// The bridge model of set `set`: its own, else the default set, else the set's joint

@@ -16,7 +16,7 @@
 
 use super::excavation::{Excavation, Relaxation};
 use super::{Bodies, BodyContact, Contacts, Damping, Fixity, JointModel, Simulation, SubContact};
-use super::{BridgeTable, InitialStress, JointTable, SubState};
+use super::{InitialStress, JointTable, SubState};
 use crate::block::{ConvexBlock, Edge, FaceOrigin, Pose};
 use crate::body::Shape;
 use crate::classify::ContactType;
@@ -85,7 +85,8 @@ struct SettingsFile {
     timestep: Option<f64>,
     safety: f64,
     joints: JointsFile,
-    /// The rock bridges' models (`default`: `null` for the built-in one).
+    /// The intact rock's properties over rock bridges: `default` (`null`: none set) and
+    /// per set.
     bridges: BridgesFile,
     /// The stress the first step installs (`null`: none).
     initial_stress: Option<StressFile>,
@@ -221,7 +222,7 @@ struct ContactFile {
     kind: KindFile,
     normal: V3,
     set: Option<u32>,
-    /// Over a rock bridge (the set's bridge model applies).
+    /// Over a rock bridge (the bridge properties of `set` apply).
     bridge: bool,
     subs: Vec<SubFile>,
 }
@@ -1091,18 +1092,6 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             .set(j.set, joint_of(&field, &j.model)?)
             .map_err(mechanics(field))?;
     }
-    let mut bridges = BridgeTable::default();
-    if let Some(d) = &s.bridges.default {
-        bridges
-            .set_default(joint_of("settings.bridges.default", d)?)
-            .map_err(mechanics("settings.bridges.default"))?;
-    }
-    for (k, j) in s.bridges.sets.iter().enumerate() {
-        let field = format!("settings.bridges.sets[{k}]");
-        bridges
-            .set(j.set, joint_of(&field, &j.model)?)
-            .map_err(mechanics(field))?;
-    }
     if !(s.skin.is_finite() && s.skin > 0.0) {
         return Err(bad("settings.skin", "must be a finite number > 0"));
     }
@@ -1120,6 +1109,18 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
         if !(r.is_finite() && r >= 0.0) {
             return Err(bad("clock.ratio", "must be a finite number >= 0 or null"));
         }
+    }
+    let mut bridge_table = super::bridge::BridgeTable::default();
+    if let Some(d) = &s.bridges.default {
+        bridge_table
+            .set_default(joint_of("settings.bridges.default", d)?)
+            .map_err(mechanics("settings.bridges.default"))?;
+    }
+    for (k, b) in s.bridges.sets.iter().enumerate() {
+        let field = format!("settings.bridges.sets[{k}]");
+        bridge_table
+            .set(b.set, joint_of(&field, &b.model)?)
+            .map_err(mechanics(field))?;
     }
     let mut moments_applied = std::collections::BTreeMap::new();
     for (k, &(b, m)) in s.applied_moments.iter().enumerate() {
@@ -1185,7 +1186,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             initial_stress: stress,
         } = &mut sim;
         *j = joints;
-        *br = bridges;
+        *br = bridge_table;
         *g = gravity;
         *t = tolerance;
         *skin = s.skin;
