@@ -57,12 +57,16 @@ class InclineEngine:
     def excess(self):
         return math.sin(SLOPE) - math.cos(SLOPE) * self.tan_phi
 
-    def apply_properties(self, properties):
+    def apply_properties(self, properties, factor=1.0):
+        # The incline has no rock bridges for `factor` to reduce (Engine.apply_properties).
         self.properties.update(properties)
         self.ratio = max(self.ratio, 0.1)  # a change unbalances the model a little
 
     def apply_boundary(self, fixed, velocity):
         self.fixed = fixed.copy()
+
+    def set_elastic(self, on):
+        """Elastic solves (Engine.set_elastic): the incline has no strength to lift."""
 
     def copy(self):
         return copy.deepcopy(self)
