@@ -78,9 +78,17 @@ def test_simulation_bridge_properties():
         "friction": 45.0,
         "cohesion": 10e6,
         "tension": 5e6,
+        # after failure: friction kept, cohesion lost (the joint law's defaults)
+        "residual_friction": 45.0,
+        "residual_cohesion": 0.0,
     }
     sim.set_bridge(kn=2e9, ks=2e8, friction=50.0, cohesion=1e6, tension=5e5, set=0)
     assert sim.bridge(0)["cohesion"] == 1e6
+    assert sim.bridge(0)["residual_friction"] == 50.0
+    sim.set_bridge(
+        kn=2e9, ks=2e8, friction=50.0, cohesion=1e6, tension=5e5, set=0, residual_friction=35.0
+    )
+    assert sim.bridge(0)["residual_friction"] == 35.0
     with pytest.raises(penedge.MechanicsError, match="friction"):
         sim.set_bridge(kn=2e9, ks=2e8, friction=95.0, cohesion=1e6, tension=5e5)
     sim.fix(np.flatnonzero(Blocks.of(system).centroids[:, 2] < 5).tolist())
