@@ -218,6 +218,9 @@ class _StepTimings(TypedDict):
     total: float
     steps: int
     rebuilds: int
+    queried: int
+    unmoved: int
+    certified: int
 
 class _JointProperties(TypedDict):
     kn: float

@@ -346,8 +346,11 @@ impl Simulation {
     /// Cumulative wall time (seconds) of each part of the step since the simulation was made:
     /// ``pairs`` (candidate pairs, broad phase when rebuilt), ``detect`` (pair queries),
     /// ``contacts`` (sub-contacts and joint law), ``forces`` (sums per body), ``integration``,
-    /// ``placement`` (placing the moved blocks), ``total``; and the counts ``steps`` and
-    /// ``rebuilds`` (broad phases built). One clock reading per part and step.
+    /// ``placement`` (placing the moved blocks), ``total``; and the counts ``steps``,
+    /// ``rebuilds`` (broad phases built) and, summed over the steps, the candidate pairs
+    /// ``queried``, kept ``unmoved`` (neither body moved since their query) and kept
+    /// ``certified`` separated (``docs/mechanics.md``, "Contact updates in the step"). One
+    /// clock reading per part and step.
     ///
     /// Examples
     /// --------
@@ -374,8 +377,15 @@ impl Simulation {
         ] {
             out.set_item(key, value)?;
         }
-        out.set_item("steps", t.steps)?;
-        out.set_item("rebuilds", t.rebuilds)?;
+        for (key, value) in [
+            ("steps", t.steps),
+            ("rebuilds", t.rebuilds),
+            ("queried", t.queried),
+            ("unmoved", t.unmoved),
+            ("certified", t.certified),
+        ] {
+            out.set_item(key, value)?;
+        }
         Ok(out)
     }
 

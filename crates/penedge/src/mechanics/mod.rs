@@ -673,12 +673,15 @@ impl Simulation {
         }
     }
 
-    /// Places the parts of every body that moves (in parallel; each part is its own).
+    /// Places the parts of every body whose pose changed in this step's integration (in
+    /// parallel; each part is its own). A part at an unchanged pose would be placed to the
+    /// same bits.
     fn place_moving(&mut self) {
         let (bodies, part_body, part_index) = (&self.bodies, &self.part_body, &self.part_index);
+        let (moved_at, next) = (&self.moved_at, self.steps + 1);
         self.placed.par_iter_mut().enumerate().for_each(|(k, p)| {
             let b = part_body[k] as usize;
-            if bodies.fixity[b] != Fixity::Fixed {
+            if moved_at[b] == next {
                 let part = &bodies.shape(b).parts()[part_index[k] as usize];
                 p.place_from(part, &bodies.pose[b]);
             }
