@@ -31,7 +31,7 @@ pub struct BodyContact {
 
 /// A sub-contact: one point of a contact with its share of the area and its own forces and
 /// history.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SubContact {
     /// Where it is (world).
     pub point: DVec3,
@@ -108,8 +108,35 @@ pub(super) struct StepInput<'a> {
     pub point_width: f64,
 }
 
-/// The contact and its sub-contacts with their forces for this step.
-pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, Vec<SubContact>) {
+/// Buffers of [`build_contact`], one per thread, so that a contact allocates nothing once
+/// they have grown.
+#[derive(Default)]
+pub(super) struct Scratch {
+    areas: Vec<f64>,
+    floors: Vec<f64>,
+    gaps: Vec<f64>,
+    points: Vec<DVec3>,
+}
+
+/// How many sub-contacts the contact of `found` has: one per contact point.
+pub(super) fn sub_count(found: &Found) -> usize {
+    found.geometry.points().len()
+}
+
+/// The contact, its sub-contacts with their forces for this step written to `subs` (of
+/// length [`sub_count`]).
+pub(super) fn build_contact(
+    input: &StepInput,
+    found: &Found,
+    scratch: &mut Scratch,
+    subs: &mut [SubContact],
+) -> BodyContact {
+    let Scratch {
+        areas,
+        floors,
+        gaps,
+        points,
+    } = scratch;
     let [pa, pb] = found.parts;
     let (a, b) = (&input.placed[pa as usize], &input.placed[pb as usize]);
     let bodies = [input.part_body[pa as usize], input.part_body[pb as usize]];
@@ -132,22 +159,20 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
     // far from the origin): a bond at zero gap is not broken by it.
     let magnitude = a.magnitude().max(b.magnitude());
     let slack = (1e-9 * diameter).max(crate::tolerance::ROUNDING_FLOOR * magnitude);
-    let areas = area_shares(g.shape(), n, width);
+    area_shares(g.shape(), n, width, areas, floors);
     let pose_a = input.bodies.pose[bodies[0] as usize];
     let previous = input.previous.find(found.parts);
-    let mut gaps: Vec<f64> = match g.shape() {
-        ContactPoints::Point(_) => vec![g.distance()],
-        _ => g
-            .points()
-            .iter()
-            .map(|&p| {
-                let sa = feature_height(a, found.contact.feature_a, p, n);
-                let sb = feature_height(b, found.contact.feature_b, p, n);
-                sb - sa
-            })
-            .collect(),
+    gaps.clear();
+    match g.shape() {
+        ContactPoints::Point(_) => gaps.push(g.distance()),
+        _ => gaps.extend(g.points().iter().map(|&p| {
+            let sa = feature_height(a, found.contact.feature_a, p, n);
+            let sb = feature_height(b, found.contact.feature_b, p, n);
+            sb - sa
+        })),
     };
-    let mut points = g.points().to_vec();
+    points.clear();
+    points.extend_from_slice(g.points());
     if let (ContactType::FaceFace, 2, Feature::Face(fa), Feature::Face(fb)) = (
         found.contact.kind,
         gaps.len(),
@@ -186,8 +211,8 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
     // bodies' mean spin over the step (3DEC's rule).
     let twist = glam::DQuat::from_axis_angle(n, mean_spin.dot(n) * input.dt);
     let point_velocity = |(v, w, c): (DVec3, DVec3, DVec3), p: DVec3| v + w.cross(p - c);
-    let mut subs = Vec::with_capacity(points.len());
-    for ((&p, &area), &gap) in points.iter().zip(&areas).zip(&gaps) {
+    debug_assert_eq!(subs.len(), points.len());
+    for (((&p, &area), &gap), sub) in points.iter().zip(&*areas).zip(&*gaps).zip(subs.iter_mut()) {
         let local = to_body(&pose_a, p);
         // History: the nearest sub-contact of the same pair at the last step; its shear
         // stress carries over (the area shares change as the polygon does).
@@ -220,7 +245,7 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         slip += du_s;
         shear -= du_s * (model.ks * area);
         let out = joint_law(model, area, gap, shear, bonded, slack);
-        subs.push(SubContact {
+        *sub = SubContact {
             point: p,
             local: local.as_vec3(),
             area,
@@ -230,7 +255,7 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
             shear_displacement: slip,
             state: out.state,
             bonded: out.bonded,
-        });
+        };
     }
     let contact = BodyContact {
         parts: found.parts,
@@ -241,7 +266,7 @@ pub(super) fn build_contact(input: &StepInput, found: &Found) -> (BodyContact, V
         first: 0,
         count: subs.len() as u32,
     };
-    (contact, subs)
+    contact
 }
 
 /// A point in the body frame of the pose.
@@ -267,15 +292,24 @@ fn onto_plane(v: DVec3, n: DVec3) -> DVec3 {
 /// edges); a segment's ends `w l / 4` each; a point `w² / 2`. A polygon narrowing to a
 /// segment (a block rocking onto an edge) thus keeps the stiffness of its corners on that
 /// edge, and a segment shrinking to a point tends to the point's.
-fn area_shares(shape: &ContactPoints, n: DVec3, width: f64) -> Vec<f64> {
+/// The shares are written to `shares`; `floors` is a buffer.
+fn area_shares(
+    shape: &ContactPoints,
+    n: DVec3,
+    width: f64,
+    shares: &mut Vec<f64>,
+    floors: &mut Vec<f64>,
+) {
+    shares.clear();
     match shape {
-        ContactPoints::Point(_) => vec![0.5 * width * width],
-        ContactPoints::Segment([p, q]) => vec![0.25 * width * p.distance(*q); 2],
+        ContactPoints::Point(_) => shares.push(0.5 * width * width),
+        ContactPoints::Segment([p, q]) => shares.extend([0.25 * width * p.distance(*q); 2]),
         ContactPoints::Polygon(poly) => {
             let v = poly.vertices();
             let c = v.iter().copied().sum::<DVec3>() / v.len() as f64;
-            let mut shares = vec![0.0; v.len()];
-            let mut floors = vec![0.0; v.len()];
+            shares.resize(v.len(), 0.0);
+            floors.clear();
+            floors.resize(v.len(), 0.0);
             for i in 0..v.len() {
                 let j = (i + 1) % v.len();
                 let half = 0.25 * (v[i] - c).cross(v[j] - c).dot(n).abs();
@@ -285,10 +319,9 @@ fn area_shares(shape: &ContactPoints, n: DVec3, width: f64) -> Vec<f64> {
                 floors[i] = f64::max(floors[i], edge);
                 floors[j] = f64::max(floors[j], edge);
             }
-            for (s, f) in shares.iter_mut().zip(floors) {
+            for (s, &f) in shares.iter_mut().zip(&*floors) {
                 *s = s.max(f);
             }
-            shares
         }
     }
 }
@@ -355,15 +388,18 @@ mod tests {
         assert_eq!(contact.kind, ContactType::FaceFace);
         // A face of 1 m²: the corners' shares (0.25 each) are above the floor
         // (0.1 × 1 / 4 = 0.025) and sum to the area.
-        let shares = area_shares(g.shape(), g.normal(), 0.1);
+        let (mut shares, mut floors) = (Vec::new(), Vec::new());
+        area_shares(g.shape(), g.normal(), 0.1, &mut shares, &mut floors);
         assert!((shares.iter().sum::<f64>() - g.area()).abs() < 1e-12);
         // A segment's ends get w l / 4, as the corners of a thin strip l × s do.
-        let strip = area_shares(
+        area_shares(
             &ContactPoints::Segment([DVec3::ZERO, DVec3::X]),
             DVec3::Z,
             0.1,
+            &mut shares,
+            &mut floors,
         );
-        assert_eq!(strip, vec![0.025; 2]);
+        assert_eq!(shares, vec![0.025; 2]);
         assert!((g.area() - 1.0).abs() < 1e-6);
         for &p in g.points() {
             let sa = feature_height(&a, contact.feature_a, p, g.normal());

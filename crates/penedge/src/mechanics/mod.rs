@@ -40,7 +40,7 @@ use crate::system::{
     EDGE_CERTIFICATE_STEPS,
 };
 use crate::tolerance::{Tolerance, ToleranceError};
-use contacts::{build_contact, Found, StepInput};
+use contacts::{build_contact, sub_count, Found, Scratch, StepInput};
 use rayon::prelude::*;
 use std::time::Instant;
 use thiserror::Error;
@@ -803,22 +803,35 @@ impl Simulation {
             initial: self.initial,
             point_width: self.point_width,
         };
-        let built: Vec<_> = self
+        let found: Vec<&Found> = self
             .memo
-            .par_iter()
+            .iter()
             .filter_map(|m| m.found.as_deref())
-            .map(|f| build_contact(&input, f))
             .collect();
-        let mut next = Contacts {
-            list: Vec::with_capacity(built.len()),
-            subs: Vec::with_capacity(self.contacts.subs.len()),
-        };
-        for (mut c, subs) in built {
-            c.first = next.subs.len() as u32;
-            next.list.push(c);
-            next.subs.extend(subs);
+        // Each contact's sub-contacts are written in place, in contact order: no allocation
+        // per contact.
+        let counts: Vec<usize> = found.iter().map(|f| sub_count(f)).collect();
+        let mut subs = vec![SubContact::default(); counts.iter().sum()];
+        let mut slices = Vec::with_capacity(found.len());
+        let mut rest = subs.as_mut_slice();
+        for &count in &counts {
+            let (head, tail) = rest.split_at_mut(count);
+            slices.push(head);
+            rest = tail;
         }
-        self.contacts = next;
+        let mut list: Vec<BodyContact> = found
+            .par_iter()
+            .zip(slices)
+            .map_init(Scratch::default, |scratch, (f, out)| {
+                build_contact(&input, f, scratch, out)
+            })
+            .collect();
+        let mut first = 0;
+        for c in &mut list {
+            c.first = first;
+            first += c.count;
+        }
+        self.contacts = Contacts { list, subs };
         self.initial = false;
     }
 
