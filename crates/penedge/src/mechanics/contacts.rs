@@ -257,7 +257,7 @@ pub(super) fn build_contact(
             bonded: out.bonded,
         };
     }
-    let contact = BodyContact {
+    BodyContact {
         parts: found.parts,
         bodies,
         kind: found.contact.kind,
@@ -265,8 +265,7 @@ pub(super) fn build_contact(
         set,
         first: 0,
         count: subs.len() as u32,
-    };
-    contact
+    }
 }
 
 /// A point in the body frame of the pose.
