@@ -221,6 +221,7 @@ class _StepTimings(TypedDict):
     queried: int
     unmoved: int
     certified: int
+    carried: int
 
 class _JointProperties(TypedDict):
     kn: float
@@ -228,6 +229,8 @@ class _JointProperties(TypedDict):
     friction: float
     cohesion: float
     tension: float
+    residual_friction: float
+    residual_cohesion: float
 
 @final
 class Simulation:
@@ -247,8 +250,30 @@ class Simulation:
         cohesion: float = 0.0,
         tension: float = 0.0,
         set: int | None = None,
+        residual_friction: float | None = None,
+        residual_cohesion: float = 0.0,
     ) -> None: ...
     def joint(self, set: int | None = None) -> _JointProperties: ...
+    def set_water(
+        self,
+        level: float | None = None,
+        point: npt.ArrayLike | None = None,
+        normal: npt.ArrayLike | None = None,
+        pressures: dict[int, float] | None = None,
+        unit_weight: float = 9810.0,
+    ) -> None: ...
+    def set_bridge(
+        self,
+        kn: float,
+        ks: float,
+        friction: float,
+        cohesion: float,
+        tension: float,
+        set: int | None = None,
+        residual_friction: float | None = None,
+        residual_cohesion: float = 0.0,
+    ) -> None: ...
+    def bridge(self, set: int) -> _JointProperties: ...
     @property
     def gravity(self) -> npt.NDArray[np.float64]: ...
     @gravity.setter
@@ -265,7 +290,22 @@ class Simulation:
     def set_velocity(
         self, id: int, velocity: npt.ArrayLike, spin: npt.ArrayLike | None = None
     ) -> None: ...
-    def apply_force(self, id: int, force: npt.ArrayLike) -> None: ...
+    def apply_force(
+        self, id: int, force: npt.ArrayLike, point: npt.ArrayLike | None = None
+    ) -> None: ...
+    def apply_moment(self, id: int, moment: npt.ArrayLike) -> None: ...
+    def add_bolt(
+        self,
+        point: npt.ArrayLike,
+        direction: npt.ArrayLike,
+        length: float,
+        stiffness: float,
+        capacity: float,
+        rupture_strain: float | None = None,
+        shear_stiffness: float | None = None,
+        shear_capacity: float | None = None,
+    ) -> int: ...
+    def bolts(self) -> dict[str, npt.NDArray[Any]]: ...
     def set_timestep(self, dt: float | None = None, safety: float | None = None) -> None: ...
     def set_mass_scaling(self, on: bool) -> None: ...
     @property
@@ -312,9 +352,12 @@ class ContactTracker:
         gap: float = 1e-12,
         length: float | None = None,
         absolute_gap: float | None = None,
+        bodies: bool | None = None,
     ) -> Self: ...
     @property
     def contacts(self) -> SystemContacts: ...
+    @property
+    def body_contacts(self) -> BodyContacts | None: ...
     def update(self, rotations: npt.ArrayLike, translations: npt.ArrayLike) -> _UpdateReport: ...
 
 @final

@@ -108,7 +108,13 @@ def test_joint_properties_per_set_and_default():
         "friction": 35.0,
         "cohesion": 1e5,
         "tension": 5e4,
+        "residual_friction": 35.0,  # the friction angle unless given
+        "residual_cohesion": 0.0,
     }
+    sim.set_joint(kn=2e9, ks=1e9, friction=35.0, set=4, residual_friction=25.0, residual_cohesion=1)
+    assert (sim.joint(set=4)["residual_friction"], sim.joint(set=4)["residual_cohesion"]) == (25, 1)
+    with pytest.raises(penedge.MechanicsError, match="residual_friction"):
+        sim.set_joint(kn=1e9, ks=1e9, friction=30.0, residual_friction=95.0)
     assert sim.joint()["kn"] == 1e9
     assert sim.joint(set=7)["kn"] == 1e9
     sim.set_damping(local=0.7)
@@ -176,3 +182,30 @@ def test_a_copy_runs_on_its_own():
     sim.step(20)
     # Same state, same steps: the same motion.
     assert sim.positions.tolist() == trial.positions.tolist()
+
+
+def test_water_below_a_table_lifts_the_cube_by_the_water_force():
+    """A water table 2 m above the base: the pressure on the cube's base, 9810 x 2 Pa over
+    1 m2, carries part of the weight; the joint closes by (m g - U) / (kn A) only."""
+    sim = cube_on_base()
+    sim.set_water(level=2.0)
+    assert sim.solve()["converged"]
+    weight, uplift = 2500.0 * 9.81, 9810.0 * 2.0
+    assert 0.5 - sim.positions[1, 2] == pytest.approx((weight - uplift) / 1e9, rel=1e-3)
+    # The joint carries the effective force only.
+    contacts = sim.contacts()
+    assert contacts["normal_forces"].sum() == pytest.approx(weight - uplift, rel=1e-3)
+    # The water force of the one face-face contact: the pressure at the base times its area.
+    assert contacts["water_forces"] == pytest.approx([9810.0 * (2.0 - contacts["points"][0, 2])])
+
+
+def test_bad_water_is_refused_by_name():
+    sim = cube_on_base()
+    with pytest.raises(penedge.MechanicsError, match="vertical"):
+        sim.set_water(point=[0, 0, 0], normal=[1, 0, 0])
+    with pytest.raises(penedge.MechanicsError, match="water pressure"):
+        sim.set_water(pressures={0: -1.0})
+    with pytest.raises(penedge.MechanicsError, match="unit_weight"):
+        sim.set_water(level=1.0, unit_weight=0.0)
+    with pytest.raises(ValueError, match="level"):
+        sim.set_water(level=1.0, point=[0, 0, 0], normal=[0, 0, 1])

@@ -66,6 +66,7 @@ def test_every_example_reads_and_checks():
     assert names == [
         "block_column.toml",
         "slope_planar.toml",
+        "slope_step_path.toml",
         "tunnel_roof_bolt.toml",
         "wedge_dry.toml",
         "wedge_water.toml",

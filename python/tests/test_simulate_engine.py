@@ -23,13 +23,30 @@ def plane_normal(dip, dip_direction):
     return np.array([math.sin(d) * math.sin(a), math.sin(d) * math.cos(a), math.cos(d)])
 
 
-def wedge_limit_equilibrium(friction, pressure=0.0, seismic=0.0):
+def water_force(corners, level, n=400):
+    """The force of hydrostatic water below the elevation `level` (1000 kg/m3, g = 9.81) on
+    the triangle `corners`, by the centroid rule on n^2 sub-triangles (independent of the
+    engine's exact clipping; the error is of the order of the sub-triangles' size squared)."""
+    a, b, c = corners
+    i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    up = i + j < n
+    down = i + j < n - 1
+    centroids = [
+        a + np.outer((i[up] + 1 / 3) / n, b - a) + np.outer((j[up] + 1 / 3) / n, c - a),
+        a + np.outer((i[down] + 2 / 3) / n, b - a) + np.outer((j[down] + 2 / 3) / n, c - a),
+    ]
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a)) / n**2
+    return sum(1000 * 9.81 * np.maximum(level - p[:, 2], 0).sum() * area for p in centroids)
+
+
+def wedge_limit_equilibrium(friction, pressure=0.0, seismic=0.0, level=None):
     """Hoek & Bray's factor of safety of the wedge of examples/models/wedge_*.toml, by
     vectors: the weight W of the tetrahedron cut from the box corner region by the two
     joints, split into the reactions N_A n_A + N_B n_B normal to the joints and the driving
-    force along their line of intersection; F = (N_A' + N_B') tan phi / D with N' = N - u A
-    (a uniform water pressure u on each joint); `seismic` adds a pseudo-static force
-    kh W towards East (out of the slope face)."""
+    force along their line of intersection; F = (N_A' + N_B') tan phi / D with N' = N - U
+    (U = u A for a uniform water pressure u on each joint, or the hydrostatic force below a
+    water table at elevation `level`); `seismic` adds a pseudo-static force kh W towards
+    East (out of the slope face)."""
     na, nb = plane_normal(45, 45), plane_normal(45, 135)
     apex = np.array([10.0, 5.0, 5.0])  # both planes pass through it
     # the corners on the top (z = 10) and the slope face (x = 10)
@@ -55,11 +72,12 @@ def wedge_limit_equilibrium(friction, pressure=0.0, seismic=0.0):
     def area(a, b, c):
         return 0.5 * np.linalg.norm(np.cross(b - a, c - a))
 
-    area_a = area(corners[0], corners[1], corners[2])
-    area_b = area(corners[0], corners[1], corners[3])
-    resisting = (n_a - pressure * area_a + n_b - pressure * area_b) * math.tan(
-        math.radians(friction)
-    )
+    tri_a, tri_b = corners[[0, 1, 2]], corners[[0, 1, 3]]
+    if level is None:
+        u_a, u_b = pressure * area(*tri_a), pressure * area(*tri_b)
+    else:
+        u_a, u_b = water_force(tri_a, level), water_force(tri_b, level)
+    resisting = (n_a - u_a + n_b - u_b) * math.tan(math.radians(friction))
     return resisting / driving, volume
 
 
@@ -101,6 +119,50 @@ def test_wedge_factor_of_safety_matches_limit_equilibrium():
     assert safety.failing - safety.stable <= 0.01 + 1e-12
     free = ~pm.prepare(EXAMPLES / "wedge_dry.toml").layout.fixed
     assert safety.failing_blocks == np.flatnonzero(free).tolist()
+
+
+def critical_friction(friction, factor):
+    """The friction angle at which a joint of `friction` has its strength divided by
+    `factor` (degrees)."""
+    return math.degrees(math.atan(math.tan(math.radians(friction)) / factor))
+
+
+@needs_engine
+def test_wedge_with_water_factor_of_safety_matches_limit_equilibrium():
+    """examples/models/wedge_water.toml (5 kPa in both joints): the factor of safety by
+    strength reduction against Hoek & Bray's limit equilibrium with the water forces u A on
+    the two joints (the reference above), as the critical friction angle within 1 degree;
+    and below the dry wedge's."""
+    outcome = pm.simulate(EXAMPLES / "wedge_water.toml")
+    assert outcome.stages[0].converged
+    safety = outcome.safety
+    reference, _ = wedge_limit_equilibrium(40.0, pressure=5e3)
+    dry, _ = wedge_limit_equilibrium(40.0)
+    found, exact = critical_friction(40, safety.factor), critical_friction(40, reference)
+    print(f"wet wedge: F = {safety.factor} ({safety.stable}, {safety.failing}), LE {reference}")
+    assert found == pytest.approx(exact, abs=1.0)
+    assert safety.failing - safety.stable <= 0.01 + 1e-12
+    assert safety.failing < dry
+    free = ~pm.prepare(EXAMPLES / "wedge_water.toml").layout.fixed
+    assert safety.failing_blocks == np.flatnonzero(free).tolist()
+
+
+@needs_engine
+def test_wedge_below_a_water_table_matches_limit_equilibrium():
+    """The wedge with a water table at z = 8 m instead (it crosses both joints: hydrostatic
+    below, zero above): against limit equilibrium with the water forces integrated in the
+    test by quadrature, as the critical friction angle within 1 degree."""
+    text = (EXAMPLES / "wedge_water.toml").read_text()
+    start = text.index("[water.pressure]")
+    text = text[:start] + "phreatic = {elevation = 8}\n" + text[text.index("\n\n", start) :]
+    outcome = pm.simulate(text)
+    assert outcome.stages[0].converged
+    safety = outcome.safety
+    reference, _ = wedge_limit_equilibrium(40.0, level=8.0)
+    print(f"water table: F = {safety.factor} ({safety.stable}, {safety.failing}), LE {reference}")
+    found, exact = critical_friction(40, safety.factor), critical_friction(40, reference)
+    assert found == pytest.approx(exact, abs=1.0)
+    assert safety.failing - safety.stable <= 0.01 + 1e-12
 
 
 @needs_engine
@@ -152,3 +214,24 @@ def test_seismic_coefficient_lowers_the_wedge_factor_as_limit_equilibrium_does()
     found = math.degrees(math.atan(math.tan(math.radians(40)) / safety.factor))
     exact = math.degrees(math.atan(math.tan(math.radians(40)) / reference))
     assert found == pytest.approx(exact, abs=1.0)
+
+
+@needs_engine
+def test_residual_values_reach_the_engine_and_are_reduced_by_the_trial_factor():
+    """The residual friction and cohesion of a set go to the engine's joint model, and a
+    strength-reduction trial divides them as the peak values: tan(phi_r) / F, c_r / F."""
+    from penedge.model.engine import Engine
+
+    extra = "[joint_properties.A]\nfriction = 40\nresidual_friction = 30\nresidual_cohesion = 1e3\n"
+    setup = pm.prepare((EXAMPLES / "wedge_dry.toml").read_text() + extra)
+    engine = Engine(setup)
+    a = engine.set_ids["A"]
+    joint = engine.sim.joint(set=a)
+    assert (joint["residual_friction"], joint["residual_cohesion"]) == (30, 1e3)
+    assert engine.sim.joint()["residual_friction"] == 40  # the default: its own friction
+    engine.apply_properties({"A": engine.properties["A"].reduced(2.0)})
+    joint = engine.sim.joint(set=a)
+    assert math.tan(math.radians(joint["residual_friction"])) == pytest.approx(
+        math.tan(math.radians(30)) / 2
+    )
+    assert joint["residual_cohesion"] == pytest.approx(500)

@@ -27,6 +27,11 @@
 //! times the detection of a jointed mass with concave blocks (pairs of blocks glued) beside
 //! the same parts as separate blocks (see `concave.rs`).
 //!
+//! `cargo run --release -p penedge-bench -- tunnel [--runs R] [--threads T] [--spacing S]
+//! [--persistence P] [--radius M]` times the detection of about 10^5 blocks around a tunnel,
+//! with concave blocks and rock bridges of a finite-joint set, beside the same parts as
+//! separate blocks (see `tunnel.rs`).
+//!
 //! `cargo run --release -p penedge-bench -- mechanics [--blocks N] [--threads T] [--ratio R]
 //! [--max-steps S] [--samples K] [--seed X] [--export FILE]` times a mass of blocks settling
 //! under gravity on fixed boundary blocks to equilibrium (`penedge::mechanics`), and can write
@@ -52,6 +57,7 @@ mod rng;
 mod system;
 mod timing;
 mod tracker;
+mod tunnel;
 
 use family::Family;
 use pairs::{PairSet, Scenario};
@@ -323,11 +329,12 @@ fn main() -> ExitCode {
         Some("system") => system::run(&args[1..]),
         Some("tracker") => tracker::run(&args[1..]),
         Some("concave") => concave::run(&args[1..]),
+        Some("tunnel") => tunnel::run(&args[1..]),
         Some("mechanics") => mechanics::run(&args[1..]),
         Some("outcomes") => outcomes::run(&args[1..]),
         Some("profile") => parse(&args[1..]).and_then(|o| profile(&o)),
         _ => Err(
-            "usage: penedge-bench narrow|geometry|generate|system|tracker|concave|mechanics|profile [options] (see the crate docs)"
+            "usage: penedge-bench narrow|geometry|generate|system|tracker|concave|tunnel|mechanics|profile [options] (see the crate docs)"
                 .to_string(),
         ),
     };

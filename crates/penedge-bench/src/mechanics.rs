@@ -2,7 +2,7 @@
 //! boundary blocks, to equilibrium (issue 18, "Speed").
 //!
 //! `cargo run --release -p penedge-bench -- mechanics [--blocks N] [--threads T]
-//! [--ratio R] [--max-steps S] [--samples K] [--seed X] [--export FILE] [--full 0|1]`
+//! [--ratio R] [--max-steps S] [--samples K] [--seed X] [--export FILE] [--full 0|1] [--update F]`
 //!
 //! `--full 1` queries every candidate pair at every step (`Simulation::set_full_detection`,
 //! the step before the contact updates), for comparison.
@@ -65,6 +65,8 @@ const JOINT: JointModel = JointModel {
     friction: 30.0,
     cohesion: 0.0,
     tension: 0.0,
+    residual_friction: None,
+    residual_cohesion: 0.0,
 };
 const LOCAL_DAMPING: f64 = 0.8;
 /// The simulation's detection gap (relative) and skin (relative to the mean block size), its
@@ -84,6 +86,9 @@ struct Options {
     export: Option<String>,
     /// Query every candidate pair every step (`Simulation::set_full_detection`).
     full: bool,
+    /// The update tolerance of touching pairs, a fraction of the gap
+    /// (`Simulation::set_update_fraction`).
+    update: f64,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -96,6 +101,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         seed: 18,
         export: None,
         full: false,
+        update: penedge::mechanics::DEFAULT_UPDATE_FRACTION,
     };
     for pair in args.chunks(2) {
         let [flag, value] = pair else {
@@ -104,6 +110,11 @@ fn parse(args: &[String]) -> Result<Options, String> {
         match flag.as_str() {
             "--blocks" => o.blocks = crate::number(value)?,
             "--threads" => o.threads = crate::number(value)?,
+            "--update" => {
+                o.update = value
+                    .parse()
+                    .map_err(|_| format!("--update needs a number, got {value}"))?
+            }
             "--ratio" => o.ratio = crate::number(value)?,
             "--max-steps" => o.max_steps = crate::number(value)?,
             "--samples" => o.samples = crate::number(value)?,
@@ -200,6 +211,8 @@ fn settle(o: &Options) -> Result<(), String> {
     }
     sim.set_default_joint(JOINT).map_err(|e| e.to_string())?;
     sim.set_full_detection(o.full);
+    sim.set_update_fraction(o.update)
+        .map_err(|e| e.to_string())?;
     sim.set_damping(Damping {
         local: LOCAL_DAMPING,
         viscous: 0.0,
@@ -217,9 +230,13 @@ fn settle(o: &Options) -> Result<(), String> {
         o.ratio,
         o.threads,
         if o.full {
-            "every candidate pair queried every step (--full 1)"
+            "every candidate pair queried every step (--full 1)".to_string()
         } else {
-            "contact updates (answers kept for unmoved and certified pairs)"
+            format!(
+                "contact updates (answers kept for unmoved and certified pairs, touching \
+                 pairs carried up to --update {} × the gap)",
+                o.update
+            )
         },
         crate::report::machine(),
         crate::report::load(),
@@ -298,7 +315,7 @@ fn settle(o: &Options) -> Result<(), String> {
 
 /// CPU time of the process, all threads, user and system (`getrusage`): under the load of a
 /// shared machine, wall time also counts the time the threads wait for a core.
-fn process_cpu_s() -> f64 {
+pub(crate) fn process_cpu_s() -> f64 {
     // SAFETY: an all-zero `rusage` is a valid value of this plain C struct.
     let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
     // SAFETY: `usage` is a valid, writable rusage; RUSAGE_SELF is a constant Linux supports.
@@ -397,12 +414,13 @@ fn print_phases(t: &StepTimings, bodies: usize) {
     println!(
         "\nTime per part of the step (`Simulation::timings`, wall clock, summed over the {} \
          steps; {} broad phases built). Candidate pairs per step: {:.0} queried, {:.0} kept \
-         unmoved, {:.0} kept certified separated.\n",
+         unmoved, {:.0} kept certified separated, {:.0} carried.\n",
         t.steps,
         t.rebuilds,
         t.queried as f64 / t.steps.max(1) as f64,
         t.unmoved as f64 / t.steps.max(1) as f64,
         t.certified as f64 / t.steps.max(1) as f64,
+        t.carried as f64 / t.steps.max(1) as f64,
     );
     println!("| part | s | share | per step ms | ns per block-step |");
     println!("|---|---:|---:|---:|---:|");

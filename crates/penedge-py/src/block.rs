@@ -521,9 +521,15 @@ pub(crate) fn face_origin(code: i64, a: i64, b: i64) -> PyResult<FaceOrigin> {
             set: id(a)?,
             joint: id(b)?,
         }),
+        3 => Ok(FaceOrigin::Bridge {
+            set: id(a)?,
+            joint: id(b)?,
+        }),
         _ => Err(input_error(
             "origins",
-            format!("face origin code {code} is not 0 (unknown), 1 (boundary) or 2 (joint)"),
+            format!(
+                "face origin code {code} is not 0 (unknown), 1 (boundary), 2 (joint) or 3 (bridge)"
+            ),
         )),
     }
 }

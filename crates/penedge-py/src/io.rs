@@ -116,7 +116,7 @@ impl BlockSystem {
     }
 
     /// Writes the block faces as a ParaView file (VTU, one polygon cell per face; cell data
-    /// ``block_id``, ``face``, ``origin`` 0 unknown / 1 boundary / 2 joint, ``origin_set``,
+    /// ``block_id``, ``face``, ``origin`` 0 unknown / 1 boundary / 2 joint / 3 bridge, ``origin_set``,
     /// ``origin_index``), atomically. Colour by ``origin_set`` to see the joint sets.
     fn write_faces_vtu(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let inner = &self.inner;

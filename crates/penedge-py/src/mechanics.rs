@@ -6,7 +6,7 @@ use crate::system::BlockSystem;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use penedge::geometry::DVec3;
-use penedge::mechanics::{self, Damping, Fixity, JointModel};
+use penedge::mechanics::{self, Damping, Fixity, JointModel, Water};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -55,6 +55,22 @@ use pyo3::types::PyDict;
 #[pyclass(module = "penedge", name = "Simulation")]
 pub struct Simulation {
     inner: mechanics::Simulation,
+}
+
+/// A joint model as a dict of its properties.
+fn model_dict<'py>(py: Python<'py>, m: &JointModel) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    out.set_item("kn", m.kn)?;
+    out.set_item("ks", m.ks)?;
+    out.set_item("friction", m.friction)?;
+    out.set_item("cohesion", m.cohesion)?;
+    out.set_item("tension", m.tension)?;
+    out.set_item(
+        "residual_friction",
+        m.residual_friction.unwrap_or(m.friction),
+    )?;
+    out.set_item("residual_cohesion", m.residual_cohesion)?;
+    Ok(out)
 }
 
 fn body_ids(ids: Option<Vec<usize>>, n: usize) -> Vec<usize> {
@@ -117,12 +133,19 @@ impl Simulation {
     ///     start of the run until they fail (then 0).
     /// set : int, optional
     ///     The joint set; None for the default.
+    /// residual_friction : float, optional
+    ///     Friction angle after failure (degrees, in [0, 90)); None: `friction`.
+    /// residual_cohesion : float, default 0.0
+    ///     Cohesion after failure (3DEC's default 0). A sub-contact whose bond failed (in
+    ///     shear or tension), and one formed during the run, has the residual strength.
     ///
     /// Raises
     /// ------
     /// MechanicsError
     ///     A property out of range (the error names it).
-    #[pyo3(signature = (kn, ks, friction, cohesion = 0.0, tension = 0.0, set = None))]
+    #[pyo3(signature = (kn, ks, friction, cohesion = 0.0, tension = 0.0, set = None,
+        residual_friction = None, residual_cohesion = 0.0))]
+    #[allow(clippy::too_many_arguments)]
     fn set_joint(
         &mut self,
         kn: f64,
@@ -131,6 +154,8 @@ impl Simulation {
         cohesion: f64,
         tension: f64,
         set: Option<u32>,
+        residual_friction: Option<f64>,
+        residual_cohesion: f64,
     ) -> PyResult<()> {
         let model = JointModel {
             kn,
@@ -138,6 +163,8 @@ impl Simulation {
             friction,
             cohesion,
             tension,
+            residual_friction,
+            residual_cohesion,
         };
         match set {
             None => self.inner.set_default_joint(model),
@@ -146,17 +173,122 @@ impl Simulation {
         .map_err(to_py_err)
     }
 
+    /// Sets the intact rock's properties for the rock bridges of joint set `set` (contacts
+    /// over faces of origin kind 3, "bridge", made by a finite joint generated with
+    /// ``bridge = true``), or the default for bridges of sets without their own
+    /// (``set=None``). Bridges bond where they touch at the start of the run and, once they
+    /// fail, keep friction only; without a call, a set's bridges have its joint stiffness and
+    /// friction 45°, cohesion 10 MPa, tension 5 MPa. See ``docs/mechanics.md``, "Rock
+    /// bridges".
+    ///
+    /// Parameters
+    /// ----------
+    /// kn, ks : float
+    ///     Normal and shear stiffness, stress per displacement (> 0).
+    /// friction : float
+    ///     Friction angle in degrees, in [0, 90).
+    /// cohesion, tension : float
+    ///     The intact rock's cohesion and tensile strength (stresses ≥ 0).
+    /// set : int, optional
+    ///     The joint set; None for the default.
+    /// residual_friction : float, optional
+    ///     Friction angle after failure (default: `friction`).
+    /// residual_cohesion : float, default 0.0
+    ///     Cohesion after failure.
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     A property out of range (the error names it).
+    #[pyo3(signature = (kn, ks, friction, cohesion, tension, set = None,
+        residual_friction = None, residual_cohesion = 0.0))]
+    #[allow(clippy::too_many_arguments)]
+    fn set_bridge(
+        &mut self,
+        kn: f64,
+        ks: f64,
+        friction: f64,
+        cohesion: f64,
+        tension: f64,
+        set: Option<u32>,
+        residual_friction: Option<f64>,
+        residual_cohesion: f64,
+    ) -> PyResult<()> {
+        let mut model = JointModel::default();
+        (model.kn, model.ks, model.friction) = (kn, ks, friction);
+        (model.cohesion, model.tension) = (cohesion, tension);
+        (model.residual_friction, model.residual_cohesion) = (residual_friction, residual_cohesion);
+        match set {
+            None => self.inner.set_default_bridge(model),
+            Some(s) => self.inner.set_bridge(s, model),
+        }
+        .map_err(to_py_err)
+    }
+
+    /// The bridge properties of set `set` (its own, else the default), as a dict.
+    fn bridge<'py>(&self, py: Python<'py>, set: u32) -> PyResult<Bound<'py, PyDict>> {
+        model_dict(py, &self.inner.bridges().of_set(set, self.inner.joints()))
+    }
+
     /// The joint properties of set `set` (None: the default), as a dict.
     #[pyo3(signature = (set = None))]
     fn joint<'py>(&self, py: Python<'py>, set: Option<u32>) -> PyResult<Bound<'py, PyDict>> {
-        let m = self.inner.joints().of_set(set);
-        let out = PyDict::new(py);
-        out.set_item("kn", m.kn)?;
-        out.set_item("ks", m.ks)?;
-        out.set_item("friction", m.friction)?;
-        out.set_item("cohesion", m.cohesion)?;
-        out.set_item("tension", m.tension)?;
-        Ok(out)
+        model_dict(py, self.inner.joints().of_set(set))
+    }
+
+    /// Sets the water pressure in the joints (``docs/mechanics.md``, "Water pressure in the
+    /// joints"): a phreatic surface, pressures per joint set, or both (a set's pressure
+    /// replaces the phreatic one on its contacts); with no argument, dry joints. The
+    /// pressure acts on the face-face contacts' polygons, pushing the blocks apart; the
+    /// joints' normal force is then the effective one.
+    ///
+    /// Parameters
+    /// ----------
+    /// level : float, optional
+    ///     A horizontal water table at this elevation (z).
+    /// point, normal : array_like (3,), optional
+    ///     An inclined phreatic surface: a point on it and its normal (not horizontal).
+    /// pressures : dict[int, float], optional
+    ///     A uniform pressure (≥ 0) on the contacts of each joint set.
+    /// unit_weight : float, default 9810.0
+    ///     ``ρw g``, the pressure per depth below the surface (depth measured along z).
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     A vertical surface, a negative pressure, a unit weight not > 0.
+    /// ValueError
+    ///     Both `level` and `point`, or `point` without `normal`.
+    #[pyo3(signature = (level = None, point = None, normal = None, pressures = None,
+        unit_weight = 9810.0))]
+    fn set_water(
+        &mut self,
+        level: Option<f64>,
+        point: Option<&Bound<'_, PyAny>>,
+        normal: Option<&Bound<'_, PyAny>>,
+        pressures: Option<std::collections::BTreeMap<u32, f64>>,
+        unit_weight: f64,
+    ) -> PyResult<()> {
+        let mut water = match (level, point, normal) {
+            (None, None, None) => Water::none(),
+            (Some(z), None, None) => Water::level(z, unit_weight).map_err(to_py_err)?,
+            (None, Some(p), Some(n)) => Water::phreatic(
+                DVec3::from_array(arrays::point(p, "point")?),
+                DVec3::from_array(arrays::point(n, "normal")?),
+                unit_weight,
+            )
+            .map_err(to_py_err)?,
+            _ => {
+                return Err(pyo3::exceptions::PyValueError::new_err(
+                    "set_water: give `level`, or `point` and `normal`, or neither",
+                ))
+            }
+        };
+        for (set, p) in pressures.unwrap_or_default() {
+            water = water.with_set_pressure(set, p).map_err(to_py_err)?;
+        }
+        self.inner.set_water(water);
+        Ok(())
     }
 
     /// Gravity, an acceleration vector (default ``(0, 0, -9.81)``).
@@ -238,10 +370,155 @@ impl Simulation {
         self.inner.set_velocity(id, v, w).map_err(to_py_err)
     }
 
-    /// Applies a constant force on body `id`'s centroid (besides gravity and contacts).
-    fn apply_force(&mut self, id: usize, force: &Bound<'_, PyAny>) -> PyResult<()> {
+    /// Applies a constant force on body `id` (besides gravity and contacts), at its centroid,
+    /// or at `point` (world, at the body's current pose): then also the force's moment about
+    /// the centroid, replacing any applied moment. Both stay constant in the world frame.
+    #[pyo3(signature = (id, force, point = None))]
+    fn apply_force(
+        &mut self,
+        id: usize,
+        force: &Bound<'_, PyAny>,
+        point: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
         let f = DVec3::from_array(arrays::point(force, "force")?);
-        self.inner.apply_force(id, f).map_err(to_py_err)
+        match point {
+            None => self.inner.apply_force(id, f),
+            Some(p) => {
+                let p = DVec3::from_array(arrays::point(p, "point")?);
+                self.inner.apply_force_at(id, f, p)
+            }
+        }
+        .map_err(to_py_err)
+    }
+
+    /// Applies a constant moment on body `id` (world frame, about its centroid; replaces the
+    /// one set before; zero removes it).
+    fn apply_moment(&mut self, id: usize, moment: &Bound<'_, PyAny>) -> PyResult<()> {
+        let m = DVec3::from_array(arrays::point(moment, "moment")?);
+        self.inner.apply_moment(id, m).map_err(to_py_err)
+    }
+
+    /// Installs a rock bolt from `point` along `direction` for `length`, across the bodies
+    /// its segment crosses now (``docs/mechanics.md``, "Rock bolts"): one axial spring
+    /// between each two consecutive bodies, anchored at the plate (where it enters the first
+    /// body), the far end (where it leaves the last) and the middle of its run through each
+    /// body between.
+    ///
+    /// Parameters
+    /// ----------
+    /// point, direction : array_like, shape (3,)
+    ///     The collar, and the direction into the rock (any length).
+    /// length : float
+    ///     The bolt's length.
+    /// stiffness : float
+    ///     Axial stiffness of the whole bolt, ``EA / length`` (an element of length ``l``
+    ///     gets ``EA / l``).
+    /// capacity : float
+    ///     The axial force at which it yields (elastic, perfectly plastic, in tension and in
+    ///     compression).
+    /// rupture_strain : float, optional
+    ///     The axial strain at which an element breaks for good; None: never.
+    /// shear_stiffness, shear_capacity : float, optional
+    ///     A dowel at each joint the bolt crosses: shear stiffness (force per relative
+    ///     displacement across the bolt) and capacity (elastic, perfectly plastic); both or
+    ///     neither (None: axial only).
+    ///
+    /// Returns
+    /// -------
+    /// int
+    ///     The bolt's id.
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     A bolt outside the rock, in one body only, or a value out of range.
+    #[pyo3(signature = (
+        point, direction, length, stiffness, capacity, rupture_strain = None,
+        shear_stiffness = None, shear_capacity = None
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_bolt(
+        &mut self,
+        point: &Bound<'_, PyAny>,
+        direction: &Bound<'_, PyAny>,
+        length: f64,
+        stiffness: f64,
+        capacity: f64,
+        rupture_strain: Option<f64>,
+        shear_stiffness: Option<f64>,
+        shear_capacity: Option<f64>,
+    ) -> PyResult<usize> {
+        let dowel = match (shear_stiffness, shear_capacity) {
+            (None, None) => None,
+            (Some(stiffness), Some(capacity)) => Some(mechanics::Dowel {
+                stiffness,
+                capacity,
+            }),
+            _ => {
+                return Err(crate::errors::input_error(
+                    "dowel",
+                    "give both shear_stiffness and shear_capacity, or neither",
+                ))
+            }
+        };
+        let bolt = mechanics::Bolt {
+            collar: DVec3::from_array(arrays::point(point, "point")?),
+            direction: DVec3::from_array(arrays::point(direction, "direction")?),
+            length,
+            stiffness,
+            capacity,
+            rupture_strain,
+            dowel,
+        };
+        self.inner.add_bolt(bolt).map_err(to_py_err)
+    }
+
+    /// The bolt elements at the last step, as arrays (k elements, bolt after bolt, in order
+    /// along each bolt).
+    ///
+    /// Returns
+    /// -------
+    /// dict
+    ///     ``bolt`` (k,) the bolt id of each element, ``pairs`` (k, 2) its bodies in order
+    ///     along the bolt, ``starts`` and ``ends`` (k, 3) its anchors now, ``rest_lengths``,
+    ///     ``elongations`` and ``forces`` (k,) (axial, tension > 0), ``states`` (k,) 0
+    ///     elastic, 1 yielding, 2 broken, ``shear_forces`` (k, 3) the dowel's force on the
+    ///     second body (zero without a dowel).
+    fn bolts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let elements = self.inner.bolts().elements();
+        let bodies = self.inner.bodies();
+        let out = PyDict::new(py);
+        let ids: Vec<u64> = elements.iter().map(|e| e.bolt() as u64).collect();
+        out.set_item("bolt", arrays::vector(py, ids))?;
+        let pairs: Vec<[u64; 2]> = elements
+            .iter()
+            .map(|e| e.bodies().map(|b| b as u64))
+            .collect();
+        out.set_item("pairs", arrays::pairs(py, &pairs))?;
+        let ends: Vec<[DVec3; 2]> = elements.iter().map(|e| e.ends(bodies)).collect();
+        let column = |k: usize| -> Vec<[f64; 3]> { ends.iter().map(|p| p[k].to_array()).collect() };
+        out.set_item("starts", arrays::rows3(py, &column(0)))?;
+        out.set_item("ends", arrays::rows3(py, &column(1)))?;
+        let values = |f: &dyn Fn(&mechanics::BoltElement) -> f64| -> Vec<f64> {
+            elements.iter().map(f).collect()
+        };
+        out.set_item(
+            "rest_lengths",
+            arrays::vector(py, values(&|e| e.rest_length())),
+        )?;
+        out.set_item(
+            "elongations",
+            arrays::vector(py, values(&|e| e.elongation())),
+        )?;
+        out.set_item("forces", arrays::vector(py, values(&|e| e.force())))?;
+        let states: Vec<u8> = elements.iter().map(|e| e.state().code()).collect();
+        out.set_item("states", arrays::vector(py, states))?;
+        let shear: Vec<[f64; 3]> = elements
+            .iter()
+            .map(|e| e.shear_force().to_array())
+            .collect();
+        out.set_item("shear_forces", arrays::rows3(py, &shear))?;
+        Ok(out)
     }
 
     /// Sets the time step (None: automatic, `safety` × the critical step).
@@ -348,9 +625,10 @@ impl Simulation {
     /// ``contacts`` (sub-contacts and joint law), ``forces`` (sums per body), ``integration``,
     /// ``placement`` (placing the moved blocks), ``total``; and the counts ``steps``,
     /// ``rebuilds`` (broad phases built) and, summed over the steps, the candidate pairs
-    /// ``queried``, kept ``unmoved`` (neither body moved since their query) and kept
-    /// ``certified`` separated (``docs/mechanics.md``, "Contact updates in the step"). One
-    /// clock reading per part and step.
+    /// ``queried``, kept ``unmoved`` (neither body moved since their query), kept
+    /// ``certified`` separated (``docs/mechanics.md``, "Contact updates in the step") and
+    /// touching pairs ``carried`` with their bodies ("Carried contacts"). One clock reading
+    /// per part and step.
     ///
     /// Examples
     /// --------
@@ -383,6 +661,7 @@ impl Simulation {
             ("queried", t.queried),
             ("unmoved", t.unmoved),
             ("certified", t.certified),
+            ("carried", t.carried),
         ] {
             out.set_item(key, value)?;
         }
@@ -457,7 +736,7 @@ impl Simulation {
         arrays::read_only(arrays::vector(py, v))
     }
 
-    /// Per body, the sum of its contact forces at the last step, shape (n, 3).
+    /// Per body, the sum of its contact (and bolt) forces at the last step, shape (n, 3).
     #[getter]
     fn contact_forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let rows: Vec<[f64; 3]> = self
@@ -482,12 +761,16 @@ impl Simulation {
     /// dict
     ///     Per contact (m rows): ``pairs`` (m, 2) body ids A < B, ``types`` (m,) contact type
     ///     codes 1..7, ``normals`` (m, 3) from A to B, ``sets`` (m,) the joint set whose
-    ///     properties apply (-1: the default), ``sub_offsets`` (m + 1,): contact ``i`` has
+    ///     properties apply (-1: the default), ``bridges`` (m,) whether it is over a rock
+    ///     bridge (the set's bridge properties apply), ``sub_offsets`` (m + 1,): contact ``i`` has
     ///     sub-contacts ``sub_offsets[i]:sub_offsets[i + 1]``. Per sub-contact: ``points``
     ///     (k, 3), ``areas``, ``gaps`` (> 0 apart), ``normal_forces`` (on B, > 0 in
-    ///     compression), ``shear_forces`` (k, 3) on B, ``shear_displacements`` (k, 3),
+    ///     compression; the joint's effective force, without the water's: see
+    ///     :meth:`set_water`), ``shear_forces`` (k, 3) on B, ``shear_displacements`` (k, 3),
     ///     ``states`` (0 elastic, 1 sliding, 2 open), ``bonded`` (cohesion and tension
-    ///     intact).
+    ///     intact; False: failed, the residual strength applies). Per contact also
+    ///     ``water_forces`` (m,): the water force pushing B from A along the normal (0 for
+    ///     none; :meth:`set_water`).
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let c = self.inner.contacts();
         let out = PyDict::new(py);
@@ -499,6 +782,8 @@ impl Simulation {
         out.set_item("normals", arrays::rows3(py, &normals))?;
         let sets: Vec<i64> = c.list.iter().map(|c| c.set.map_or(-1, i64::from)).collect();
         out.set_item("sets", arrays::vector(py, sets))?;
+        let bridges: Vec<bool> = c.list.iter().map(|c| c.bridge).collect();
+        out.set_item("bridges", arrays::vector(py, bridges))?;
         let mut offsets: Vec<u64> = c.list.iter().map(|c| u64::from(c.first)).collect();
         offsets.push(c.subs.len() as u64);
         out.set_item("sub_offsets", arrays::vector(py, offsets))?;
@@ -524,6 +809,14 @@ impl Simulation {
         out.set_item("states", arrays::vector(py, states))?;
         let bonded: Vec<bool> = c.subs.iter().map(|s| s.bonded).collect();
         out.set_item("bonded", arrays::vector(py, bonded))?;
+        let water: Vec<f64> = self
+            .inner
+            .water()
+            .contact_forces(c)
+            .iter()
+            .map(|w| w.0)
+            .collect();
+        out.set_item("water_forces", arrays::vector(py, water))?;
         Ok(out)
     }
 

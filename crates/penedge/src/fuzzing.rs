@@ -793,9 +793,59 @@ pub fn small_enough(spec: &Spec) -> bool {
         JointKind::Polygon { vertices } => vertices.len() <= 64,
         _ => true,
     });
+    let excavations_small = spec.excavations.iter().all(|e| match &e.shape {
+        generation::ExcavationShape::Slope { vertices, .. } => vertices.len() <= 64,
+        generation::ExcavationShape::Topography { surface } => {
+            surface.triangles.len() <= SURFACE_TRIANGLES
+        }
+        _ => true,
+    });
     sets_small
+        && excavations_small
         && spec.joints.len() <= SPEC_PLANES
         && generation::planned_planes(spec).is_ok_and(|n| n <= SPEC_PLANES)
+}
+
+/// The most triangles of a fuzzed surface excavated, so that one input stays fast.
+pub const SURFACE_TRIANGLES: usize = 256;
+
+/// Target `read_surface`: the first byte picks the kind of file (grid, ESRI grid, OBJ, STL),
+/// the rest is parsed by [`crate::io::surface::parse_surface`]; a surface of at most
+/// [`SURFACE_TRIANGLES`] triangles excavates a 10 m cube cut in 8: the rock left is valid
+/// blocks, no more than the cube, and reads back from its file.
+pub fn read_surface(data: &[u8]) {
+    use crate::generation::{Excavation, ExcavationShape};
+    use crate::io::surface::{parse_surface, Kind};
+    let Some((&k, rest)) = data.split_first() else {
+        return;
+    };
+    let kind = [Kind::Grid, Kind::Asc, Kind::Obj, Kind::Stl][k as usize % 4];
+    let Ok(surface) = parse_surface(kind, rest, "fuzz") else {
+        return;
+    };
+    if surface.triangles.len() > SURFACE_TRIANGLES {
+        return;
+    }
+    let cubes = (0..8)
+        .map(|c| {
+            let lo = [0, 1, 2].map(|axis| 5.0 * ((c >> axis) & 1) as f64);
+            ConvexBlock::cuboid(lo, lo.map(|x| x + 5.0)).expect("a cube")
+        })
+        .collect();
+    let rock = BlockSystem::new(cubes);
+    let ground = Excavation::new(ExcavationShape::Topography { surface });
+    let Ok((left, _)) = rock.excavate(&ground, &Tolerance::default()) else {
+        return;
+    };
+    let volume: f64 = left.blocks().iter().map(ConvexBlock::volume).sum();
+    assert!(
+        volume <= 1000.0 * (1.0 + 1e-9),
+        "more rock than the cube: {volume}"
+    );
+    for b in left.blocks() {
+        check_block(b);
+    }
+    check_files(&left);
 }
 
 /// `x <= limit`, or NaN (a spacing that `generate` will refuse by name).

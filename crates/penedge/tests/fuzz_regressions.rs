@@ -7,13 +7,14 @@ use std::path::{Path, PathBuf};
 /// A target's body: decode the bytes, run, panic on a broken guarantee.
 type Body = fn(&[u8]);
 
-const TARGETS: [(&str, Body); 6] = [
+const TARGETS: [(&str, Body); 7] = [
     ("block_from_mesh", penedge::fuzzing::block_from_mesh),
     ("block_from_planes", penedge::fuzzing::block_from_planes),
     ("detect_pair", penedge::fuzzing::detect_pair),
     ("cut_block", penedge::fuzzing::cut_block),
     ("read_json", penedge::fuzzing::read_json),
     ("read_spec", penedge::fuzzing::read_spec),
+    ("read_surface", penedge::fuzzing::read_surface),
 ];
 
 fn root() -> PathBuf {

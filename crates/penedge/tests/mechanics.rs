@@ -41,6 +41,7 @@ fn joint(kn: f64, friction: f64, cohesion: f64, tension: f64) -> JointModel {
         friction,
         cohesion,
         tension,
+        ..JointModel::default()
     }
 }
 
@@ -865,4 +866,69 @@ fn mass_scaling_keeps_the_equilibrium_and_raises_the_time_step() {
             assert!((z - (h / 2.0 - sink)).abs() < 1e-3 * sink, "block {i}: {z}");
         }
     }
+}
+
+/// The settling stall (issue 18, docs/mechanics.md "Settling stall"): 8 unit cubes, each
+/// turned by up to 0.5 mrad and shifted by up to 0.1 mm, settling in a box of 40 fixed cubes
+/// (the bench's model at 48 blocks, another jitter). They come to rest (speeds below 1e-6
+/// m/s), but the unbalanced-force ratio stays near 1e-4: the face-face contact polygons of two
+/// cubes whose corners are 1e-4 m apart drop a different near-collinear vertex from one step
+/// to the next, their area jumps by 1.6e-4 and the normal force with it, by about 8 N (3e-4 of
+/// a weight) under the load of the cube above; the cube is held on that switch and chatters.
+/// Ignored until the contact polygon (or the sub-contacts kept across steps) no longer jumps;
+/// the same model with other jitters converges in 2,000 to 4,000 steps.
+#[test]
+#[ignore = "fails: the settling stall of issue 18, in the contact polygon's simplification"]
+fn a_jittered_box_of_cubes_settles_to_the_ratio_of_3dec() {
+    let mut state = 2u64; // a plain LCG: the jitter that stalls
+    let mut uniform = |a: f64, b: f64| {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        a + (b - a) * ((state >> 11) as f64 / (1u64 << 53) as f64)
+    };
+    let (w, h) = (4, 3);
+    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
+    let (mut blocks, mut fixed) = (Vec::new(), Vec::new());
+    for k in 0..h {
+        for j in 0..w {
+            for i in 0..w {
+                let wall = k == 0 || i == 0 || j == 0 || i == w - 1 || j == w - 1;
+                let centre = DVec3::new(i as f64, j as f64, k as f64) * 1.002 + 0.5;
+                let (turn, shift) = if wall {
+                    (DQuat::IDENTITY, DVec3::ZERO)
+                } else {
+                    let axis =
+                        DVec3::new(uniform(-1.0, 1.0), uniform(-1.0, 1.0), uniform(-1.0, 1.0))
+                            .normalize();
+                    let turn = DQuat::from_axis_angle(axis, uniform(-5e-4, 5e-4));
+                    let shift = DVec3::new(
+                        uniform(-1e-4, 1e-4),
+                        uniform(-1e-4, 1e-4),
+                        uniform(-1e-4, 1e-4),
+                    );
+                    (turn, shift)
+                };
+                blocks.push(unit.transformed(turn, centre + shift, 1.0));
+                fixed.push(wall);
+            }
+        }
+    }
+    let mut sim = Simulation::new(&BlockSystem::new(blocks), 2500.0).unwrap();
+    for i in (0..fixed.len()).filter(|&i| fixed[i]) {
+        sim.fix(i).unwrap();
+    }
+    let model = JointModel {
+        ks: 5e9,
+        ..joint(1e10, 30.0, 0.0, 0.0)
+    };
+    sim.set_default_joint(model).unwrap();
+    let report = sim.solve(1e-5, 20_000).unwrap();
+    let fastest = sim
+        .bodies()
+        .velocities()
+        .iter()
+        .map(|v| v.length())
+        .fold(0.0, f64::max);
+    assert!(report.converged, "{report:?}, fastest {fastest:.2e} m/s");
 }

@@ -314,9 +314,15 @@ def run_summary(
             "factor_of_safety": None if safety is None else safety.factor,
             "seconds": seconds,
             "written": written,
+            "bolts": outcome.bolts,
         }
     )
     return summary
+
+
+def bolts_text(bolts: list[dict[str, Any]]) -> str:
+    """The bolts at the end of a run, for the summary: name, axial force, state."""
+    return "; ".join(f"{b['name']} {b['force'] / 1e3:.4g} kN ({b['state']})" for b in bolts)
 
 
 def stage_text(stage: dict[str, Any]) -> str:
@@ -372,6 +378,8 @@ def format_run(summary: dict[str, Any]) -> str:
             f"(block {summary['max_displacement_block']})",
         ),
     ]
+    if summary["bolts"]:
+        lines.append(row("bolts", bolts_text(summary["bolts"])))
     for s in summary["stages"]:
         if "factor_of_safety" in s:
             f = s["factor_of_safety"]

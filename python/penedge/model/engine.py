@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from penedge.model.fields import ModelError
-from penedge.model.schema import JointProperties, Model
+from penedge.model.schema import JointProperties, Model, Water
 
 
 class EngineMissingError(Exception):
@@ -38,19 +38,16 @@ def simulation_class() -> Any:
 #: them is read and checked, and its run refused with this message before any step.
 NOT_SUPPORTED = {
     "initial_stress": "initial stresses are not supported yet by the engine",
-    "water": "water pressure in the joints is not supported yet by the engine",
-    "bolts": "rock bolts are not supported yet by the engine",
     "excavate": "excavation is not supported yet by the engine",
-    "residual": "residual values other than the defaults (residual_friction = friction, "
-    "residual cohesion and tension 0) are not supported yet by the engine",
+    "residual_tension": "a residual tensile strength is not supported by the engine: a failed "
+    "joint holds no tension (contacts that form during the run start failed, and a residual "
+    "tension would glue blocks that merely come near each other; docs/mechanics.md)",
 }
 
 
-def has_residual(props: JointProperties) -> bool:
-    """Whether `props` has residual values other than the engine's (friction unchanged,
-    cohesion and tension lost)."""
-    residual = props.friction if props.residual_friction is None else props.residual_friction
-    return residual != props.friction or bool(props.residual_cohesion or props.residual_tension)
+def has_residual_tension(props: JointProperties) -> bool:
+    """Whether `props` asks for a residual tensile strength (the engine has none)."""
+    return bool(props.residual_tension)
 
 
 def unsupported(model: Model) -> list[tuple[str, str]]:
@@ -58,19 +55,15 @@ def unsupported(model: Model) -> list[tuple[str, str]]:
     found = []
     if model.initial_stress is not None:
         found.append(("initial_stress", NOT_SUPPORTED["initial_stress"]))
-    if model.water is not None:
-        found.append(("water", NOT_SUPPORTED["water"]))
-    if model.bolts:
-        found.append(("bolts", NOT_SUPPORTED["bolts"]))
     for i, stage in enumerate(model.stages):
         if stage.kind == "excavate":
             found.append((f"stages[{i}]", NOT_SUPPORTED["excavate"]))
-        if stage.kind == "properties" and any(k.startswith("residual_") for k in stage.changes):
-            found.append((f"stages[{i}]", NOT_SUPPORTED["residual"]))
+        if stage.kind == "properties" and stage.changes.get("residual_tension"):
+            found.append((f"stages[{i}]", NOT_SUPPORTED["residual_tension"]))
     named = {"default": model.default_properties, **model.properties}
     for name, props in named.items():
-        if has_residual(props):
-            found.append((f"joint_properties.{name}", NOT_SUPPORTED["residual"]))
+        if has_residual_tension(props):
+            found.append((f"joint_properties.{name}", NOT_SUPPORTED["residual_tension"]))
             break
     return found
 
@@ -105,47 +98,109 @@ class Engine:
         self.properties = dict(model.properties)
         self.default = model.default_properties
         self.apply_properties(self.properties)
+        if model.water is not None:
+            self.apply_water(model.water)
         layout = setup.layout
         self.apply_boundary(layout.fixed, layout.velocity)
         if m.time_step is not None:
             self.sim.set_timestep(dt=m.time_step)  # checked against the critical step
         if layout.support_forces is not None:
             self.apply_support(layout.support_forces, layout.support_moments)
+        self.bolt_names = self.apply_bolts(model.bolts)
 
     def apply_support(self, forces: np.ndarray, moments: np.ndarray | None) -> None:
-        """The support pressures as constant forces on the blocks' centroids. The engine
-        takes no applied moment yet: a pressure whose resultant is off the centroid is
-        refused (a face centred on its block, or symmetric faces, have none)."""
-        scale = float(np.abs(forces).max()) * self.setup.blocks.size
-        if moments is not None and np.abs(moments).max() > 1e-9 * scale:
-            raise ModelError(
-                "support",
-                "a support pressure whose resultant misses a block's centroid (a moment) is "
-                "not supported yet by the engine",
-            )
+        """The support pressures as constant forces on the blocks' centroids and, where
+        their resultant misses the centroid, constant moments about it."""
         for i in np.flatnonzero(np.abs(forces).sum(axis=1)):
             self.sim.apply_force(int(i), forces[i].tolist())
+        if moments is not None:
+            for i in np.flatnonzero(np.abs(moments).sum(axis=1)):
+                self.sim.apply_moment(int(i), moments[i].tolist())
+
+    def apply_bolts(self, bolts: list[Any]) -> list[str]:
+        """Installs the model's ``[[bolts]]`` (in order: bolt ``i`` is engine bolt ``i``);
+        their names. An engine refusal (a bolt outside the rock) names the bolt's field."""
+        import penedge
+
+        for i, bolt in enumerate(bolts):
+            try:
+                self.sim.add_bolt(
+                    bolt.point,
+                    bolt.direction,
+                    bolt.length,
+                    bolt.stiffness,
+                    bolt.capacity,
+                    rupture_strain=bolt.rupture_strain,
+                    shear_stiffness=bolt.shear_stiffness,
+                    shear_capacity=bolt.shear_capacity,
+                )
+            except penedge.MechanicsError as e:
+                raise ModelError(f"bolts[{i}]", str(e)) from e
+        return [bolt.name for bolt in bolts]
 
     # --- set-up ---------------------------------------------------------------------
 
     def joint(self, props: JointProperties) -> dict[str, float]:
         """The engine's joint model of `props`."""
-        if has_residual(props):
-            raise ModelError("joint_properties", NOT_SUPPORTED["residual"])
+        if has_residual_tension(props):
+            raise ModelError("joint_properties", NOT_SUPPORTED["residual_tension"])
         return {
             "kn": props.kn,
             "ks": props.ks,
             "friction": props.friction,
             "cohesion": props.cohesion,
             "tension": props.tension,
+            "residual_friction": props.residual_friction,
+            "residual_cohesion": props.residual_cohesion,
         }
 
-    def apply_properties(self, properties: dict[str, JointProperties]) -> None:
-        """Joint properties per set name (the default stays for contacts of no set)."""
+    def apply_water(self, water: Water) -> None:
+        """The water in the joints: the phreatic surface (pressure per depth ``ρw g``, g the
+        magnitude of the model's static gravity, before any seismic load) and the pressures
+        per set by the sets' engine ids."""
+        surface: dict[str, Any] = {}
+        g = float(np.linalg.norm(self.setup.model.mechanics.gravity))
+        if water.phreatic is not None and g > 0:  # without gravity, no hydrostatic pressure
+            surface = {
+                "point": list(water.phreatic.point),
+                "normal": list(water.phreatic.normal),
+                "unit_weight": water.density * g,
+            }
+        self.sim.set_water(
+            **surface, pressures={self.set_ids[name]: p for name, p in water.pressures.items()}
+        )
+
+    def apply_properties(self, properties: dict[str, JointProperties], factor: float = 1.0) -> None:
+        """Joint properties per set name (the default stays for contacts of no set), and the
+        rock bridges' of those sets, their strength divided by `factor` (strength reduction)."""
         self.sim.set_joint(**self.joint(self.default), set=None)
         for name, props in properties.items():
             self.properties[name] = props
             self.sim.set_joint(**self.joint(props), set=self.set_ids[name])
+            bridge = self.setup.model.bridges.get(name)
+            if bridge is not None:
+                reduced = bridge if factor == 1.0 else bridge.reduced(factor)
+                self.sim.set_bridge(**self.joint(reduced), set=self.set_ids[name])
+
+    #: The cohesion and tensile strength (Pa) of an elastic solve: no bond fails.
+    UNBREAKABLE = 1e30
+
+    def set_elastic(self, on: bool) -> None:
+        """With `on`, every joint and bridge model gets an unbreakable bond (cohesion and
+        tension :attr:`UNBREAKABLE`; friction and stiffness kept): a ``solve`` stage with
+        ``elastic = true`` reaches the initial equilibrium without the bonds failing under
+        the sudden load of gravity (3DEC's advice: equilibrium with high strength first). Off:
+        the model's properties again."""
+        if not on:
+            self.apply_properties(dict(self.properties))
+            return
+        strong = {"cohesion": self.UNBREAKABLE, "tension": self.UNBREAKABLE}
+        self.sim.set_joint(**{**self.joint(self.default), **strong}, set=None)
+        for name, props in self.properties.items():
+            self.sim.set_joint(**{**self.joint(props), **strong}, set=self.set_ids[name])
+            bridge = self.setup.model.bridges.get(name)
+            if bridge is not None:
+                self.sim.set_bridge(**{**self.joint(bridge), **strong}, set=self.set_ids[name])
 
     def apply_boundary(self, fixed: np.ndarray, velocity: np.ndarray) -> None:
         """Fixes, frees or drives every block as the masks say."""
@@ -215,6 +270,35 @@ class Engine:
     def system(self) -> Any:
         """The blocks at their current poses, as a :class:`penedge.BlockSystem`."""
         return self.sim.system()
+
+    def bolts(self) -> list[dict[str, Any]]:
+        """Per bolt: its name, its largest axial force now (N, tension > 0; over its
+        elements), its largest elongation (m) and its state: ``"elastic"``, ``"yielding"``
+        (an element at its capacity) or ``"broken"`` (an element broke)."""
+        if not self.bolt_names:
+            return []
+        data = self.sim.bolts()
+        out = []
+        for i, name in enumerate(self.bolt_names):
+            mine = data["bolt"] == i
+            states = data["states"][mine]
+            forces = data["forces"][mine]
+            state = (
+                "broken"
+                if (states == 2).any()
+                else "yielding"
+                if (states == 1).any()
+                else "elastic"
+            )
+            out.append(
+                {
+                    "name": name,
+                    "force": float(forces[np.argmax(np.abs(forces))]),
+                    "elongation": float(data["elongations"][mine].max()),
+                    "state": state,
+                }
+            )
+        return out
 
     def contacts(self) -> Any:
         """The contacts now, for the ParaView series (None when the engine gives none)."""

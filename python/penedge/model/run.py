@@ -120,6 +120,7 @@ class Outcome:
     ratio: float
     target: float = 1e-5  # the model's equilibrium ratio ([mechanics].ratio)
     error: str | None = None  # the engine's error that stopped the run
+    bolts: list[dict[str, Any]] = field(default_factory=list)  # per bolt, at the end
 
     @property
     def stable(self) -> bool:
@@ -238,6 +239,7 @@ class Runner:
             target=self.model.mechanics.ratio,
             error=error,
         )
+        out.bolts = bolt_results(e)
         return out
 
     def record(self, stage: str) -> None:
@@ -276,7 +278,9 @@ class Runner:
         if stage.kind == "solve":
             assert stage.ratio is not None
             assert stage.max_steps is not None
+            e.set_elastic(stage.elastic)
             converged = self.solve(stage, stage.ratio, stage.max_steps)
+            e.set_elastic(False)
         elif stage.kind in ("cycle", "time"):
             if stage.kind == "cycle":
                 assert stage.steps is not None
@@ -369,7 +373,7 @@ class Runner:
             e = self.snapshot(index)
             if reduce_default:
                 e.default = default.reduced(factor)
-            e.apply_properties({n: p.reduced(factor) for n, p in original.items()})
+            e.apply_properties({n: p.reduced(factor) for n, p in original.items()}, factor)
             before = e.positions()
             try:
                 converged = self.solve(stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e)
@@ -432,3 +436,10 @@ class Runner:
 def merge(props: JointProperties, changes: dict[str, float]) -> JointProperties:
     """`props` with `changes`."""
     return JointProperties(**{**props.__dict__, **changes})
+
+
+def bolt_results(engine: Any) -> list[dict[str, Any]]:
+    """Per bolt at the end of the run: name, force, elongation, state (empty without bolts,
+    or with an engine that has none)."""
+    bolts = getattr(engine, "bolts", None)
+    return bolts() if bolts is not None else []

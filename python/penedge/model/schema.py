@@ -148,8 +148,11 @@ class Bolt:
     point: tuple[float, float, float]  # collar (m)
     direction: tuple[float, float, float]  # unit vector, into the rock
     length: float  # m
-    capacity: float  # N, axial (tensile) capacity
-    stiffness: float  # N/m, axial
+    capacity: float  # N, axial capacity (it yields at it)
+    stiffness: float  # N/m, axial, of the whole length (EA / length)
+    rupture_strain: float | None = None  # axial strain at which it breaks; None: never
+    shear_stiffness: float | None = None  # N/m, dowel at each joint crossed; None: axial only
+    shear_capacity: float | None = None  # N, the dowel's capacity (with shear_stiffness)
 
     @property
     def end(self) -> tuple[float, float, float]:
@@ -233,6 +236,7 @@ class Stage:
     tolerance: float = 0.01  # factor_of_safety
     low: float = 0.1  # factor_of_safety: search range
     high: float = 10.0
+    elastic: bool = False  # solve: bonds (cohesion, tension) unbreakable during the stage
 
 
 @dataclass(frozen=True)
@@ -265,6 +269,8 @@ class Model:
     support: list[Support] = field(default_factory=list)
     seismic: Seismic | None = None
     title: str = ""
+    #: Rock-bridge properties per joint set name (the sets generated with bridge = true).
+    bridges: dict[str, JointProperties] = field(default_factory=dict)
 
     @property
     def gravity(self) -> tuple[float, float, float]:
@@ -296,7 +302,9 @@ def parse(data: Any) -> Model:
     title = top.text("title", "")
     set_names = joint_names(spec.get("joints", []))
     mechanics = parse_mechanics(top.table("rock"), top.table("mechanics"))
-    default, properties = parse_properties(top.table("joint_properties"), set_names)
+    properties_table = top.table("joint_properties")
+    default, properties = parse_properties(properties_table, set_names)
+    bridges = parse_bridges(properties_table, spec.get("joints", []), set_names, properties)
     regions = parse_regions(top.table("regions"))
     model = Model(
         spec=spec,
@@ -310,6 +318,7 @@ def parse(data: Any) -> Model:
         stages=[],
         results=parse_results(top.table("results")) if top.has("results") else Results(),
         title=title,
+        bridges=bridges,
     )
     if top.has("initial_stress"):
         model.initial_stress = parse_initial_stress(top.table("initial_stress"))
@@ -370,8 +379,11 @@ def parse_mechanics(rock: Table, t: Table) -> Mechanics:
     return mechanics
 
 
-def parse_property_values(t: Table, base: JointProperties | None) -> dict[str, float]:
-    """The property fields given in `t` (all of kn, ks, friction when `base` is None)."""
+def parse_property_values(
+    t: Table, base: JointProperties | None, also: tuple[str, ...] = ()
+) -> dict[str, float]:
+    """The property fields given in `t` (all of kn, ks, friction when `base` is None); the
+    keys `also` are left to the caller."""
     values: dict[str, float] = {}
     for key in PROPERTY_FIELDS:
         if key in ("kn", "ks"):
@@ -383,7 +395,7 @@ def parse_property_values(t: Table, base: JointProperties | None) -> dict[str, f
         required = base is None and key in ("kn", "ks", "friction")
         if required or t.has(key):
             values[key] = t.number(key, required=True, **bounds)
-    t.done()
+    t.done(also)
     return values
 
 
@@ -400,17 +412,78 @@ def parse_properties(
         raise ModelError(
             t.field("default"), "missing: give at least kn, ks and friction for every joint"
         )
-    default = JointProperties(**parse_property_values(t.table("default"), None))
+    default = JointProperties(**parse_property_values(t.table("default"), None, ("bridge",)))
     properties = {}
     for name in set_names:
         if t.has(name):
-            properties[name] = merge(default, parse_property_values(t.table(name), default))
+            values = parse_property_values(t.table(name), default, ("bridge",))
+            properties[name] = merge(default, values)
         else:
             properties[name] = default
     for key in t.data:
         if key not in t.read:
             raise ModelError(t.field(str(key)), unknown_set(str(key), set_names))
     return default, properties
+
+
+#: Rock-bridge fields: the intact rock's strength must be given; kn and ks default to the
+#: set's joint stiffness.
+BRIDGE_FIELDS = ("kn", "ks", "friction", "cohesion", "tension")
+
+
+def parse_bridge_values(t: Table) -> dict[str, float]:
+    """The fields of a ``bridge`` table (friction, cohesion and tension required)."""
+    values: dict[str, float] = {}
+    for key in BRIDGE_FIELDS:
+        if key in ("kn", "ks"):
+            bounds: dict[str, float] = {"above": 0}
+        elif key == "friction":
+            bounds = {"at_least": 0, "below": 90}
+        else:
+            bounds = {"at_least": 0}
+        if key not in ("kn", "ks") or t.has(key):
+            values[key] = t.number(key, required=True, **bounds)
+    t.done()
+    return values
+
+
+def parse_bridges(
+    t: Table, joints: Any, set_names: list[str], properties: dict[str, JointProperties]
+) -> dict[str, JointProperties]:
+    """``[joint_properties.<set>.bridge]`` (else ``[joint_properties.default.bridge]``) for
+    each joint generated with ``bridge = true``: the intact rock's properties of its rock
+    bridges (docs/models.md, "Rock bridges"); kn and ks default to the set's joints'."""
+    entries = joints if isinstance(joints, list) else []
+    bridged = {
+        name
+        for name, j in zip(set_names, entries, strict=False)
+        if isinstance(j, dict) and j.get("bridge") is True
+    }
+
+    def bridge_table(key: str) -> Table | None:
+        owner = Table(t.data.get(key, {}), t.field(key))
+        return owner.table("bridge") if owner.has("bridge") else None
+
+    default_table = bridge_table("default")
+    default_values = parse_bridge_values(default_table) if default_table is not None else None
+    bridges = {}
+    for i, name in enumerate(set_names):
+        own = bridge_table(name)
+        if own is not None and name not in bridged:
+            raise ModelError(
+                own.path, f"joints[{i}] ({name!r}) has no rock bridges: give it bridge = true"
+            )
+        values = parse_bridge_values(own) if own is not None else default_values
+        if name in bridged and values is None:
+            raise ModelError(
+                t.field(f"{name}.bridge"),
+                f"missing: joints[{i}] has bridge = true; give the intact rock's friction, "
+                "cohesion and tension here or in [joint_properties.default.bridge]",
+            )
+        if values is not None and name in bridged:
+            joint = properties[name]
+            bridges[name] = JointProperties(**{"kn": joint.kn, "ks": joint.ks, **values})
+    return bridges
 
 
 def unknown_set(name: str, set_names: list[str]) -> str:
@@ -654,10 +727,22 @@ def parse_bolts(tables: list[Table]) -> list[Bolt]:
                 length=t.number("length", required=True, above=0),
                 capacity=t.number("capacity", required=True, above=0),
                 stiffness=t.number("stiffness", required=True, above=0),
+                rupture_strain=t.optional_number("rupture_strain", above=0),
+                **parse_dowel(t),
             )
         )
         t.done()
     return bolts
+
+
+def parse_dowel(t: Table) -> dict[str, float | None]:
+    """A bolt's optional dowel: ``shear_stiffness`` and ``shear_capacity``, both or neither."""
+    stiffness = t.optional_number("shear_stiffness", above=0)
+    capacity = t.optional_number("shear_capacity", above=0)
+    if (stiffness is None) != (capacity is None):
+        missing = "shear_capacity" if capacity is None else "shear_stiffness"
+        raise ModelError(t.field(missing), "a dowel needs both shear_stiffness and shear_capacity")
+    return {"shear_stiffness": stiffness, "shear_capacity": capacity}
 
 
 def parse_support(t: Table, regions: dict[str, Region]) -> Support:
@@ -722,6 +807,7 @@ def parse_stage(
             kind,
             ratio=t.number("ratio", mechanics.ratio, above=0, below=1),
             max_steps=t.integer("max_steps", mechanics.max_steps, minimum=1),
+            elastic=t.boolean("elastic", False),
         )
     elif kind == "cycle":
         stage = Stage(name, kind, steps=t.integer("steps", minimum=1))

@@ -30,7 +30,8 @@ use pyo3::prelude::*;
 /// face_block : numpy.ndarray, shape (f,), int64
 ///     The block of each face.
 /// face_origin_kind : numpy.ndarray, shape (f,), int8
-///     Where each face comes from: 0 unknown, 1 domain boundary (a free face), 2 joint.
+///     Where each face comes from: 0 unknown, 1 domain boundary (a free face), 2 joint,
+///     3 rock bridge.
 /// face_origin_set : numpy.ndarray, shape (f,), int64
 ///     Domain part (boundary) or spec entry (joint; an index into :attr:`BlockSystem.sets`);
 ///     -1 when unknown.

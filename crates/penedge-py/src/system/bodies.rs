@@ -236,7 +236,7 @@ pub struct BodyContacts {
 }
 
 impl BodyContacts {
-    fn from_core(py: Python<'_>, f: CoreBodyContacts) -> PyResult<Self> {
+    pub(crate) fn from_core(py: Python<'_>, f: CoreBodyContacts) -> PyResult<Self> {
         let c = &f.contacts;
         let rows = |p: [u32; 2]| p.map(i64::from);
         let offsets = |o: &[u64]| o.iter().map(|&x| x as i64).collect::<Vec<i64>>();

@@ -1,5 +1,5 @@
-//! Excavations (core `BlockSystem::excavate`): tunnels, caverns and shafts removed from a
-//! block system, in stages.
+//! Excavations (core `BlockSystem::excavate`): tunnels, caverns, shafts, slopes and
+//! topographic surfaces removed from a block system, in stages.
 
 use super::BlockSystem;
 use crate::arrays;
@@ -20,10 +20,15 @@ impl BlockSystem {
     /// ----------
     /// excavation : dict
     ///     The fields of a ``[[excavations]]`` entry of a generation spec: ``type``
-    ///     (``"tunnel"``, ``"cavern"``, ``"shaft"``), a ``profile`` (``"circle"``,
-    ///     ``"horseshoe"``, ``"polygon"``) with its fields for a tunnel or shaft, and the
-    ///     placement (``start``, ``trend``, ``plunge``, ``length``; ``center``, ``width``,
-    ///     ``height``; ``top``, ``depth``).
+    ///     (``"tunnel"``, ``"cavern"``, ``"shaft"``, ``"slope"``, ``"topography"``), a
+    ///     ``profile`` (``"circle"``, ``"horseshoe"``, ``"polygon"``) with its fields for a
+    ///     tunnel or shaft, and the placement (``start``, ``trend``, ``plunge``, ``length``;
+    ///     ``center``, ``width``, ``height``; ``top``, ``depth``); for a slope ``origin``,
+    ///     ``trend`` (of the strike) and the profile's ``vertices`` ``[[u, v], ...]``; for a
+    ///     topographic surface its ``file`` (a grid of elevations ``.xyz``/``.csv``, or a
+    ///     ``.obj`` or ``.stl`` mesh; a path relative to the current folder). The air above a
+    ///     slope or a surface is removed, the rock below kept (docs/generation.md, "Slopes
+    ///     and topography").
     /// gap, length, absolute_gap : float
     ///     The tolerance of the cuts and of the glue between parts (as in
     ///     :meth:`BlockSystem.detect`).
@@ -40,7 +45,10 @@ impl BlockSystem {
     /// ------
     /// SpecError
     ///     A bad field (``field`` names it: ``excavation.radius``), a profile that crosses
-    ///     itself, or an excavation that removes no rock (outside the blocks).
+    ///     itself, or an excavation that removes no rock (outside the blocks); a surface with
+    ///     a hole, a fold or a vertical triangle, a file of the wrong kind, a ground entirely
+    ///     above or below the rock, a slope profile that goes back (``excavation.file``,
+    ///     ``excavation.vertices``).
     ///
     /// Examples
     /// --------

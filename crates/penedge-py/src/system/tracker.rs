@@ -1,6 +1,6 @@
 //! `ContactTracker` (core `system::ContactTracker`): contacts over time steps.
 
-use super::{BlockSystem, SystemContacts};
+use super::{BlockSystem, BodyContacts, SystemContacts};
 use crate::arrays;
 use crate::errors::input_error;
 use crate::tolerance::tolerance;
@@ -19,6 +19,12 @@ use pyo3::types::PyDict;
 /// without a query (see ``docs/systems.md``). Each step's contacts are exactly those of
 /// :meth:`BlockSystem.detect` on the moved blocks.
 ///
+/// For a system with concave blocks (:meth:`BlockSystem.with_bodies`) the tracker also
+/// keeps the contacts of the bodies, with their regions (:attr:`body_contacts`, as
+/// :meth:`BlockSystem.detect_bodies` on the moved blocks: two bodies can touch in several
+/// separate regions), and :attr:`contacts` holds the contacts between parts of different
+/// bodies only. The parts of one body must be given one pose.
+///
 /// Parameters
 /// ----------
 /// system : BlockSystem
@@ -32,6 +38,11 @@ use pyo3::types::PyDict;
 ///     Relative length threshold, as in :func:`detect_pair`.
 /// absolute_gap : float, optional
 ///     The gap as a length (model units) instead of `gap`, as in :func:`detect_pair`.
+/// bodies : bool, optional
+///     Whether to keep the contacts of the bodies (:attr:`body_contacts`); by default, when
+///     the system has concave blocks. ``True`` on convex blocks gives one region per
+///     touching pair, with its normal, distance and area (each queried touching pair then
+///     costs its contact geometry too).
 ///
 /// Raises
 /// ------
@@ -53,18 +64,36 @@ use pyo3::types::PyDict;
 /// >>> report = tracker.update(rotations, translations)
 /// >>> report["rebuilt"], len(tracker.contacts.pairs) < 28
 /// (False, True)
+///
+/// A U-block of three parts (body 0) and a block sitting in its notch (body 1), lifted by
+/// 1 mm off the notch's floor: it still touches both walls, two regions.
+///
+/// >>> c = penedge.Block.cuboid
+/// >>> u = [c([0, 0, 0], [3, 1, 1]), c([0, 0, 1], [1, 1, 2]), c([2, 0, 1], [3, 1, 2])]
+/// >>> system = penedge.BlockSystem(u + [c([1, 0, 1], [2, 1, 2])]).with_bodies([0, 0, 0, 1])
+/// >>> tracker = penedge.ContactTracker(system, skin=0.1)
+/// >>> tracker.body_contacts.regions.tolist()
+/// [0, 1, 2]
+/// >>> translations = np.zeros((4, 3))
+/// >>> translations[3, 2] = 1e-3
+/// >>> _ = tracker.update(np.tile([0.0, 0.0, 0.0, 1.0], (4, 1)), translations)
+/// >>> found = tracker.body_contacts
+/// >>> found.regions.tolist(), found.normals.round(9).tolist()
+/// ([0, 1], [[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]])
 #[pyclass(module = "penedge", name = "ContactTracker")]
 pub struct ContactTracker {
     inner: system::ContactTracker,
     /// The contacts as a Python object, made when first asked for after an update (a step
     /// of a DEM loop that does not read them pays no copy of a million contacts).
     contacts: Option<Py<SystemContacts>>,
+    /// The same for the contacts of the bodies.
+    body_contacts: Option<Py<BodyContacts>>,
 }
 
 #[pymethods]
 impl ContactTracker {
     #[new]
-    #[pyo3(signature = (system, skin = 0.0, gap = 1e-12, length = None, absolute_gap = None))]
+    #[pyo3(signature = (system, skin = 0.0, gap = 1e-12, length = None, absolute_gap = None, bodies = None))]
     fn new(
         py: Python<'_>,
         system: &BlockSystem,
@@ -72,15 +101,43 @@ impl ContactTracker {
         gap: f64,
         length: Option<f64>,
         absolute_gap: Option<f64>,
+        bodies: Option<bool>,
     ) -> PyResult<Self> {
         let tol = tolerance(gap, length, absolute_gap)?;
+        let system = &system.inner;
+        let bodies = bodies.unwrap_or(system.has_concave());
+        if !bodies && system.has_concave() {
+            let msg = "bodies=False on a system with concave blocks: its contacts are those \
+                       of the bodies (leave bodies out or give True)";
+            return Err(input_error("bodies", msg.to_string()));
+        }
         let inner = py
-            .detach(|| system::ContactTracker::new(&system.inner, tol, skin))
+            .detach(|| match bodies {
+                true => system::ContactTracker::tracking_bodies(system, tol, skin),
+                false => system::ContactTracker::new(system, tol, skin),
+            })
             .map_err(|e| input_error("skin", e.to_string()))?;
         Ok(ContactTracker {
             inner,
             contacts: None,
+            body_contacts: None,
         })
+    }
+
+    /// The contacts of the bodies at the current poses (a :class:`BodyContacts`, one row per
+    /// region), or ``None`` when the tracker does not keep them (convex blocks, ``bodies``
+    /// not given).
+    #[getter]
+    fn body_contacts(&mut self, py: Python<'_>) -> PyResult<Option<Py<BodyContacts>>> {
+        if let Some(made) = &self.body_contacts {
+            return Ok(Some(made.clone_ref(py)));
+        }
+        let Some(found) = self.inner.body_contacts() else {
+            return Ok(None);
+        };
+        let made = Py::new(py, BodyContacts::from_core(py, found.clone())?)?;
+        self.body_contacts = Some(made.clone_ref(py));
+        Ok(Some(made))
     }
 
     /// The contacts at the current poses (a :class:`SystemContacts`, without geometry).
@@ -117,7 +174,8 @@ impl ContactTracker {
     /// ------
     /// InputError
     ///     Wrong shapes or dtypes, not one pose per block, NaN or infinite values, a zero
-    ///     quaternion. The tracker is unchanged.
+    ///     quaternion, two parts of one body with different poses. The tracker is
+    ///     unchanged.
     fn update<'py>(
         &mut self,
         py: Python<'py>,
@@ -147,6 +205,7 @@ impl ContactTracker {
             .detach(|| inner.update(&poses))
             .map_err(|e| input_error("pose", e.to_string()))?;
         self.contacts = None;
+        self.body_contacts = None;
         let out = PyDict::new(py);
         out.set_item("rebuilt", report.rebuilt)?;
         out.set_item("candidate_pairs", report.candidate_pairs)?;

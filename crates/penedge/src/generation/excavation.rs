@@ -9,6 +9,8 @@
 
 use super::check;
 use super::error::{Problem, SpecError};
+use super::slope::{self, Extent};
+use super::topography::{self, Surface};
 use crate::block::ConvexBlock;
 use crate::geometry::DVec3;
 
@@ -64,6 +66,25 @@ pub enum ExcavationShape {
         /// Depth below `top` (> 0).
         depth: f64,
     },
+    /// A slope: the air above a profile (crest, benches, toe) extruded along a horizontal
+    /// strike, removed; the rock below the profile is kept. The profile's vertices `(u, v)`
+    /// are measured from `origin`: `u` horizontal, to the right looking along the strike,
+    /// `v` upwards; `u` must go one way (strictly up or strictly down), and the profile is
+    /// extended horizontally from its first and last vertices to the rock's edges.
+    Slope {
+        /// A point of the strike line: the profile's origin.
+        origin: [f64; 3],
+        /// Trend of the strike, in [0, 360] degrees.
+        trend: f64,
+        /// The profile's vertices `(u, v)`, at least 2.
+        vertices: Vec<[f64; 2]>,
+    },
+    /// A topographic surface (a height field: one elevation over each horizontal point of
+    /// the rock): the air above it removed, the rock below kept.
+    Topography {
+        /// The surface's triangles.
+        surface: Surface,
+    },
 }
 
 /// A cross-section, in the profile's own coordinates `(u, v)`.
@@ -111,27 +132,65 @@ impl Excavation {
     }
 
     /// The convex regions whose union is excavated (checked: each error names its field
-    /// under `excavation`).
+    /// under `excavation`). A slope or a topographic surface is bounded by the rock it cuts:
+    /// use [`Excavation::regions_in`].
     pub fn regions(&self) -> Result<Vec<ConvexBlock>, SpecError> {
-        self.regions_at("excavation")
+        self.regions_at("excavation", None)
     }
 
-    /// The excavated volume, exact: the profile's area times the length.
+    /// The convex regions whose union is excavated from `rock` (the blocks or the domain's
+    /// parts): a slope's or a topographic surface's air reaches above the rock and past its
+    /// sides; the other shapes do not depend on the rock.
+    pub fn regions_in(&self, rock: &[ConvexBlock]) -> Result<Vec<ConvexBlock>, SpecError> {
+        let extent = Extent::of(rock).ok_or_else(|| no_rock("excavation"))?;
+        self.regions_at("excavation", Some(&extent))
+    }
+
+    /// The excavated volume, exact: the profile's area times the length (an error for a
+    /// slope or a topographic surface, whose volume depends on the rock).
     pub fn volume(&self) -> Result<f64, SpecError> {
         let prism = self.prism("excavation")?;
         let area: f64 = prism.pieces.iter().map(|p| signed_area(p)).sum();
         Ok(area * prism.length)
     }
 
-    /// [`Excavation::regions`], naming fields under `prefix` (`excavations[2]`).
-    pub(crate) fn regions_at(&self, prefix: &str) -> Result<Vec<ConvexBlock>, SpecError> {
-        let prism = self.prism(prefix)?;
-        prism
-            .pieces
-            .iter()
-            .map(|piece| prism.region(piece))
-            .collect::<Result<_, _>>()
-            .map_err(|e| SpecError::new(prefix, Problem::Invalid(e.to_string())))
+    /// [`Excavation::regions`], naming fields under `prefix` (`excavations[2]`); a slope or
+    /// a topographic surface needs the rock's `extent`.
+    pub(crate) fn regions_at(
+        &self,
+        prefix: &str,
+        extent: Option<&Extent>,
+    ) -> Result<Vec<ConvexBlock>, SpecError> {
+        let open = || {
+            extent.ok_or_else(|| {
+                let msg = "a slope or a topographic surface is bounded by the rock: its \
+                           regions need the rock (`regions_in`)";
+                SpecError::new(prefix, Problem::Invalid(msg.to_string()))
+            })
+        };
+        match &self.shape {
+            ExcavationShape::Slope {
+                origin,
+                trend,
+                vertices,
+            } => {
+                let extent = open()?;
+                let f = |name: &str| format!("{prefix}.{name}");
+                let origin = check::point(&f("origin"), *origin)?;
+                let trend = angle(&f("trend"), *trend, 0.0..=360.0, "0 and 360")?.to_radians();
+                let d = DVec3::new(trend.sin(), trend.cos(), 0.0);
+                let u = DVec3::new(trend.cos(), -trend.sin(), 0.0);
+                let field = f("vertices");
+                let (start, length, pieces) =
+                    slope::pieces(&field, vertices, origin, d, u, extent)?;
+                let prism = Prism::new(start, d, u, length, pieces);
+                prism.regions(prefix)
+            }
+            ExcavationShape::Topography { surface } => {
+                topography::regions(prefix, surface, open()?)
+            }
+            _ => self.prism(prefix)?.regions(prefix),
+        }
     }
 
     /// The checked prism: frame, length and convex pieces of the profile.
@@ -193,8 +252,19 @@ impl Excavation {
                 let pieces = profile.pieces(prefix)?;
                 Ok(Prism::new(top, -DVec3::Z, DVec3::X, depth, pieces))
             }
+            ExcavationShape::Slope { .. } | ExcavationShape::Topography { .. } => {
+                let msg = "a slope or a topographic surface has no volume of its own: what \
+                           it removes depends on the rock";
+                Err(SpecError::new(prefix, Problem::Invalid(msg.to_string())))
+            }
         }
     }
+}
+
+/// The error of an excavation applied to no rock at all.
+pub(crate) fn no_rock(prefix: &str) -> SpecError {
+    let msg = "the excavation removes no rock: there is no rock (no block)";
+    SpecError::new(prefix, Problem::Invalid(msg.to_string()))
 }
 
 /// An angle within `range` (degrees).
@@ -224,7 +294,7 @@ fn finite_in(field: &str, value: f64) -> Result<f64, SpecError> {
 }
 
 /// A profile swept along an axis.
-struct Prism {
+pub(super) struct Prism {
     /// Where the axis starts.
     start: DVec3,
     /// The axis (unit).
@@ -238,7 +308,13 @@ struct Prism {
 }
 
 impl Prism {
-    fn new(start: DVec3, d: DVec3, u: DVec3, length: f64, pieces: Vec<Vec<[f64; 2]>>) -> Prism {
+    pub(super) fn new(
+        start: DVec3,
+        d: DVec3,
+        u: DVec3,
+        length: f64,
+        pieces: Vec<Vec<[f64; 2]>>,
+    ) -> Prism {
         Prism {
             start,
             d,
@@ -247,6 +323,15 @@ impl Prism {
             length,
             pieces,
         }
+    }
+
+    /// Every piece swept along the axis; an error names `prefix`.
+    fn regions(&self, prefix: &str) -> Result<Vec<ConvexBlock>, SpecError> {
+        self.pieces
+            .iter()
+            .map(|piece| self.region(piece))
+            .collect::<Result<_, _>>()
+            .map_err(|e| SpecError::new(prefix, Problem::Invalid(e.to_string())))
     }
 
     /// One convex piece swept along the axis, as half-spaces: the two ends and one side per
@@ -337,12 +422,12 @@ impl Profile {
     }
 }
 
-fn cross(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+pub(super) fn cross(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 }
 
 /// The signed area of a polygon (positive counter-clockwise), by the shoelace.
-fn signed_area(v: &[[f64; 2]]) -> f64 {
+pub(super) fn signed_area(v: &[[f64; 2]]) -> f64 {
     (0..v.len())
         .map(|k| {
             let (p, q) = (v[k], v[(k + 1) % v.len()]);
@@ -353,7 +438,7 @@ fn signed_area(v: &[[f64; 2]]) -> f64 {
 }
 
 /// Whether a counter-clockwise polygon is convex (collinear vertices allowed).
-fn is_convex(v: &[[f64; 2]]) -> bool {
+pub(super) fn is_convex(v: &[[f64; 2]]) -> bool {
     let n = v.len();
     let scale = v
         .iter()

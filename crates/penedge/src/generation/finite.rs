@@ -5,6 +5,16 @@
 //! polygon, within the length threshold. A joint that ends inside a block (it covers part of
 //! the section) leaves the block whole; such a *partial cut* is counted in the report. The
 //! tests run in the plane, in 2D coordinates (u, w) with `w = n × u`.
+//!
+//! With rock bridges on ([`crate::generation::Discontinuity::bridge`]), a block the joint ends
+//! inside is cut through instead, so that each new face lies wholly on the joint or wholly
+//! on the bridge (docs/generation.md, "Rock bridges"): the joint's outline is a convex polygon
+//! ([`outline`]: a disc is the regular polygon of [`DISC_SEGMENTS`] sides and the disc's
+//! area), and the block is first split by the *seams*, the planes through the outline's edges
+//! perpendicular to the joint's plane whose lines cross the block's section; each piece
+//! outside a seam is then cut along the joint's plane with bridge faces, and the piece inside
+//! every seam with joint faces. Seam faces are bridge faces too: they are cut through intact
+//! rock.
 
 use super::record::JointShape;
 use crate::geometry::{DVec3, Plane};
@@ -32,6 +42,52 @@ pub(crate) fn coverage(shape: &JointShape, plane: &Plane, section: &[DVec3], eps
             polygon(&p, &s, eps)
         }
     }
+}
+
+/// The sides of the regular polygon that stands for a disc with bridges.
+pub(crate) const DISC_SEGMENTS: usize = 32;
+
+/// The outline of a finite joint with bridges, a convex polygon on its plane (`None` for an
+/// infinite joint): a polygon's vertices; for a disc of radius `r`, the regular polygon of
+/// [`DISC_SEGMENTS`] sides whose area is the disc's, `π r²` (circumradius
+/// `r sqrt(2π / (N sin(2π/N)))`), so that the bridge and joint areas are the disc's.
+pub(crate) fn outline(shape: &JointShape, plane: &Plane) -> Option<Vec<DVec3>> {
+    match shape {
+        JointShape::Infinite => None,
+        JointShape::Polygon { vertices } => Some(vertices.clone()),
+        JointShape::Disc { center, radius } => {
+            let frame = Frame2::new(plane);
+            let n = DISC_SEGMENTS as f64;
+            let step = std::f64::consts::TAU / n;
+            let circumradius = radius * (std::f64::consts::TAU / (n * step.sin())).sqrt();
+            let vertices = (0..DISC_SEGMENTS)
+                .map(|k| {
+                    let (s, c) = (k as f64 * step).sin_cos();
+                    *center + (frame.u * c + frame.w * s) * circumradius
+                })
+                .collect();
+            Some(vertices)
+        }
+    }
+}
+
+/// The seams of an outline: per edge, the plane through it perpendicular to `plane`, its
+/// normal pointing away from the outline.
+pub(crate) fn seams(outline: &[DVec3], plane: &Plane) -> Vec<Plane> {
+    let centre = outline.iter().fold(DVec3::ZERO, |s, &p| s + p) / outline.len().max(1) as f64;
+    (0..outline.len())
+        .filter_map(|k| {
+            let (a, b) = (outline[k], outline[(k + 1) % outline.len()]);
+            let mut normal = (b - a).cross(plane.normal).normalize_or_zero();
+            if normal == DVec3::ZERO {
+                return None;
+            }
+            if normal.dot(centre - a) > 0.0 {
+                normal = -normal;
+            }
+            Some(Plane { normal, point: a })
+        })
+        .collect()
 }
 
 struct Frame2 {

@@ -43,8 +43,10 @@ pub mod orientation;
 mod record;
 mod report;
 pub mod rng;
+mod slope;
 mod spec;
 mod stats;
+mod topography;
 mod tree;
 mod work;
 
@@ -55,11 +57,14 @@ pub use excavation::{Excavation, ExcavationShape, Profile, MAX_SEGMENTS};
 pub use orientation::{Attitude, Frame};
 pub use record::{upward, JointRecord, JointShape, SetKind, SetRecord};
 pub use report::{thickness, GenerationReport, SliverReport, TinyReport, TINY_SHARE};
+pub(crate) use slope::Extent;
+pub use slope::MAX_PROFILE_VERTICES;
 pub use spec::{
     Deviation, Discontinuity, JointKind, JointSet, Options, Orientation, SliverPolicy, Spec,
     DEFAULT_MIN_THICKNESS, MAX_PLANES,
 };
 pub use stats::{distribution_curve, BlockStatistics, DistributionPoint};
+pub use topography::{Surface, MAX_TRIANGLES};
 pub use work::{available_memory, Estimate, Limits, BYTES_PER_BLOCK, FALLBACK_MAX_BLOCKS};
 
 use crate::system::BlockSystem;
@@ -117,8 +122,9 @@ pub fn generate_with(
     progress: &mut dyn FnMut(Progress) -> ControlFlow<()>,
 ) -> Result<Generated, GenerationError> {
     let plan = expand::plan(spec)?;
+    let extent = slope::Extent::of(spec.domain.parts());
     for (k, excavation) in spec.excavations.iter().enumerate() {
-        excavation.regions_at(&format!("excavations[{k}]"))?;
+        excavation.regions_at(&format!("excavations[{k}]"), extent.as_ref())?;
     }
     let estimate = work::estimate(spec, &plan);
     if estimate.blocks > limits.max_blocks as f64 {
@@ -140,7 +146,11 @@ pub fn generate_with(
     for (done, j) in cut_order(&plan.records).into_iter().enumerate() {
         let record = &plan.records[j];
         let before = counts.partial;
-        let cut = tree.cut(record, j as u32, &mut counts)?;
+        let bridge = spec
+            .joints
+            .get(record.set as usize)
+            .is_some_and(|d| d.bridge);
+        let cut = tree.cut(record, j as u32, bridge, &mut counts)?;
         if cut == Cut::Full {
             return Err(GenerationError::Outgrew {
                 estimate: estimate.blocks,
@@ -219,7 +229,7 @@ pub(crate) fn cut_domain(
     let mut tree = CuttingTree::new(domain.parts(), eps, usize::MAX);
     let mut counts = CutCounts::default();
     for j in cut_order(joints) {
-        tree.cut(&joints[j], j as u32, &mut counts)?;
+        tree.cut(&joints[j], j as u32, false, &mut counts)?;
     }
     Ok(tree.into_blocks())
 }

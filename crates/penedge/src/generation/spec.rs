@@ -59,6 +59,13 @@ pub struct Discontinuity {
     pub name: Option<String>,
     /// What it is.
     pub kind: JointKind,
+    /// For a disc or polygon: cut every block the joint ends inside through along the
+    /// joint's plane and tag the uncut part as rock-bridge faces ([`FaceOrigin::Bridge`],
+    /// docs/generation.md, "Rock bridges"); `false` (the default): such a block is left
+    /// whole.
+    ///
+    /// [`FaceOrigin::Bridge`]: crate::block::FaceOrigin::Bridge
+    pub bridge: bool,
 }
 
 /// The kinds of discontinuity.
@@ -179,6 +186,12 @@ impl Discontinuity {
         Self::unnamed(JointKind::Polygon { vertices })
     }
 
+    /// The same finite joint with rock bridges ([`Discontinuity::bridge`]).
+    pub fn with_bridges(mut self) -> Self {
+        self.bridge = true;
+        self
+    }
+
     /// The same discontinuity with a name.
     pub fn named(mut self, name: impl Into<String>) -> Self {
         self.name = Some(name.into());
@@ -186,7 +199,11 @@ impl Discontinuity {
     }
 
     fn unnamed(kind: JointKind) -> Self {
-        Discontinuity { name: None, kind }
+        Discontinuity {
+            name: None,
+            kind,
+            bridge: false,
+        }
     }
 }
 

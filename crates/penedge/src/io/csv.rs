@@ -184,6 +184,10 @@ pub fn feature_sets(system: &BlockSystem, block: &ConvexBlock, feature: Feature)
                 .sets()
                 .get(set as usize)
                 .map_or_else(|| format!("set {set}"), |s| s.name.clone()),
+            FaceOrigin::Bridge { set, .. } => system.sets().get(set as usize).map_or_else(
+                || format!("bridge of set {set}"),
+                |s| format!("bridge of {}", s.name),
+            ),
             FaceOrigin::Boundary { .. } => "boundary".to_string(),
             FaceOrigin::Unknown => continue,
         };

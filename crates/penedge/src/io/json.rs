@@ -187,7 +187,7 @@ fn check_origins(
             let ok = match *origin {
                 FaceOrigin::Unknown => true,
                 FaceOrigin::Boundary { part, .. } => (part as usize) < parts.max(1),
-                FaceOrigin::Joint { set, joint } => {
+                FaceOrigin::Joint { set, joint } | FaceOrigin::Bridge { set, joint } => {
                     (set as usize) < sets && (joint as usize) < joints
                 }
             };

@@ -3,6 +3,7 @@
 //! table (CSV).
 //!
 //! * [`spec`]: the generation spec;
+//! * [`surface`]: topographic surfaces (grids of elevations, OBJ, STL);
 //! * [`json`]: the block file (lossless);
 //! * [`vtu`]: blocks as polyhedron cells, faces as polygon cells;
 //! * [`vtp`]: contacts as vertex, line and polygon cells;
@@ -18,6 +19,7 @@ pub mod json;
 mod messages;
 pub mod pvd;
 pub mod spec;
+pub mod surface;
 pub mod vtp;
 pub mod vtu;
 

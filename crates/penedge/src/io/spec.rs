@@ -18,7 +18,7 @@
 //! Parsing checks the shape (known keys, value types, the fields each `type` takes);
 //! [`crate::generation::generate`] checks the values. Errors name the field.
 
-use super::{messages, read_text, IoError};
+use super::{messages, read_text, surface, IoError};
 use crate::generation::{Attitude, Deviation, Discontinuity, Domain, JointKind, JointSet};
 use crate::generation::{Excavation, ExcavationShape, Profile};
 use crate::generation::{Options, Orientation, Problem, SliverPolicy, Spec, SpecError};
@@ -72,6 +72,7 @@ struct RawJoint {
     center: Option<[f64; 3]>,
     radius: Option<f64>,
     vertices: Option<Vec<[f64; 3]>>,
+    bridge: Option<bool>,
 }
 
 #[derive(Deserialize, Default)]
@@ -94,6 +95,9 @@ struct RawExcavation {
     height: Option<f64>,
     top: Option<[f64; 3]>,
     depth: Option<f64>,
+    origin: Option<[f64; 3]>,
+    file: Option<String>,
+    offset: Option<[f64; 3]>,
 }
 
 #[derive(Deserialize, Default)]
@@ -106,13 +110,18 @@ struct RawOptions {
     length: Option<f64>,
 }
 
-/// Parses a TOML spec.
+/// Parses a TOML spec; a surface file it names is read relative to the current folder.
 pub fn parse_toml(text: &str) -> Result<Spec, SpecError> {
+    parse_toml_in(text, Path::new(""))
+}
+
+/// Parses a TOML spec whose surface files are named relative to `folder` (the spec file's).
+pub fn parse_toml_in(text: &str, folder: &Path) -> Result<Spec, SpecError> {
     let raw: RawSpec = toml::from_str(text).map_err(|e| {
         let message = messages::not_a_spec(text).unwrap_or_else(|| toml_message(text, &e));
         syntax(message)
     })?;
-    convert(raw)
+    convert(raw, folder)
 }
 
 /// A TOML error on one line: `line L, column C: what` (the parser's own text quotes the
@@ -139,17 +148,24 @@ fn one_line(message: &str) -> String {
     }
 }
 
-/// Parses a JSON spec (the same structure as the TOML file).
+/// Parses a JSON spec (the same structure as the TOML file); a surface file it names is
+/// read relative to the current folder.
 pub fn parse_json(text: &str) -> Result<Spec, SpecError> {
+    parse_json_in(text, Path::new(""))
+}
+
+/// Parses a JSON spec whose surface files are named relative to `folder`.
+pub fn parse_json_in(text: &str, folder: &Path) -> Result<Spec, SpecError> {
     let raw: RawSpec = serde_json::from_str(text).map_err(|e| {
         let message = messages::not_a_spec(text)
             .unwrap_or_else(|| one_line(&messages::plain(&e.to_string())));
         syntax(message)
     })?;
-    convert(raw)
+    convert(raw, folder)
 }
 
-/// Reads a spec file: JSON if its name ends in `.json`, TOML otherwise.
+/// Reads a spec file: JSON if its name ends in `.json`, TOML otherwise; the surface files
+/// it names are relative to its folder.
 pub fn read_spec(path: &Path) -> Result<Spec, IoError> {
     let text = read_text(path).map_err(|e| match e {
         IoError::Syntax { message, .. } => IoError::Spec(syntax(message)),
@@ -158,10 +174,11 @@ pub fn read_spec(path: &Path) -> Result<Spec, IoError> {
     let is_json = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let folder = path.parent().unwrap_or(Path::new(""));
     Ok(if is_json {
-        parse_json(&text)?
+        parse_json_in(&text, folder)?
     } else {
-        parse_toml(&text)?
+        parse_toml_in(&text, folder)?
     })
 }
 
@@ -169,7 +186,7 @@ fn syntax(message: String) -> SpecError {
     SpecError::new("spec", Problem::Syntax(message))
 }
 
-fn convert(raw: RawSpec) -> Result<Spec, SpecError> {
+fn convert(raw: RawSpec, folder: &Path) -> Result<Spec, SpecError> {
     let domain = domain(&raw.domain)?;
     let joints = raw
         .joints
@@ -181,7 +198,7 @@ fn convert(raw: RawSpec) -> Result<Spec, SpecError> {
         .excavations
         .iter()
         .enumerate()
-        .map(|(i, e)| excavation(&format!("excavations[{i}]"), e))
+        .map(|(i, e)| excavation(&format!("excavations[{i}]"), e, folder))
         .collect::<Result<_, _>>()?;
     let options = options(&raw.options)?;
     Ok(Spec {
@@ -295,7 +312,14 @@ fn unknown_type(field: &str, found: &str, expected: &'static str) -> SpecError {
 }
 
 const PLANE_FIELDS: [&str; 4] = ["point", "normal", "dip", "dip_direction"];
-const DISC_FIELDS: [&str; 5] = ["center", "normal", "dip", "dip_direction", "radius"];
+const DISC_FIELDS: [&str; 6] = [
+    "center",
+    "normal",
+    "dip",
+    "dip_direction",
+    "radius",
+    "bridge",
+];
 
 fn joint(prefix: &str, j: &RawJoint) -> Result<Discontinuity, SpecError> {
     let given = given_fields(j);
@@ -316,7 +340,7 @@ fn joint(prefix: &str, j: &RawJoint) -> Result<Discontinuity, SpecError> {
             }
         }
         "polygon" => {
-            only(prefix, "polygon", &given, &["vertices"])?;
+            only(prefix, "polygon", &given, &["vertices", "bridge"])?;
             let vertices = need(format!("{prefix}.vertices"), &j.vertices)?;
             JointKind::Polygon { vertices }
         }
@@ -326,10 +350,11 @@ fn joint(prefix: &str, j: &RawJoint) -> Result<Discontinuity, SpecError> {
         }
     };
     let name = j.name.clone();
-    Ok(Discontinuity { name, kind })
+    let bridge = j.bridge.unwrap_or(false);
+    Ok(Discontinuity { name, kind, bridge })
 }
 
-fn given_fields(j: &RawJoint) -> [(&'static str, bool); 15] {
+fn given_fields(j: &RawJoint) -> [(&'static str, bool); 16] {
     [
         ("point", j.point.is_some()),
         ("normal", j.normal.is_some()),
@@ -348,6 +373,7 @@ fn given_fields(j: &RawJoint) -> [(&'static str, bool); 15] {
         ("center", j.center.is_some()),
         ("radius", j.radius.is_some()),
         ("vertices", j.vertices.is_some()),
+        ("bridge", j.bridge.is_some()),
         ("name", false),
     ]
 }
@@ -427,7 +453,8 @@ fn tolerance_error(field: &'static str) -> impl Fn(crate::tolerance::ToleranceEr
 }
 
 /// Parses one excavation entry, given as TOML (the fields of an `[[excavations]]` entry);
-/// errors name the fields under `excavation`.
+/// errors name the fields under `excavation`; a surface file is relative to the current
+/// folder.
 ///
 /// ```
 /// let e = penedge::io::spec::parse_excavation_toml(
@@ -439,12 +466,13 @@ fn tolerance_error(field: &'static str) -> impl Fn(crate::tolerance::ToleranceEr
 pub fn parse_excavation_toml(text: &str) -> Result<Excavation, SpecError> {
     let raw: RawExcavation = toml::from_str(text)
         .map_err(|e| SpecError::new("excavation", Problem::Syntax(toml_message(text, &e))))?;
-    excavation("excavation", &raw)
+    excavation("excavation", &raw, Path::new(""))
 }
 
-/// An excavation entry: `type` (tunnel, cavern, shaft) and, for a tunnel or shaft, a
-/// `profile` (circle, horseshoe, polygon) with its fields flat in the entry.
-fn excavation(prefix: &str, e: &RawExcavation) -> Result<Excavation, SpecError> {
+/// An excavation entry: `type` (tunnel, cavern, shaft, slope, topography) and, for a tunnel
+/// or shaft, a `profile` (circle, horseshoe, polygon) with its fields flat in the entry; a
+/// topography's `file` is read relative to `folder`.
+fn excavation(prefix: &str, e: &RawExcavation, folder: &Path) -> Result<Excavation, SpecError> {
     let given = [
         ("profile", e.profile.is_some()),
         ("radius", e.radius.is_some()),
@@ -460,6 +488,9 @@ fn excavation(prefix: &str, e: &RawExcavation) -> Result<Excavation, SpecError> 
         ("height", e.height.is_some()),
         ("top", e.top.is_some()),
         ("depth", e.depth.is_some()),
+        ("origin", e.origin.is_some()),
+        ("file", e.file.is_some()),
+        ("offset", e.offset.is_some()),
     ];
     let field = |name: &str| format!("{prefix}.{name}");
     let shape = match e.kind.as_str() {
@@ -496,8 +527,38 @@ fn excavation(prefix: &str, e: &RawExcavation) -> Result<Excavation, SpecError> 
                 depth: need(field("depth"), &e.depth)?,
             }
         }
+        "slope" => {
+            only(prefix, "slope", &given, &["origin", "trend", "vertices"])?;
+            ExcavationShape::Slope {
+                origin: need(field("origin"), &e.origin)?,
+                trend: need(field("trend"), &e.trend)?,
+                vertices: need(field("vertices"), &e.vertices)?,
+            }
+        }
+        "topography" => {
+            only(prefix, "topography", &given, &["file", "offset"])?;
+            let offset = e.offset.unwrap_or([0.0; 3]);
+            if let Some(&value) = offset.iter().find(|v| !v.is_finite()) {
+                return Err(SpecError::new(
+                    field("offset"),
+                    Problem::NotFinite { value },
+                ));
+            }
+            let name = need(field("file"), &e.file)?;
+            let path = folder.join(&name);
+            let surface = surface::read_surface(&path).map_err(|err| {
+                let why = match err {
+                    IoError::Io { source, .. } => format!("{}: {source}", path.display()),
+                    other => other.to_string(),
+                };
+                SpecError::new(field("file"), Problem::Invalid(why))
+            })?;
+            ExcavationShape::Topography {
+                surface: surface.shifted(offset),
+            }
+        }
         other => {
-            let expected = "tunnel, cavern, shaft";
+            let expected = "tunnel, cavern, shaft, slope, topography";
             return Err(unknown_type(&field("type"), other, expected));
         }
     };

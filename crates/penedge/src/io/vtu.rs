@@ -7,7 +7,7 @@
 //! * [`write_faces_vtu`]: one polygon cell (VTK type 7) per block face, with cell data
 //!   `block_id`, `body_id`, `face`, `internal` (1 for a face inside its concave block, glued
 //!   to other parts: threshold it away to draw concave blocks without their internal faces),
-//!   `origin` (0 unknown, 1 domain boundary, 2 joint), `origin_set`
+//!   `origin` (0 unknown, 1 domain boundary, 2 joint, 3 bridge), `origin_set`
 //!   (domain part, or spec entry of the joint) and `origin_index` (boundary face, or joint
 //!   id): colour by `origin` to see free faces, by `origin_set` to see joint sets.
 //!

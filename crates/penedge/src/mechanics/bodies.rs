@@ -6,7 +6,8 @@ use crate::block::{ConvexBlock, Pose};
 use crate::body::Shape;
 use crate::geometry::DVec3;
 use glam::DMat3;
-use std::sync::Arc;
+use std::collections::BTreeMap;
+use std::sync::{Arc, Mutex};
 
 /// How a body moves.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -30,25 +31,55 @@ pub enum Fixity {
 /// Velocities are those of the leapfrog's half step (`t - dt/2` before a step, as 3DEC
 /// reports them), except right after they are set: then they are at `t` and the next step
 /// starts with a half kick.
+///
+/// Memory (docs/mechanics.md, "Memory"): 128 bytes per body, one entry in each of the six
+/// arrays below. Mass and moments are the shape's (per unit density) times the density,
+/// computed when asked (the same product as a stored one, so the same bits); the few bodies
+/// with a prescribed motion or an applied force have them in side tables; the stiffness bounds
+/// of the critical time step are computed from the shape when the time step is, and the time
+/// step is kept until a body's density, scaling or fixity changes.
 #[derive(Clone, Debug, Default)]
 pub struct Bodies {
     pub(super) shapes: Vec<Arc<Shape>>,
-    pub(super) density: Vec<f64>,
-    pub(super) mass: Vec<f64>,
-    /// Principal moments of inertia (mass, not per unit density), about the body axes.
-    pub(super) inertia: Vec<DVec3>,
+    density: Vec<f64>,
     pub(super) pose: Vec<Pose>,
     pub(super) velocity: Vec<DVec3>,
     /// Angular momentum, world frame.
     pub(super) momentum: Vec<DVec3>,
-    pub(super) fixity: Vec<Fixity>,
-    /// An applied force on the centroid, besides gravity and contacts (world frame).
-    pub(super) applied: Vec<DVec3>,
-    /// Per body `[S, Σ_f A_f max_v |r_v|²]` per unit stiffness (critical time step).
-    pub(super) stiffness_bounds: Vec<[f64; 2]>,
-    /// Per body, the factor of its inertia (mass and moments) in the equations of motion:
-    /// 1, or more under mass scaling (quasi-static runs; gravity keeps the true mass).
-    pub(super) scale: Vec<f64>,
+    /// Per body, the factor of its inertia (mass and moments) in the equations of motion: 1,
+    /// or more under mass scaling (quasi-static runs; gravity keeps the true mass). Negated
+    /// for a body that is not free (fixed, or prescribed when in `prescribed`): the sign is
+    /// the fixity, so that it takes no byte of its own.
+    scale: Vec<f64>,
+    /// The prescribed velocity and spin (world frame) of the bodies that have one.
+    prescribed: BTreeMap<u32, [DVec3; 2]>,
+    /// Applied forces on the centroids, besides gravity and contacts (world frame), of the
+    /// bodies that have one.
+    applied: BTreeMap<u32, DVec3>,
+    /// The last critical time step computed: `(k, step)` for the largest joint stiffness
+    /// `k`; cleared when a density, scaling factor or fixity changes.
+    critical: CriticalCache,
+}
+
+/// A cached critical time step (a mutex so that `Bodies` stays `Sync` and can be read while
+/// the step is computed from `&self`).
+#[derive(Debug, Default)]
+struct CriticalCache(Mutex<Option<(f64, Option<f64>)>>);
+
+impl CriticalCache {
+    fn get(&self) -> Option<(f64, Option<f64>)> {
+        *self.0.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn set(&self, value: Option<(f64, Option<f64>)>) {
+        *self.0.lock().unwrap_or_else(|e| e.into_inner()) = value;
+    }
+}
+
+impl Clone for CriticalCache {
+    fn clone(&self) -> Self {
+        CriticalCache(Mutex::new(self.get()))
+    }
 }
 
 impl Bodies {
@@ -66,27 +97,14 @@ impl Bodies {
 
     /// Adds a body of `shape` at `pose`, at rest and free; returns its id.
     pub fn push(&mut self, shape: Arc<Shape>, pose: Pose, density: f64) -> usize {
-        let bounds = stiffness_bounds(&shape);
         self.shapes.push(shape);
         self.density.push(density);
-        self.mass.push(0.0);
-        self.inertia.push(DVec3::ZERO);
         self.pose.push(pose);
         self.velocity.push(DVec3::ZERO);
         self.momentum.push(DVec3::ZERO);
-        self.fixity.push(Fixity::Free);
-        self.applied.push(DVec3::ZERO);
-        self.stiffness_bounds.push(bounds);
         self.scale.push(1.0);
-        let id = self.len() - 1;
-        self.update_mass(id);
-        id
-    }
-
-    fn update_mass(&mut self, i: usize) {
-        let s = &self.shapes[i];
-        self.mass[i] = s.volume() * self.density[i];
-        self.inertia[i] = s.principal_moments() * self.density[i];
+        self.critical.set(None);
+        self.len() - 1
     }
 
     /// Number of bodies.
@@ -119,14 +137,25 @@ impl Bodies {
         &self.momentum
     }
 
+    /// The mass of body `i` (its shape's volume times its density).
+    pub fn mass(&self, i: usize) -> f64 {
+        self.shapes[i].volume() * self.density[i]
+    }
+
+    /// The principal moments of inertia of body `i` about its axes (mass, not per unit
+    /// density).
+    pub fn moments(&self, i: usize) -> DVec3 {
+        self.shapes[i].principal_moments() * self.density[i]
+    }
+
     /// Masses.
-    pub fn masses(&self) -> &[f64] {
-        &self.mass
+    pub fn masses(&self) -> Vec<f64> {
+        (0..self.len()).map(|i| self.mass(i)).collect()
     }
 
     /// Principal moments of inertia (about the body axes).
-    pub fn principal_inertia(&self) -> &[DVec3] {
-        &self.inertia
+    pub fn principal_inertia(&self) -> Vec<DVec3> {
+        (0..self.len()).map(|i| self.moments(i)).collect()
     }
 
     /// Densities.
@@ -134,42 +163,113 @@ impl Bodies {
         &self.density
     }
 
+    /// Whether body `i` is free (moved by the forces on it).
+    pub fn is_free(&self, i: usize) -> bool {
+        self.scale[i] > 0.0
+    }
+
+    /// How body `i` moves.
+    pub fn fixity(&self, i: usize) -> Fixity {
+        if self.is_free(i) {
+            return Fixity::Free;
+        }
+        match self.prescribed.get(&(i as u32)) {
+            Some(&[velocity, spin]) => Fixity::Prescribed { velocity, spin },
+            None => Fixity::Fixed,
+        }
+    }
+
     /// How each body moves.
-    pub fn fixities(&self) -> &[Fixity] {
-        &self.fixity
+    pub fn fixities(&self) -> Vec<Fixity> {
+        (0..self.len()).map(|i| self.fixity(i)).collect()
+    }
+
+    /// The applied force on body `i` (zero when none was applied).
+    pub fn applied_force(&self, i: usize) -> DVec3 {
+        if self.applied.is_empty() {
+            return DVec3::ZERO;
+        }
+        self.applied
+            .get(&(i as u32))
+            .copied()
+            .unwrap_or(DVec3::ZERO)
     }
 
     /// Applied forces.
-    pub fn applied_forces(&self) -> &[DVec3] {
-        &self.applied
+    pub fn applied_forces(&self) -> Vec<DVec3> {
+        (0..self.len()).map(|i| self.applied_force(i)).collect()
+    }
+
+    /// The mass-scaling factor of body `i` (1 without mass scaling).
+    pub fn mass_scale(&self, i: usize) -> f64 {
+        self.scale[i].abs()
     }
 
     /// The mass of body `i` in its equation of motion: its mass times its mass-scaling factor.
     pub fn inertial_mass(&self, i: usize) -> f64 {
-        self.mass[i] * self.scale[i]
+        self.mass(i) * self.mass_scale(i)
     }
 
     /// The principal moments of body `i` in its equation of motion (times its mass-scaling
     /// factor).
     pub fn inertial_moments(&self, i: usize) -> DVec3 {
-        self.inertia[i] * self.scale[i]
+        self.moments(i) * self.mass_scale(i)
     }
 
     /// Mass-scaling factors (1 without mass scaling).
-    pub fn mass_scales(&self) -> &[f64] {
-        &self.scale
+    pub fn mass_scales(&self) -> Vec<f64> {
+        (0..self.len()).map(|i| self.mass_scale(i)).collect()
     }
 
-    /// Sets body `i`'s mass-scaling factor, keeping its velocity and spin.
+    /// Sets body `i`'s mass-scaling factor (≥ 1), keeping its velocity and spin.
     pub(super) fn set_scale(&mut self, i: usize, scale: f64) {
-        self.momentum[i] *= scale / self.scale[i];
-        self.scale[i] = scale;
+        let old = self.mass_scale(i);
+        self.momentum[i] *= scale / old;
+        self.scale[i] = scale.copysign(self.scale[i]);
+        self.critical.set(None);
+    }
+
+    /// Sets how body `i` moves (its velocity and momentum stay as they are).
+    pub(super) fn set_fixity(&mut self, i: usize, fixity: Fixity) -> Result<(), MechanicsError> {
+        self.check(i)?;
+        let id = i as u32;
+        let scale = self.mass_scale(i);
+        match fixity {
+            Fixity::Free => {
+                self.scale[i] = scale;
+                self.prescribed.remove(&id);
+            }
+            Fixity::Fixed => {
+                self.scale[i] = -scale;
+                self.prescribed.remove(&id);
+            }
+            Fixity::Prescribed { velocity, spin } => {
+                self.scale[i] = -scale;
+                self.prescribed.insert(id, [velocity, spin]);
+            }
+        }
+        self.critical.set(None);
+        Ok(())
+    }
+
+    /// Sets the applied force on body `i` (zero removes it).
+    pub(super) fn set_applied(&mut self, i: usize, force: DVec3) -> Result<(), MechanicsError> {
+        self.check(i)?;
+        if !force.is_finite() {
+            return Err(MechanicsError::NotFinite("applied force"));
+        }
+        if force == DVec3::ZERO {
+            self.applied.remove(&(i as u32));
+        } else {
+            self.applied.insert(i as u32, force);
+        }
+        Ok(())
     }
 
     /// The angular velocity of body `i` (world frame): `ω = R I⁻¹ Rᵀ L` for a free body,
     /// the prescribed spin or zero otherwise.
     pub fn spin(&self, i: usize) -> DVec3 {
-        match self.fixity[i] {
+        match self.fixity(i) {
             Fixity::Free => {
                 let q = self.pose[i].rotation;
                 q * (q.conjugate() * self.momentum[i] / self.inertial_moments(i))
@@ -181,7 +281,7 @@ impl Bodies {
 
     /// The velocity of body `i`'s centroid: its own when free, else fixed or prescribed.
     pub fn velocity(&self, i: usize) -> DVec3 {
-        match self.fixity[i] {
+        match self.fixity(i) {
             Fixity::Free => self.velocity[i],
             Fixity::Fixed => DVec3::ZERO,
             Fixity::Prescribed { velocity, .. } => velocity,
@@ -194,14 +294,11 @@ impl Bodies {
         let v = self.velocity(i);
         let q = self.pose[i].rotation;
         let body_momentum = q.conjugate() * self.momentum[i];
-        let rot = match self.fixity[i] {
-            Fixity::Free => {
-                (body_momentum * body_momentum / self.inertial_moments(i)).element_sum()
-            }
-            _ => {
-                let w = q.conjugate() * self.spin(i);
-                (self.inertial_moments(i) * w * w).element_sum()
-            }
+        let rot = if self.is_free(i) {
+            (body_momentum * body_momentum / self.inertial_moments(i)).element_sum()
+        } else {
+            let w = q.conjugate() * self.spin(i);
+            (self.inertial_moments(i) * w * w).element_sum()
         };
         0.5 * (self.inertial_mass(i) * v.length_squared() + rot)
     }
@@ -222,11 +319,11 @@ impl Bodies {
         check_density(density)?;
         let old = self.inertial_moments(i);
         self.density[i] = density;
-        self.update_mass(i);
         // The angular velocity stays: scale the momentum with the inertia.
         let q = self.pose[i].rotation;
         let w = q.conjugate() * self.momentum[i] / old;
         self.momentum[i] = q * (w * self.inertial_moments(i));
+        self.critical.set(None);
         Ok(())
     }
 
@@ -251,6 +348,24 @@ impl Bodies {
         let r = DMat3::from_quat(self.pose[i].rotation);
         r * DMat3::from_diagonal(self.inertial_moments(i)) * r.transpose()
     }
+
+    /// The critical time step for the largest joint stiffness `k`: the smallest bound of the
+    /// free bodies with their inertia as scaled (`None` when no body is free). Computed from
+    /// the shapes once, then kept while `k` and the bodies' densities, scaling factors and
+    /// fixities stay (poses and velocities do not enter it).
+    pub(super) fn critical_timestep(&self, k: f64) -> Option<f64> {
+        if let Some((cached_k, step)) = self.critical.get() {
+            if cached_k.to_bits() == k.to_bits() {
+                return step;
+            }
+        }
+        let step = (0..self.len())
+            .filter(|&i| self.is_free(i))
+            .map(|i| super::integrate::critical_step(self, i, k, self.mass_scale(i)))
+            .reduce(f64::min);
+        self.critical.set(Some((k, step)));
+        step
+    }
 }
 
 fn check_density(density: f64) -> Result<(), MechanicsError> {
@@ -263,7 +378,7 @@ fn check_density(density: f64) -> Result<(), MechanicsError> {
 
 /// `[S, Σ_f A_f max_v |r_v|²]` of a shape: its surface area, and the bound of its rotational
 /// stiffness per unit stiffness (docs/mechanics.md, "Critical time step").
-fn stiffness_bounds(shape: &Shape) -> [f64; 2] {
+pub(super) fn stiffness_bounds(shape: &Shape) -> [f64; 2] {
     let mut out = [0.0; 2];
     for part in shape.parts() {
         let v = part.vertices();
@@ -283,4 +398,32 @@ fn stiffness_bounds(shape: &Shape) -> [f64; 2] {
         }
     }
     out
+}
+
+impl Bodies {
+    /// One body per body of `system` ([`crate::BlockSystem::body_parts`], by ascending body
+    /// id): a concave block (parts sharing a body id, [`crate::BlockSystem::with_bodies`]) is
+    /// one rigid body of all its parts, with the mass, centroid and inertia of their union
+    /// ([`Shape::from_parts`]); each block of a system without concave blocks is its own
+    /// body, in block order (as [`Bodies::from_blocks`]). Density `density`, at rest.
+    pub fn from_system(
+        system: &crate::BlockSystem,
+        density: f64,
+    ) -> Result<Bodies, MechanicsError> {
+        if !system.has_concave() {
+            return Bodies::from_blocks(system.blocks(), density);
+        }
+        check_density(density)?;
+        let mut bodies = Bodies::default();
+        for (i, (_, parts)) in system.body_parts().into_iter().enumerate() {
+            let blocks: Vec<ConvexBlock> = parts
+                .iter()
+                .map(|&k| system.blocks()[k as usize].clone())
+                .collect();
+            let (shape, pose) =
+                Shape::from_parts(&blocks).map_err(|e| MechanicsError::Body(i, e))?;
+            bodies.push(Arc::new(shape), pose, density);
+        }
+        Ok(bodies)
+    }
 }

@@ -3,6 +3,7 @@
 //! (docs/mechanics.md, steps 2 to 4).
 
 use super::bodies::Bodies;
+use super::bridge::{contact_model, BridgeTable};
 use super::joint::{joint_law, JointTable, SubState};
 use crate::block::{ConvexBlock, Pose};
 use crate::classify::{Contact, ContactType, Feature};
@@ -23,6 +24,8 @@ pub struct BodyContact {
     pub normal: DVec3,
     /// The joint set whose properties apply (`None`: the default).
     pub set: Option<u32>,
+    /// Whether it is over a rock bridge (the bridge properties of `set` apply).
+    pub bridge: bool,
     /// The first of its sub-contacts in [`Contacts::subs`].
     pub first: u32,
     /// How many sub-contacts it has.
@@ -92,6 +95,60 @@ pub(super) struct Found {
     pub parts: [u32; 2],
     pub contact: Contact,
     pub geometry: ContactGeometry,
+    /// The carrying of the contact between queries (docs/mechanics.md, "Carried contacts").
+    pub carry: Carry,
+}
+
+/// What carries a contact's geometry with its bodies between two queries of the pair: the
+/// bodies' poses and travels at the query, which body each point and the normal move with,
+/// and the travel sum past which the pair is queried again.
+#[derive(Clone, Debug)]
+pub(super) struct Carry {
+    /// The poses of the two bodies (A, B) at the query.
+    pub poses: [Pose; 2],
+    /// Their travels (sums of motion bounds) at the query.
+    pub travels: [f64; 2],
+    /// Bit `k` set: point `k` moves with B (it was one of B's vertices), else with A.
+    pub with_b: u64,
+    /// Whether the normal moves with B (B's feature is a face and A's is not).
+    pub normal_with_b: bool,
+    /// The travel sum since the query past which the pair is queried again (tau; 0: every
+    /// step its bodies move).
+    pub tolerance: f64,
+}
+
+impl Carry {
+    /// The carrying of `found`'s geometry, queried with A and B placed at `poses`.
+    pub fn new(
+        b: &ConvexBlock,
+        contact: &Contact,
+        geometry: &ContactGeometry,
+        poses: [Pose; 2],
+        travels: [f64; 2],
+        tolerance: f64,
+    ) -> Carry {
+        let mut with_b = 0u64;
+        if tolerance > 0.0 {
+            // A point within rounding of one of B's vertices is that vertex.
+            let near = 1e-9 * (b.size() + b.magnitude());
+            for (k, p) in geometry.points().iter().take(64).enumerate() {
+                if b.vertices().iter().any(|v| v.distance(*p) <= near) {
+                    with_b |= 1 << k;
+                }
+            }
+        }
+        let normal_with_b = matches!(
+            (contact.feature_a, contact.feature_b),
+            (Feature::Vertex(_) | Feature::Edge(_), Feature::Face(_))
+        );
+        Carry {
+            poses,
+            travels,
+            with_b,
+            normal_with_b,
+            tolerance,
+        }
+    }
 }
 
 /// What a new contact's sub-contacts need besides the geometry.
@@ -100,6 +157,7 @@ pub(super) struct StepInput<'a> {
     pub part_body: &'a [u32],
     pub placed: &'a [ConvexBlock],
     pub joints: &'a JointTable,
+    pub bridges: &'a BridgeTable,
     pub previous: &'a Contacts,
     pub dt: f64,
     /// Whether new pairs are bonded (the first detection of a run).
@@ -141,11 +199,28 @@ pub(super) fn build_contact(
     let (a, b) = (&input.placed[pa as usize], &input.placed[pb as usize]);
     let bodies = [input.part_body[pa as usize], input.part_body[pb as usize]];
     let g = &found.geometry;
-    let n = g.normal();
-    let set = input
-        .joints
-        .set_of_contact(a, found.contact.feature_a, b, found.contact.feature_b);
-    let model = input.joints.of_set(set);
+    let poses = bodies.map(|i| input.bodies.pose[i as usize]);
+    // Between queries the geometry moves with the bodies (docs/mechanics.md, "Carried
+    // contacts"): the motion of each body since the query, `None` at the query's poses.
+    let carried = (0..2)
+        .any(|k| !super::same_bits(&found.carry.poses[k], &poses[k]))
+        .then(|| {
+            [0, 1].map(|k| {
+                let (q, p) = (found.carry.poses[k], poses[k]);
+                let rotation = p.rotation * q.rotation.conjugate();
+                Pose {
+                    rotation,
+                    translation: p.translation - rotation * q.translation,
+                }
+            })
+        });
+    let n = match carried {
+        Some(m) => (m[usize::from(found.carry.normal_with_b)].rotation * g.normal()).normalize(),
+        None => g.normal(),
+    };
+    let (fa, fb) = (found.contact.feature_a, found.contact.feature_b);
+    let (set, bridge, model) = contact_model(input.joints, input.bridges, a, fa, b, fb);
+    let model = &model;
     // The smaller body's diameter (twice its radius about the centroid): the same whatever
     // its orientation, unlike a bounding box.
     let diameter = 2.0
@@ -159,20 +234,27 @@ pub(super) fn build_contact(
     // far from the origin): a bond at zero gap is not broken by it.
     let magnitude = a.magnitude().max(b.magnitude());
     let slack = (1e-9 * diameter).max(crate::tolerance::ROUNDING_FLOOR * magnitude);
-    area_shares(g.shape(), n, width, areas, floors);
-    let pose_a = input.bodies.pose[bodies[0] as usize];
+    // The shares of the geometry at the query: a rigid motion keeps them.
+    area_shares(g.shape(), g.normal(), width, areas, floors);
+    let pose_a = poses[0];
     let previous = input.previous.find(found.parts);
+    points.clear();
+    match carried {
+        None => points.extend_from_slice(g.points()),
+        Some(m) => points.extend(g.points().iter().enumerate().map(|(k, &p)| {
+            let with_b = k < 64 && found.carry.with_b & (1 << k) != 0;
+            m[usize::from(with_b)].apply(p)
+        })),
+    }
     gaps.clear();
-    match g.shape() {
-        ContactPoints::Point(_) => gaps.push(g.distance()),
-        _ => gaps.extend(g.points().iter().map(|&p| {
+    match (g.shape(), carried) {
+        (ContactPoints::Point(_), None) => gaps.push(g.distance()),
+        _ => gaps.extend(points.iter().map(|&p| {
             let sa = feature_height(a, found.contact.feature_a, p, n);
             let sb = feature_height(b, found.contact.feature_b, p, n);
             sb - sa
         })),
     };
-    points.clear();
-    points.extend_from_slice(g.points());
     if let (ContactType::FaceFace, 2, Feature::Face(fa), Feature::Face(fb)) = (
         found.contact.kind,
         gaps.len(),
@@ -263,6 +345,7 @@ pub(super) fn build_contact(
         kind: found.contact.kind,
         normal: n,
         set,
+        bridge,
         first: 0,
         count: subs.len() as u32,
     }

@@ -2,7 +2,7 @@
 //! equations for rotation, damping, and the critical time step (docs/mechanics.md,
 //! "Integration").
 
-use super::bodies::{Bodies, Fixity};
+use super::bodies::{stiffness_bounds, Bodies, Fixity};
 use crate::geometry::DVec3;
 use glam::DQuat;
 
@@ -52,7 +52,7 @@ pub(super) fn damped(
     gravity: DVec3,
     damping: &Damping,
 ) -> (DVec3, DVec3) {
-    let f = force + gravity * bodies.mass[i] + bodies.applied[i];
+    let f = force + gravity * bodies.mass(i) + bodies.applied_force(i);
     let v = bodies.velocity[i];
     let w = bodies.spin(i);
     let mut f = local_damping(f, v, damping.local);
@@ -68,7 +68,7 @@ pub(super) fn damped(
 /// is the fraction of `dt` of the velocity update (1, or 1/2 when velocities are at the
 /// whole step, right after they were set).
 pub(super) fn advance(bodies: &mut Bodies, i: usize, f: DVec3, m: DVec3, dt: f64, kick: f64) {
-    match bodies.fixity[i] {
+    match bodies.fixity(i) {
         Fixity::Free => {
             let mass = bodies.inertial_mass(i);
             bodies.velocity[i] += f * (kick * dt / mass);
@@ -95,9 +95,9 @@ pub(super) fn advance(bodies: &mut Bodies, i: usize, f: DVec3, m: DVec3, dt: f64
 /// (docs/mechanics.md): `2 / √(max(K_t / m, K_r / I_min))`, with its inertia scaled by
 /// `scale` (its mass-scaling factor, or 1 for the true bound).
 pub(super) fn critical_step(bodies: &Bodies, i: usize, k: f64, scale: f64) -> f64 {
-    let [surface, rotational] = bodies.stiffness_bounds[i];
-    let kt = 2.0 * k * surface / (bodies.mass[i] * scale);
-    let kr = 2.0 * k * rotational / (bodies.inertia[i].min_element() * scale);
+    let [surface, rotational] = stiffness_bounds(bodies.shape(i));
+    let kt = 2.0 * k * surface / (bodies.mass(i) * scale);
+    let kr = 2.0 * k * rotational / (bodies.moments(i).min_element() * scale);
     2.0 / kt.max(kr).sqrt()
 }
 

@@ -20,6 +20,10 @@ pub struct JointModel {
     pub cohesion: f64,
     /// Tensile strength, a stress (≥ 0); 0 after failure.
     pub tension: f64,
+    /// Friction angle after failure, in degrees in [0, 90); `None`: the friction angle.
+    pub residual_friction: Option<f64>,
+    /// Cohesion after failure, a stress (≥ 0; 3DEC's default 0).
+    pub residual_cohesion: f64,
 }
 
 impl Default for JointModel {
@@ -31,6 +35,8 @@ impl Default for JointModel {
             friction: 30.0,
             cohesion: 0.0,
             tension: 0.0,
+            residual_friction: None,
+            residual_cohesion: 0.0,
         }
     }
 }
@@ -47,10 +53,22 @@ impl JointModel {
         };
         positive("kn", self.kn)?;
         positive("ks", self.ks)?;
-        if !(self.friction.is_finite() && (0.0..90.0).contains(&self.friction)) {
+        let angle_ok = |a: f64| a.is_finite() && (0.0..90.0).contains(&a);
+        if !angle_ok(self.friction) {
             return Err(MechanicsError::Friction(self.friction));
         }
-        for (name, v) in [("cohesion", self.cohesion), ("tension", self.tension)] {
+        if let Some(a) = self.residual_friction.filter(|&a| !angle_ok(a)) {
+            return Err(MechanicsError::Parameter {
+                name: "residual_friction",
+                range: "in [0, 90) degrees",
+                value: a,
+            });
+        }
+        for (name, v) in [
+            ("cohesion", self.cohesion),
+            ("tension", self.tension),
+            ("residual_cohesion", self.residual_cohesion),
+        ] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(MechanicsError::Strength { name, value: v });
             }
@@ -61,6 +79,17 @@ impl JointModel {
     /// tan φ.
     pub fn tan_friction(&self) -> f64 {
         self.friction.to_radians().tan()
+    }
+
+    /// The shear strength of a sub-contact: `(tan φ, c)` while its bond is intact, the
+    /// residual `(tan φr, cr)` once it has failed (or for a contact formed during the run).
+    pub fn strength(&self, bonded: bool) -> (f64, f64) {
+        if bonded {
+            (self.tan_friction(), self.cohesion)
+        } else {
+            let phi = self.residual_friction.unwrap_or(self.friction);
+            (phi.to_radians().tan(), self.residual_cohesion)
+        }
     }
 }
 
@@ -182,18 +211,21 @@ pub(super) fn joint_law(
             bonded: false,
         };
     }
-    let cohesion = if bonded { model.cohesion } else { 0.0 };
+    let (tan_phi, cohesion) = model.strength(bonded);
     // Friction from compression only: tension on a bond leaves its cohesion.
-    let limit = cohesion * area + fn_.max(0.0) * model.tan_friction();
+    let limit = cohesion * area + fn_.max(0.0) * tan_phi;
     let magnitude = shear.length();
     if magnitude > limit {
-        // Shear failure: the force at the strength; a bond with cohesion loses its cohesion
-        // and its tension (3DEC's residual); a bond of tension only keeps it.
+        // Shear failure: the force at the strength; the bond fails for good, and the
+        // residual strength applies from the next step (3DEC's rule: cohesion and tension
+        // lost, friction to its residual value). Except a bond without cohesion held in
+        // tension: its shear strength is zero, so any rounding of its shear force would
+        // break it; it keeps its tension.
         LawOutcome {
             normal_force: fn_,
             shear_force: shear * (limit / magnitude),
             state: SubState::Sliding,
-            bonded: bonded && cohesion == 0.0,
+            bonded: bonded && cohesion == 0.0 && fn_ <= 0.0,
         }
     } else {
         LawOutcome {
@@ -216,6 +248,7 @@ mod tests {
             friction: 45.0,
             cohesion: 2.0,
             tension: 3.0,
+            ..JointModel::default()
         }
     }
 
@@ -240,6 +273,40 @@ mod tests {
         assert_eq!((broken.state, broken.bonded), (SubState::Open, false));
         let apart = joint_law(&m, 2.0, 0.02, DVec3::ZERO, false, 0.0);
         assert_eq!(apart.state, SubState::Open);
+        // A bond of tension only that slides in compression fails too (3DEC): it no longer
+        // holds tension; held in tension (no shear strength) it keeps its bond.
+        let tension_only = JointModel { cohesion: 0.0, ..m };
+        let pulled = joint_law(&tension_only, 2.0, 0.01, DVec3::X * 1e-9, true, 0.0);
+        assert_eq!((pulled.state, pulled.bonded), (SubState::Sliding, true));
+        let slid = joint_law(
+            &tension_only,
+            2.0,
+            -0.01,
+            DVec3::new(3.0, 0.0, 0.0),
+            true,
+            0.0,
+        );
+        assert_eq!((slid.state, slid.bonded), (SubState::Sliding, false));
+    }
+
+    /// After failure the residual friction and cohesion apply: tan φr = tan 20°, cr = 0.5.
+    #[test]
+    fn a_failed_sub_contact_has_the_residual_strength() {
+        let m = JointModel {
+            residual_friction: Some(20.0),
+            residual_cohesion: 0.5,
+            ..model()
+        };
+        // Compression 2: peak strength 2 × 2 + 2 tan 45° = 6; residual 0.5 × 2 + 2 tan 20°.
+        let residual = 1.0 + 2.0 * 20f64.to_radians().tan();
+        let intact = joint_law(&m, 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), true, 0.0);
+        assert_eq!((intact.state, intact.bonded), (SubState::Elastic, true));
+        let failed = joint_law(&m, 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), false, 0.0);
+        assert_eq!(failed.state, SubState::Sliding);
+        assert!((failed.shear_force.x - residual).abs() < 1e-12);
+        // Without residual values: the friction angle, no cohesion.
+        let plain = joint_law(&model(), 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), false, 0.0);
+        assert!((plain.shear_force.x - 2.0).abs() < 1e-12);
     }
 
     /// A contact takes its faces' joint set; between two sets, the weaker; with no joint
@@ -299,5 +366,7 @@ mod tests {
         assert!(bad(|m| m.friction = -1.0).contains("friction"));
         assert!(bad(|m| m.cohesion = -1.0).contains("cohesion"));
         assert!(bad(|m| m.tension = f64::NAN).contains("tension"));
+        assert!(bad(|m| m.residual_friction = Some(90.0)).contains("residual_friction"));
+        assert!(bad(|m| m.residual_cohesion = -1.0).contains("residual_cohesion"));
     }
 }

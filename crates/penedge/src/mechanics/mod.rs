@@ -21,14 +21,22 @@
 //! ```
 
 mod bodies;
+mod bridge;
 mod contacts;
 mod integrate;
 mod joint;
+mod water;
 
 pub use bodies::{Bodies, Fixity};
+pub use bridge::{BridgeTable, BRIDGE_STRENGTH};
 pub use contacts::{BodyContact, Contacts, SubContact};
 pub use integrate::{free_rotation, Damping};
 pub use joint::{JointModel, JointTable, SubState};
+pub use water::Water;
+
+/// The default update tolerance of touching pairs, as a fraction of their detection gap
+/// ([`Simulation::set_update_fraction`]; docs/mechanics.md, "Carried contacts").
+pub const DEFAULT_UPDATE_FRACTION: f64 = 0.1;
 
 use crate::block::{ConvexBlock, Pose};
 use crate::body::BodyError;
@@ -40,10 +48,13 @@ use crate::system::{
     EDGE_CERTIFICATE_STEPS,
 };
 use crate::tolerance::{Tolerance, ToleranceError};
-use contacts::{build_contact, sub_count, Found, Scratch, StepInput};
+use contacts::{build_contact, sub_count, Carry, Found, Scratch, StepInput};
 use rayon::prelude::*;
 use std::time::Instant;
 use thiserror::Error;
+
+mod bolts;
+pub use bolts::{Bolt, BoltElement, BoltState, Bolts, Dowel};
 
 /// Why a simulation cannot be set up or stepped.
 #[derive(Clone, Debug, Error, PartialEq)]
@@ -127,6 +138,9 @@ pub enum MechanicsError {
     /// A block cannot be made a body.
     #[error("block {0} cannot be a body: {1}")]
     Body(usize, BodyError),
+    /// A rock bolt that cannot be installed (outside the rock, tying nothing).
+    #[error("{0}")]
+    Bolt(String),
     /// A bad detection tolerance.
     #[error("{0}")]
     Tolerance(#[from] ToleranceError),
@@ -170,6 +184,9 @@ pub struct StepTimings {
     pub unmoved: u64,
     /// Candidate pairs certified separated (answer kept).
     pub certified: u64,
+    /// Touching pairs carried: their contact geometry moved with the bodies, not queried
+    /// (their relative motion since the query below the update tolerance).
+    pub carried: u64,
 }
 
 impl StepTimings {
@@ -189,6 +206,8 @@ pub struct Simulation {
     /// The parts placed at their bodies' poses (a cache for the detection).
     placed: Vec<ConvexBlock>,
     joints: JointTable,
+    water: Water,
+    bridges: BridgeTable,
     gravity: DVec3,
     damping: Damping,
     tolerance: Tolerance,
@@ -205,11 +224,18 @@ pub struct Simulation {
     last_step: Vec<f64>,
     /// Whether every candidate pair is queried every step (no answer kept).
     full_detection: bool,
+    /// The update tolerance, a fraction of each pair's detection gap (docs/mechanics.md,
+    /// "Carried contacts").
+    update_fraction: f64,
     built_at: Option<Vec<Pose>>,
     contacts: Contacts,
     /// Per body, the sum of its contact forces and moments (about the centroid) last step.
     forces: Vec<DVec3>,
     moments: Vec<DVec3>,
+    /// Rock bolts (docs/mechanics.md, "Rock bolts and applied loads").
+    bolts: Bolts,
+    /// Applied moments (world frame), per body that has one.
+    applied_moments: std::collections::BTreeMap<u32, DVec3>,
     dt: Option<f64>,
     safety: f64,
     time: f64,
@@ -223,12 +249,13 @@ pub struct Simulation {
 }
 
 impl Simulation {
-    /// A simulation of `system`'s blocks, one body each, all of density `density`, free and
-    /// at rest, with the default joint model, gravity `(0, 0, -9.81)`, no damping, a
-    /// detection gap of 1e-3 (relative), point contacts 0.2 of the smaller body's diameter
-    /// wide and the automatic time step.
+    /// A simulation of `system`'s blocks, one body each (a concave block, parts sharing a
+    /// body id, is one rigid body of its parts: [`Bodies::from_system`], bodies by ascending
+    /// body id), all of density `density`, free and at rest, with the default joint model,
+    /// gravity `(0, 0, -9.81)`, no damping, a detection gap of 1e-3 (relative), point
+    /// contacts 0.2 of the smaller body's diameter wide and the automatic time step.
     pub fn new(system: &BlockSystem, density: f64) -> Result<Simulation, MechanicsError> {
-        let bodies = Bodies::from_blocks(system.blocks(), density)?;
+        let bodies = Bodies::from_system(system, density)?;
         Ok(Simulation::from_bodies(bodies))
     }
 
@@ -255,6 +282,8 @@ impl Simulation {
             part_index,
             placed,
             joints: JointTable::default(),
+            water: Water::none(),
+            bridges: BridgeTable::default(),
             gravity: DVec3::new(0.0, 0.0, -9.81),
             damping: Damping::default(),
             tolerance: Tolerance::with_gap(1e-3).expect("a valid gap"),
@@ -266,10 +295,13 @@ impl Simulation {
             travel: vec![0.0; n],
             last_step: vec![0.0; n],
             full_detection: false,
+            update_fraction: DEFAULT_UPDATE_FRACTION,
             built_at: None,
             contacts: Contacts::default(),
             forces: vec![DVec3::ZERO; n],
             moments: vec![DVec3::ZERO; n],
+            bolts: Bolts::default(),
+            applied_moments: Default::default(),
             dt: None,
             safety: 0.5,
             time: 0.0,
@@ -306,6 +338,39 @@ impl Simulation {
     /// Sets the joint model of joint set `set`.
     pub fn set_joint(&mut self, set: u32, model: JointModel) -> Result<(), MechanicsError> {
         self.joints.set(set, model)
+    }
+
+    /// The water in the joints.
+    pub fn water(&self) -> &Water {
+        &self.water
+    }
+
+    /// Sets the water in the joints (docs/mechanics.md, "Water pressure in the joints").
+    pub fn set_water(&mut self, water: Water) {
+        self.water = water;
+    }
+
+    /// The rock-bridge properties (docs/mechanics.md, "Rock bridges").
+    pub fn bridges(&self) -> &BridgeTable {
+        &self.bridges
+    }
+
+    /// Sets the intact rock's properties for the bridges of joint set `set` (contacts over
+    /// faces of origin `Bridge { set, .. }`).
+    pub fn set_bridge(&mut self, set: u32, model: JointModel) -> Result<(), MechanicsError> {
+        self.bridges.set(set, model)
+    }
+
+    /// Sets the default bridge model (bridges of sets without their own).
+    pub fn set_default_bridge(&mut self, model: JointModel) -> Result<(), MechanicsError> {
+        self.bridges.set_default(model)
+    }
+
+    /// The largest contact stiffness any model can give (joints and bridges).
+    fn max_stiffness(&self) -> f64 {
+        self.joints
+            .max_stiffness()
+            .max(self.bridges.max_stiffness())
     }
 
     /// Gravity (acceleration vector).
@@ -398,8 +463,7 @@ impl Simulation {
     }
 
     fn set_fixity(&mut self, i: usize, fixity: Fixity) -> Result<(), MechanicsError> {
-        self.bodies.check(i)?;
-        self.bodies.fixity[i] = fixity;
+        self.bodies.set_fixity(i, fixity)?;
         self.built_at = None; // the pairs kept depend on which bodies move
         Ok(())
     }
@@ -419,12 +483,57 @@ impl Simulation {
 
     /// Sets a constant force on body `i`'s centroid, besides gravity and contacts.
     pub fn apply_force(&mut self, i: usize, force: DVec3) -> Result<(), MechanicsError> {
+        self.bodies.set_applied(i, force)
+    }
+
+    /// Sets a constant moment on body `i` (world frame), besides its contacts' (a dead
+    /// load: it does not turn with the body).
+    pub fn apply_moment(&mut self, i: usize, moment: DVec3) -> Result<(), MechanicsError> {
         self.bodies.check(i)?;
-        if !force.is_finite() {
-            return Err(MechanicsError::NotFinite("applied force"));
+        if !moment.is_finite() {
+            return Err(MechanicsError::NotFinite("applied moment"));
         }
-        self.bodies.applied[i] = force;
+        if moment == DVec3::ZERO {
+            self.applied_moments.remove(&(i as u32));
+        } else {
+            self.applied_moments.insert(i as u32, moment);
+        }
         Ok(())
+    }
+
+    /// Sets a constant force on body `i` acting at `point` (world, at the body's current
+    /// pose): the force on its centroid ([`Simulation::apply_force`]) and its moment about
+    /// the centroid ([`Simulation::apply_moment`]), both constant in the world frame after.
+    pub fn apply_force_at(
+        &mut self,
+        i: usize,
+        force: DVec3,
+        point: DVec3,
+    ) -> Result<(), MechanicsError> {
+        self.bodies.check(i)?;
+        if !point.is_finite() {
+            return Err(MechanicsError::NotFinite("point of the applied force"));
+        }
+        let arm = point - self.bodies.poses()[i].translation;
+        self.apply_force(i, force)?;
+        self.apply_moment(i, arm.cross(force))
+    }
+
+    /// The applied moments: `(body, moment)` for each body that has one.
+    pub fn applied_moments(&self) -> impl Iterator<Item = (usize, DVec3)> + '_ {
+        self.applied_moments.iter().map(|(&i, &m)| (i as usize, m))
+    }
+
+    /// Installs a rock bolt across the bodies its segment crosses now (docs/mechanics.md,
+    /// "Rock bolts"); its id. An error when the segment meets no body or one only.
+    pub fn add_bolt(&mut self, bolt: Bolt) -> Result<usize, MechanicsError> {
+        self.bolts
+            .install(bolt, &self.bodies, &self.placed, &self.part_body)
+    }
+
+    /// The rock bolts and the state of their elements.
+    pub fn bolts(&self) -> &Bolts {
+        &self.bolts
     }
 
     /// Sets body `i`'s pose (it must keep the body clear of others by the gap).
@@ -449,6 +558,28 @@ impl Simulation {
     /// Whether every candidate pair is queried at every step.
     pub fn full_detection(&self) -> bool {
         self.full_detection
+    }
+
+    /// Sets the update tolerance of touching pairs, as a fraction of each pair's detection
+    /// gap (absolute length): a touching pair is queried again once the motion bounds of its
+    /// two bodies since its last query sum to more than `fraction × gap`, and its contact
+    /// is carried with the bodies until then (docs/mechanics.md, "Carried contacts").
+    /// `0` queries a touching pair at every step that moves one of its bodies.
+    pub fn set_update_fraction(&mut self, fraction: f64) -> Result<(), MechanicsError> {
+        if !(fraction.is_finite() && fraction >= 0.0) {
+            return Err(MechanicsError::Parameter {
+                name: "update fraction",
+                range: "a finite number >= 0",
+                value: fraction,
+            });
+        }
+        self.update_fraction = fraction;
+        Ok(())
+    }
+
+    /// The update tolerance of touching pairs, a fraction of their detection gap.
+    pub fn update_fraction(&self) -> f64 {
+        self.update_fraction
     }
 
     /// Sets the time step; `None` for the automatic one (safety × critical).
@@ -482,9 +613,9 @@ impl Simulation {
     /// longer set the time step. The equilibrium is the same; the motion towards it is not
     /// physical. Off: true inertia. Velocities and spins are kept.
     pub fn set_mass_scaling(&mut self, on: bool) -> Result<(), MechanicsError> {
-        let k = self.joints.max_stiffness();
+        let k = self.max_stiffness();
         let free: Vec<usize> = (0..self.bodies.len())
-            .filter(|&i| self.bodies.fixity[i] == Fixity::Free)
+            .filter(|&i| self.bodies.is_free(i))
             .collect();
         let mut steps: Vec<f64> = free
             .iter()
@@ -496,7 +627,7 @@ impl Simulation {
         steps.sort_by(f64::total_cmp);
         let target = steps[steps.len() / 2];
         for i in 0..self.bodies.len() {
-            let scale = match self.bodies.fixity[i] {
+            let scale = match self.bodies.fixity(i) {
                 Fixity::Free if on => {
                     let own = integrate::critical_step(&self.bodies, i, k, 1.0);
                     (target / own).powi(2).max(1.0)
@@ -510,12 +641,11 @@ impl Simulation {
 
     /// The critical time step (docs/mechanics.md): the smallest bound of the free bodies.
     pub fn critical_timestep(&self) -> Result<f64, MechanicsError> {
-        let k = self.joints.max_stiffness();
-        (0..self.bodies.len())
-            .filter(|&i| self.bodies.fixity[i] == Fixity::Free)
-            .map(|i| integrate::critical_step(&self.bodies, i, k, self.bodies.scale[i]))
-            .reduce(f64::min)
+        let k = self.max_stiffness();
+        self.bodies
+            .critical_timestep(k)
             .ok_or(MechanicsError::NoFreeBody)
+            .map(|contacts| self.bolts.critical_step(&self.bodies, contacts))
     }
 
     /// The time step the next step takes.
@@ -550,12 +680,13 @@ impl Simulation {
         BlockSystem::new(self.placed.clone())
     }
 
-    /// Per body, the sum of its contact forces at the last step.
+    /// Per body, the sum of its contact and bolt forces at the last step.
     pub fn contact_forces(&self) -> &[DVec3] {
         &self.forces
     }
 
-    /// Per body, the sum of the moments of its contact forces about its centroid.
+    /// Per body, the sum of the moments of its contact and bolt forces about its centroid,
+    /// and of its applied moment.
     pub fn contact_moments(&self) -> &[DVec3] {
         &self.moments
     }
@@ -587,7 +718,7 @@ impl Simulation {
         lap(&mut t.pairs);
         let detected = self.detect();
         lap(&mut t.detect);
-        let [queried, unmoved, certified] = detected?;
+        let [queried, unmoved, certified, carried] = detected?;
         self.update_contacts(dt);
         lap(&mut t.contacts);
         self.sum_forces();
@@ -602,6 +733,7 @@ impl Simulation {
         t.queried += queried;
         t.unmoved += unmoved;
         t.certified += certified;
+        t.carried += carried;
         self.timings = t;
         self.time += dt;
         self.steps += 1;
@@ -708,8 +840,7 @@ impl Simulation {
             let aabb = placed[k].aabb();
             (aabb, tol.for_box(&aabb).gap + half)
         });
-        let moves =
-            |k: u32| self.bodies.fixity[self.part_body[k as usize] as usize] == Fixity::Free;
+        let moves = |k: u32| self.bodies.is_free(self.part_body[k as usize] as usize);
         self.pairs = boxes
             .pairs(BroadPhase::default())
             .into_iter()
@@ -725,12 +856,14 @@ impl Simulation {
     /// The contacts of the candidate pairs (the pair queries in parallel), kept in `memo`:
     /// each pair is queried, or keeps its last answer when its two bodies have not moved
     /// since (unmoved) or it is certified separated (docs/mechanics.md, "Contact updates").
-    /// The numbers of pairs queried, unmoved and certified.
-    fn detect(&mut self) -> Result<[u64; 3], MechanicsError> {
+    /// A touching pair whose bodies moved less than the update tolerance since its query is
+    /// carried (docs/mechanics.md, "Carried contacts").
+    /// The numbers of pairs queried, unmoved, certified and carried.
+    fn detect(&mut self) -> Result<[u64; 4], MechanicsError> {
         let tol = self.tolerance;
         let (placed, part_body) = (&self.placed, &self.part_body);
         let (moved_at, travel, last_step) = (&self.moved_at, &self.travel, &self.last_step);
-        let (step, full) = (self.steps, self.full_detection);
+        let (step, full, fraction) = (self.steps, self.full_detection, self.update_fraction);
         let bodies = &self.bodies;
         let outcomes: Vec<Outcome> = self
             .pairs
@@ -745,8 +878,17 @@ impl Simulation {
                         if moved_at[bi] <= asked && moved_at[bj] <= asked {
                             return Outcome::Unmoved;
                         }
-                        if memo.found.is_none() && holds(memo.deadline, [travel[bi], travel[bj]]) {
-                            return Outcome::Certified;
+                        match &memo.found {
+                            None if holds(memo.deadline, [travel[bi], travel[bj]]) => {
+                                return Outcome::Certified;
+                            }
+                            Some(f) if f.carry.tolerance > 0.0 => {
+                                let [ti, tj] = f.carry.travels;
+                                if (travel[bi] - ti) + (travel[bj] - tj) <= f.carry.tolerance {
+                                    return Outcome::Carried;
+                                }
+                            }
+                            _ => {}
                         }
                     }
                     let (a, b) = (&placed[i as usize], &placed[j as usize]);
@@ -756,10 +898,24 @@ impl Simulation {
                     memo.found = None;
                     match (result, geometry) {
                         (PairResult::Contact(contact), Some(geometry)) => {
+                            let tolerance = if full {
+                                0.0
+                            } else {
+                                fraction * det.thresholds(a, b).gap
+                            };
+                            let carry = Carry::new(
+                                b,
+                                &contact,
+                                &geometry,
+                                [bodies.pose[bi], bodies.pose[bj]],
+                                [travel[bi], travel[bj]],
+                                tolerance,
+                            );
                             memo.found = Some(Box::new(Found {
                                 parts: [i, j],
                                 contact,
                                 geometry,
+                                carry,
                             }));
                         }
                         (PairResult::Penetrating, _) => return Outcome::Penetrating,
@@ -773,12 +929,13 @@ impl Simulation {
                 },
             )
             .collect();
-        let mut counts = [0u64; 3];
+        let mut counts = [0u64; 4];
         for (k, outcome) in outcomes.iter().enumerate() {
             match outcome {
                 Outcome::Queried => counts[0] += 1,
                 Outcome::Unmoved => counts[1] += 1,
                 Outcome::Certified => counts[2] += 1,
+                Outcome::Carried => counts[3] += 1,
                 Outcome::Penetrating => {
                     let [i, j] = self.pairs[k];
                     return Err(MechanicsError::Penetration {
@@ -798,6 +955,7 @@ impl Simulation {
             part_body: &self.part_body,
             placed: &self.placed,
             joints: &self.joints,
+            bridges: &self.bridges,
             previous: &self.contacts,
             dt,
             initial: self.initial,
@@ -835,11 +993,12 @@ impl Simulation {
         self.initial = false;
     }
 
-    /// The contact forces and moments per body, summed in contact order on one thread (the
+    /// The contact (and bolt) forces and moments per body, summed in contact order on one thread (the
     /// same sum for any number of threads).
     fn sum_forces(&mut self) {
         self.forces.iter_mut().for_each(|f| *f = DVec3::ZERO);
         self.moments.iter_mut().for_each(|m| *m = DVec3::ZERO);
+        self.add_bolts_and_moments();
         for (i, c) in self.contacts.list.iter().enumerate() {
             let [a, b] = [c.bodies[0] as usize, c.bodies[1] as usize];
             let (ca, cb) = (
@@ -854,6 +1013,19 @@ impl Simulation {
                 self.moments[a] -= (s.point - ca).cross(f);
             }
         }
+        let poses = &self.bodies.pose;
+        self.water
+            .add_forces(&self.contacts, poses, &mut self.forces, &mut self.moments);
+    }
+
+    /// Adds the bolts' forces and the applied moments to the bodies' sums (docs/mechanics.md,
+    /// "Rock bolts and applied loads").
+    fn add_bolts_and_moments(&mut self) {
+        self.bolts
+            .add_forces(&self.bodies, &mut self.forces, &mut self.moments);
+        for (&i, &m) in &self.applied_moments {
+            self.moments[i as usize] += m;
+        }
     }
 
     /// Damps and integrates every body; the unbalanced-force ratio.
@@ -861,8 +1033,8 @@ impl Simulation {
         let kick = if self.synced { 0.5 } else { 1.0 };
         let (mut largest, mut reference) = (0.0f64, 0.0f64);
         for i in 0..self.bodies.len() {
-            if self.bodies.fixity[i] == Fixity::Free {
-                let load = self.gravity * self.bodies.mass[i] + self.bodies.applied[i];
+            if self.bodies.is_free(i) {
+                let load = self.gravity * self.bodies.mass(i) + self.bodies.applied_force(i);
                 largest = largest.max((self.forces[i] + load).length());
                 reference = reference.max(load.length());
             }
@@ -938,6 +1110,7 @@ impl Default for PairMemo {
 enum Outcome {
     Queried,
     Unmoved,
+    Carried,
     Certified,
     Penetrating,
 }
@@ -967,7 +1140,7 @@ fn certificate(
 }
 
 /// Whether two poses are equal bit for bit (placing a block at either gives the same bits).
-fn same_bits(p: &Pose, q: &Pose) -> bool {
+pub(super) fn same_bits(p: &Pose, q: &Pose) -> bool {
     let bits = |p: &Pose| {
         let (r, t) = (p.rotation.to_array(), p.translation.to_array());
         [r[0], r[1], r[2], r[3], t[0], t[1], t[2]].map(f64::to_bits)
@@ -1007,15 +1180,14 @@ mod tests {
     #[test]
     fn the_memory_figures_of_the_docs_hold() {
         use std::mem::size_of;
-        // One entry per array of `Bodies`.
+        // One entry per array of `Bodies` (the side tables hold only the bodies with a
+        // prescribed motion or an applied force).
         let body = size_of::<std::sync::Arc<crate::body::Shape>>() // shape
-            + 2 * size_of::<f64>() // density, mass
-            + 4 * size_of::<DVec3>() // inertia, velocity, angular momentum, applied force
+            + size_of::<f64>() // density
             + size_of::<Pose>()
-            + size_of::<Fixity>()
-            + size_of::<[f64; 2]>() // stiffness bounds
-            + size_of::<f64>(); // mass-scaling factor
-        assert_eq!(body, 256);
+            + 2 * size_of::<DVec3>() // velocity, angular momentum
+            + size_of::<f64>(); // mass-scaling factor, signed by the fixity
+        assert_eq!(body, 128);
         assert_eq!(size_of::<BodyContact>(), 64);
         assert_eq!(size_of::<SubContact>(), 112);
         // A face-face contact of two quadrilaterals: within the issue's 512 bytes.

@@ -24,6 +24,7 @@ use super::detect::{narrow_phase, Cancelled, DetectProgress, PairContact};
 use super::BlockSystem;
 use crate::block::ConvexBlock;
 use crate::classify::{contact_type, Contact, ContactType, Feature, PairResult};
+use crate::contact::Detector;
 use crate::contact_geometry::ContactPoints;
 use crate::geometry::DVec3;
 use crate::tolerance::Tolerance;
@@ -77,7 +78,7 @@ pub struct BodyContacts {
 
 impl BodyContacts {
     /// No contact.
-    fn empty() -> Self {
+    pub(super) fn empty() -> Self {
         BodyContacts {
             piece_offsets: vec![0],
             piece_point_offsets: vec![0],
@@ -98,6 +99,59 @@ impl BodyContacts {
             .extend(moved(&other.piece_point_offsets, points));
     }
 
+    /// Appends regions `range` of `other` (their pieces and points).
+    fn append_regions(&mut self, other: &BodyContacts, range: std::ops::Range<usize>) {
+        if range.is_empty() {
+            return;
+        }
+        let pieces =
+            other.piece_offsets[range.start] as usize..other.piece_offsets[range.end] as usize;
+        let points = other.piece_point_offsets[pieces.start] as usize
+            ..other.piece_point_offsets[pieces.end] as usize;
+        let (piece_shift, point_shift) = (
+            self.pieces.len() as u64 - pieces.start as u64,
+            self.piece_points.len() as u64 - points.start as u64,
+        );
+        self.contacts
+            .extend_from_slice(&other.contacts[range.clone()]);
+        self.piece_offsets.extend(
+            other.piece_offsets[range.start + 1..=range.end]
+                .iter()
+                .map(|x| x + piece_shift),
+        );
+        self.piece_point_offsets.extend(
+            other.piece_point_offsets[pieces.start + 1..=pieces.end]
+                .iter()
+                .map(|x| x + point_shift),
+        );
+        self.pieces.extend_from_slice(&other.pieces[pieces]);
+        self.piece_points
+            .extend_from_slice(&other.piece_points[points]);
+    }
+
+    /// These contacts with those of some pairs of bodies replaced: `replaced` holds those
+    /// pairs, sorted and distinct, each with its new regions and, if it penetrates, itself in
+    /// `penetrating`. A step of [`super::ContactTracker`] that changes few pairs of bodies
+    /// builds its regions this way, copying the others' stretches whole.
+    pub(super) fn with_pairs_replaced(&self, replaced: &[([u32; 2], BodyContacts)]) -> Self {
+        debug_assert!(replaced.windows(2).all(|w| w[0].0 < w[1].0));
+        let mut out = BodyContacts::empty();
+        let (mut at, mut pen) = (0, 0);
+        for (bodies, fresh) in replaced {
+            let before = at + self.contacts[at..].partition_point(|c| c.bodies < *bodies);
+            out.append_regions(self, at..before);
+            at = before + self.contacts[before..].partition_point(|c| c.bodies == *bodies);
+            out.append(fresh.clone());
+            let p = pen + self.penetrating[pen..].partition_point(|b| b < bodies);
+            out.penetrating.extend_from_slice(&self.penetrating[pen..p]);
+            pen = p + usize::from(self.penetrating.get(p) == Some(bodies));
+            out.penetrating.extend_from_slice(&fresh.penetrating);
+        }
+        out.append_regions(self, at..self.contacts.len());
+        out.penetrating.extend_from_slice(&self.penetrating[pen..]);
+        out
+    }
+
     /// The pieces of region `i`.
     pub fn pieces_of(&self, i: usize) -> &[PairContact] {
         &self.pieces[self.piece_offsets[i] as usize..self.piece_offsets[i + 1] as usize]
@@ -111,10 +165,12 @@ impl BodyContacts {
 }
 
 /// A part contact, oriented from the first body to the second.
-#[derive(Clone, Debug)]
-struct Piece {
-    bodies: [u32; 2],
-    parts: [u32; 2],
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Piece {
+    /// The bodies, smaller first.
+    pub(super) bodies: [u32; 2],
+    /// The parts, of `bodies[0]` first.
+    pub(super) parts: [u32; 2],
     contact: Contact,
     normal: DVec3,
     distance: f64,
@@ -180,30 +236,14 @@ impl BlockSystem {
             &pairs,
             tol,
             progress,
-            |det, pair, a, b| {
-                let (result, geometry) = det.detect_with_geometry(a, b);
-                match (result, geometry) {
-                    (PairResult::Contact(contact), Some(g)) => {
-                        let length = det.thresholds(a, b).length;
-                        let piece = Piece {
-                            bodies: pair.map(|k| self.body_of(k)),
-                            parts: pair,
-                            contact,
-                            normal: g.normal(),
-                            distance: g.distance(),
-                            area: g.area(),
-                            points: g.into_shape(),
-                            length,
-                        };
-                        Outcome::Contact(Box::new(piece.oriented()))
-                    }
-                    (PairResult::Penetrating, _) => {
-                        let mut bodies = pair.map(|k| self.body_of(k));
-                        bodies.sort_unstable();
-                        Outcome::Penetrating(bodies)
-                    }
-                    _ => Outcome::Separated,
+            |det, pair, a, b| match self.query_parts(det, pair, a, b) {
+                (_, Some(piece)) => Outcome::Contact(piece),
+                (PairResult::Penetrating, None) => {
+                    let mut bodies = pair.map(|k| self.body_of(k));
+                    bodies.sort_unstable();
+                    Outcome::Penetrating(bodies)
                 }
+                _ => Outcome::Separated,
             },
             |_, outcomes| {
                 for outcome in outcomes {
@@ -217,18 +257,51 @@ impl BlockSystem {
         )?;
         penetrating.sort_unstable();
         penetrating.dedup();
-        let order = if self.has_concave() {
+        let ordered: Vec<&Piece> = if self.has_concave() {
             sorted(&pieces)
+                .into_iter()
+                .map(|k| &pieces[k as usize])
+                .collect()
         } else {
-            (0..pieces.len() as u32).collect()
+            pieces.iter().collect()
         };
-        Ok(self.regions(&pieces, &order, penetrating))
+        Ok(self.regions(&ordered, penetrating))
     }
 
-    /// The regions of the pieces taken in `order` (by bodies, then parts): stretches of whole
-    /// pairs of bodies in parallel, then joined in order.
-    fn regions(&self, pieces: &[Piece], order: &[u32], penetrating: Vec<[u32; 2]>) -> BodyContacts {
-        let bodies_at = |k: usize| pieces[order[k] as usize].bodies;
+    /// The part query of blocks `pair` (`a`, `b`), as [`BlockSystem::detect_bodies`] asks it:
+    /// the answer and, for a contact, its piece (oriented from the first body to the second).
+    pub(super) fn query_parts(
+        &self,
+        det: &mut Detector,
+        pair: [u32; 2],
+        a: &ConvexBlock,
+        b: &ConvexBlock,
+    ) -> (PairResult, Option<Box<Piece>>) {
+        let (result, geometry) = det.detect_with_geometry(a, b);
+        let piece = match (&result, geometry) {
+            (PairResult::Contact(contact), Some(g)) => Some(Box::new(
+                Piece {
+                    bodies: pair.map(|k| self.body_of(k)),
+                    parts: pair,
+                    contact: *contact,
+                    normal: g.normal(),
+                    distance: g.distance(),
+                    area: g.area(),
+                    length: det.thresholds(a, b).length,
+                    points: g.into_shape(),
+                }
+                .oriented(),
+            )),
+            _ => None,
+        };
+        (result, piece)
+    }
+
+    /// The regions of the pieces, given in order (by bodies, then parts), less the pairs of
+    /// bodies in `penetrating` (sorted): stretches of whole pairs of bodies in parallel, then
+    /// joined in order.
+    pub(super) fn regions(&self, pieces: &[&Piece], penetrating: Vec<[u32; 2]>) -> BodyContacts {
+        let bodies_at = |k: usize| pieces[k].bodies;
         const STRETCH: usize = 1 << 12;
         let mut bounds = vec![0];
         while *bounds.last().expect("not empty") < pieces.len() {
@@ -250,7 +323,7 @@ impl BlockSystem {
                     group.clear();
                     let mut end = start;
                     while end < w[1] && bodies_at(end) == bodies {
-                        group.push(&pieces[order[end] as usize]);
+                        group.push(pieces[end]);
                         end += 1;
                     }
                     if penetrating.binary_search(&bodies).is_err() {
@@ -269,8 +342,8 @@ impl BlockSystem {
         out
     }
 
-    /// Adds the regions of one pair of bodies.
-    fn add_pair(&self, pieces: &[&Piece], out: &mut BodyContacts) {
+    /// Adds the regions of one pair of bodies (its pieces in order).
+    pub(super) fn add_pair(&self, pieces: &[&Piece], out: &mut BodyContacts) {
         if let [p] = pieces {
             if !self.touches_glue(p) {
                 // The common case (convex blocks): the piece is the region.

@@ -15,6 +15,7 @@ use crate::block::{ConvexBlock, FaceOrigin};
 use crate::classify::{Feature, PairResult};
 use crate::contact::Detector;
 use crate::cutting::{Side, Splitter};
+use crate::generation::Extent;
 use crate::generation::{
     upward, Excavation, GenerationError, JointRecord, JointShape, Problem, SetKind, SetRecord,
     SpecError,
@@ -74,7 +75,8 @@ impl BlockSystem {
         prefix: &str,
         tol: &Tolerance,
     ) -> Result<(BlockSystem, ExcavationReport), GenerationError> {
-        let regions = excavation.regions_at(prefix)?;
+        let extent = Extent::of(&self.blocks).ok_or_else(|| misses(prefix))?;
+        let regions = excavation.regions_at(prefix, Some(&extent))?;
         let set = self.sets.len() as u32;
         let first_joint = self.joints.len() as u32;
         let mut joints = self.joints.clone();
@@ -104,11 +106,24 @@ impl BlockSystem {
         let mut report = ExcavationReport::default();
         // The pieces, each with the block it comes from.
         let mut pieces: Vec<(u32, ConvexBlock)> = Vec::with_capacity(self.len());
+        // The first joint of each region's faces.
+        let firsts: Vec<u32> = regions
+            .iter()
+            .scan(first_joint, |next, r| {
+                let first = *next;
+                *next += r.n_faces() as u32;
+                Some(first)
+            })
+            .collect();
         for (k, block) in self.blocks.iter().enumerate() {
             let mut parts = vec![block.clone()];
             let mut touched = false;
-            let mut joint = first_joint;
-            for region in &regions {
+            for (region, &joint) in regions.iter().zip(&firsts) {
+                // A slope or a surface has many regions, most far from the block: skipped
+                // before its parts are moved.
+                if !block.aabb().overlaps(&region.aabb(), eps) {
+                    continue;
+                }
                 let mut next = Vec::with_capacity(parts.len());
                 for part in parts {
                     match subtract(&part, region, set, joint, eps, &mut splitter) {
@@ -121,7 +136,6 @@ impl BlockSystem {
                     }
                 }
                 parts = next;
-                joint += region.n_faces() as u32;
             }
             if touched {
                 if parts.is_empty() {

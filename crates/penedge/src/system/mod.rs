@@ -223,7 +223,7 @@ pub struct SystemArrays {
     pub face_vertices: Vec<u64>,
     /// Per face, its outward unit normal.
     pub face_normals: Vec<[f64; 3]>,
-    /// Per face, [`crate::block::FaceOrigin::code`]: 0 unknown, 1 boundary, 2 joint.
+    /// Per face, [`crate::block::FaceOrigin::code`]: 0 unknown, 1 boundary, 2 joint, 3 bridge.
     pub origin_kind: Vec<u8>,
     /// Per face, the domain part (boundary) or spec entry (joint); -1 when unknown.
     pub origin_set: Vec<i64>,

@@ -35,6 +35,7 @@
 //! the pairs it queries, are scattered through memory: each is asked for (prefetched) a few
 //! places ahead of its turn, which made a small step of a 50^3 grid a quarter faster.
 
+use super::body_contacts::{BodyContacts, Piece};
 use super::detect::{ask_ahead, SystemContacts, SLICE};
 use super::{BlockSystem, BroadPhase, WideBoxes};
 use crate::block::{ConvexBlock, Pose, Prefetch};
@@ -64,6 +65,19 @@ pub enum TrackerError {
     /// A pose with a NaN or infinite component or a zero rotation.
     #[error("pose {0} has a NaN or infinite component or a zero rotation")]
     Pose(usize),
+    /// Two parts of one body (a concave block) given different poses.
+    #[error(
+        "blocks {first} and {part} are parts of body {body} but were given different poses; \
+         a concave block moves rigidly: give its parts one pose"
+    )]
+    BodyPose {
+        /// The body.
+        body: u32,
+        /// Its first part.
+        first: u32,
+        /// A part whose pose differs from the first part's.
+        part: u32,
+    },
 }
 
 /// What an update did.
@@ -151,6 +165,28 @@ pub struct ContactTracker {
     asked_at: Vec<u32>,
     /// Per block, whether a query of this step needs its geometry (scratch).
     needed: Flags,
+    /// The contacts of the bodies, when tracked.
+    bodies: Option<Box<BodyTracking>>,
+}
+
+/// A pair's place in the order of the pieces: its bodies (smaller first), its parts (that of
+/// the first body first).
+type PairKey = ([u32; 2], [u32; 2]);
+
+/// What a tracker keeps to report the contacts of the bodies ([`BlockSystem::detect_bodies`]).
+#[derive(Clone, Debug, Default)]
+struct BodyTracking {
+    /// Per block, the first part of its body (parts of one body must share a pose).
+    first_part: Vec<u32>,
+    /// Per candidate pair, its piece when it is a contact.
+    pieces: Vec<Option<Box<Piece>>>,
+    /// The candidate pairs (indices) by pair of bodies, then oriented parts: the order of
+    /// [`BlockSystem::detect_bodies`]' pieces.
+    order: Vec<u32>,
+    /// Per entry of `order`, its pair of bodies (smaller first).
+    order_bodies: Vec<[u32; 2]>,
+    /// The contacts of the bodies at the current poses.
+    found: BodyContacts,
 }
 
 /// Which stale blocks [`ContactTracker::place`] places.
@@ -182,7 +218,34 @@ impl ContactTracker {
     /// A tracker of `system`'s blocks, their current placement being the identity pose;
     /// `skin` (a length, ≥ 0) widens the broad phase's boxes so that it can be reused.
     /// Detects the contacts at once.
+    ///
+    /// For a system with concave blocks (parts sharing a body id,
+    /// [`BlockSystem::with_bodies`]) the tracker also reports the contacts of the bodies, with
+    /// their regions ([`ContactTracker::body_contacts`]), and pairs of parts of one body are
+    /// never candidates: [`ContactTracker::contacts`] holds the contacts between parts of
+    /// different bodies.
     pub fn new(system: &BlockSystem, tol: Tolerance, skin: f64) -> Result<Self, TrackerError> {
+        Self::with_options(system, tol, skin, system.has_concave())
+    }
+
+    /// [`ContactTracker::new`], reporting the contacts of the bodies (with their regions)
+    /// for any system: for convex blocks, [`BlockSystem::detect_bodies`]' regions, one per
+    /// touching pair, with their normals, distances and areas. Each queried touching pair
+    /// then costs its contact geometry too.
+    pub fn tracking_bodies(
+        system: &BlockSystem,
+        tol: Tolerance,
+        skin: f64,
+    ) -> Result<Self, TrackerError> {
+        Self::with_options(system, tol, skin, true)
+    }
+
+    fn with_options(
+        system: &BlockSystem,
+        tol: Tolerance,
+        skin: f64,
+        bodies: bool,
+    ) -> Result<Self, TrackerError> {
         if !(skin.is_finite() && skin >= 0.0) {
             return Err(TrackerError::Skin(skin));
         }
@@ -199,10 +262,24 @@ impl ContactTracker {
             })
             .collect();
         let n = reference.len();
+        let bodies = bodies.then(|| {
+            let mut first_part: Vec<u32> = (0..n as u32).collect();
+            for (_, parts) in system.body_parts() {
+                for &k in &parts {
+                    first_part[k as usize] = parts[0];
+                }
+            }
+            Box::new(BodyTracking {
+                first_part,
+                ..BodyTracking::default()
+            })
+        });
+        let mut current = BlockSystem::new(reference.clone());
+        current.glue.clone_from(&system.glue);
         let mut tracker = ContactTracker {
             tol,
             skin,
-            current: BlockSystem::new(reference.clone()),
+            current,
             reference,
             centre,
             radius,
@@ -219,6 +296,7 @@ impl ContactTracker {
             moved_at: vec![0; n],
             asked_at: Vec::new(),
             needed: Flags::new(n),
+            bodies,
         };
         tracker.rebuild();
         tracker.narrow_phase(true);
@@ -228,6 +306,44 @@ impl ContactTracker {
     /// The contacts at the current poses.
     pub fn contacts(&self) -> &SystemContacts {
         &self.contacts
+    }
+
+    /// The contacts of the bodies at the current poses, with their regions, as
+    /// [`BlockSystem::detect_bodies`] on the blocks at these poses; `None` when the tracker
+    /// does not track them (a system of convex blocks made by [`ContactTracker::new`]).
+    ///
+    /// ```
+    /// use penedge::block::Pose;
+    /// use penedge::system::ContactTracker;
+    /// use penedge::{BlockSystem, ConvexBlock, Tolerance};
+    /// let tol = Tolerance::default();
+    /// let c = |lo, hi| ConvexBlock::cuboid(lo, hi).unwrap();
+    /// // A U-block of three parts (body 0) and a block sitting in its notch (body 1).
+    /// let system = BlockSystem::new(vec![
+    ///     c([0.0, 0.0, 0.0], [3.0, 1.0, 1.0]),
+    ///     c([0.0, 0.0, 1.0], [1.0, 1.0, 2.0]),
+    ///     c([2.0, 0.0, 1.0], [3.0, 1.0, 2.0]),
+    ///     c([1.0, 0.0, 1.0], [2.0, 1.0, 2.0]),
+    /// ])
+    /// .with_bodies(vec![0, 0, 0, 1], &tol)
+    /// .unwrap();
+    /// let mut tracker = ContactTracker::new(&system, tol, 0.1).unwrap();
+    /// // The floor and the two walls of the notch: three regions of one pair of bodies.
+    /// let regions = |t: &ContactTracker| {
+    ///     let found = t.body_contacts().unwrap();
+    ///     found.contacts.iter().map(|c| c.region).collect::<Vec<_>>()
+    /// };
+    /// assert_eq!(regions(&tracker), [0, 1, 2]);
+    /// // Lift the block by 1 mm: it leaves the floor and keeps touching the walls.
+    /// let mut poses = vec![Pose::IDENTITY; 4];
+    /// poses[3].translation.z = 1e-3;
+    /// tracker.update(&poses).unwrap();
+    /// assert_eq!(regions(&tracker), [0, 1]);
+    /// let full = tracker.system().detect_bodies(&tol);
+    /// assert_eq!(tracker.body_contacts(), Some(&full));
+    /// ```
+    pub fn body_contacts(&self) -> Option<&BodyContacts> {
+        self.bodies.as_ref().map(|b| &b.found)
     }
 
     /// The blocks at their current poses (placing those not placed yet: the updates place
@@ -266,6 +382,19 @@ impl ContactTracker {
             .position_first(|p| Pose::new(p.rotation, p.translation).is_none())
         {
             return Err(TrackerError::Pose(i));
+        }
+        if let Some(tracking) = self.bodies.as_ref().filter(|_| self.current.has_concave()) {
+            let first = &tracking.first_part;
+            if let Some(part) = (0..poses.len())
+                .into_par_iter()
+                .position_first(|k| poses[k] != poses[first[k] as usize])
+            {
+                return Err(TrackerError::BodyPose {
+                    body: self.current.body_of(part as u32),
+                    first: first[part],
+                    part: part as u32,
+                });
+            }
         }
         self.step = match self.step.checked_add(1) {
             Some(step) => step,
@@ -438,6 +567,33 @@ impl ContactTracker {
             (aabb, self.tol.for_box(&aabb).gap + half_skin)
         });
         self.pairs = boxes.pairs(BroadPhase::default());
+        if self.current.has_concave() {
+            let system = &self.current;
+            self.pairs
+                .retain(|&[i, j]| system.body_of(i) != system.body_of(j));
+        }
+        if let Some(tracking) = &mut self.bodies {
+            let system = &self.current;
+            // Each pair's key: its bodies, smaller first, and its parts in their order.
+            let key = |&[i, j]: &[u32; 2]| {
+                let (a, b) = (system.body_of(i), system.body_of(j));
+                if a <= b {
+                    ([a, b], [i, j])
+                } else {
+                    ([b, a], [j, i])
+                }
+            };
+            let mut order: Vec<(PairKey, u32)> = self
+                .pairs
+                .par_iter()
+                .enumerate()
+                .map(|(k, pair)| (key(pair), k as u32))
+                .collect();
+            order.par_sort_unstable();
+            tracking.order_bodies = order.par_iter().map(|((b, _), _)| *b).collect();
+            tracking.order = order.into_par_iter().map(|(_, k)| k).collect();
+            tracking.pieces = vec![None; self.pairs.len()];
+        }
         self.deadlines = vec![f64::NEG_INFINITY; self.pairs.len()];
         self.results = vec![PairResult::Separated; self.pairs.len()];
         // Queried at once: the narrow phase after a rebuild queries every pair.
@@ -458,7 +614,9 @@ impl ContactTracker {
     fn narrow_phase(&mut self, fresh: bool) -> (usize, usize, usize) {
         let (queried, unmoved) = self.place_queried(fresh);
         let dense = fresh || self.dense(queried.len());
-        let blocks = self.current.blocks();
+        let system = &self.current;
+        let blocks = system.blocks();
+        let with_pieces = self.bodies.is_some();
         let (travel, last_step, radius) = (&self.travel, &self.last_step, &self.radius);
         let (pairs, tol) = (&self.pairs, self.tol);
         let blocks_of = |k: u32| pairs[k as usize].map(|b| &blocks[b as usize]);
@@ -467,7 +625,11 @@ impl ContactTracker {
             let [i, j] = pairs[k as usize].map(|b| b as usize);
             let (ti, tj) = (travel[i], travel[j]);
             let [a, b] = blocks_of(k);
-            let result = det.detect(a, b);
+            let (result, piece) = if with_pieces {
+                system.query_parts(det, [i as u32, j as u32], a, b)
+            } else {
+                (det.detect(a, b), None)
+            };
             let gap = det.thresholds(a, b).gap;
             let margin = match result {
                 PairResult::Separated => separation(a, b),
@@ -483,8 +645,10 @@ impl ContactTracker {
             } else {
                 deadline(margin, gap, [ti, tj])
             };
-            (result, deadline)
+            (result, deadline, piece)
         };
+        // The pairs of bodies whose contacts may have changed (sparse steps).
+        let mut dirty: Vec<[u32; 2]> = Vec::new();
         let mut changed: Vec<([u32; 2], PairResult)> = Vec::new();
         let mut answers = Vec::new();
         for slice in queried.chunks(SLICE) {
@@ -504,8 +668,17 @@ impl ContactTracker {
                     },
                 )
                 .collect_into_vec(&mut answers);
-            for (&k, &(result, deadline)) in slice.iter().zip(&answers) {
-                let k = k as usize;
+            for (&k, (result, deadline, piece)) in slice.iter().zip(&mut answers) {
+                let (k, result, deadline) = (k as usize, *result, *deadline);
+                if let Some(tracking) = &mut self.bodies {
+                    let old = self.results[k];
+                    if !dense && (old != PairResult::Separated || result != PairResult::Separated) {
+                        let mut bodies = self.pairs[k].map(|b| system.body_of(b));
+                        bodies.sort_unstable();
+                        dirty.push(bodies);
+                    }
+                    tracking.pieces[k] = piece.take();
+                }
                 self.results[k] = result;
                 self.deadlines[k] = deadline;
                 self.asked_at[k] = self.step;
@@ -521,8 +694,75 @@ impl ContactTracker {
         } else if !changed.is_empty() {
             self.contacts = self.contacts.with_changes(&changed);
         }
+        if let Some(tracking) = &mut self.bodies {
+            tracking.update(system, &self.results, dense, dirty);
+        }
         let certified = self.pairs.len() - queried.len() - unmoved;
         (unmoved, certified, queried.len())
+    }
+}
+
+impl BodyTracking {
+    /// The contacts of the bodies after a step: built anew from every pair's piece in a
+    /// dense step, else the last ones with those of the pairs of bodies in `dirty` (whose
+    /// part pairs were queried and touch or penetrate, now or before) made anew. The regions
+    /// of a pair of bodies are a function of its pieces (and its parts' current geometry),
+    /// and a piece changes only when its pair is queried: the others keep theirs.
+    fn update(
+        &mut self,
+        system: &BlockSystem,
+        results: &[PairResult],
+        dense: bool,
+        mut dirty: Vec<[u32; 2]>,
+    ) {
+        let penetrates = |range: std::ops::Range<usize>| {
+            self.order[range]
+                .iter()
+                .any(|&k| results[k as usize] == PairResult::Penetrating)
+        };
+        if dense {
+            let pieces: Vec<&Piece> = self
+                .order
+                .iter()
+                .filter_map(|&k| self.pieces[k as usize].as_deref())
+                .collect();
+            let mut penetrating: Vec<[u32; 2]> = self
+                .order
+                .iter()
+                .zip(&self.order_bodies)
+                .filter(|(&k, _)| results[k as usize] == PairResult::Penetrating)
+                .map(|(_, &b)| b)
+                .collect();
+            penetrating.dedup();
+            self.found = system.regions(&pieces, penetrating);
+            return;
+        }
+        if dirty.is_empty() {
+            return;
+        }
+        dirty.sort_unstable();
+        dirty.dedup();
+        let replaced: Vec<([u32; 2], BodyContacts)> = dirty
+            .into_par_iter()
+            .map(|bodies| {
+                let start = self.order_bodies.partition_point(|b| *b < bodies);
+                let end = start + self.order_bodies[start..].partition_point(|b| *b == bodies);
+                let mut fresh = BodyContacts::empty();
+                if penetrates(start..end) {
+                    fresh.penetrating.push(bodies);
+                } else {
+                    let pieces: Vec<&Piece> = self.order[start..end]
+                        .iter()
+                        .filter_map(|&k| self.pieces[k as usize].as_deref())
+                        .collect();
+                    if !pieces.is_empty() {
+                        system.add_pair(&pieces, &mut fresh);
+                    }
+                }
+                (bodies, fresh)
+            })
+            .collect();
+        self.found = self.found.with_pairs_replaced(&replaced);
     }
 }
 
@@ -999,3 +1239,7 @@ mod tests {
         assert!((separation(&a, &c) - 0.5).abs() < 1e-12);
     }
 }
+
+#[cfg(test)]
+#[path = "tracker_bodies_tests.rs"]
+mod bodies_tests;

@@ -78,7 +78,7 @@ pub fn check_faces(system: &BlockSystem, seed: u64) {
                         "seed {seed}"
                     );
                 }
-                FaceOrigin::Joint { .. } => {
+                FaceOrigin::Joint { .. } | FaceOrigin::Bridge { .. } => {
                     let covered: f64 = neighbours[a]
                         .iter()
                         .flat_map(|&b| (0..blocks[b].n_faces()).map(move |g| (b, g)))

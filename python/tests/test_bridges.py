@@ -1,0 +1,220 @@
+"""Rock bridges (docs/generation.md, docs/mechanics.md and docs/models.md, "Rock bridges"):
+the faces a finite joint with ``bridge = true`` leaves uncut, the bridge properties of the
+engine and of model files, and the step-path example against limit equilibrium computed
+here."""
+
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import penedge
+import penedge.model as pm
+from penedge.model.check import Blocks
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
+BRIDGE = 3  # face origin code
+STEP_BRIDGE = "[joint_properties.step.bridge]\nfriction = 50\ncohesion = 1e6\n"
+
+needs_engine = pytest.mark.skipif(
+    not hasattr(penedge, "Simulation"), reason="this build has no mechanics engine"
+)
+
+SPEC = """\
+[domain]
+type = "box"
+min = [0, 0, 0]
+max = [10, 10, 10]
+
+[[joints]]
+type = "polygon"
+name = "step"
+vertices = [[2, 2, 5], [8, 2, 5], [8, 8, 5], [2, 8, 5]]
+"""
+
+
+def plane_area(system, code, normal):
+    """The area of the faces of origin `code` with outward unit normal `normal`."""
+    b = Blocks.of(system)
+    on = b.face_normals @ np.asarray(normal) > 1 - 1e-9
+    return float(b.face_areas[(b.face_kind == code) & on].sum())
+
+
+def generated(text):
+    system, _ = penedge.generate(tomllib.loads(text))
+    return system
+
+
+def test_a_square_joint_with_bridges_leaves_the_rest_of_the_plane_as_bridge():
+    assert len(generated(SPEC)) == 1  # the joint ends inside the box: left whole
+    system = generated(SPEC + "bridge = true\n")
+    # 100 m2 of plane in the box, 36 m2 of joint: below the plane, pieces split by the
+    # seams (top faces wholly joint or bridge); above it, one piece
+    assert plane_area(system, 2, [0, 0, 1]) == pytest.approx(36.0, rel=1e-12)
+    assert plane_area(system, BRIDGE, [0, 0, 1]) == pytest.approx(64.0, rel=1e-12)
+    assert plane_area(system, 2, [0, 0, -1]) == pytest.approx(100.0, rel=1e-12)
+    assert len(system) == 6
+    assert Blocks.of(system).volumes.sum() == pytest.approx(1000.0, rel=1e-12)
+
+
+@needs_engine
+def test_simulation_bridge_properties():
+    system = generated(SPEC + "bridge = true\n")
+    sim = penedge.Simulation(system, density=2600.0)
+    sim.set_joint(kn=1e9, ks=1e8, friction=30.0)
+    # without its own: the joint's stiffness, a strong rock's strength
+    assert sim.bridge(0) == {
+        "kn": 1e9,
+        "ks": 1e8,
+        "friction": 45.0,
+        "cohesion": 10e6,
+        "tension": 5e6,
+    }
+    sim.set_bridge(kn=2e9, ks=2e8, friction=50.0, cohesion=1e6, tension=5e5, set=0)
+    assert sim.bridge(0)["cohesion"] == 1e6
+    with pytest.raises(penedge.MechanicsError, match="friction"):
+        sim.set_bridge(kn=2e9, ks=2e8, friction=95.0, cohesion=1e6, tension=5e5)
+    sim.fix(np.flatnonzero(Blocks.of(system).centroids[:, 2] < 5).tolist())
+    sim.step(1)
+    contacts = sim.contacts()
+    assert contacts["bridges"].any()  # the bridge faces...
+    assert not contacts["bridges"].all()  # ...and the joint's
+
+
+MODEL = (
+    SPEC
+    + """
+[rock]
+density = 2600
+
+[joint_properties.default]
+kn = 1e9
+ks = 1e8
+friction = 30
+
+[[boundary]]
+region = {type = "face", face = "bottom"}
+condition = "fixed"
+"""
+)
+
+
+def test_model_file_bridge_table():
+    bridged = MODEL.replace('name = "step"', 'name = "step"\nbridge = true')
+    m = pm.parse_model(bridged + STEP_BRIDGE + "tension = 2e5\n")
+    b = m.bridges["step"]
+    assert (b.kn, b.ks, b.friction, b.cohesion, b.tension) == (1e9, 1e8, 50, 1e6, 2e5)
+    # the default's bridge table serves every set without its own
+    default = "[joint_properties.default.bridge]\nfriction = 40\ncohesion = 1\ntension = 1\n"
+    m = pm.parse_model(bridged + default + "kn = 5e9\n")
+    assert m.bridges["step"].kn == 5e9
+
+
+@pytest.mark.parametrize(
+    ("text", "field", "words"),
+    [
+        (
+            MODEL.replace('name = "step"', 'name = "step"\nbridge = true'),
+            "joint_properties.step.bridge",
+            "missing: joints[0] has bridge = true",
+        ),
+        (
+            MODEL + "[joint_properties.step.bridge]\nfriction = 50\ncohesion = 1e6\ntension = 0\n",
+            "joint_properties.step.bridge",
+            "has no rock bridges",
+        ),
+        (
+            MODEL.replace('name = "step"', 'name = "step"\nbridge = true')
+            + "[joint_properties.step.bridge]\nfriction = 50\ncohesion = 1e6\n",
+            "joint_properties.step.bridge.tension",
+            "",
+        ),
+        (
+            MODEL.replace('name = "step"', 'name = "step"\nbridge = true')
+            + STEP_BRIDGE
+            + "tension = 0\nresidual_friction = 30\n",
+            "joint_properties.step.bridge.residual_friction",
+            "unknown field",
+        ),
+    ],
+)
+def test_model_file_bridge_errors_name_the_field(text, field, words):
+    with pytest.raises(penedge.SpecError) as caught:
+        pm.parse_model(text)
+    assert caught.value.field == field, str(caught.value)
+    assert words in str(caught.value)
+
+
+def step_path_limit_equilibrium():
+    """F of examples/models/slope_step_path.toml: the mass above the bedding in front of the
+    crack (x >= 12) slides as one piece on the joint (friction 30) and the bridge (friction
+    30, cohesion 50 kPa over 5 / cos 35 by 10 m); the crack opens."""
+    dip = math.radians(35)
+    bedding = lambda x: 3 + (25 - x) * math.tan(dip)  # noqa: E731
+    # x-z section: crack foot, toe, crest, crack top (shoelace)
+    section = [(12, bedding(12)), (25, 3), (15, 15), (12, 15)]
+    area = 0.5 * abs(
+        sum(
+            x0 * z1 - x1 * z0
+            for (x0, z0), (x1, z1) in zip(section, section[1:] + section[:1], strict=True)
+        )
+    )
+    weight = 2600 * 9.81 * area * 10
+    bridge_area = 5 / math.cos(dip) * 10
+    resisting = weight * math.cos(dip) * math.tan(math.radians(30)) + 50e3 * bridge_area
+    return resisting / (weight * math.sin(dip))
+
+
+def test_step_path_example_cuts_the_bedding_through():
+    setup = pm.prepare(EXAMPLES / "slope_step_path.toml")
+    # the crack splits the slope in two; the front is cut through by the bedding, and the
+    # piece below the bedding by the seam at the joint's end (x = 17): the sliding mass is
+    # one block, on the joint and the bridge
+    assert len(setup.system) == 4
+    assert (~setup.layout.fixed).sum() == 1
+    dip = math.radians(35)
+    normal = [math.sin(dip), 0.0, math.cos(dip)]
+    assert plane_area(setup.system, BRIDGE, normal) == pytest.approx(50 / math.cos(dip), rel=1e-9)
+
+
+@needs_engine
+@pytest.mark.xfail(
+    reason="the face-face contact between the sliding block and the bridge piece below it "
+    "(a face inside a larger coplanar face, sharing two corners) alternates between 4 and 3 "
+    "points (a corner dropped) from step to step, so the forces jump and the run does not "
+    "reach equilibrium; under investigation",
+    strict=False,
+)
+def test_step_path_example_factor_of_safety_matches_limit_equilibrium():
+    outcome = pm.simulate(EXAMPLES / "slope_step_path.toml")
+    assert outcome.stages[0].converged
+    exact = step_path_limit_equilibrium()
+    assert exact == pytest.approx(1.39, abs=0.01)
+    safety = outcome.safety
+    # The bridge's cohesion fails corner by corner rather than all at once: F within 5 %.
+    assert safety.failing > exact * 0.95
+    assert safety.stable < exact * 1.05
+
+
+@needs_engine
+@pytest.mark.xfail(
+    reason="detection: a face inside a larger coplanar face, sharing two of its corners, "
+    "placed by the simulation (coordinates moved by rounding) gives a triangle (half the "
+    "area) or a segment instead of the face; the step-path example does not reach "
+    "equilibrium because of it",
+    strict=True,
+)
+def test_detection_keeps_the_face_of_the_bridge_piece_under_the_sliding_block():
+    setup = pm.prepare(EXAMPLES / "slope_step_path.toml")
+    sim = penedge.Simulation(setup.system, density=2600.0)
+    placed = list(sim.system())
+    sliding = int(np.flatnonzero(~setup.layout.fixed)[0])
+    b = Blocks.of(setup.system)
+    dip = math.radians(35)
+    on = b.face_normals @ np.array([math.sin(dip), 0.0, math.cos(dip)]) > 1 - 1e-9
+    bridge_piece = int(b.face_block[(b.face_kind == BRIDGE) & on][0])
+    r = penedge.detect_pair(placed[sliding], placed[bridge_piece], gap=1e-3)
+    # the bridge piece's top face, 5 / cos 35 by 10 m (the polygon is widened by the gap)
+    assert r.area == pytest.approx(50 / math.cos(dip), rel=0.01)
