@@ -1028,40 +1028,49 @@ impl Simulation {
         }
     }
 
-    /// Damps and integrates every body; the unbalanced-force ratio.
+    /// Damps and integrates every body (in parallel: each body's new state is a function of
+    /// its own; written back and checked in body order); the unbalanced-force ratio.
     fn integrate(&mut self, dt: f64) -> Result<(), MechanicsError> {
         let kick = if self.synced { 0.5 } else { 1.0 };
+        let (bodies, forces, moments) = (&self.bodies, &self.forces, &self.moments);
+        let (gravity, damping) = (self.gravity, &self.damping);
+        let states: Vec<_> = (0..bodies.len())
+            .into_par_iter()
+            .map(|i| {
+                let unbalanced = if bodies.is_free(i) {
+                    let load = gravity * bodies.mass(i) + bodies.applied_force(i);
+                    [(forces[i] + load).length(), load.length()]
+                } else {
+                    [0.0; 2]
+                };
+                let (f, m) = integrate::damped(bodies, i, forces[i], moments[i], gravity, damping);
+                let (pose, v, l) = integrate::advanced(bodies, i, f, m, dt, kick);
+                let before = bodies.pose[i];
+                let step = if same_bits(&before, &pose) {
+                    None
+                } else {
+                    let radius = bodies.shape(i).radius();
+                    Some(before.displacement_bound(&pose, DVec3::ZERO, radius))
+                };
+                (unbalanced, pose, v, l, step)
+            })
+            .collect();
         let (mut largest, mut reference) = (0.0f64, 0.0f64);
-        for i in 0..self.bodies.len() {
-            if self.bodies.is_free(i) {
-                let load = self.gravity * self.bodies.mass(i) + self.bodies.applied_force(i);
-                largest = largest.max((self.forces[i] + load).length());
-                reference = reference.max(load.length());
-            }
-            let (f, m) = integrate::damped(
-                &self.bodies,
-                i,
-                self.forces[i],
-                self.moments[i],
-                self.gravity,
-                &self.damping,
-            );
-            let before = self.bodies.pose[i];
-            integrate::advance(&mut self.bodies, i, f, m, dt, kick);
-            self.last_step[i] = if same_bits(&before, &self.bodies.pose[i]) {
-                0.0
-            } else {
-                // The detection of the next step is the first to see this pose.
-                self.moved_at[i] = self.steps + 1;
-                let radius = self.bodies.shape(i).radius();
-                before.displacement_bound(&self.bodies.pose[i], DVec3::ZERO, radius)
+        for (i, ([unbalanced, load], pose, v, l, step)) in states.into_iter().enumerate() {
+            largest = largest.max(unbalanced);
+            reference = reference.max(load);
+            self.bodies.pose[i] = pose;
+            self.bodies.velocity[i] = v;
+            self.bodies.momentum[i] = l;
+            self.last_step[i] = match step {
+                None => 0.0,
+                Some(bound) => {
+                    // The detection of the next step is the first to see this pose.
+                    self.moved_at[i] = self.steps + 1;
+                    bound
+                }
             };
             self.travel[i] += self.last_step[i];
-            let (pose, v, l) = (
-                self.bodies.pose[i],
-                self.bodies.velocity[i],
-                self.bodies.momentum[i],
-            );
             if !(pose.translation.is_finite()
                 && pose.rotation.is_finite()
                 && v.is_finite()
