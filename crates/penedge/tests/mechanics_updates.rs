@@ -287,3 +287,46 @@ fn a_carried_settling_stack_stays_within_tau_of_the_queried_one() {
         "the blocks did not land"
     );
 }
+
+/// While the sliding cube's contact with the base is carried, its four points are the cube's
+/// bottom corners where they are now (they were B's vertices at the query: they move with
+/// B), not where the last query found them: each step, the points match the corners placed
+/// at the cube's current pose (from its pose at the start), seen along the normal, to rounding.
+#[test]
+fn a_carried_contact_keeps_its_points_on_the_moving_block() {
+    let mut sim = sliding_cube();
+    sim.set_update_fraction(0.5).unwrap();
+    let start = sim.bodies().poses()[2];
+    let corners = [[0.7, -0.5], [1.7, -0.5], [1.7, 0.5], [0.7, 0.5]].map(|[x, y]| {
+        let p = DVec3::new(x, y, 0.0) - start.translation;
+        start.rotation.conjugate() * p
+    });
+    // Until its front face reaches the base's edge (x = 2, 0.3 s at 1 m/s), where the
+    // polygon's corners become the base's.
+    let steps = (0.29 / sim.timestep().unwrap()) as u64;
+    for step in 0..steps {
+        // The contacts of a step are at the poses it started from.
+        let pose = sim.bodies().poses()[2];
+        sim.step().unwrap();
+        let contacts = sim.contacts();
+        let c = &contacts.list[0];
+        assert_eq!((c.bodies, c.kind), ([0, 2], ContactType::FaceFace));
+        for s in contacts.subs_of(0) {
+            let nearest = corners
+                .iter()
+                .map(|&k| (pose.apply(k) - s.point).truncate().length())
+                .fold(f64::INFINITY, f64::min);
+            // The points are on the contact plane (horizontal), the corners within the overlap
+            // (µm) of it: compared across the plane, to rounding (a step's slide is 0.19 mm).
+            assert!(
+                nearest < 1e-9,
+                "step {step}: {:?} is {nearest} from a corner",
+                s.point
+            );
+        }
+    }
+    assert!(
+        sim.timings().carried > steps / 2,
+        "the contact was not carried"
+    );
+}

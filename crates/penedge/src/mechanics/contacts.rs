@@ -108,7 +108,8 @@ pub(super) struct Carry {
     pub poses: [Pose; 2],
     /// Their travels (sums of motion bounds) at the query.
     pub travels: [f64; 2],
-    /// Bit `k` set: point `k` moves with B (it was one of B's vertices), else with A.
+    /// Bit `k` set: point `k` moves with B (one of B's vertices, to within the gap, and nearer
+    /// to it than to any of A's), else with A.
     pub with_b: u64,
     /// Whether the normal moves with B (B's feature is a face and A's is not).
     pub normal_with_b: bool,
@@ -120,7 +121,8 @@ pub(super) struct Carry {
 impl Carry {
     /// The carrying of `found`'s geometry, queried with A and B placed at `poses`.
     pub fn new(
-        b: &ConvexBlock,
+        [a, b]: [&ConvexBlock; 2],
+        gap: f64,
         contact: &Contact,
         geometry: &ContactGeometry,
         poses: [Pose; 2],
@@ -129,10 +131,18 @@ impl Carry {
     ) -> Carry {
         let mut with_b = 0u64;
         if tolerance > 0.0 {
-            // A point within rounding of one of B's vertices is that vertex.
-            let near = 1e-9 * (b.size() + b.magnitude());
-            for (k, p) in geometry.points().iter().take(64).enumerate() {
-                if b.vertices().iter().any(|v| v.distance(*p) <= near) {
+            // A contact point is on the contact plane, within the overlap (below the gap) of
+            // the vertex it comes from.
+            let nearest = |block: &ConvexBlock, p: DVec3| {
+                block
+                    .vertices()
+                    .iter()
+                    .map(|v| v.distance(p))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            for (k, &p) in geometry.points().iter().take(64).enumerate() {
+                let to_b = nearest(b, p);
+                if to_b <= gap && to_b < nearest(a, p) {
                     with_b |= 1 << k;
                 }
             }

@@ -898,13 +898,11 @@ impl Simulation {
                     memo.found = None;
                     match (result, geometry) {
                         (PairResult::Contact(contact), Some(geometry)) => {
-                            let tolerance = if full {
-                                0.0
-                            } else {
-                                fraction * det.thresholds(a, b).gap
-                            };
+                            let gap = det.thresholds(a, b).gap;
+                            let tolerance = if full { 0.0 } else { fraction * gap };
                             let carry = Carry::new(
-                                b,
+                                [a, b],
+                                gap,
                                 &contact,
                                 &geometry,
                                 [bodies.pose[bi], bodies.pose[bj]],
