@@ -218,6 +218,10 @@ class _StepTimings(TypedDict):
     total: float
     steps: int
     rebuilds: int
+    queried: int
+    unmoved: int
+    certified: int
+    carried: int
 
 class _JointProperties(TypedDict):
     kn: float
@@ -317,6 +321,9 @@ class Simulation:
     def steps(self) -> int: ...
     @property
     def unbalanced_ratio(self) -> float: ...
+    def set_update_fraction(self, fraction: float) -> None: ...
+    @property
+    def update_fraction(self) -> float: ...
     def timings(self) -> _StepTimings: ...
     @property
     def positions(self) -> npt.NDArray[np.float64]: ...

@@ -209,3 +209,19 @@ def test_bad_water_is_refused_by_name():
         sim.set_water(level=1.0, unit_weight=0.0)
     with pytest.raises(ValueError, match="level"):
         sim.set_water(level=1.0, point=[0, 0, 0], normal=[0, 0, 1])
+
+
+def test_the_update_fraction_carries_touching_pairs_only_when_asked():
+    exact, fast = cube_on_base(), cube_on_base()
+    assert exact.update_fraction == 0.0  # the default: every touching pair queried
+    fast.set_update_fraction(0.5)
+    assert fast.update_fraction == 0.5
+    for sim in (exact, fast):
+        sim.step(200)
+    assert exact.timings()["carried"] == 0
+    assert fast.timings()["carried"] > 0
+    # Carried with the bodies, the contact keeps the settling within the tolerance: the cube
+    # ends where the exact run puts it, to well below the 1e-3 gap.
+    assert fast.positions[1] == pytest.approx(exact.positions[1], abs=1e-6)
+    with pytest.raises(penedge.MechanicsError, match="update fraction"):
+        fast.set_update_fraction(-1.0)

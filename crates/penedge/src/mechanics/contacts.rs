@@ -35,7 +35,7 @@ pub struct BodyContact {
 
 /// A sub-contact: one point of a contact with its share of the area and its own forces and
 /// history.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SubContact {
     /// Where it is (world).
     pub point: DVec3,
@@ -107,6 +107,70 @@ pub(super) struct Found {
     pub parts: [u32; 2],
     pub contact: Contact,
     pub geometry: ContactGeometry,
+    /// The carrying of the contact between queries (docs/mechanics.md, "Carried contacts").
+    pub carry: Carry,
+}
+
+/// What carries a contact's geometry with its bodies between two queries of the pair: the
+/// bodies' poses and travels at the query, which body each point and the normal move with,
+/// and the travel sum past which the pair is queried again.
+#[derive(Clone, Debug)]
+pub(super) struct Carry {
+    /// The poses of the two bodies (A, B) at the query.
+    pub poses: [Pose; 2],
+    /// Their travels (sums of motion bounds) at the query.
+    pub travels: [f64; 2],
+    /// Bit `k` set: point `k` moves with B (one of B's vertices, to within the gap, and nearer
+    /// to it than to any of A's), else with A.
+    pub with_b: u64,
+    /// Whether the normal moves with B (B's feature is a face and A's is not).
+    pub normal_with_b: bool,
+    /// The travel sum since the query past which the pair is queried again (tau; 0: every
+    /// step its bodies move).
+    pub tolerance: f64,
+}
+
+impl Carry {
+    /// The carrying of `found`'s geometry, queried with A and B placed at `poses`.
+    pub fn new(
+        [a, b]: [&ConvexBlock; 2],
+        gap: f64,
+        contact: &Contact,
+        geometry: &ContactGeometry,
+        poses: [Pose; 2],
+        travels: [f64; 2],
+        tolerance: f64,
+    ) -> Carry {
+        let mut with_b = 0u64;
+        if tolerance > 0.0 {
+            // A contact point is on the contact plane, within the overlap (below the gap) of
+            // the vertex it comes from.
+            let nearest = |block: &ConvexBlock, p: DVec3| {
+                block
+                    .vertices()
+                    .iter()
+                    .map(|v| v.distance(p))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            for (k, &p) in geometry.points().iter().take(64).enumerate() {
+                let to_b = nearest(b, p);
+                if to_b <= gap && to_b < nearest(a, p) {
+                    with_b |= 1 << k;
+                }
+            }
+        }
+        let normal_with_b = matches!(
+            (contact.feature_a, contact.feature_b),
+            (Feature::Vertex(_) | Feature::Edge(_), Feature::Face(_))
+        );
+        Carry {
+            poses,
+            travels,
+            with_b,
+            normal_with_b,
+            tolerance,
+        }
+    }
 }
 
 /// What a new contact's sub-contacts need besides the geometry.
@@ -126,16 +190,60 @@ pub(super) struct StepInput<'a> {
     pub initial_stress: Option<&'a InitialStress>,
 }
 
-/// The contact and its sub-contacts with their forces for this step.
+/// Buffers of [`build_contact`], one per thread, so that a contact allocates nothing once
+/// they have grown.
+#[derive(Default)]
+pub(super) struct Scratch {
+    areas: Vec<f64>,
+    floors: Vec<f64>,
+    gaps: Vec<f64>,
+    points: Vec<DVec3>,
+}
+
+/// How many sub-contacts the contact of `found` has: one per contact point.
+pub(super) fn sub_count(found: &Found) -> usize {
+    found.geometry.points().len()
+}
+
+/// The contact, its sub-contacts with their forces for this step written to `subs` (of
+/// length [`sub_count`]), and their installed normal stresses to `prestresses` (of the same
+/// length, or empty when the step keeps none: no initial stress in the run).
 pub(super) fn build_contact(
     input: &StepInput,
     found: &Found,
-) -> (BodyContact, Vec<SubContact>, Vec<f64>) {
+    scratch: &mut Scratch,
+    subs: &mut [SubContact],
+    prestresses: &mut [f64],
+) -> BodyContact {
+    let Scratch {
+        areas,
+        floors,
+        gaps,
+        points,
+    } = scratch;
     let [pa, pb] = found.parts;
     let (a, b) = (&input.placed[pa as usize], &input.placed[pb as usize]);
     let bodies = [input.part_body[pa as usize], input.part_body[pb as usize]];
     let g = &found.geometry;
-    let n = g.normal();
+    let poses = bodies.map(|i| input.bodies.pose[i as usize]);
+    // Between queries the geometry moves with the bodies (docs/mechanics.md, "Carried
+    // contacts"): the motion of each body since the query, `None` at the query's poses.
+    let carried = (0..2)
+        .any(|k| !super::same_bits(&found.carry.poses[k], &poses[k]))
+        .then(|| {
+            [0, 1].map(|k| {
+                let (q, p) = (found.carry.poses[k], poses[k]);
+                let rotation = p.rotation * q.rotation.conjugate();
+                Pose {
+                    rotation,
+                    translation: p.translation - rotation * q.translation,
+                }
+            })
+        });
+    let n = match carried {
+        Some(m) => (m[usize::from(found.carry.normal_with_b)].rotation * g.normal()).normalize(),
+        None => g.normal(),
+    };
     let (fa, fb) = (found.contact.feature_a, found.contact.feature_b);
     let (set, bridge, model) = contact_model(input.joints, input.bridges, a, fa, b, fb);
     let model = &model;
@@ -152,22 +260,27 @@ pub(super) fn build_contact(
     // far from the origin): a bond at zero gap is not broken by it.
     let magnitude = a.magnitude().max(b.magnitude());
     let slack = (1e-9 * diameter).max(crate::tolerance::ROUNDING_FLOOR * magnitude);
-    let areas = area_shares(g.shape(), n, width);
-    let pose_a = input.bodies.pose[bodies[0] as usize];
+    // The shares of the geometry at the query: a rigid motion keeps them.
+    area_shares(g.shape(), g.normal(), width, areas, floors);
+    let pose_a = poses[0];
     let previous = input.previous.find(found.parts);
-    let mut gaps: Vec<f64> = match g.shape() {
-        ContactPoints::Point(_) => vec![g.distance()],
-        _ => g
-            .points()
-            .iter()
-            .map(|&p| {
-                let sa = feature_height(a, found.contact.feature_a, p, n);
-                let sb = feature_height(b, found.contact.feature_b, p, n);
-                sb - sa
-            })
-            .collect(),
+    points.clear();
+    match carried {
+        None => points.extend_from_slice(g.points()),
+        Some(m) => points.extend(g.points().iter().enumerate().map(|(k, &p)| {
+            let with_b = k < 64 && found.carry.with_b & (1 << k) != 0;
+            m[usize::from(with_b)].apply(p)
+        })),
+    }
+    gaps.clear();
+    match (g.shape(), carried) {
+        (ContactPoints::Point(_), None) => gaps.push(g.distance()),
+        _ => gaps.extend(points.iter().map(|&p| {
+            let sa = feature_height(a, found.contact.feature_a, p, n);
+            let sb = feature_height(b, found.contact.feature_b, p, n);
+            sb - sa
+        })),
     };
-    let mut points = g.points().to_vec();
     if let (ContactType::FaceFace, 2, Feature::Face(fa), Feature::Face(fb)) = (
         found.contact.kind,
         gaps.len(),
@@ -206,9 +319,15 @@ pub(super) fn build_contact(
     // bodies' mean spin over the step (3DEC's rule).
     let twist = glam::DQuat::from_axis_angle(n, mean_spin.dot(n) * input.dt);
     let point_velocity = |(v, w, c): (DVec3, DVec3, DVec3), p: DVec3| v + w.cross(p - c);
-    let mut subs = Vec::with_capacity(points.len());
-    let mut prestresses = Vec::with_capacity(points.len());
-    for ((&p, &area), &gap) in points.iter().zip(&areas).zip(&gaps) {
+    debug_assert_eq!(subs.len(), points.len());
+    debug_assert!(prestresses.is_empty() || prestresses.len() == subs.len());
+    for (k_sub, (((&p, &area), &gap), sub)) in points
+        .iter()
+        .zip(&*areas)
+        .zip(&*gaps)
+        .zip(subs.iter_mut())
+        .enumerate()
+    {
         let local = to_body(&pose_a, p);
         // History: the nearest sub-contact of the same pair at the last step; its shear
         // stress carries over (the area shares change as the polygon does).
@@ -262,7 +381,14 @@ pub(super) fn build_contact(
             bonded,
             slack,
         );
-        subs.push(SubContact {
+        if let Some(slot) = prestresses.get_mut(k_sub) {
+            *slot = if out.state == SubState::Open {
+                0.0
+            } else {
+                prestress
+            };
+        }
+        *sub = SubContact {
             point: p,
             local: local.as_vec3(),
             area,
@@ -272,14 +398,9 @@ pub(super) fn build_contact(
             shear_displacement: slip,
             state: out.state,
             bonded: out.bonded,
-        });
-        prestresses.push(if out.state == SubState::Open {
-            0.0
-        } else {
-            prestress
-        });
+        };
     }
-    let contact = BodyContact {
+    BodyContact {
         parts: found.parts,
         bodies,
         kind: found.contact.kind,
@@ -288,8 +409,7 @@ pub(super) fn build_contact(
         bridge,
         first: 0,
         count: subs.len() as u32,
-    };
-    (contact, subs, prestresses)
+    }
 }
 
 /// A point in the body frame of the pose.
@@ -315,15 +435,24 @@ fn onto_plane(v: DVec3, n: DVec3) -> DVec3 {
 /// edges); a segment's ends `w l / 4` each; a point `w² / 2`. A polygon narrowing to a
 /// segment (a block rocking onto an edge) thus keeps the stiffness of its corners on that
 /// edge, and a segment shrinking to a point tends to the point's.
-fn area_shares(shape: &ContactPoints, n: DVec3, width: f64) -> Vec<f64> {
+/// The shares are written to `shares`; `floors` is a buffer.
+fn area_shares(
+    shape: &ContactPoints,
+    n: DVec3,
+    width: f64,
+    shares: &mut Vec<f64>,
+    floors: &mut Vec<f64>,
+) {
+    shares.clear();
     match shape {
-        ContactPoints::Point(_) => vec![0.5 * width * width],
-        ContactPoints::Segment([p, q]) => vec![0.25 * width * p.distance(*q); 2],
+        ContactPoints::Point(_) => shares.push(0.5 * width * width),
+        ContactPoints::Segment([p, q]) => shares.extend([0.25 * width * p.distance(*q); 2]),
         ContactPoints::Polygon(poly) => {
             let v = poly.vertices();
             let c = v.iter().copied().sum::<DVec3>() / v.len() as f64;
-            let mut shares = vec![0.0; v.len()];
-            let mut floors = vec![0.0; v.len()];
+            shares.resize(v.len(), 0.0);
+            floors.clear();
+            floors.resize(v.len(), 0.0);
             for i in 0..v.len() {
                 let j = (i + 1) % v.len();
                 let half = 0.25 * (v[i] - c).cross(v[j] - c).dot(n).abs();
@@ -333,10 +462,9 @@ fn area_shares(shape: &ContactPoints, n: DVec3, width: f64) -> Vec<f64> {
                 floors[i] = f64::max(floors[i], edge);
                 floors[j] = f64::max(floors[j], edge);
             }
-            for (s, f) in shares.iter_mut().zip(floors) {
+            for (s, &f) in shares.iter_mut().zip(&*floors) {
                 *s = s.max(f);
             }
-            shares
         }
     }
 }
@@ -403,15 +531,18 @@ mod tests {
         assert_eq!(contact.kind, ContactType::FaceFace);
         // A face of 1 m²: the corners' shares (0.25 each) are above the floor
         // (0.1 × 1 / 4 = 0.025) and sum to the area.
-        let shares = area_shares(g.shape(), g.normal(), 0.1);
+        let (mut shares, mut floors) = (Vec::new(), Vec::new());
+        area_shares(g.shape(), g.normal(), 0.1, &mut shares, &mut floors);
         assert!((shares.iter().sum::<f64>() - g.area()).abs() < 1e-12);
         // A segment's ends get w l / 4, as the corners of a thin strip l × s do.
-        let strip = area_shares(
+        area_shares(
             &ContactPoints::Segment([DVec3::ZERO, DVec3::X]),
             DVec3::Z,
             0.1,
+            &mut shares,
+            &mut floors,
         );
-        assert_eq!(strip, vec![0.025; 2]);
+        assert_eq!(shares, vec![0.025; 2]);
         assert!((g.area() - 1.0).abs() < 1e-6);
         for &p in g.points() {
             let sa = feature_height(&a, contact.feature_a, p, g.normal());

@@ -3,6 +3,7 @@
 //! "Integration").
 
 use super::bodies::{stiffness_bounds, Bodies, Fixity};
+use crate::block::Pose;
 use crate::geometry::DVec3;
 use glam::DQuat;
 
@@ -64,23 +65,31 @@ pub(super) fn damped(
     (f, m)
 }
 
-/// Advances body `i` over `dt` under the damped unbalanced force `f` and moment `m`; `kick`
-/// is the fraction of `dt` of the velocity update (1, or 1/2 when velocities are at the
-/// whole step, right after they were set).
-pub(super) fn advance(bodies: &mut Bodies, i: usize, f: DVec3, m: DVec3, dt: f64, kick: f64) {
+/// The state of body `i` (pose, velocity, angular momentum) after `dt` under the damped
+/// unbalanced force `f` and moment `m`; `kick` is the fraction of `dt` of the velocity update
+/// (1, or 1/2 when velocities are at the whole step, right after they were set). A function
+/// of body `i` alone, so that the bodies advance in parallel.
+pub(super) fn advanced(
+    bodies: &Bodies,
+    i: usize,
+    f: DVec3,
+    m: DVec3,
+    dt: f64,
+    kick: f64,
+) -> (Pose, DVec3, DVec3) {
+    let (mut pose, mut velocity, mut momentum) =
+        (bodies.pose[i], bodies.velocity[i], bodies.momentum[i]);
     match bodies.fixity(i) {
         Fixity::Free => {
             let mass = bodies.inertial_mass(i);
-            bodies.velocity[i] += f * (kick * dt / mass);
-            bodies.momentum[i] += m * (kick * dt);
+            velocity += f * (kick * dt / mass);
+            momentum += m * (kick * dt);
             let moments = bodies.inertial_moments(i);
-            let pose = &mut bodies.pose[i];
-            pose.translation += bodies.velocity[i] * dt;
-            pose.rotation = free_rotation(pose.rotation, bodies.momentum[i], moments, dt);
+            pose.translation += velocity * dt;
+            pose.rotation = free_rotation(pose.rotation, momentum, moments, dt);
         }
         Fixity::Fixed => {}
         Fixity::Prescribed { velocity, spin } => {
-            let pose = &mut bodies.pose[i];
             pose.translation += velocity * dt;
             let angle = spin.length() * dt;
             if angle > 0.0 {
@@ -89,6 +98,7 @@ pub(super) fn advance(bodies: &mut Bodies, i: usize, f: DVec3, m: DVec3, dt: f64
             }
         }
     }
+    (pose, velocity, momentum)
 }
 
 /// The critical time step bound of free body `i` for the largest joint stiffness `k`

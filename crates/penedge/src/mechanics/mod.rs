@@ -40,6 +40,17 @@ pub use state::{FORMAT as STATE_FORMAT, VERSION as STATE_VERSION};
 pub use stress::InitialStress;
 pub use water::Water;
 
+/// The default update tolerance of touching pairs, as a fraction of their detection gap
+/// ([`Simulation::set_update_fraction`]; docs/mechanics.md, "Carried contacts"): 0, every
+/// touching pair queried at every step one of its bodies moves. Exact, and what restart files
+/// resume bit for bit (a carried contact's query geometry is not in the file);
+/// [`FAST_UPDATE_FRACTION`] trades that for speed.
+pub const DEFAULT_UPDATE_FRACTION: f64 = 0.0;
+
+/// The update fraction of fast runs (the mechanics benchmark's): touching pairs carried with
+/// their bodies until they have moved a tenth of the detection gap.
+pub const FAST_UPDATE_FRACTION: f64 = 0.1;
+
 use crate::block::{ConvexBlock, Pose};
 use crate::body::BodyError;
 use crate::classify::PairResult;
@@ -50,7 +61,7 @@ use crate::system::{
     EDGE_CERTIFICATE_STEPS,
 };
 use crate::tolerance::{Tolerance, ToleranceError};
-use contacts::{build_contact, Found, StepInput};
+use contacts::{build_contact, sub_count, Carry, Found, Scratch, StepInput};
 use rayon::prelude::*;
 use std::time::Instant;
 use thiserror::Error;
@@ -192,6 +203,9 @@ pub struct StepTimings {
     pub unmoved: u64,
     /// Candidate pairs certified separated (answer kept).
     pub certified: u64,
+    /// Touching pairs carried: their contact geometry moved with the bodies, not queried
+    /// (their relative motion since the query below the update tolerance).
+    pub carried: u64,
 }
 
 impl StepTimings {
@@ -229,6 +243,9 @@ pub struct Simulation {
     last_step: Vec<f64>,
     /// Whether every candidate pair is queried every step (no answer kept).
     full_detection: bool,
+    /// The update tolerance, a fraction of each pair's detection gap (docs/mechanics.md,
+    /// "Carried contacts").
+    update_fraction: f64,
     built_at: Option<Vec<Pose>>,
     contacts: Contacts,
     /// Per body, the sum of its contact forces and moments (about the centroid) last step.
@@ -301,6 +318,7 @@ impl Simulation {
             travel: vec![0.0; n],
             last_step: vec![0.0; n],
             full_detection: false,
+            update_fraction: DEFAULT_UPDATE_FRACTION,
             built_at: None,
             contacts: Contacts::default(),
             forces: vec![DVec3::ZERO; n],
@@ -597,6 +615,28 @@ impl Simulation {
         self.full_detection
     }
 
+    /// Sets the update tolerance of touching pairs, as a fraction of each pair's detection
+    /// gap (absolute length): a touching pair is queried again once the motion bounds of its
+    /// two bodies since its last query sum to more than `fraction × gap`, and its contact
+    /// is carried with the bodies until then (docs/mechanics.md, "Carried contacts").
+    /// `0` queries a touching pair at every step that moves one of its bodies.
+    pub fn set_update_fraction(&mut self, fraction: f64) -> Result<(), MechanicsError> {
+        if !(fraction.is_finite() && fraction >= 0.0) {
+            return Err(MechanicsError::Parameter {
+                name: "update fraction",
+                range: "a finite number >= 0",
+                value: fraction,
+            });
+        }
+        self.update_fraction = fraction;
+        Ok(())
+    }
+
+    /// The update tolerance of touching pairs, a fraction of their detection gap.
+    pub fn update_fraction(&self) -> f64 {
+        self.update_fraction
+    }
+
     /// Sets the time step; `None` for the automatic one (safety × critical).
     pub fn set_timestep(&mut self, dt: Option<f64>) -> Result<(), MechanicsError> {
         if let Some(dt) = dt {
@@ -733,7 +773,7 @@ impl Simulation {
         lap(&mut t.pairs);
         let detected = self.detect();
         lap(&mut t.detect);
-        let [queried, unmoved, certified] = detected?;
+        let [queried, unmoved, certified, carried] = detected?;
         self.update_contacts(dt);
         lap(&mut t.contacts);
         self.sum_forces();
@@ -749,6 +789,7 @@ impl Simulation {
         t.queried += queried;
         t.unmoved += unmoved;
         t.certified += certified;
+        t.carried += carried;
         self.timings = t;
         self.time += dt;
         self.steps += 1;
@@ -820,12 +861,15 @@ impl Simulation {
         }
     }
 
-    /// Places the parts of every body that moves (in parallel; each part is its own).
+    /// Places the parts of every body whose pose changed in this step's integration (in
+    /// parallel; each part is its own). A part at an unchanged pose would be placed to the
+    /// same bits.
     fn place_moving(&mut self) {
         let (bodies, part_body, part_index) = (&self.bodies, &self.part_body, &self.part_index);
+        let (moved_at, next) = (&self.moved_at, self.steps + 1);
         self.placed.par_iter_mut().enumerate().for_each(|(k, p)| {
             let b = part_body[k] as usize;
-            if bodies.fixity(b) != Fixity::Fixed {
+            if moved_at[b] == next {
                 let part = &bodies.shape(b).parts()[part_index[k] as usize];
                 p.place_from(part, &bodies.pose[b]);
             }
@@ -872,12 +916,14 @@ impl Simulation {
     /// The contacts of the candidate pairs (the pair queries in parallel), kept in `memo`:
     /// each pair is queried, or keeps its last answer when its two bodies have not moved
     /// since (unmoved) or it is certified separated (docs/mechanics.md, "Contact updates").
-    /// The numbers of pairs queried, unmoved and certified.
-    fn detect(&mut self) -> Result<[u64; 3], MechanicsError> {
+    /// A touching pair whose bodies moved less than the update tolerance since its query is
+    /// carried (docs/mechanics.md, "Carried contacts").
+    /// The numbers of pairs queried, unmoved, certified and carried.
+    fn detect(&mut self) -> Result<[u64; 4], MechanicsError> {
         let tol = self.tolerance;
         let (placed, part_body) = (&self.placed, &self.part_body);
         let (moved_at, travel, last_step) = (&self.moved_at, &self.travel, &self.last_step);
-        let (step, full) = (self.steps, self.full_detection);
+        let (step, full, fraction) = (self.steps, self.full_detection, self.update_fraction);
         let bodies = &self.bodies;
         let outcomes: Vec<Outcome> = self
             .pairs
@@ -892,8 +938,17 @@ impl Simulation {
                         if moved_at[bi] <= asked && moved_at[bj] <= asked {
                             return Outcome::Unmoved;
                         }
-                        if memo.found.is_none() && holds(memo.deadline, [travel[bi], travel[bj]]) {
-                            return Outcome::Certified;
+                        match &memo.found {
+                            None if holds(memo.deadline, [travel[bi], travel[bj]]) => {
+                                return Outcome::Certified;
+                            }
+                            Some(f) if f.carry.tolerance > 0.0 => {
+                                let [ti, tj] = f.carry.travels;
+                                if (travel[bi] - ti) + (travel[bj] - tj) <= f.carry.tolerance {
+                                    return Outcome::Carried;
+                                }
+                            }
+                            _ => {}
                         }
                     }
                     let (a, b) = (&placed[i as usize], &placed[j as usize]);
@@ -903,10 +958,22 @@ impl Simulation {
                     memo.found = None;
                     match (result, geometry) {
                         (PairResult::Contact(contact), Some(geometry)) => {
+                            let gap = det.thresholds(a, b).gap;
+                            let tolerance = if full { 0.0 } else { fraction * gap };
+                            let carry = Carry::new(
+                                [a, b],
+                                gap,
+                                &contact,
+                                &geometry,
+                                [bodies.pose[bi], bodies.pose[bj]],
+                                [travel[bi], travel[bj]],
+                                tolerance,
+                            );
                             memo.found = Some(Box::new(Found {
                                 parts: [i, j],
                                 contact,
                                 geometry,
+                                carry,
                             }));
                         }
                         (PairResult::Penetrating, _) => return Outcome::Penetrating,
@@ -920,12 +987,13 @@ impl Simulation {
                 },
             )
             .collect();
-        let mut counts = [0u64; 3];
+        let mut counts = [0u64; 4];
         for (k, outcome) in outcomes.iter().enumerate() {
             match outcome {
                 Outcome::Queried => counts[0] += 1,
                 Outcome::Unmoved => counts[1] += 1,
                 Outcome::Certified => counts[2] += 1,
+                Outcome::Carried => counts[3] += 1,
                 Outcome::Penetrating => {
                     let [i, j] = self.pairs[k];
                     return Err(MechanicsError::Penetration {
@@ -952,27 +1020,48 @@ impl Simulation {
             point_width: self.point_width,
             initial_stress: self.initial_stress.as_ref(),
         };
-        let built: Vec<_> = self
+        let found: Vec<&Found> = self
             .memo
-            .par_iter()
+            .iter()
             .filter_map(|m| m.found.as_deref())
-            .map(|f| build_contact(&input, f))
             .collect();
-        let mut next = Contacts {
-            list: Vec::with_capacity(built.len()),
-            subs: Vec::with_capacity(self.contacts.subs.len()),
-            prestresses: Vec::new(),
-        };
-        let stressed = built.iter().any(|b| b.2.iter().any(|&p| p != 0.0));
-        for (mut c, subs, prestresses) in built {
-            c.first = next.subs.len() as u32;
-            next.list.push(c);
-            next.subs.extend(subs);
-            if stressed {
-                next.prestresses.extend(prestresses);
-            }
+        // Each contact's sub-contacts (and, in a run with an initial stress, their installed
+        // stresses) are written in place, in contact order: no allocation per contact.
+        let counts: Vec<usize> = found.iter().map(|f| sub_count(f)).collect();
+        let total: usize = counts.iter().sum();
+        let keep_stress = self.initial_stress.is_some() || !self.contacts.prestresses.is_empty();
+        let mut subs = vec![SubContact::default(); total];
+        let mut prestresses = vec![0.0; if keep_stress { total } else { 0 }];
+        let mut slices = Vec::with_capacity(found.len());
+        let (mut rest, mut rest_p) = (subs.as_mut_slice(), prestresses.as_mut_slice());
+        for &count in &counts {
+            let (head, tail) = rest.split_at_mut(count);
+            let (head_p, tail_p) = rest_p.split_at_mut(if keep_stress { count } else { 0 });
+            slices.push((head, head_p));
+            rest = tail;
+            rest_p = tail_p;
         }
-        self.contacts = next;
+        let mut list: Vec<BodyContact> = found
+            .par_iter()
+            .zip(slices)
+            .map_init(Scratch::default, |scratch, (f, (out, out_p))| {
+                build_contact(&input, f, scratch, out, out_p)
+            })
+            .collect();
+        let mut first = 0;
+        for c in &mut list {
+            c.first = first;
+            first += c.count;
+        }
+        // The side table only while a sub-contact has an installed stress.
+        if prestresses.iter().all(|&p| p == 0.0) {
+            prestresses = Vec::new();
+        }
+        self.contacts = Contacts {
+            list,
+            subs,
+            prestresses,
+        };
         self.initial = false;
     }
 
@@ -1011,40 +1100,49 @@ impl Simulation {
         }
     }
 
-    /// Damps and integrates every body; the unbalanced-force ratio.
+    /// Damps and integrates every body (in parallel: each body's new state is a function of
+    /// its own; written back and checked in body order); the unbalanced-force ratio.
     fn integrate(&mut self, dt: f64) -> Result<(), MechanicsError> {
         let kick = if self.synced { 0.5 } else { 1.0 };
+        let (bodies, forces, moments) = (&self.bodies, &self.forces, &self.moments);
+        let (gravity, damping) = (self.gravity, &self.damping);
+        let states: Vec<_> = (0..bodies.len())
+            .into_par_iter()
+            .map(|i| {
+                let unbalanced = if bodies.is_free(i) {
+                    let load = gravity * bodies.mass(i) + bodies.applied_force(i);
+                    [(forces[i] + load).length(), load.length()]
+                } else {
+                    [0.0; 2]
+                };
+                let (f, m) = integrate::damped(bodies, i, forces[i], moments[i], gravity, damping);
+                let (pose, v, l) = integrate::advanced(bodies, i, f, m, dt, kick);
+                let before = bodies.pose[i];
+                let step = if same_bits(&before, &pose) {
+                    None
+                } else {
+                    let radius = bodies.shape(i).radius();
+                    Some(before.displacement_bound(&pose, DVec3::ZERO, radius))
+                };
+                (unbalanced, pose, v, l, step)
+            })
+            .collect();
         let (mut largest, mut reference) = (0.0f64, 0.0f64);
-        for i in 0..self.bodies.len() {
-            if self.bodies.is_free(i) {
-                let load = self.gravity * self.bodies.mass(i) + self.bodies.applied_force(i);
-                largest = largest.max((self.forces[i] + load).length());
-                reference = reference.max(load.length());
-            }
-            let (f, m) = integrate::damped(
-                &self.bodies,
-                i,
-                self.forces[i],
-                self.moments[i],
-                self.gravity,
-                &self.damping,
-            );
-            let before = self.bodies.pose[i];
-            integrate::advance(&mut self.bodies, i, f, m, dt, kick);
-            self.last_step[i] = if same_bits(&before, &self.bodies.pose[i]) {
-                0.0
-            } else {
-                // The detection of the next step is the first to see this pose.
-                self.moved_at[i] = self.steps + 1;
-                let radius = self.bodies.shape(i).radius();
-                before.displacement_bound(&self.bodies.pose[i], DVec3::ZERO, radius)
+        for (i, ([unbalanced, load], pose, v, l, step)) in states.into_iter().enumerate() {
+            largest = largest.max(unbalanced);
+            reference = reference.max(load);
+            self.bodies.pose[i] = pose;
+            self.bodies.velocity[i] = v;
+            self.bodies.momentum[i] = l;
+            self.last_step[i] = match step {
+                None => 0.0,
+                Some(bound) => {
+                    // The detection of the next step is the first to see this pose.
+                    self.moved_at[i] = self.steps + 1;
+                    bound
+                }
             };
             self.travel[i] += self.last_step[i];
-            let (pose, v, l) = (
-                self.bodies.pose[i],
-                self.bodies.velocity[i],
-                self.bodies.momentum[i],
-            );
             if !(pose.translation.is_finite()
                 && pose.rotation.is_finite()
                 && v.is_finite()
@@ -1093,6 +1191,7 @@ impl Default for PairMemo {
 enum Outcome {
     Queried,
     Unmoved,
+    Carried,
     Certified,
     Penetrating,
 }
@@ -1122,7 +1221,7 @@ fn certificate(
 }
 
 /// Whether two poses are equal bit for bit (placing a block at either gives the same bits).
-fn same_bits(p: &Pose, q: &Pose) -> bool {
+pub(super) fn same_bits(p: &Pose, q: &Pose) -> bool {
     let bits = |p: &Pose| {
         let (r, t) = (p.rotation.to_array(), p.translation.to_array());
         [r[0], r[1], r[2], r[3], t[0], t[1], t[2]].map(f64::to_bits)

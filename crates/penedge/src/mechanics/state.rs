@@ -92,6 +92,10 @@ struct SettingsFile {
     initial_stress: Option<StressFile>,
     /// Every candidate pair queried at every step (a switch for comparisons).
     full_detection: bool,
+    /// The update tolerance of touching pairs, a fraction of their detection gap
+    /// (`Simulation::set_update_fraction`; absent in older files: the default).
+    #[serde(default = "default_update_fraction")]
+    update_fraction: f64,
     /// Applied moments (world frame): `[body, [x, y, z]]` per body that has one.
     applied_moments: Vec<(u32, V3)>,
 }
@@ -262,6 +266,10 @@ enum StateCode {
     Open,
 }
 
+fn default_update_fraction() -> f64 {
+    super::DEFAULT_UPDATE_FRACTION
+}
+
 /// Only the header, to say what a file that is not a restart file is.
 #[derive(Deserialize)]
 struct Header {
@@ -430,6 +438,7 @@ fn file_of(sim: &Simulation) -> StateFile {
         last_step: _,
         built_at: _,
         full_detection,
+        update_fraction,
         applied_moments,
         // Wall-clock diagnostics, not state.
         timings: _,
@@ -470,6 +479,7 @@ fn file_of(sim: &Simulation) -> StateFile {
                     .collect(),
             },
             full_detection: *full_detection,
+            update_fraction: *update_fraction,
             applied_moments: applied_moments
                 .iter()
                 .map(|(&b, m)| (b, m.to_array()))
@@ -1165,6 +1175,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             last_step: _,
             built_at: _,
             full_detection,
+            update_fraction,
             applied_moments,
             timings: _,
             gravity: g,
@@ -1191,6 +1202,13 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
         *t = tolerance;
         *skin = s.skin;
         *full_detection = s.full_detection;
+        if !(s.update_fraction.is_finite() && s.update_fraction >= 0.0) {
+            return Err(bad(
+                "settings.update_fraction",
+                "must be a finite number >= 0",
+            ));
+        }
+        *update_fraction = s.update_fraction;
         *applied_moments = moments_applied;
         *cs = contacts;
         *f = forces;
