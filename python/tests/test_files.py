@@ -45,6 +45,7 @@ def assert_same_system(a, b):
         assert np.array_equal(getattr(x, name), getattr(y, name)), name
     assert a.sets == b.sets
     assert len(a.domain) == len(b.domain)
+    assert np.array_equal(x.body_ids, y.body_ids)
 
 
 def test_json_round_trip_is_lossless(generated, tmp_path):
@@ -55,6 +56,89 @@ def test_json_round_trip_is_lossless(generated, tmp_path):
     assert again.detect().counts() == generated.detect().counts()
     assert_same_system(penedge.BlockSystem.from_json(generated.to_json()), generated)
     assert [p.name for p in tmp_path.iterdir()] == ["blocks.json"]  # no temporary left
+
+
+# Every block file penedge writes reads back, whichever way the system was built
+# (docs/block-file-format.md, "Face origins without a joint table").
+JOINT, BRIDGE = 2, 3  # face origin codes
+
+
+def from_blocks(system):
+    """Blocks taken out of a system: their joint faces name sets and joints of a table the
+    new system does not have."""
+    return penedge.BlockSystem(list(system)[::2])
+
+
+def from_arrays(system):
+    a = system.arrays()
+    origins = a.face_origin_kind, a.face_origin_set, a.face_origin_index
+    offsets = a.vertex_offsets, a.face_offsets, a.loop_offsets
+    return penedge.BlockSystem.from_arrays(
+        a.vertices,
+        *offsets,
+        a.face_vertices,
+        face_origin_kind=origins[0],
+        face_origin_set=origins[1],
+        face_origin_index=origins[2],
+    )
+
+
+def concave(_):
+    cuboid = penedge.Block.cuboid
+    parts = [
+        cuboid([0, 0, 0], [3, 1, 1]),
+        cuboid([0, 0, 1], [1, 1, 2]),
+        cuboid([2, 0, 1], [3, 1, 2]),
+    ]
+    return penedge.BlockSystem([*parts, cuboid([1, 0, 1], [2, 1, 2.5])]).with_bodies([0, 0, 0, 1])
+
+
+def concave_of_taken_blocks(system):
+    return penedge.BlockSystem(list(system)[:2]).with_bodies([0, 1])
+
+
+@pytest.fixture(scope="module")
+def bridged():
+    """A generated system with rock bridges (the step-path example's)."""
+    from penedge.model import prepare
+
+    return prepare(EXAMPLES / "models" / "slope_step_path.toml").system
+
+
+BUILDS = [
+    ("generated", lambda s: s),
+    ("from_blocks", from_blocks),
+    ("from_arrays", from_arrays),
+    ("concave", concave),
+    ("concave_of_taken_blocks", concave_of_taken_blocks),
+]
+
+
+@pytest.mark.parametrize("source", ["generated", "bridged"])
+@pytest.mark.parametrize("build", [b for _, b in BUILDS], ids=[n for n, _ in BUILDS])
+def test_every_block_file_written_reads_back(source, build, request, tmp_path):
+    system = build(request.getfixturevalue(source))
+    path = tmp_path / "blocks.json"
+    system.write_json(path)
+    assert_same_system(penedge.BlockSystem.read_json(path), system)
+    assert_same_system(penedge.BlockSystem.from_json(system.to_json()), system)
+    assert [p.name for p in tmp_path.iterdir()] == ["blocks.json"]
+
+
+def test_blocks_taken_out_keep_the_origins_of_their_joint_and_bridge_faces(bridged, tmp_path):
+    """The defect: a system of generated blocks has joint faces but no joint table; its
+    file was refused on reading. The origins read back as written (their set numbers are
+    what joint properties are given by)."""
+    system = penedge.BlockSystem(list(bridged))
+    a = system.arrays()
+    assert (a.face_origin_kind == JOINT).any()
+    assert (a.face_origin_kind == BRIDGE).any()
+    assert system.sets == []
+    system.write_json(tmp_path / "b.json")
+    back = penedge.BlockSystem.read_json(tmp_path / "b.json").arrays()
+    assert np.array_equal(back.face_origin_kind, a.face_origin_kind)
+    assert np.array_equal(back.face_origin_set, a.face_origin_set)
+    assert np.array_equal(back.face_origin_index, a.face_origin_index)
 
 
 def test_json_accepts_str_paths_and_replaces_a_file(generated, tmp_path):

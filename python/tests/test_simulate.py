@@ -121,7 +121,12 @@ class InclineEngine:
             "shear_forces": np.zeros((2, 3)),
             "states": np.array([0, 1], dtype=np.uint8),
             "areas": np.array([0.5, 0.5]),
+            "water_forces": np.array([250.0]),
         }
+
+    def bolt_elements(self):
+        """The incline has no bolts (Engine.bolt_elements)."""
+        return None
 
 
 def wedge(friction=40.0, stages=None, extra=""):
@@ -350,6 +355,8 @@ def test_simulate_writes_results(tmp_path, stand_in, capsys):
     assert arrays["normal_force"] == ["1000", "2000"]
     assert arrays["state"] == ["0", "1"]
     assert arrays["contact"] == ["0", "0"]
+    assert arrays["water_force"] == ["250", "250"]  # the contact's, on each sub-contact
+    assert not (out / "series" / "bolts.pvd").exists()  # a model without bolts
 
 
 def test_simulate_html_plays_the_frames(tmp_path, stand_in):

@@ -131,6 +131,26 @@ fn bad_block_files_are_named() {
     ));
 }
 
+/// A system built of blocks taken from a generated one keeps their face origins but has no
+/// domain and no joint table: its file reads back with the origins as written (they used to
+/// be refused as pointing to sets and joints the file does not have).
+#[test]
+fn blocks_taken_out_of_a_system_read_back_with_their_origins() {
+    let generated = mixed_system();
+    let taken = BlockSystem::new(generated.blocks().iter().step_by(2).cloned().collect());
+    let joint_faces = taken
+        .blocks()
+        .iter()
+        .flat_map(|b| b.face_origins())
+        .filter(|o| matches!(o, penedge::block::FaceOrigin::Joint { .. }))
+        .count();
+    assert!(joint_faces > 0);
+    assert!(taken.sets().is_empty() && taken.joints().is_empty());
+    let back = json::from_json_str(&json::to_json_string(&taken)).unwrap();
+    assert_eq!(back.blocks(), taken.blocks());
+    // With a joint table, an origin outside it is still refused (bad_block_files_are_named).
+}
+
 #[test]
 fn a_block_file_written_by_hand_needs_vertices_and_faces_only() {
     // Two unit cubes side by side; volume, centroid, planes and origins derived.

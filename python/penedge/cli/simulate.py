@@ -44,6 +44,7 @@ more:
       column/history.png      the same as curves
       column/displacement.png the final state coloured by displacement
       column/series/blocks.pvd  ParaView time series (displacement, velocity, moving)
+      column/series/subcontacts.pvd, bolts.pvd  contact forces (water too), bolts
 
 The model file is described in docs/models.md; examples/models/ has working ones. Ctrl-C
 stops the run after the current chunk of steps and still writes the results so far (exit
@@ -164,6 +165,7 @@ def run_simulate(args: argparse.Namespace) -> int:
                 engine.velocities(),
                 engine.contacts(),
                 excavated=removed if removed.any() else None,
+                bolts=engine.bolt_elements(),
             )
 
     def report(engine: Any, stage: Any, done: int, total: int | None) -> None:
@@ -459,6 +461,8 @@ def write_results(
         written.append(str(series.index))
     if series is not None and series.contact_entries:
         written.append(str(series.contacts_index))
+    if series is not None and series.bolt_entries:
+        written.append(str(series.bolts_index))
     summary_path = folder / OUTPUT_NAMES["summary"]
     written.insert(0, str(summary_path))
     return written

@@ -366,3 +366,8 @@ class Engine:
     def contacts(self) -> Any:
         """The contacts now, for the ParaView series (None when the engine gives none)."""
         return self.sim.contacts()
+
+    def bolt_elements(self) -> Any:
+        """The bolt elements now (``Simulation.bolts()``), for the ParaView series; None for
+        a model without bolts."""
+        return self.sim.bolts() if self.bolt_names else None

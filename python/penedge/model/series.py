@@ -1,8 +1,11 @@
 """A ParaView time series of a simulation: the blocks of each frame as a VTU file (one
 polyhedron cell per block) with their displacement, velocity and a moving flag as cell
 data, listed by ``blocks.pvd``; and the sub-contacts of each frame as a VTP file (one
-vertex per sub-contact, with its normal and shear force, state and area), listed by
-``subcontacts.pvd`` (both indexes written with :func:`penedge.write_pvd`).
+vertex per sub-contact, with its normal and shear force, state and area, and its contact's
+water force), listed by ``subcontacts.pvd``; and, for a model with rock bolts, the bolt
+elements of each frame as a VTP file (one line per element, with its axial force,
+elongation and state), listed by ``bolts.pvd`` (the indexes written with
+:func:`penedge.write_pvd`).
 
 Each frame's file is written (atomically) before the index that lists it, so ParaView can
 watch a running simulation, and a run stopped with Ctrl-C leaves a series of complete
@@ -106,9 +109,13 @@ STATES = ("elastic", "sliding", "open")
 
 def vtp_text(contacts: dict[str, Any]) -> str:
     """The VTP file of the sub-contacts in the engine's `contacts` dict: one vertex per
-    sub-contact at its point; point data ``normal_force`` (N, compression positive),
-    ``shear_force`` (N, vector), ``state`` (0 elastic, 1 sliding, 2 open), ``area`` (m2),
-    ``contact`` (its contact's row) and the contact's ``normal``."""
+    sub-contact at its point; point data ``normal_force`` (N, compression positive; the
+    joint's effective force, without the water's), ``shear_force`` (N, vector), ``state`` (0
+    elastic, 1 sliding, 2 open), ``area`` (m2), ``contact`` (its contact's row), the
+    contact's ``normal`` and the contact's ``water_force`` (N, pushing the second block from
+    the first along ``normal``; 0 without water). ``normal`` and ``water_force`` belong to
+    the contact and are repeated on each of its sub-contacts: the water force is not shared
+    out, so sum it over contacts, not over points."""
     points = np.asarray(contacts["points"], dtype=float).reshape(-1, 3)
     k = len(points)
     offsets = np.asarray(contacts["sub_offsets"], dtype=np.int64)
@@ -121,6 +128,7 @@ def vtp_text(contacts: dict[str, Any]) -> str:
         _array("Float64", "area", _floats(contacts["areas"])),
         _array("Int64", "contact", _ints(contact)),
         _array("Float64", "normal", _floats(normals), 3),
+        _array("Float64", "water_force", _floats(np.asarray(contacts["water_forces"])[contact])),
     ]
     return "\n".join(
         [
@@ -138,6 +146,53 @@ def vtp_text(contacts: dict[str, Any]) -> str:
             '<PointData Scalars="normal_force" Vectors="shear_force">',
             *data,
             "</PointData>",
+            "</Piece>",
+            "</PolyData>",
+            "</VTKFile>",
+            "",
+        ]
+    )
+
+
+#: Bolt element states, by code (the engine's): elastic, yielding, broken.
+BOLT_STATES = ("elastic", "yielding", "broken")
+
+
+def bolts_vtp_text(bolts: dict[str, Any]) -> str:
+    """The VTP file of the bolt elements in the engine's `bolts` dict
+    (``Simulation.bolts()``): one line per element, from its anchor in its first body to its
+    anchor in its second (where they are now); cell data ``bolt`` (the bolt's number, in the
+    model's order), ``force`` (N, axial, tension > 0), ``elongation`` (m), ``state`` (0
+    elastic, 1 yielding, 2 broken), ``rest_length`` (m) and ``shear_force`` (N, vector: the
+    dowel's force on the second body)."""
+    starts = np.asarray(bolts["starts"], dtype=float).reshape(-1, 3)
+    ends = np.asarray(bolts["ends"], dtype=float).reshape(-1, 3)
+    k = len(starts)
+    points = np.stack([starts, ends], axis=1).reshape(-1, 3)
+    data = [
+        _array("Int64", "bolt", _ints(bolts["bolt"])),
+        _array("Float64", "force", _floats(bolts["forces"])),
+        _array("Float64", "elongation", _floats(bolts["elongations"])),
+        _array("UInt8", "state", _ints(bolts["states"])),
+        _array("Float64", "rest_length", _floats(bolts["rest_lengths"])),
+        _array("Float64", "shear_force", _floats(bolts["shear_forces"]), 3),
+    ]
+    return "\n".join(
+        [
+            '<?xml version="1.0"?>',
+            '<VTKFile type="PolyData" version="1.0" byte_order="LittleEndian">',
+            "<PolyData>",
+            f'<Piece NumberOfPoints="{2 * k}" NumberOfLines="{k}">',
+            "<Points>",
+            _array("Float64", "points", _floats(points), 3),
+            "</Points>",
+            "<Lines>",
+            _array("Int64", "connectivity", _ints(np.arange(2 * k))),
+            _array("Int64", "offsets", _ints(np.arange(2, 2 * k + 1, 2))),
+            "</Lines>",
+            '<CellData Scalars="force">',
+            *data,
+            "</CellData>",
             "</Piece>",
             "</PolyData>",
             "</VTKFile>",
@@ -185,6 +240,7 @@ class Series:
         self.speed = speed
         self.entries: list[tuple[float, Path]] = []
         self.contact_entries: list[tuple[float, Path]] = []
+        self.bolt_entries: list[tuple[float, Path]] = []
 
     @property
     def index(self) -> Path:
@@ -196,6 +252,11 @@ class Series:
         """The sub-contacts' ``.pvd`` file."""
         return self.folder / "subcontacts.pvd"
 
+    @property
+    def bolts_index(self) -> Path:
+        """The bolt elements' ``.pvd`` file."""
+        return self.folder / "bolts.pvd"
+
     def write(
         self,
         time: float,
@@ -204,14 +265,19 @@ class Series:
         velocity: np.ndarray,
         contacts: dict[str, Any] | None = None,
         excavated: np.ndarray | None = None,
+        bolts: dict[str, Any] | None = None,
     ) -> None:
-        """One frame, then the indexes. A frame at the time of the last one replaces it."""
+        """One frame, then the indexes. A frame at the time of the last one replaces it.
+        The contacts and the bolt elements (the engine's dicts) are written when given."""
         moving = np.linalg.norm(velocity, axis=1) > self.speed
         text = vtu_text(system, displacement, velocity, moving, excavated)
         self._add(self.entries, self.index, "blocks", "vtu", time, text)
         if contacts is not None:
             text = vtp_text(contacts)
             self._add(self.contact_entries, self.contacts_index, "subcontacts", "vtp", time, text)
+        if bolts is not None:
+            text = bolts_vtp_text(bolts)
+            self._add(self.bolt_entries, self.bolts_index, "bolts", "vtp", time, text)
 
     def _add(
         self,

@@ -175,20 +175,25 @@ fn body_ids(version: u32, blocks: &[BlockFile]) -> Result<Vec<u32>, IoError> {
     Ok(ids)
 }
 
-/// Every face origin points into the domain parts, joint table and sets that the file has.
+/// Every face origin points into the domain parts, joint table and sets that the file has,
+/// where it has them. A file without a domain or without a joint table (one written from a
+/// system built of blocks, whose faces keep the origins they had in the system they came
+/// from) keeps the origins that would point into them as written: labels of where the faces
+/// came from (the set numbers by which properties are given), which nothing looks up.
 fn check_origins(
     blocks: &[ConvexBlock],
     parts: usize,
     joints: usize,
     sets: usize,
 ) -> Result<(), IoError> {
+    let table = joints > 0 || sets > 0;
     for (i, b) in blocks.iter().enumerate() {
         for (f, origin) in b.face_origins().iter().enumerate() {
             let ok = match *origin {
                 FaceOrigin::Unknown => true,
-                FaceOrigin::Boundary { part, .. } => (part as usize) < parts.max(1),
+                FaceOrigin::Boundary { part, .. } => parts == 0 || (part as usize) < parts,
                 FaceOrigin::Joint { set, joint } | FaceOrigin::Bridge { set, joint } => {
-                    (set as usize) < sets && (joint as usize) < joints
+                    !table || ((set as usize) < sets && (joint as usize) < joints)
                 }
             };
             if !ok {
