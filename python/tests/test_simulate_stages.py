@@ -62,6 +62,46 @@ def test_a_restarted_run_is_bit_for_bit_the_run_that_did_not_stop(tmp_path):
     assert json.loads(sim.note)["next_stage"] == 2
 
 
+WET_AND_BOLTED = """
+[water]
+phreatic = { elevation = 2.5 }
+
+[[bolts]]
+name = "top"
+point = [0.5, 0.5, 5]
+plunge = 90
+trend = 0
+length = 2.5
+capacity = 2e3
+stiffness = 1e8
+shear_stiffness = 1e7
+shear_capacity = 500
+
+[[stages]]"""
+
+
+@needs_engine
+def test_a_restarted_run_with_water_and_a_bolt_is_bit_for_bit(tmp_path):
+    # The column under a water table (its lower joints wet) and pushed sideways, with a bolt
+    # from its top down across two joints; the state of the water and of the bolt's
+    # elements (forces, dowel slips) goes through the restart file.
+    text = column(SAVE_AND_GO_ON).replace("[[stages]]", WET_AND_BOLTED, 1)
+    whole = pm.simulate(text, folder=tmp_path)
+    assert len(whole.bolts) == 1
+    assert whole.bolts[0]["force"] != 0
+    resumed = pm.simulate(text, folder=tmp_path / "again", restart=tmp_path / "state.json")
+    assert resumed.steps == whole.steps == 210
+    assert np.array_equal(resumed.displacement, whole.displacement)
+    assert np.array_equal(resumed.velocity, whole.velocity)
+    assert resumed.bolts == whole.bolts
+    # The water acts: the same run dry moves otherwise.
+    (tmp_path / "dry").mkdir()
+    dry = pm.simulate(
+        text.replace("[water]\nphreatic = { elevation = 2.5 }\n", ""), folder=tmp_path / "dry"
+    )
+    assert not np.array_equal(dry.displacement, whole.displacement)
+
+
 @needs_engine
 def test_simulate_restart_on_the_command_line(tmp_path, capsys):
     model = tmp_path / "column.toml"

@@ -927,7 +927,9 @@ impl Simulation {
 
     /// Writes the whole state to a restart file (``docs/mechanics.md``, "Restart files"):
     /// bodies and their shapes, settings, joint properties, contacts with their
-    /// sub-contacts' forces, shear histories and states, time and step count. Atomic: a
+    /// sub-contacts' forces, shear histories and states, water pressures, rock bolts with
+    /// their elements' state (forces, plastic elongations, yielding or broken), time and
+    /// step count. Atomic: a
     /// temporary file renamed over `path`, never half a file. :meth:`load` gives back a
     /// simulation whose next steps are bit for bit those this one would take.
     ///

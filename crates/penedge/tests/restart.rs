@@ -4,8 +4,10 @@
 use penedge::body::Shape;
 use penedge::glam::{DQuat, DVec3};
 use penedge::io::IoError;
-use penedge::mechanics::{Bodies, InitialStress, JointModel, Simulation, SubState};
-use penedge::ConvexBlock;
+use penedge::mechanics::{
+    Bodies, Bolt, BoltState, Dowel, InitialStress, JointModel, Simulation, SubState, Water,
+};
+use penedge::{BlockSystem, ConvexBlock};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -68,6 +70,172 @@ fn assert_same(a: &Simulation, b: &Simulation) {
     assert_eq!(a.contacts().subs, b.contacts().subs);
     assert_eq!(a.contact_forces(), b.contact_forces());
     assert_eq!(a.contact_moments(), b.contact_moments());
+    assert_eq!(a.water(), b.water());
+    assert_eq!(a.bolts().specs(), b.bolts().specs());
+    assert_eq!(a.bolts().elements(), b.bolts().elements());
+}
+
+/// Runs `scene` for `total` steps straight, and for `stop` steps, saved, read back and
+/// stepped to `total`, for each `stop`: the two are the same bit for bit. The straight run.
+fn resumes_bit_for_bit(
+    name: &str,
+    scene: fn() -> Simulation,
+    stops: &[u64],
+    total: u64,
+) -> Simulation {
+    let mut straight = scene();
+    straight.cycle(total).unwrap();
+    let dir = scratch(name);
+    for &stop in stops {
+        let mut first = scene();
+        first.cycle(stop).unwrap();
+        let path = dir.join(format!("at-{stop}.json"));
+        first.save_state(&path).unwrap();
+        let mut resumed = Simulation::load_state(&path).unwrap();
+        assert_same(&first, &resumed);
+        resumed.cycle(total - stop).unwrap();
+        assert_same(&straight, &resumed);
+    }
+    // No temporary file is left beside them.
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names.len(), stops.len(), "{names:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+    straight
+}
+
+/// The scene of [`scene`] wet: a phreatic surface parallel to the incline 0.1 m above it
+/// (every contact on the base under water, the uplift a fraction of the blocks' weight), and
+/// a uniform pressure given for set 3.
+fn wet_scene() -> Simulation {
+    let mut sim = scene();
+    let frame = DQuat::from_rotation_z(0.6) * DQuat::from_rotation_x(40f64.to_radians());
+    let point = DVec3::new(10.0, -5.0, 2.0) + frame * DVec3::new(0.0, 0.0, 0.1);
+    let water = Water::phreatic(point, frame * DVec3::Z, 9810.0)
+        .unwrap()
+        .with_set_pressure(3, 500.0)
+        .unwrap();
+    sim.set_water(water);
+    sim
+}
+
+#[test]
+fn a_resumed_run_with_water_is_bit_for_bit_the_uninterrupted_one() {
+    let (n, m) = (600, 400);
+    let wet = resumes_bit_for_bit("water", wet_scene, &[0, 1, n], n + m);
+    // The water acts: the wet run is not the dry one.
+    let mut dry = scene();
+    dry.cycle(n + m).unwrap();
+    assert_ne!(wet.bodies().poses(), dry.bodies().poses());
+    assert!(wet
+        .water()
+        .contact_forces(wet.contacts())
+        .iter()
+        .any(|&(u, _)| u > 0.0));
+}
+
+/// A fixed ceiling and a free 1 m cube 0.1 m below it hanging from a bolt whose capacity is
+/// half the cube's weight (it yields and the cube falls), with a dowel.
+fn hanging_cube() -> Simulation {
+    let ceiling = ConvexBlock::cuboid([-1.0, -1.0, 1.1], [1.0, 1.0, 2.0]).unwrap();
+    let cube = ConvexBlock::cuboid([-0.5, -0.5, 0.0], [0.5, 0.5, 1.0]).unwrap();
+    let mut sim = Simulation::new(&BlockSystem::new(vec![ceiling, cube]), 2500.0).unwrap();
+    sim.fix(0).unwrap();
+    sim.add_bolt(Bolt {
+        collar: DVec3::new(0.0, 0.0, 2.0),
+        direction: DVec3::new(0.0, 0.0, -1.0),
+        length: 1.5,
+        stiffness: 1e7,
+        capacity: 0.5 * 2500.0 * G,
+        rupture_strain: Some(0.5),
+        dowel: Some(Dowel {
+            stiffness: 1e6,
+            capacity: 1e3,
+        }),
+    })
+    .unwrap();
+    sim
+}
+
+#[test]
+fn a_resumed_run_with_a_yielding_bolt_is_bit_for_bit_the_uninterrupted_one() {
+    let n = 600;
+    // Stopped while the bolt yields: its plastic elongation and state go through the file.
+    let mut at_n = hanging_cube();
+    at_n.cycle(n).unwrap();
+    let e = at_n.bolts().elements()[0];
+    assert_eq!(e.state(), BoltState::Yielding);
+    // Past the elastic stretch at the capacity, C / k: plastic elongation.
+    assert!(e.elongation() > 1.2 * e.force() / 1e7, "{e:?}");
+    resumes_bit_for_bit("bolt", hanging_cube, &[0, 1, n], n + 400);
+}
+
+#[test]
+fn a_file_without_water_or_bolts_reads_as_dry_and_unbolted() {
+    // As files written before penedge stored them (version 1 all the same).
+    let mut sim = scene();
+    sim.cycle(5).unwrap();
+    let mut json: serde_json::Value =
+        serde_json::from_str(&sim.to_state_string().unwrap()).unwrap();
+    json["settings"]
+        .as_object_mut()
+        .unwrap()
+        .remove("water")
+        .unwrap();
+    json.as_object_mut().unwrap().remove("bolts").unwrap();
+    let back = Simulation::from_state_str(&json.to_string()).unwrap();
+    assert!(back.water().is_dry());
+    assert!(back.bolts().is_empty());
+    assert_same(&sim, &back);
+}
+
+#[test]
+fn a_bad_bolt_or_water_field_is_named() {
+    let mut sim = hanging_cube();
+    sim.set_water(
+        Water::level(0.5, 9810.0)
+            .unwrap()
+            .with_set_pressure(2, 10.0)
+            .unwrap(),
+    );
+    sim.cycle(50).unwrap();
+    let text = sim.to_state_string().unwrap();
+    assert_eq!(
+        Simulation::from_state_str(&text)
+            .unwrap()
+            .to_state_string()
+            .unwrap(),
+        text
+    );
+    let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let cases: Vec<(&str, Edit)> = vec![
+        ("bolts[0].elements[0].stiffness", |j| {
+            j["bolts"][0]["elements"][0]["stiffness"] = (-1.0).into()
+        }),
+        ("bolts[0].elements[0].bodies", |j| {
+            j["bolts"][0]["elements"][0]["bodies"] = serde_json::json!([1, 7])
+        }),
+        ("bolts[0].elements[0].dowel.capacity", |j| {
+            j["bolts"][0]["elements"][0]["dowel"]["capacity"] = (-3.0).into()
+        }),
+        ("bolts[0].elements", |j| {
+            j["bolts"][0]["elements"] = serde_json::json!([])
+        }),
+        ("bolts[0]", |j| j["bolts"][0]["capacity"] = 0.0.into()),
+        ("settings.water.surface.normal", |j| {
+            j["settings"]["water"]["surface"]["normal"] = serde_json::json!([0.0, 0.0, -1.0])
+        }),
+        ("settings.water.sets[0]", |j| {
+            j["settings"]["water"]["sets"][0]["pressure"] = (-1.0).into()
+        }),
+    ];
+    each_edit_is_named(&json, cases);
+    // An unknown field in an element (a typo) is named too.
+    json["bolts"][0]["elements"][0]["forse"] = 3.into();
+    let e = error_of(&json.to_string());
+    assert!(e.contains("forse"), "{e}");
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -80,8 +248,7 @@ fn scratch(name: &str) -> PathBuf {
 #[test]
 fn a_resumed_run_is_bit_for_bit_the_uninterrupted_one() {
     let (n, m) = (1500, 700);
-    let mut straight = scene();
-    straight.cycle(n + m).unwrap();
+    let straight = resumes_bit_for_bit("resume", scene, &[0, 1, n], n + m);
     // The run has what a restart must carry: a sliding sub-contact with shear history.
     let sliding = straight
         .contacts()
@@ -95,24 +262,6 @@ fn a_resumed_run_is_bit_for_bit_the_uninterrupted_one() {
         .subs
         .iter()
         .any(|s| s.shear_displacement.length() > 1e-4));
-    let dir = scratch("resume");
-    for stop in [0, 1, n] {
-        let mut first = scene();
-        first.cycle(stop).unwrap();
-        let path = dir.join(format!("at-{stop}.json"));
-        first.save_state(&path).unwrap();
-        let mut resumed = Simulation::load_state(&path).unwrap();
-        assert_same(&first, &resumed);
-        resumed.cycle(n + m - stop).unwrap();
-        assert_same(&straight, &resumed);
-    }
-    // No temporary file is left beside them.
-    let names: Vec<String> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    assert_eq!(names.len(), 3, "{names:?}");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// The file reads back to the same file: nothing is lost or rounded.
@@ -181,6 +330,19 @@ fn error_of(text: &str) -> String {
     }
 }
 
+type Edit = fn(&mut serde_json::Value);
+
+/// Each edit of the restart file `json` (a field edited by hand into nonsense) makes it an
+/// error naming the field.
+fn each_edit_is_named(json: &serde_json::Value, cases: Vec<(&str, Edit)>) {
+    for (field, edit) in cases {
+        let mut edited = json.clone();
+        edit(&mut edited);
+        let e = error_of(&edited.to_string());
+        assert!(e.contains(field), "`{field}` not named in: {e}");
+    }
+}
+
 #[test]
 fn a_bad_restart_file_is_named() {
     let mut sim = scene();
@@ -201,7 +363,6 @@ fn a_bad_restart_file_is_named() {
     assert!(v.contains("version 99"), "{v}");
     // Edited by hand into nonsense: each names its field.
     let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
-    type Edit = fn(&mut serde_json::Value);
     let cases: Vec<(&str, Edit)> = vec![
         ("bodies[1].shape", |j| j["bodies"][1]["shape"] = 99.into()),
         ("bodies[2].density", |j| {
@@ -224,13 +385,7 @@ fn a_bad_restart_file_is_named() {
         }),
         ("forces", |j| j["forces"] = serde_json::json!([])),
     ];
-    for (field, edit) in cases {
-        let original = json.clone();
-        edit(&mut json);
-        let e = error_of(&json.to_string());
-        assert!(e.contains(field), "`{field}` not named in: {e}");
-        json = original;
-    }
+    each_edit_is_named(&json, cases);
     // An unknown field (a typo) is named too.
     json["clock"]["stpes"] = 3.into();
     let e = error_of(&json.to_string());

@@ -326,16 +326,44 @@ impl Bolts {
             )));
         }
         for e in &new {
-            for side in 0..2 {
-                let s = self.stiffness.entry(e.bodies[side]).or_insert([0.0; 2]);
-                let (r, rc) = (e.anchors[side], e.crossing[side]);
-                s[0] += e.stiffness + e.dowel.stiffness;
-                s[1] += e.stiffness * r.length_squared() + e.dowel.stiffness * rc.length_squared();
-            }
+            self.add_stiffness(e);
         }
         self.elements.extend(new);
         self.specs.push(bolt);
         Ok(id as usize)
+    }
+
+    /// Adds element `e`'s springs to its bodies' stiffness sums.
+    fn add_stiffness(&mut self, e: &BoltElement) {
+        for side in 0..2 {
+            let s = self.stiffness.entry(e.bodies[side]).or_insert([0.0; 2]);
+            let (r, rc) = (e.anchors[side], e.crossing[side]);
+            s[0] += e.stiffness + e.dowel.stiffness;
+            s[1] += e.stiffness * r.length_squared() + e.dowel.stiffness * rc.length_squared();
+        }
+    }
+
+    /// The bolts as a restart file stores them (state.rs): the specs, checked as
+    /// [`Bolts::install`] checks them (an error names the bolt), and the elements as they
+    /// were; the stiffness sums are rebuilt in element order, as installing summed them, so
+    /// the critical time step is the same bit for bit.
+    pub(super) fn from_stored(
+        specs: Vec<Bolt>,
+        elements: Vec<BoltElement>,
+    ) -> Result<Bolts, (usize, MechanicsError)> {
+        for (i, bolt) in specs.iter().enumerate() {
+            check(bolt).map_err(|e| (i, e))?;
+        }
+        let mut out = Bolts {
+            specs,
+            elements: Vec::new(),
+            stiffness: BTreeMap::new(),
+        };
+        for e in &elements {
+            out.add_stiffness(e);
+        }
+        out.elements = elements;
+        Ok(out)
     }
 
     /// Updates every element's force at the bodies' poses and adds the forces and their

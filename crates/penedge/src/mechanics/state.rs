@@ -16,6 +16,7 @@
 
 use super::excavation::{Excavation, Relaxation};
 use super::{Bodies, BodyContact, Contacts, Damping, Fixity, JointModel, Simulation, SubContact};
+use super::{Bolt, BoltElement, BoltState, Bolts, Dowel, Water};
 use super::{InitialStress, JointTable, SubState};
 use crate::block::{ConvexBlock, Edge, FaceOrigin, Pose};
 use crate::body::Shape;
@@ -51,6 +52,10 @@ struct StateFile {
     forces: Vec<V3>,
     moments: Vec<V3>,
     excavation: ExcavationFile,
+    /// The rock bolts with the state of their elements (absent in files written before
+    /// penedge stored bolts: none).
+    #[serde(default)]
+    bolts: Vec<BoltFile>,
     /// Free text for the caller (`penedge simulate` keeps where its run stands there).
     note: Option<String>,
 }
@@ -98,6 +103,94 @@ struct SettingsFile {
     update_fraction: f64,
     /// Applied moments (world frame): `[body, [x, y, z]]` per body that has one.
     applied_moments: Vec<(u32, V3)>,
+    /// The water in the joints (absent in files written before penedge stored water: dry).
+    #[serde(default)]
+    water: WaterFile,
+}
+
+#[derive(Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct WaterFile {
+    /// The phreatic surface (`null`: none).
+    #[serde(default)]
+    surface: Option<SurfaceFile>,
+    /// Uniform pressures per joint set, by increasing set.
+    #[serde(default)]
+    sets: Vec<SetPressureFile>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SurfaceFile {
+    /// A point on the surface.
+    point: V3,
+    /// Its unit normal, upward.
+    normal: V3,
+    /// The unit weight of water `ρw g`.
+    unit_weight: f64,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SetPressureFile {
+    set: u32,
+    pressure: f64,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BoltFile {
+    collar: V3,
+    direction: V3,
+    length: f64,
+    stiffness: f64,
+    capacity: f64,
+    /// `null`: it never breaks.
+    rupture_strain: Option<f64>,
+    /// `null`: axial only.
+    dowel: Option<DowelFile>,
+    /// Its elements, in order along it.
+    elements: Vec<ElementFile>,
+}
+
+#[derive(Clone, Copy, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DowelFile {
+    stiffness: f64,
+    capacity: f64,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ElementFile {
+    bodies: [u32; 2],
+    /// The anchors in their bodies' frames.
+    anchors: [V3; 2],
+    /// Length at installation.
+    rest: f64,
+    stiffness: f64,
+    capacity: f64,
+    /// Rupture strain (`null`: none).
+    rupture: Option<f64>,
+    /// Plastic elongation.
+    plastic: f64,
+    elongation: f64,
+    force: f64,
+    state: BoltStateCode,
+    /// The dowel (stiffness 0: none), the crossing in both bodies' frames, its plastic slip
+    /// and its shear force on the second body.
+    dowel: DowelFile,
+    crossing: [V3; 2],
+    slip: V3,
+    shear: V3,
+}
+
+#[derive(Clone, Copy, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum BoltStateCode {
+    Elastic,
+    Yielding,
+    Broken,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -288,9 +381,6 @@ impl Simulation {
     /// [`Simulation::save_state`] with a free text `note` stored in the file for the
     /// caller ([`Simulation::load_state_noted`] gives it back).
     pub fn save_state_noted(&self, path: &Path, note: Option<&str>) -> Result<(), IoError> {
-        if let Some(e) = unsaved(self) {
-            return Err(e);
-        }
         let mut file = file_of(self);
         file.note = note.map(str::to_string);
         write_atomic(path, |w: &mut dyn Write| {
@@ -301,9 +391,6 @@ impl Simulation {
 
     /// The whole state as a JSON string (the content of [`Simulation::save_state`]'s file).
     pub fn to_state_string(&self) -> Result<String, IoError> {
-        if let Some(e) = unsaved(self) {
-            return Err(e);
-        }
         Ok(serde_json::to_string(&file_of(self)).expect("plain data always serialises"))
     }
 
@@ -396,20 +483,6 @@ fn check_header(format: Option<&str>, version: Option<u32>) -> Result<(), IoErro
 
 // ---- writing --------------------------------------------------------------------------
 
-/// Why a simulation cannot be saved yet: what the file does not hold.
-fn unsaved(sim: &Simulation) -> Option<IoError> {
-    if !sim.water.is_dry() {
-        return Some(bad(
-            "water",
-            "restart files do not hold water pressures yet",
-        ));
-    }
-    if !sim.bolts.is_empty() {
-        return Some(bad("bolts", "restart files do not hold rock bolts yet"));
-    }
-    None
-}
-
 fn file_of(sim: &Simulation) -> StateFile {
     let Simulation {
         bodies,
@@ -419,9 +492,8 @@ fn file_of(sim: &Simulation) -> StateFile {
         placed: _,
         joints,
         bridges,
-        // Not in the file yet: `save_state` refuses a simulation with water or bolts.
-        water: _,
-        bolts: _,
+        water,
+        bolts,
         gravity,
         damping,
         tolerance,
@@ -484,6 +556,7 @@ fn file_of(sim: &Simulation) -> StateFile {
                 .iter()
                 .map(|(&b, m)| (b, m.to_array()))
                 .collect(),
+            water: water_file(water),
             initial_stress: initial_stress.as_ref().map(|f| {
                 let InitialStress {
                     base,
@@ -512,6 +585,7 @@ fn file_of(sim: &Simulation) -> StateFile {
         forces: forces.iter().map(|f| f.to_array()).collect(),
         moments: moments.iter().map(|m| m.to_array()).collect(),
         excavation: excavation_file(excavation),
+        bolts: bolts_file(bolts),
         note: None,
     }
 }
@@ -546,6 +620,110 @@ fn excavation_file(e: &Excavation) -> ExcavationFile {
                 }
             })
             .collect(),
+    }
+}
+
+fn water_file(w: &Water) -> WaterFile {
+    let Water { surface, sets } = w;
+    WaterFile {
+        surface: surface.map(|(point, normal, unit_weight)| SurfaceFile {
+            point: point.to_array(),
+            normal: normal.to_array(),
+            unit_weight,
+        }),
+        sets: sets
+            .iter()
+            .map(|(&set, &pressure)| SetPressureFile { set, pressure })
+            .collect(),
+    }
+}
+
+fn bolts_file(bolts: &Bolts) -> Vec<BoltFile> {
+    let Bolts {
+        specs,
+        elements,
+        // Derived from the elements (rebuilt by `Bolts::from_stored`).
+        stiffness: _,
+    } = bolts;
+    let dowel_file = |d: Dowel| {
+        let Dowel {
+            stiffness,
+            capacity,
+        } = d;
+        DowelFile {
+            stiffness,
+            capacity,
+        }
+    };
+    specs
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let Bolt {
+                collar,
+                direction,
+                length,
+                stiffness,
+                capacity,
+                rupture_strain,
+                dowel,
+            } = *b;
+            BoltFile {
+                collar: collar.to_array(),
+                direction: direction.to_array(),
+                length,
+                stiffness,
+                capacity,
+                rupture_strain,
+                dowel: dowel.map(dowel_file),
+                elements: elements
+                    .iter()
+                    .filter(|e| e.bolt as usize == i)
+                    .map(|e| element_file(e, dowel_file(e.dowel)))
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
+fn element_file(e: &BoltElement, dowel: DowelFile) -> ElementFile {
+    let BoltElement {
+        // The bolt it lies in the file under.
+        bolt: _,
+        bodies,
+        anchors,
+        rest,
+        stiffness,
+        capacity,
+        rupture,
+        plastic,
+        elongation,
+        force,
+        state,
+        dowel: _,
+        crossing,
+        slip,
+        shear,
+    } = *e;
+    ElementFile {
+        bodies,
+        anchors: anchors.map(|a| a.to_array()),
+        rest,
+        stiffness,
+        capacity,
+        rupture: rupture.is_finite().then_some(rupture),
+        plastic,
+        elongation,
+        force,
+        state: match state {
+            BoltState::Elastic => BoltStateCode::Elastic,
+            BoltState::Yielding => BoltStateCode::Yielding,
+            BoltState::Broken => BoltStateCode::Broken,
+        },
+        dowel,
+        crossing: crossing.map(|c| c.to_array()),
+        slip: slip.to_array(),
+        shear: shear.to_array(),
     }
 }
 
@@ -990,6 +1168,127 @@ fn sub_of(field: &str, s: &SubFile) -> Result<SubContact, IoError> {
     })
 }
 
+fn water_of(f: &WaterFile) -> Result<Water, IoError> {
+    let WaterFile { surface, sets } = f;
+    let mut water = Water::none();
+    if let Some(s) = surface {
+        let field = |name: &str| format!("settings.water.surface.{name}");
+        let point = vec3(field("point"), s.point)?;
+        let normal = vec3(field("normal"), s.normal)?;
+        if (normal.length_squared() - 1.0).abs() > 1e-9 || normal.z <= 0.0 {
+            return Err(bad(field("normal"), "must be a unit vector with z > 0"));
+        }
+        // The checks of the setter; then the stored values as they are (the setter would
+        // normalise the normal again, which need not give the same bits).
+        Water::phreatic(point, normal, s.unit_weight)
+            .map_err(mechanics("settings.water.surface"))?;
+        water.surface = Some((point, normal, s.unit_weight));
+    }
+    for (k, p) in sets.iter().enumerate() {
+        let field = format!("settings.water.sets[{k}]");
+        if k > 0 && sets[k - 1].set >= p.set {
+            return Err(bad(field, "the sets must be increasing"));
+        }
+        water = water
+            .with_set_pressure(p.set, p.pressure)
+            .map_err(mechanics(field))?;
+    }
+    Ok(water)
+}
+
+fn bolts_of(files: &[BoltFile], n: usize) -> Result<Bolts, IoError> {
+    let mut specs = Vec::with_capacity(files.len());
+    let mut elements = Vec::new();
+    for (i, f) in files.iter().enumerate() {
+        let field = |name: &str| format!("bolts[{i}].{name}");
+        let dowel_of = |d: DowelFile| Dowel {
+            stiffness: d.stiffness,
+            capacity: d.capacity,
+        };
+        specs.push(Bolt {
+            collar: vec3(field("collar"), f.collar)?,
+            direction: vec3(field("direction"), f.direction)?,
+            length: f.length,
+            stiffness: f.stiffness,
+            capacity: f.capacity,
+            rupture_strain: f.rupture_strain,
+            dowel: f.dowel.map(dowel_of),
+        });
+        if f.elements.is_empty() {
+            return Err(bad(field("elements"), "a bolt has at least one element"));
+        }
+        for (k, e) in f.elements.iter().enumerate() {
+            let field = format!("bolts[{i}].elements[{k}]");
+            elements.push(element_of(&field, i as u32, e, n, dowel_of(e.dowel))?);
+        }
+    }
+    Bolts::from_stored(specs, elements).map_err(|(i, e)| bad(format!("bolts[{i}]"), e.to_string()))
+}
+
+fn element_of(
+    field: &str,
+    bolt: u32,
+    f: &ElementFile,
+    n: usize,
+    dowel: Dowel,
+) -> Result<BoltElement, IoError> {
+    let name = |name: &str| format!("{field}.{name}");
+    let [a, b] = f.bodies;
+    if a == b || a as usize >= n || b as usize >= n {
+        let msg = format!("must be two distinct bodies below {n}, got {:?}", f.bodies);
+        return Err(bad(name("bodies"), msg));
+    }
+    let positive = |key: &str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(bad(name(key), "must be a finite number > 0"))
+        }
+    };
+    let not_negative = |key: &str, v: f64| {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(bad(name(key), "must be a finite number >= 0"))
+        }
+    };
+    let v = |key: &str, x: V3| vec3(name(key), x);
+    let x = |key: &str, x: f64| finite(name(key), x);
+    Ok(BoltElement {
+        bolt,
+        bodies: f.bodies,
+        anchors: [
+            v("anchors[0]", f.anchors[0])?,
+            v("anchors[1]", f.anchors[1])?,
+        ],
+        rest: positive("rest", f.rest)?,
+        stiffness: positive("stiffness", f.stiffness)?,
+        capacity: positive("capacity", f.capacity)?,
+        rupture: match f.rupture {
+            None => f64::INFINITY,
+            Some(r) => positive("rupture", r)?,
+        },
+        plastic: x("plastic", f.plastic)?,
+        elongation: x("elongation", f.elongation)?,
+        force: x("force", f.force)?,
+        state: match f.state {
+            BoltStateCode::Elastic => BoltState::Elastic,
+            BoltStateCode::Yielding => BoltState::Yielding,
+            BoltStateCode::Broken => BoltState::Broken,
+        },
+        dowel: Dowel {
+            stiffness: not_negative("dowel.stiffness", dowel.stiffness)?,
+            capacity: not_negative("dowel.capacity", dowel.capacity)?,
+        },
+        crossing: [
+            v("crossing[0]", f.crossing[0])?,
+            v("crossing[1]", f.crossing[1])?,
+        ],
+        slip: v("slip", f.slip)?,
+        shear: v("shear", f.shear)?,
+    })
+}
+
 fn kind_of(kind: KindFile) -> ContactType {
     match kind {
         KindFile::VertexVertex => ContactType::VertexVertex,
@@ -1145,6 +1444,8 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
     let moments = per_body("moments", &file.moments, n)?;
     let tolerance = tolerance_of(s.tolerance)?;
     let excavation = excavation_of(&file.excavation, n)?;
+    let water = water_of(&s.water)?;
+    let bolt_set = bolts_of(&file.bolts, n)?;
     let initial_stress = match &s.initial_stress {
         None => None,
         Some(f) => Some(
@@ -1166,8 +1467,8 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             placed: _,
             joints: j,
             bridges: br,
-            water: _,
-            bolts: _,
+            water: w,
+            bolts: bo,
             pairs: _,
             memo: _,
             moved_at: _,
@@ -1221,6 +1522,8 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
         *initial = c.initial;
         *ex = excavation;
         *stress = initial_stress;
+        *w = water;
+        *bo = bolt_set;
     }
     Ok(sim)
 }

@@ -16,9 +16,9 @@ use std::collections::BTreeMap;
 pub struct Water {
     /// The phreatic surface: a point on it and its unit normal (upward, `n.z > 0`), and the
     /// unit weight of water `ρw g` (pressure per depth).
-    surface: Option<(DVec3, DVec3, f64)>,
+    pub(super) surface: Option<(DVec3, DVec3, f64)>,
     /// Uniform pressures per joint set.
-    sets: BTreeMap<u32, f64>,
+    pub(super) sets: BTreeMap<u32, f64>,
 }
 
 impl Water {
