@@ -112,3 +112,20 @@ fn damping_or_a_stiffer_contact_keep_the_rocking_cube_running() {
         Some(MechanicsError::Penetration { .. })
     ));
 }
+
+/// The refusal names what helps here (stiffness, damping, gap) and says when the time step
+/// does: a user who only lowers it (the old message's first advice) gets the same refusal.
+#[test]
+fn the_penetration_error_names_the_remedies_that_work() {
+    let mut sim = scene(1e8, CUBE, 45.0);
+    let message = run(&mut sim, 3000).expect("a refusal").to_string();
+    for words in [
+        "bodies 0 and 1",
+        "raise kn",
+        "local damping",
+        "widen the gap",
+    ] {
+        assert!(message.contains(words), "{words:?} not in {message:?}");
+    }
+    assert!(message.contains("time step helps only"), "{message}");
+}

@@ -138,8 +138,11 @@ pub enum MechanicsError {
     },
     /// Two bodies overlap deeper than the detection gap.
     #[error(
-        "bodies {} and {} overlap deeper than the detection gap at step {step}: \
-         lower the time step, or raise the stiffness, the gap or the point width",
+        "bodies {} and {} overlap deeper than the detection gap at step {step}: the contact \
+         law let one into the other (an impact or a load too large for the stiffness, e.g. \
+         an undamped block rocking onto an edge); raise kn and ks, add local damping \
+         (0.8 for a quasi-static run) or widen the gap; a smaller time step helps only when \
+         a body moves more than the gap in one step",
         bodies[0], bodies[1]
     )]
     Penetration {
