@@ -66,6 +66,7 @@ def test_every_example_reads_and_checks():
     assert names == [
         "block_column.toml",
         "column_excavation.toml",
+        "slope_excavation.toml",
         "slope_planar.toml",
         "slope_step_path.toml",
         "tunnel_roof_bolt.toml",

@@ -235,3 +235,27 @@ def test_residual_values_reach_the_engine_and_are_reduced_by_the_trial_factor():
         math.tan(math.radians(30)) / 2
     )
     assert joint["residual_cohesion"] == pytest.approx(500)
+
+
+@needs_engine
+def test_slope_excavated_at_its_toe_then_its_factor_matches_limit_equilibrium():
+    """The toe cut of examples/models/slope_excavation.toml: before it, the block between the
+    crack and the cut rests (on the bedding and the rock in front); the cut removes that rock
+    and daylights the bedding, and the factor of safety is Hoek & Bray's planar one,
+    F = tan phi / tan psi_p (dry, no cohesion, a tension crack)."""
+    path = EXAMPLES / "slope_excavation.toml"
+    outcome = pm.simulate(path)
+    kinds = [s.kind for s in outcome.stages]
+    assert kinds == ["solve", "excavate", "solve", "factor_of_safety"]
+    assert outcome.stages[0].converged and outcome.stages[2].converged
+    layout = pm.prepare(path).layout
+    removed = layout.regions["buttress"]
+    assert removed.any()
+    safety = outcome.safety
+    exact = math.tan(math.radians(40)) / math.tan(math.radians(35))
+    assert safety.stable < exact + 0.01
+    assert safety.failing > exact - 0.01
+    # the one block left free: between the crack and the cut, on the bedding
+    free = ~layout.fixed & ~removed
+    assert safety.failing_blocks == np.flatnonzero(free).tolist()
+    assert len(safety.failing_blocks) == 1
