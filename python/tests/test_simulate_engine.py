@@ -247,7 +247,8 @@ def test_slope_excavated_at_its_toe_then_its_factor_matches_limit_equilibrium():
     outcome = pm.simulate(path)
     kinds = [s.kind for s in outcome.stages]
     assert kinds == ["solve", "excavate", "solve", "factor_of_safety"]
-    assert outcome.stages[0].converged and outcome.stages[2].converged
+    assert outcome.stages[0].converged
+    assert outcome.stages[2].converged
     layout = pm.prepare(path).layout
     removed = layout.regions["buttress"]
     assert removed.any()
