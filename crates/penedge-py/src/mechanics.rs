@@ -220,10 +220,15 @@ impl Simulation {
         residual_friction: Option<f64>,
         residual_cohesion: f64,
     ) -> PyResult<()> {
-        let mut model = JointModel::default();
-        (model.kn, model.ks, model.friction) = (kn, ks, friction);
-        (model.cohesion, model.tension) = (cohesion, tension);
-        (model.residual_friction, model.residual_cohesion) = (residual_friction, residual_cohesion);
+        let model = JointModel {
+            kn,
+            ks,
+            friction,
+            cohesion,
+            tension,
+            residual_friction,
+            residual_cohesion,
+        };
         match set {
             None => self.inner.set_default_bridge(model),
             Some(s) => self.inner.set_bridge(s, model),

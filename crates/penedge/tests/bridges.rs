@@ -5,10 +5,11 @@
 
 use penedge::generation::*;
 use penedge::geometry::DVec3;
-use penedge::ConvexBlock;
 
 #[allow(dead_code)]
 mod generation_support;
+mod support;
+use support::face_area;
 
 const DIP: f64 = 30.0;
 
@@ -36,19 +37,6 @@ fn square(a: f64) -> Vec<[f64; 3]> {
         .iter()
         .map(|&(s, t)| (CENTRE + u * (s * a) + w * (t * a)).to_array())
         .collect()
-}
-
-fn face_area(block: &ConvexBlock, f: usize) -> f64 {
-    let v: Vec<DVec3> = block
-        .face(f)
-        .iter()
-        .map(|&i| block.vertices()[i as usize])
-        .collect();
-    let mut twice = DVec3::ZERO;
-    for k in 0..v.len() {
-        twice += v[k].cross(v[(k + 1) % v.len()]);
-    }
-    twice.length() / 2.0
 }
 
 /// The faces on the joint plane: (joint area below, bridge area below, area above). The

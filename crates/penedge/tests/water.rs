@@ -6,6 +6,9 @@ use penedge::block::FaceOrigin;
 use penedge::glam::{DMat3, DQuat, DVec3};
 use penedge::mechanics::{JointModel, Simulation, Water};
 use penedge::{BlockSystem, ConvexBlock};
+use support::face_area;
+
+mod support;
 
 const G: f64 = 9.81;
 
@@ -100,18 +103,6 @@ fn a_block_with_water_on_its_base_slides_below_the_effective_stress_friction_ang
             );
         }
     }
-}
-
-/// The area of face `f` of `block` (a fan of triangles from its first corner).
-fn face_area(block: &ConvexBlock, f: usize) -> f64 {
-    let v: Vec<DVec3> = block
-        .face(f)
-        .iter()
-        .map(|&i| block.vertices()[i as usize])
-        .collect();
-    (1..v.len() - 1)
-        .map(|k| 0.5 * (v[k] - v[0]).cross(v[k + 1] - v[0]).length())
-        .sum()
 }
 
 /// (b) Hoek and Bray's wedge with water: a wedge on two planes (normals n₁, n₂ towards the

@@ -23,7 +23,7 @@
 //!
 //! The state is plain data (`pub(crate)` fields) so that a saved run can store it.
 
-use super::bodies::{Bodies, Fixity};
+use super::bodies::Bodies;
 use super::MechanicsError;
 use crate::block::ConvexBlock;
 use crate::geometry::DVec3;
@@ -410,11 +410,10 @@ impl Bolts {
         if self.stiffness.is_empty() {
             return contacts;
         }
-        let fixities = bodies.fixities();
         let rate = self
             .stiffness
             .iter()
-            .filter(|(&i, _)| fixities[i as usize] == Fixity::Free)
+            .filter(|(&i, _)| bodies.is_free(i as usize))
             .map(|(&i, &[k, kr])| {
                 let i = i as usize;
                 (2.0 * k / bodies.inertial_mass(i))

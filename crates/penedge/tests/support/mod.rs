@@ -197,3 +197,18 @@ pub fn lies_in_sine(tol: &Tolerance, a: &ConvexBlock, b: &ConvexBlock) -> f64 {
     let length = (tol.length() * scale).max(10.0 * gap);
     length / scale
 }
+
+/// The area of face `f` of `block`, from its corners (half the length of their Newell sum),
+/// independent of the crate's geometry code.
+pub fn face_area(block: &ConvexBlock, f: usize) -> f64 {
+    let v: Vec<DVec3> = block
+        .face(f)
+        .iter()
+        .map(|&i| block.vertices()[i as usize])
+        .collect();
+    let mut twice = DVec3::ZERO;
+    for k in 0..v.len() {
+        twice += v[k].cross(v[(k + 1) % v.len()]);
+    }
+    twice.length() / 2.0
+}
