@@ -130,27 +130,10 @@ def vtp_text(contacts: dict[str, Any]) -> str:
         _array("Float64", "normal", _floats(normals), 3),
         _array("Float64", "water_force", _floats(np.asarray(contacts["water_forces"])[contact])),
     ]
-    return "\n".join(
-        [
-            '<?xml version="1.0"?>',
-            '<VTKFile type="PolyData" version="1.0" byte_order="LittleEndian">',
-            "<PolyData>",
-            f'<Piece NumberOfPoints="{k}" NumberOfVerts="{k}">',
-            "<Points>",
-            _array("Float64", "points", _floats(points), 3),
-            "</Points>",
-            "<Verts>",
-            _array("Int64", "connectivity", _ints(np.arange(k))),
-            _array("Int64", "offsets", _ints(np.arange(1, k + 1))),
-            "</Verts>",
-            '<PointData Scalars="normal_force" Vectors="shear_force">',
-            *data,
-            "</PointData>",
-            "</Piece>",
-            "</PolyData>",
-            "</VTKFile>",
-            "",
-        ]
+    return _polydata_text(
+        points,
+        cells=("Verts", np.arange(k), np.arange(1, k + 1)),
+        data=("PointData", 'Scalars="normal_force" Vectors="shear_force"', data),
     )
 
 
@@ -177,22 +160,39 @@ def bolts_vtp_text(bolts: dict[str, Any]) -> str:
         _array("Float64", "rest_length", _floats(bolts["rest_lengths"])),
         _array("Float64", "shear_force", _floats(bolts["shear_forces"]), 3),
     ]
+    return _polydata_text(
+        points,
+        cells=("Lines", np.arange(2 * k), np.arange(2, 2 * k + 1, 2)),
+        data=("CellData", 'Scalars="force"', data),
+    )
+
+
+def _polydata_text(
+    points: np.ndarray,
+    cells: tuple[str, np.ndarray, np.ndarray],
+    data: tuple[str, str, list[str]],
+) -> str:
+    """A VTP file in ASCII: `points` (n, 3), one kind of cells (``"Verts"`` or ``"Lines"``,
+    their connectivity and offsets) and the data arrays (``"PointData"`` or ``"CellData"``,
+    the element's attributes, the ``<DataArray>`` elements)."""
+    kind, connectivity, offsets = cells
+    section, attributes, arrays = data
     return "\n".join(
         [
             '<?xml version="1.0"?>',
             '<VTKFile type="PolyData" version="1.0" byte_order="LittleEndian">',
             "<PolyData>",
-            f'<Piece NumberOfPoints="{2 * k}" NumberOfLines="{k}">',
+            f'<Piece NumberOfPoints="{len(points)}" NumberOf{kind}="{len(offsets)}">',
             "<Points>",
             _array("Float64", "points", _floats(points), 3),
             "</Points>",
-            "<Lines>",
-            _array("Int64", "connectivity", _ints(np.arange(2 * k))),
-            _array("Int64", "offsets", _ints(np.arange(2, 2 * k + 1, 2))),
-            "</Lines>",
-            '<CellData Scalars="force">',
-            *data,
-            "</CellData>",
+            f"<{kind}>",
+            _array("Int64", "connectivity", _ints(connectivity)),
+            _array("Int64", "offsets", _ints(offsets)),
+            f"</{kind}>",
+            f"<{section} {attributes}>",
+            *arrays,
+            f"</{section}>",
             "</Piece>",
             "</PolyData>",
             "</VTKFile>",
