@@ -384,6 +384,15 @@ fn a_bad_restart_file_is_named() {
             j["shapes"][0]["parts"][0]["vertices"][0][0] = 1e3.into()
         }),
         ("forces", |j| j["forces"] = serde_json::json!([])),
+        ("settings.update_fraction", |j| {
+            j["settings"]["update_fraction"] = (-0.5).into()
+        }),
+        ("settings.bridges.default", |j| {
+            j["settings"]["bridges"]["default"] = serde_json::json!({
+                "kn": -1.0, "ks": 1e8, "friction": 30.0, "cohesion": 0.0, "tension": 0.0,
+                "residual_friction": null, "residual_cohesion": 0.0
+            })
+        }),
     ];
     each_edit_is_named(&json, cases);
     // An unknown field (a typo) is named too.
