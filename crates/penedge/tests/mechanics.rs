@@ -6,6 +6,8 @@ use penedge::glam::{DQuat, DVec3, EulerRot};
 use penedge::mechanics::{Damping, JointModel, MechanicsError, Simulation, SubState};
 use penedge::{BlockSystem, ConvexBlock};
 
+mod support;
+
 const G: f64 = 9.81;
 
 /// A frame whose axes are not aligned with the world's: slope `theta` (radians) about a
@@ -880,44 +882,19 @@ fn mass_scaling_keeps_the_equilibrium_and_raises_the_time_step() {
 /// polygon no longer flips between near-collinear corners from one step to the next.
 #[test]
 fn a_jittered_box_of_cubes_settles_to_the_ratio_of_3dec() {
-    let mut state = 2u64; // a plain LCG: the jitter that stalls
-    let mut uniform = |a: f64, b: f64| {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        a + (b - a) * ((state >> 11) as f64 / (1u64 << 53) as f64)
-    };
-    let (w, h) = (4, 3);
-    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
-    let (mut blocks, mut fixed) = (Vec::new(), Vec::new());
-    for k in 0..h {
-        for j in 0..w {
-            for i in 0..w {
-                let wall = k == 0 || i == 0 || j == 0 || i == w - 1 || j == w - 1;
-                let centre = DVec3::new(i as f64, j as f64, k as f64) * 1.002 + 0.5;
-                let (turn, shift) = if wall {
-                    (DQuat::IDENTITY, DVec3::ZERO)
-                } else {
-                    let axis =
-                        DVec3::new(uniform(-1.0, 1.0), uniform(-1.0, 1.0), uniform(-1.0, 1.0))
-                            .normalize();
-                    let turn = DQuat::from_axis_angle(axis, uniform(-5e-4, 5e-4));
-                    let shift = DVec3::new(
-                        uniform(-1e-4, 1e-4),
-                        uniform(-1e-4, 1e-4),
-                        uniform(-1e-4, 1e-4),
-                    );
-                    (turn, shift)
-                };
-                blocks.push(unit.transformed(turn, centre + shift, 1.0));
-                fixed.push(wall);
-            }
-        }
-    }
-    let mut sim = Simulation::new(&BlockSystem::new(blocks), 2500.0).unwrap();
-    for i in (0..fixed.len()).filter(|&i| fixed[i]) {
-        sim.fix(i).unwrap();
-    }
+    let mut next = support::lcg(2); // the jitter that stalled
+    let mut uniform = |a: f64, b: f64| a + (b - a) * next();
+    let mut sim = support::cubes_in_a_box(4, 3, || {
+        let axis =
+            DVec3::new(uniform(-1.0, 1.0), uniform(-1.0, 1.0), uniform(-1.0, 1.0)).normalize();
+        let turn = DQuat::from_axis_angle(axis, uniform(-5e-4, 5e-4));
+        let shift = DVec3::new(
+            uniform(-1e-4, 1e-4),
+            uniform(-1e-4, 1e-4),
+            uniform(-1e-4, 1e-4),
+        );
+        (turn, shift)
+    });
     let model = JointModel {
         ks: 5e9,
         ..joint(1e10, 30.0, 0.0, 0.0)

@@ -7,6 +7,8 @@ use penedge::glam::{DQuat, DVec3};
 use penedge::mechanics::{JointModel, Simulation};
 use penedge::{BlockSystem, ContactType, ConvexBlock};
 
+mod support;
+
 fn joint(friction: f64) -> JointModel {
     JointModel {
         kn: 1e9,
@@ -78,40 +80,15 @@ fn compare(mut cheap: Simulation, steps: u64) -> (Vec<Vec<ContactType>>, u64, u6
 /// Unit cubes in a box, jittered and a little apart (as `penedge-bench mechanics`): they fall
 /// onto the floor and onto each other.
 fn settling_stack() -> Simulation {
-    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
-    let mut blocks = Vec::new();
-    let mut fixed = Vec::new();
-    let (w, h) = (4, 4);
-    let mut seed = 7u64;
-    let mut next = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
-    for k in 0..h {
-        for j in 0..w {
-            for i in 0..w {
-                let wall = k == 0 || i == 0 || j == 0 || i == w - 1 || j == w - 1;
-                let centre = DVec3::new(i as f64, j as f64, k as f64) * 1.002 + 0.5;
-                let (turn, shift) = if wall {
-                    (DQuat::IDENTITY, DVec3::ZERO)
-                } else {
-                    let axis = DVec3::new(next(), next(), next() + 2.0).normalize();
-                    (
-                        DQuat::from_axis_angle(axis, 5e-4 * next()),
-                        DVec3::new(next(), next(), next()) * 1e-4,
-                    )
-                };
-                blocks.push(unit.transformed(turn, centre + shift, 1.0));
-                fixed.push(wall);
-            }
-        }
-    }
-    let mut sim = Simulation::new(&BlockSystem::new(blocks), 2500.0).unwrap();
-    for (i, _) in fixed.iter().enumerate().filter(|(_, f)| **f) {
-        sim.fix(i).unwrap();
-    }
+    let mut uniform = support::lcg(7);
+    let mut next = move || uniform() * 2.0 - 1.0;
+    let mut sim = support::cubes_in_a_box(4, 4, || {
+        let axis = DVec3::new(next(), next(), next() + 2.0).normalize();
+        (
+            DQuat::from_axis_angle(axis, 5e-4 * next()),
+            DVec3::new(next(), next(), next()) * 1e-4,
+        )
+    });
     sim.set_default_joint(joint(30.0)).unwrap();
     sim.set_damping(penedge::mechanics::Damping {
         local: 0.8,

@@ -212,3 +212,46 @@ pub fn face_area(block: &ConvexBlock, f: usize) -> f64 {
     }
     twice.length() / 2.0
 }
+
+/// A plain 64-bit LCG's uniform numbers in [0, 1), from `seed` (the mechanics tests' jitter:
+/// a fixed stream, so that a case stays the case it was written for).
+pub fn lcg(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// A simulation of unit cubes (density 2500) on a `w` × `w` × `h` grid 1.002 apart: the floor
+/// layer and the side walls fixed, the cubes inside placed with `jitter()` (a turn and a
+/// shift, drawn in grid order).
+pub fn cubes_in_a_box(
+    w: usize,
+    h: usize,
+    mut jitter: impl FnMut() -> (glam::DQuat, DVec3),
+) -> penedge::mechanics::Simulation {
+    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
+    let (mut blocks, mut fixed) = (Vec::new(), Vec::new());
+    for k in 0..h {
+        for j in 0..w {
+            for i in 0..w {
+                let wall = k == 0 || i == 0 || j == 0 || i == w - 1 || j == w - 1;
+                let centre = DVec3::new(i as f64, j as f64, k as f64) * 1.002 + 0.5;
+                let (turn, shift) = if wall {
+                    (glam::DQuat::IDENTITY, DVec3::ZERO)
+                } else {
+                    jitter()
+                };
+                blocks.push(unit.transformed(turn, centre + shift, 1.0));
+                fixed.push(wall);
+            }
+        }
+    }
+    let mut sim = penedge::mechanics::Simulation::new(&BlockSystem::new(blocks), 2500.0).unwrap();
+    for i in (0..fixed.len()).filter(|&i| fixed[i]) {
+        sim.fix(i).unwrap();
+    }
+    sim
+}
