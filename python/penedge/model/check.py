@@ -39,6 +39,7 @@ class Blocks:
     face_index: np.ndarray  # (faces,) domain face, or joint
     domain_normals: list[np.ndarray]  # per domain part: (faces, 3) outward normals
     size: float  # the diagonal of the blocks' bounding box
+    bodies: np.ndarray | None = None  # (n,) the body id of each block (concave blocks)
 
     @classmethod
     def of(cls, system: Any) -> Blocks:
@@ -80,6 +81,7 @@ class Blocks:
             face_index=np.asarray(a.face_origin_index),
             domain_normals=[np.asarray(part.face_normals) for part in system.domain],
             size=float(np.linalg.norm(hi - lo)),
+            bodies=np.asarray(system.body_ids, dtype=np.int64),
         )
 
     def __len__(self) -> int:
@@ -182,6 +184,7 @@ class Layout:
     support_forces: np.ndarray | None = None  # (n, 3) force of the support pressures (N)
     support_moments: np.ndarray | None = None  # (n, 3) their moment about the centroid (N m)
     regions: dict[str, np.ndarray] = field(default_factory=dict)  # name -> mask
+    bodies: np.ndarray | None = None  # (n,) body id per block; a concave block's parts share one
 
     @property
     def driven(self) -> np.ndarray:
@@ -196,11 +199,54 @@ def region_path(model: Model, name: str) -> str:
     )
 
 
+def whole_bodies(mask: np.ndarray, bodies: np.ndarray | None) -> np.ndarray:
+    """`mask` grown to every part of each body it touches: the blocks of the bodies (body id
+    per block, `bodies`; None: every block is its own body) that have a block in `mask`."""
+    if bodies is None:
+        return mask
+    return np.isin(bodies, bodies[mask])
+
+
+def partial_body(mask: np.ndarray, bodies: np.ndarray | None) -> str | None:
+    """Why `mask` cannot be excavated when it holds some parts of a concave block and not
+    the others (the first such body; None when it holds whole bodies only)."""
+    if bodies is None:
+        return None
+    inside = np.isin(bodies, bodies[mask])
+    split = np.flatnonzero(inside & ~mask)
+    if len(split) == 0:
+        return None
+    body = bodies[split[0]]
+    parts = np.flatnonzero(bodies == body)
+    taken = parts[mask[parts]]
+    left = parts[~mask[parts]]
+    return (
+        f"the region holds blocks {_ids(taken)} but not blocks {_ids(left)} of one concave "
+        f"block (body {int(body)}): a concave block is one rigid body and is excavated whole "
+        "or not at all; make the region take all its parts (a region takes a block when its "
+        "centroid is inside) or none"
+    )
+
+
+def _ids(ids: np.ndarray) -> str:
+    """Block ids as ``1, 4, 7`` (the first 10, then how many more)."""
+    shown = ", ".join(map(str, ids[:10].tolist()))
+    return shown if len(ids) <= 10 else f"{shown} and {len(ids) - 10} more"
+
+
 def apply_boundary(
-    fixed: np.ndarray, velocities: np.ndarray, mask: np.ndarray, condition: str, velocity: Any
+    fixed: np.ndarray,
+    velocities: np.ndarray,
+    mask: np.ndarray,
+    condition: str,
+    velocity: Any,
+    bodies: np.ndarray | None = None,
 ) -> None:
     """One boundary condition on the blocks of `mask` (later conditions win): updates the
-    `fixed` mask and the prescribed `velocities` (NaN: none) in place."""
+    `fixed` mask and the prescribed `velocities` (NaN: none) in place. With `bodies` (the
+    body id of each block), on whole bodies: a concave block is one rigid body, so a
+    condition on one of its parts holds all of them (docs/models.md, "Concave blocks")."""
+    mask = whole_bodies(mask, bodies)
     fixed[mask] = condition == "fixed"
     velocities[mask] = np.nan
     if condition == "velocity":
@@ -228,9 +274,11 @@ def resolve(model: Model, blocks: Blocks) -> Layout:
         velocity=np.full((n, 3), np.nan),
         monitors={},
         regions=masks,
+        bodies=blocks.bodies,
     )
     for b in model.boundary:
-        apply_boundary(layout.fixed, layout.velocity, masks[b.region], b.condition, b.velocity)
+        mask = masks[b.region]
+        apply_boundary(layout.fixed, layout.velocity, mask, b.condition, b.velocity, blocks.bodies)
     held = layout.fixed | layout.driven
     if not held.any():
         raise ModelError(

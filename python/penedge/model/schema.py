@@ -14,8 +14,9 @@ from typing import Any
 
 from penedge.model.fields import ModelError, Table, check_direction, check_vector
 
-#: The generation spec's tables, passed unchanged to :func:`penedge.generate`.
-SPEC_TABLES = ("domain", "joints", "options")
+#: The generation spec's tables, passed unchanged to :func:`penedge.generate` (excavations
+#: make concave blocks: docs/models.md, "Concave blocks").
+SPEC_TABLES = ("domain", "joints", "excavations", "options")
 
 #: Joint property fields: unit, and whether the default table must give it.
 PROPERTY_FIELDS = {
