@@ -160,6 +160,7 @@ class Engine:
         moments = np.zeros_like(forces) if moments is None else np.asarray(moments, dtype=float)
         if self.concave:
             arm = self.setup.blocks.centroids - self.positions()
+            arm[np.bincount(self.body)[self.body] == 1] = 0.0  # a convex block's own centroid
             moments = moments + np.cross(arm, forces)
             forces, moments = self.per_body(forces), self.per_body(moments)
         for i in np.flatnonzero(np.abs(forces).sum(axis=1)):
