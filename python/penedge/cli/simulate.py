@@ -250,6 +250,7 @@ def check_summary(path: Path, setup: Any) -> dict[str, Any]:
         "model": str(path),
         "title": setup.model.title,
         "blocks": len(setup.system),
+        "bodies": len(set(setup.system.body_ids.tolist())),
         "fixed": int(layout.fixed.sum()),
         "driven": int(layout.driven.sum()),
         "free": int((~layout.fixed & ~layout.driven).sum()),
@@ -278,7 +279,9 @@ def format_check(summary: dict[str, Any]) -> str:
 
 def blocks_text(summary: dict[str, Any]) -> str:
     driven = f", {summary['driven']} driven" if summary.get("driven") else ""
-    return f"{summary['blocks']} ({summary['fixed']} fixed{driven}, {summary['free']} free)"
+    bodies = summary.get("bodies", summary["blocks"])
+    parts = f" in {bodies} bodies" if bodies != summary["blocks"] else ""  # concave blocks
+    return f"{summary['blocks']}{parts} ({summary['fixed']} fixed{driven}, {summary['free']} free)"
 
 
 def run_summary(
