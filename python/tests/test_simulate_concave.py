@@ -266,3 +266,19 @@ def test_a_restarted_concave_model_is_bit_for_bit_the_run_that_did_not_stop(tmp_
     sim = penedge.Simulation.load(tmp_path / "state.json")
     ids, _ = bodies_of(pm.prepare(TUNNEL))
     assert len(sim) == len(np.unique(ids))
+
+
+@needs_engine
+def test_the_picture_after_an_excavation_keeps_the_concave_blocks_whole():
+    from penedge.cli.simulate import without_excavated
+    from penedge.model.engine import Engine
+    from penedge.model.run import Runner
+
+    setup = excavating('{type = "box", min = [2.5, 0, 5], max = [5, 4, 7.5]}')
+    runner = Runner(setup, Engine)
+    runner.run_stage(0, setup.model.stages[0])
+    e = runner.engine
+    shown, displacement = without_excavated(e, e.system(), np.zeros((len(setup.system), 3)))
+    kept = ~e.removed()
+    assert len(shown) == len(displacement) == kept.sum()
+    assert np.asarray(shown.body_ids).tolist() == e.body[kept].tolist()

@@ -482,7 +482,11 @@ def without_excavated(engine: Any, system: Any, displacement: Any) -> tuple[Any,
     if not removed.any() or len(blocks) != len(removed):
         return system, displacement
     keep = [b for b, gone in zip(blocks, removed, strict=True) if not gone]
-    return penedge.BlockSystem(keep), displacement[~removed]
+    present = penedge.BlockSystem(keep)
+    bodies = system.body_ids[~removed]
+    if len(set(bodies.tolist())) < len(keep):  # concave blocks (removed whole), drawn as one
+        present = present.with_bodies(bodies.tolist())
+    return present, displacement[~removed]
 
 
 def write_summary_json(folder: Path, summary: dict[str, Any]) -> None:
