@@ -219,3 +219,27 @@ def test_the_lining_example_solves_with_the_roof_block_held(tmp_path):
     # rock above by the joint's elastic closure, (75 kPa x 4 m² - W) / (kn x 4 m²)
     closure = (75e3 * ROOF_AREA - ROOF_WEIGHT) / (1e9 * ROOF_AREA)
     assert 0 < outcome.max_displacement[0] < 2 * closure
+
+
+@needs_engine
+def test_a_bolt_within_one_concave_block_is_refused_naming_the_body_and_its_blocks():
+    # from the West wall of the block above the tunnel towards the opening, at z = 6.5:
+    # through two of its parts, both ends in rock, and no other body on the way
+    bolt = (
+        "[[bolts]]\npoint = [2.6, 1, 6.5]\ntrend = 90\nplunge = 0\nlength = 1\n"
+        "capacity = 1e5\nstiffness = 1e7\n"
+    )
+    from penedge.model.engine import Engine
+
+    setup = pm.prepare(BASE + bolt)
+    ids = np.asarray(setup.system.body_ids)
+    collar, _ = setup.layout.bolts[0]
+    blocks = np.flatnonzero(ids == ids[collar])
+    with pytest.raises(pm.ModelError) as caught:
+        Engine(setup)
+    body = np.unique(ids).tolist().index(ids[collar])  # bodies by ascending id
+    listed = ", ".join(map(str, blocks.tolist()))
+    assert caught.value.field == "bolts[0]"
+    assert f"lies in one body (body {body}: the concave block made of blocks {listed})" in str(
+        caught.value
+    )
