@@ -256,6 +256,10 @@ def check_summary(path: Path, setup: Any) -> dict[str, Any]:
         "free": int((~layout.fixed & ~layout.driven).sum()),
         "sets": setup.model.set_names,
         "monitors": layout.monitors,
+        "supports": [
+            {"name": s.name, "pressure": s.pressure, "area": area}
+            for s, area in zip(setup.model.support, layout.support_areas, strict=True)
+        ],
         "stages": [f"{s.name} {s.kind}" for s in setup.model.stages],
         "not_supported": [f"{field}: {message}" for field, message in unsupported(setup.model)],
     }
@@ -272,6 +276,9 @@ def format_check(summary: dict[str, Any]) -> str:
     if summary["monitors"]:
         monitors = ", ".join(f"{k} (block {v})" for k, v in summary["monitors"].items())
         lines.append(row("monitors", monitors))
+    for support in summary.get("supports", []):
+        pushed = f"{support['pressure']:g} Pa on {support['area']:.4g} m² of free faces"
+        lines.append(row("support", f"{support['name']}: {pushed}"))
     for note in summary["not_supported"]:
         lines.append(row("cannot run yet", note))
     return "\n".join(lines)

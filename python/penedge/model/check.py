@@ -198,6 +198,7 @@ class Layout:
     bolts: list[tuple[int, int]] = field(default_factory=list)  # block at the collar, at the end
     support_forces: np.ndarray | None = None  # (n, 3) force of the support pressures (N)
     support_moments: np.ndarray | None = None  # (n, 3) their moment about the centroid (N m)
+    support_areas: list[float] = field(default_factory=list)  # per support: area pushed (m²)
     regions: dict[str, np.ndarray] = field(default_factory=dict)  # name -> mask
     bodies: np.ndarray | None = None  # (n,) body id per block; a concave block's parts share one
 
@@ -337,7 +338,8 @@ def resolve(model: Model, blocks: Blocks) -> Layout:
                     "the region has no free face (a face of the domain's boundary or of an "
                     "excavation's wall) to push on",
                 )
-            pressure_load(blocks, faces, s.pressure, forces, moments, path)
+            area = pressure_load(blocks, faces, s.pressure, forces, moments, path)
+            layout.support_areas.append(area)
         layout.support_forces, layout.support_moments = forces, moments
     return layout
 
@@ -389,9 +391,10 @@ def pressure_load(
     forces: np.ndarray,
     moments: np.ndarray,
     path: str,
-) -> None:
+) -> float:
     """Adds to `forces` and `moments` (per block, about its centroid) the pressure on the
-    free part of the faces of `faces`, pushing into the rock.
+    free part of the faces of `faces`, pushing into the rock; the area pushed on (the
+    faces' areas less their glue).
 
     A part face of a concave block may be glued, wholly or in part, to another part of its
     body (an internal face, docs/concave-blocks.md). Where both sides of a glue are
@@ -404,8 +407,10 @@ def pressure_load(
     block = blocks.face_block[faces]
     f = -pressure * blocks.face_areas[faces, None] * blocks.face_normals[faces]
     at = blocks.face_centroids[faces]
+    pushed = float(blocks.face_areas[faces].sum())
     if blocks.glue_faces is not None and len(blocks.glue_faces):
         sides = faces[blocks.glue_faces]
+        pushed -= float(sides.sum(axis=1) @ blocks.glue_areas)
         rows = np.flatnonzero(sides[:, 0] != sides[:, 1])
         if len(rows):
             own = np.where(sides[rows, 0], 0, 1)
@@ -437,6 +442,7 @@ def pressure_load(
     for k in range(3):
         forces[:, k] += np.bincount(block, f[:, k], n)
         moments[:, k] += np.bincount(block, m[:, k], n)
+    return pushed
 
 
 def bolt_blocks(blocks: Blocks, start: Any, end: Any, path: str) -> tuple[int, int]:
