@@ -103,9 +103,11 @@ def test_check_prints_each_support_with_its_area(capsys):
     from penedge import cli
 
     assert cli.main(["simulate", str(EXAMPLES / "tunnel_support.toml"), "--check"]) == 0
-    # the gallery's roof and floor, 2 m wide and 2 m long: its walls on the joints x = 2 and
-    # x = 4 keep the joints' origin and are not the excavation's (docs/models.md)
-    assert "support               lining: 75000 Pa on 8 m² of free faces" in capsys.readouterr().out
+    # the gallery's roof and floor, 2 m wide, and its sides on the joints x = 2 and x = 4,
+    # 2.5 m high, all 2 m long: 2 (2 + 2.5) 2 = 18 m²
+    assert (
+        "support               lining: 75000 Pa on 18 m² of free faces" in capsys.readouterr().out
+    )
 
 
 def test_every_free_face_takes_the_tunnel_walls_and_the_domain_faces():
@@ -271,3 +273,50 @@ def test_a_bolt_within_one_concave_block_is_refused_naming_the_body_and_its_bloc
     assert f"lies in one body (body {body}: the concave block made of blocks {listed})" in str(
         caught.value
     )
+
+
+def test_the_joint_faces_an_excavation_bares_are_its_walls_too():
+    # the gallery's sides lie on the joints x = 2 and x = 4: the columns beside it keep the
+    # joints' faces, bare from z = 1 to 3.5 (2.5 m x 2 m), pushed into the rock (away from
+    # the gallery) at the bare part's centroid, z = 2.25, not the face's (z = 3)
+    p = 1e5
+    setup = gallery(p)
+    forces, moments = setup.layout.support_forces, setup.layout.support_moments
+    for x, side in ((1.0, -1.0), (5.0, 1.0)):
+        block = setup.blocks.containing((x, 1.0, 3.0))
+        assert forces[block] == pytest.approx([side * p * 5.0, 0, 0], rel=1e-9)
+        centroid = setup.blocks.centroids[block]  # the column x 0..2 (4..6), z 0..6
+        arm = np.array([3.0 - side, 1.0, 2.25]) - centroid
+        expected = np.cross(arm, [side * p * 5.0, 0, 0])
+        assert moments[block] == pytest.approx(expected, abs=1e-6)
+
+
+def galleries(face):
+    # two galleries through the 10 m wide box, x 2..4 (adit, 2.5 m high) and x 6..8 (drift,
+    # 5 m high: its roof on the joint z = 6, bare as well as its sides)
+    text = GALLERY.replace("max = [6, 2, 8]", "max = [10, 2, 8]")
+    text = text.replace('name = "gallery"\n', 'name = "adit"\n')
+    drift = (
+        '[[excavations]]\ntype = "cavern"\nname = "drift"\ncenter = [7, 1, 3.5]\ntrend = 0\n'
+        "length = 4\nwidth = 2\nheight = 5\n\n"
+    )
+    text = text.replace("[rock]", drift + "[rock]")
+    return pm.prepare(text + support(face=face))
+
+
+def test_each_excavation_takes_the_joint_faces_it_bared():
+    adit, drift = galleries('"adit"'), galleries('"drift"')
+    # adit: roof and floor 2 x 2, sides 2.5 x 2; drift: floor 2 x 2 (cut), roof on the joint
+    # z = 6 (bare, 2 x 2) and sides 5 x 2 (bare): every wall 2 m long
+    assert adit.layout.support_areas == [pytest.approx(2 * (2 + 2.5) * 2, rel=1e-9)]
+    assert drift.layout.support_areas == [pytest.approx(2 * (2 + 5) * 2, rel=1e-9)]
+    # the drift's roof: the block above it (x 6..8, z 6..8) pushed up on 4 m²
+    above = drift.blocks.containing((7.0, 1.0, 7.0))
+    assert drift.layout.support_forces[above] == pytest.approx([0, 0, PRESSURE * 4], rel=1e-9)
+    assert adit.layout.support_forces[above] == pytest.approx([0, 0, 0])
+    # every free face: the box's (2 (10 x 2 + 10 x 8 + 2 x 8)) less the two openings in the
+    # North and South faces, and both galleries' walls
+    every = galleries(None)
+    box = 2 * (20 + 80 + 16) - 2 * (2 * 2.5 + 2 * 5)
+    total = box + adit.layout.support_areas[0] + drift.layout.support_areas[0]
+    assert every.layout.support_areas == [pytest.approx(total, rel=1e-9)]
