@@ -13,6 +13,8 @@ import pytest
 import penedge
 import penedge.model as pm
 from penedge.model.check import Blocks
+from penedge.model.engine import Engine
+from penedge.model.run import Runner
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
 BRIDGE = 3  # face origin code
@@ -199,7 +201,7 @@ def test_step_path_example_factor_of_safety_is_bracketed_by_limit_equilibrium():
     """Without the bridge's cohesion F is the joint's tan 30 / tan 35 (0.82) within the
     bisection's 0.01; with it the slope stands (F > 1) and F is at most the limit equilibrium
     (1.39): the brittle bridge fails corner by corner, below the limit equilibrium, which
-    mobilises the whole cohesion at once. (Measured: 1.16.)"""
+    mobilises the whole cohesion at once. (Measured: 1.31.)"""
     text = (EXAMPLES / "slope_step_path.toml").read_text()
     outcome = pm.simulate(text)
     assert outcome.stages[0].converged
@@ -212,6 +214,27 @@ def test_step_path_example_factor_of_safety_is_bracketed_by_limit_equilibrium():
     no_bridge = pm.simulate(text.replace("cohesion = 50e3", "cohesion = 0")).safety
     joint_only = math.tan(math.radians(30)) / math.tan(math.radians(35))
     assert no_bridge.stable < joint_only < no_bridge.failing + 1e-9
+
+
+@needs_engine
+def test_an_elastic_solve_glues_no_joint_that_has_no_bond():
+    """``elastic = true`` makes the bonds unbreakable, not new ones: the step-path block
+    settles on the bedding and the bridge, the tension crack (friction only) open behind
+    it. (Once every model's tension was raised, the crack's included: it held the block
+    with 2.9 MN of tension, a third of its weight, let go at once when the stage ended; the
+    shock broke the brittle bridge at F = 1.16 instead of 1.31.)"""
+    setup = pm.prepare(EXAMPLES / "slope_step_path.toml")
+    runner = Runner(setup, Engine)
+    assert runner.run_stage(0, setup.model.stages[0]).converged
+    c = runner.engine.sim.contacts()
+    counts = np.diff(c["sub_offsets"].astype(np.int64))
+    per_sub = np.repeat(c["bridges"], counts)
+    assert c["bonded"][per_sub].all()  # the bridge holds, bonded
+    assert (c["normal_forces"][~per_sub] >= 0).all()  # no joint in tension
+    # the crack's contact (vertical normal) is open
+    crack = np.abs(c["normals"][:, 0]) > 0.99
+    assert crack.sum() == 1
+    assert (c["states"][np.repeat(crack, counts)] == 2).all()
 
 
 @needs_engine
