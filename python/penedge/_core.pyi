@@ -110,7 +110,7 @@ class _Statistics(TypedDict):
 
 class _SetRecord(TypedDict):
     name: str
-    kind: Literal["plane", "set", "disc", "polygon"]
+    kind: Literal["plane", "set", "disc", "polygon", "excavation"]
 
 @final
 class Block:

@@ -21,6 +21,11 @@ from penedge.model.schema import FACE_DIRECTIONS, Model, Region
 FACE_ANGLE_DEGREES = 1.0
 
 BOUNDARY_FACE = 1
+JOINT_FACE = 2
+
+#: Two areas agree when they differ by less than this fraction of the larger (a glue
+#: region that is a whole part face).
+AREA_MATCH = 1e-6
 
 
 @dataclass
@@ -40,6 +45,9 @@ class Blocks:
     domain_normals: list[np.ndarray]  # per domain part: (faces, 3) outward normals
     size: float  # the diagonal of the blocks' bounding box
     bodies: np.ndarray | None = None  # (n,) the body id of each block (concave blocks)
+    sets: list[dict[str, str]] = field(default_factory=list)  # the spec entries (name, kind)
+    glue_faces: np.ndarray | None = None  # (m, 2) the two faces of each internal face
+    glue_areas: np.ndarray | None = None  # (m,) its area
 
     @classmethod
     def of(cls, system: Any) -> Blocks:
@@ -68,6 +76,10 @@ class Blocks:
         )
         centroid /= np.where(areas > 0, areas, 1.0)[:, None]
         lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+        glue = system.internal_faces()
+        first_face = np.asarray(a.face_offsets)[:-1]
+        glue_faces = first_face[np.asarray(glue["parts"], dtype=np.int64).reshape(-1, 2)]
+        glue_faces += np.asarray(glue["faces"], dtype=np.int64).reshape(-1, 2)
         return cls(
             centroids=np.asarray(a.centroids),
             volumes=np.asarray(a.volumes),
@@ -82,6 +94,9 @@ class Blocks:
             domain_normals=[np.asarray(part.face_normals) for part in system.domain],
             size=float(np.linalg.norm(hi - lo)),
             bodies=np.asarray(system.body_ids, dtype=np.int64),
+            sets=[dict(entry) for entry in system.sets],
+            glue_faces=glue_faces,
+            glue_areas=np.asarray(glue["areas"], dtype=float),
         )
 
     def __len__(self) -> int:
@@ -221,14 +236,14 @@ def partial_body(mask: np.ndarray, bodies: np.ndarray | None) -> str | None:
     taken = parts[mask[parts]]
     left = parts[~mask[parts]]
     return (
-        f"the region holds blocks {_ids(taken)} but not blocks {_ids(left)} of one concave "
-        f"block (body {int(body)}): a concave block is one rigid body and is excavated whole "
-        "or not at all; make the region take all its parts (a region takes a block when its "
-        "centroid is inside) or none"
+        f"the region holds blocks {block_list(taken)} but not blocks {block_list(left)} of "
+        f"one concave block (body {int(body)}): a concave block is one rigid body and is "
+        "excavated whole or not at all; make the region take all its parts (a region takes a "
+        "block when its centroid is inside) or none"
     )
 
 
-def _ids(ids: np.ndarray) -> str:
+def block_list(ids: np.ndarray) -> str:
     """Block ids as ``1, 4, 7`` (the first 10, then how many more)."""
     shown = ", ".join(map(str, ids[:10].tolist()))
     return shown if len(ids) <= 10 else f"{shown} and {len(ids) - 10} more"
@@ -314,26 +329,114 @@ def resolve(model: Model, blocks: Blocks) -> Layout:
         moments = np.zeros((n, 3))
         for i, s in enumerate(model.support):
             path = f"support[{i}]"
-            faces = blocks.face_kind == BOUNDARY_FACE
+            faces = support_faces(blocks, s.face, f"{path}.face")
             faces &= masks[s.region][blocks.face_block]
-            if s.face is not None:
-                part = 0
-                faces &= on_domain_faces(
-                    blocks, domain_faces(blocks, s.face, part, f"{path}.face"), part
-                )
             if not faces.any():
                 raise ModelError(
-                    path, "the region has no free face (a face of the domain's boundary) to push on"
+                    path,
+                    "the region has no free face (a face of the domain's boundary or of an "
+                    "excavation's wall) to push on",
                 )
-            f = -s.pressure * blocks.face_areas[faces, None] * blocks.face_normals[faces]
-            arm = blocks.face_centroids[faces] - blocks.centroids[blocks.face_block[faces]]
-            for k in range(3):
-                forces[:, k] += np.bincount(blocks.face_block[faces], f[:, k], n)
-            m = np.cross(arm, f)
-            for k in range(3):
-                moments[:, k] += np.bincount(blocks.face_block[faces], m[:, k], n)
+            pressure_load(blocks, faces, s.pressure, forces, moments, path)
         layout.support_forces, layout.support_moments = forces, moments
     return layout
+
+
+def excavation_entries(blocks: Blocks) -> np.ndarray:
+    """The spec entries (indices into ``BlockSystem.sets``) that are excavations, in the
+    order of the generation's ``[[excavations]]``."""
+    return np.asarray(
+        [i for i, entry in enumerate(blocks.sets) if entry.get("kind") == "excavation"],
+        dtype=np.int64,
+    )
+
+
+def wall_faces(blocks: Blocks, entries: np.ndarray) -> np.ndarray:
+    """A mask of the block faces made by the excavation entries `entries` (its walls, and
+    the glue between the parts of the concave blocks it cut)."""
+    return (blocks.face_kind == JOINT_FACE) & np.isin(blocks.face_set, entries)
+
+
+def support_faces(blocks: Blocks, face: str | int | None, path: str) -> np.ndarray:
+    """A mask of the faces a support may push on: every free face (the domain's boundary
+    and the excavations' walls) when `face` is None; the faces on a domain face (a name
+    such as ``top``, or an index); or the walls of an excavation (its name, or
+    ``excavations[i]``, the i-th ``[[excavations]]`` entry)."""
+    entries = excavation_entries(blocks)
+    if face is None:
+        return (blocks.face_kind == BOUNDARY_FACE) | wall_faces(blocks, entries)
+    if isinstance(face, int) or face in FACE_DIRECTIONS:
+        part = 0
+        return on_domain_faces(blocks, domain_faces(blocks, face, part, path), part)
+    names = [str(blocks.sets[e].get("name")) for e in entries]
+    chosen = [e for e, name in zip(entries, names, strict=True) if name == face]
+    chosen += [e for k, e in enumerate(entries) if face == f"excavations[{k}]"]
+    if not chosen:
+        known = ", ".join(repr(name) for name in names) if names else "none"
+        raise ModelError(
+            path,
+            f"no domain face or excavation named {face!r} (domain faces: "
+            f"{', '.join(FACE_DIRECTIONS)}, or an index; excavations: {known}, or "
+            "excavations[i])",
+        )
+    return wall_faces(blocks, np.asarray(chosen, dtype=np.int64))
+
+
+def pressure_load(
+    blocks: Blocks,
+    faces: np.ndarray,
+    pressure: float,
+    forces: np.ndarray,
+    moments: np.ndarray,
+    path: str,
+) -> None:
+    """Adds to `forces` and `moments` (per block, about its centroid) the pressure on the
+    free part of the faces of `faces`, pushing into the rock.
+
+    A part face of a concave block may be glued, wholly or in part, to another part of its
+    body (an internal face, docs/concave-blocks.md). Where both sides of a glue are
+    pushed on, their pressures cancel in the body's sum (equal areas, opposite normals,
+    one centroid), so the whole faces are taken. Where one side only is (a region that
+    takes some parts of a concave block), the glue's pressure is taken off that side, at
+    the centroid of the glue: the centroid of the face that is glue all over.
+    """
+    n = len(blocks)
+    block = blocks.face_block[faces]
+    f = -pressure * blocks.face_areas[faces, None] * blocks.face_normals[faces]
+    at = blocks.face_centroids[faces]
+    if blocks.glue_faces is not None and len(blocks.glue_faces):
+        sides = faces[blocks.glue_faces]
+        rows = np.flatnonzero(sides[:, 0] != sides[:, 1])
+        if len(rows):
+            own = np.where(sides[rows, 0], 0, 1)
+            mine = blocks.glue_faces[rows, own]
+            other = blocks.glue_faces[rows, 1 - own]
+            area = blocks.glue_areas[rows]
+            whole = [
+                np.abs(area - blocks.face_areas[g])
+                <= AREA_MATCH * np.maximum(area, blocks.face_areas[g])
+                for g in (other, mine)
+            ]
+            unknown = ~(whole[0] | whole[1])
+            if unknown.any():
+                k = int(np.flatnonzero(unknown)[0])
+                a, b = blocks.face_block[mine[k]], blocks.face_block[other[k]]
+                raise ModelError(
+                    path,
+                    f"the region takes block {a} but not block {b} of one concave block, and "
+                    "the pressure cannot tell which part of their glued face is free; make "
+                    "the region take all the parts of the concave block or none",
+                )
+            centroid = np.where(
+                whole[0][:, None], blocks.face_centroids[other], blocks.face_centroids[mine]
+            )
+            block = np.concatenate([block, blocks.face_block[mine]])
+            f = np.concatenate([f, pressure * area[:, None] * blocks.face_normals[mine]])
+            at = np.concatenate([at, centroid])
+    m = np.cross(at - blocks.centroids[block], f)
+    for k in range(3):
+        forces[:, k] += np.bincount(block, f[:, k], n)
+        moments[:, k] += np.bincount(block, m[:, k], n)
 
 
 def bolt_blocks(blocks: Blocks, start: Any, end: Any, path: str) -> tuple[int, int]:

@@ -15,11 +15,12 @@ displacement, velocity and excavation state), the simulation's per body
 from __future__ import annotations
 
 import copy
+import re
 from typing import Any
 
 import numpy as np
 
-from penedge.model.check import partial_body
+from penedge.model.check import block_list, partial_body
 from penedge.model.fields import ModelError
 from penedge.model.schema import JointProperties, Model, Water
 
@@ -186,8 +187,22 @@ class Engine:
                     shear_capacity=bolt.shear_capacity,
                 )
             except penedge.MechanicsError as e:
-                raise ModelError(f"bolts[{i}]", str(e)) from e
+                raise ModelError(f"bolts[{i}]", self.with_blocks(str(e))) from e
         return [bolt.name for bolt in bolts]
+
+    def with_blocks(self, message: str) -> str:
+        """An engine message that names a body (``(body 10)``: the engine's row) with the
+        blocks it is made of, the ids a model's user knows."""
+        found = re.search(r"\(body (\d+)\)", message)
+        if found is None:
+            return message
+        body = int(found[1])
+        blocks = np.flatnonzero(self.body == body)
+        if len(blocks) == 1:
+            what = f"block {blocks[0]}"
+        else:
+            what = f"the concave block made of blocks {block_list(blocks)}"
+        return message.replace(found[0], f"(body {body}: {what})")
 
     # --- set-up ---------------------------------------------------------------------
 

@@ -188,7 +188,7 @@ class Support:
     name: str
     region: str
     pressure: float  # Pa, pushing into the rock
-    face: str | int | None = None  # limit to the faces on this domain face
+    face: str | int | None = None  # limit to a domain face, or an excavation's walls
 
 
 @dataclass(frozen=True)
@@ -763,10 +763,18 @@ def parse_support(t: Table, regions: dict[str, Region]) -> Support:
         name=t.text("name", index),
         region=region_ref(t, "region", regions),
         pressure=t.number("pressure", required=True, above=0),
-        face=parse_face(t, "face") if t.has("face") else None,
+        face=parse_support_face(t) if t.has("face") else None,
     )
     t.done()
     return support
+
+
+def parse_support_face(t: Table) -> str | int:
+    """A support's ``face``: a domain face (a name or an index) or an excavation (its name,
+    or ``excavations[i]``), resolved with the blocks (check.support_faces)."""
+    if isinstance(t.raw("face"), str):
+        return t.text("face")
+    return parse_face(t, "face")
 
 
 def parse_seismic(t: Table) -> Seismic:
