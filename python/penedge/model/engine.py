@@ -252,21 +252,30 @@ class Engine:
     UNBREAKABLE = 1e30
 
     def set_elastic(self, on: bool) -> None:
-        """With `on`, every joint and bridge model gets an unbreakable bond (cohesion and
-        tension :attr:`UNBREAKABLE`; friction and stiffness kept): a ``solve`` stage with
-        ``elastic = true`` reaches the initial equilibrium without the bonds failing under
-        the sudden load of gravity (3DEC's advice: equilibrium with high strength first). Off:
-        the model's properties again."""
+        """With `on`, every joint and bridge model **with a bond** (cohesion or tension > 0)
+        gets an unbreakable one (cohesion and tension :attr:`UNBREAKABLE`; friction and
+        stiffness kept): a ``solve`` stage with ``elastic = true`` reaches the initial
+        equilibrium without the bonds failing under the sudden load of gravity (3DEC's advice:
+        equilibrium with high strength first). A model without a bond keeps its strength: made
+        unbreakable, a joint of friction only (an open tension crack) would hold the blocks in
+        tension, an equilibrium the model does not have, released at once when the stage ends
+        (docs/mechanics.md, "Rock bridges"). Off: the model's properties again."""
         if not on:
             self.apply_properties(dict(self.properties))
             return
-        strong = {"cohesion": self.UNBREAKABLE, "tension": self.UNBREAKABLE}
-        self.sim.set_joint(**{**self.joint(self.default), **strong}, set=None)
+
+        def strong(props: JointProperties) -> dict[str, float]:
+            engine = self.joint(props)
+            if props.cohesion > 0 or props.tension > 0:
+                engine.update(cohesion=self.UNBREAKABLE, tension=self.UNBREAKABLE)
+            return engine
+
+        self.sim.set_joint(**strong(self.default), set=None)
         for name, props in self.properties.items():
-            self.sim.set_joint(**{**self.joint(props), **strong}, set=self.set_ids[name])
+            self.sim.set_joint(**strong(props), set=self.set_ids[name])
             bridge = self.setup.model.bridges.get(name)
             if bridge is not None:
-                self.sim.set_bridge(**{**self.joint(bridge), **strong}, set=self.set_ids[name])
+                self.sim.set_bridge(**strong(bridge), set=self.set_ids[name])
 
     def apply_boundary(self, fixed: np.ndarray, velocity: np.ndarray) -> None:
         """Fixes, frees or drives every body as the per-block masks say (excavated bodies

@@ -430,8 +430,11 @@ def parse_properties(
 
 
 #: Rock-bridge fields: the intact rock's strength must be given; kn and ks default to the
-#: set's joint stiffness.
-BRIDGE_FIELDS = ("kn", "ks", "friction", "cohesion", "tension")
+#: set's joint stiffness, the residual cohesion to 0 (a brittle bridge).
+BRIDGE_FIELDS = ("kn", "ks", "friction", "cohesion", "tension", "residual_cohesion")
+
+#: The bridge fields that may be left out.
+OPTIONAL_BRIDGE_FIELDS = ("kn", "ks", "residual_cohesion")
 
 
 def parse_bridge_values(t: Table) -> dict[str, float]:
@@ -444,8 +447,14 @@ def parse_bridge_values(t: Table) -> dict[str, float]:
             bounds = {"at_least": 0, "below": 90}
         else:
             bounds = {"at_least": 0}
-        if key not in ("kn", "ks") or t.has(key):
+        if key not in OPTIONAL_BRIDGE_FIELDS or t.has(key):
             values[key] = t.number(key, required=True, **bounds)
+    if values.get("residual_cohesion", 0.0) > values["cohesion"]:
+        raise ModelError(
+            t.field("residual_cohesion"),
+            f"{values['residual_cohesion']} is above the cohesion ({values['cohesion']}): "
+            "a bridge loses strength when it breaks, it gains none",
+        )
     t.done()
     return values
 
