@@ -61,7 +61,7 @@ use crate::system::{
     EDGE_CERTIFICATE_STEPS,
 };
 use crate::tolerance::{Tolerance, ToleranceError};
-use contacts::{build_contact, sub_count, Carry, Found, Scratch, StepInput};
+use contacts::{build_contact, counts_and_previous, Carry, Found, Scratch, StepInput};
 use rayon::prelude::*;
 use std::time::Instant;
 use thiserror::Error;
@@ -1127,8 +1127,10 @@ impl Simulation {
 
     /// Sub-contacts with their forces (in parallel per contact), matched to the last step's.
     fn update_contacts(&mut self, dt: f64) {
+        let motions = contacts::motions(&self.bodies);
         let input = StepInput {
             bodies: &self.bodies,
+            motions: &motions,
             part_body: &self.part_body,
             placed: &self.placed,
             joints: &self.joints,
@@ -1146,25 +1148,26 @@ impl Simulation {
             .collect();
         // Each contact's sub-contacts (and, in a run with an initial stress, their installed
         // stresses) are written in place, in contact order: no allocation per contact.
-        let counts: Vec<usize> = found.iter().map(|f| sub_count(f)).collect();
-        let total: usize = counts.iter().sum();
+        let counts = counts_and_previous(&self.contacts, &found);
+        let total: usize = counts.iter().map(|&(n, _)| n as usize).sum();
         let keep_stress = self.initial_stress.is_some() || !self.contacts.prestresses.is_empty();
         let mut subs = vec![SubContact::default(); total];
         let mut prestresses = vec![0.0; if keep_stress { total } else { 0 }];
         let mut slices = Vec::with_capacity(found.len());
         let (mut rest, mut rest_p) = (subs.as_mut_slice(), prestresses.as_mut_slice());
-        for &count in &counts {
+        for &(count, previous) in &counts {
+            let count = count as usize;
             let (head, tail) = rest.split_at_mut(count);
             let (head_p, tail_p) = rest_p.split_at_mut(if keep_stress { count } else { 0 });
-            slices.push((head, head_p));
+            slices.push((previous, head, head_p));
             rest = tail;
             rest_p = tail_p;
         }
         let mut list: Vec<BodyContact> = found
             .par_iter()
             .zip(slices)
-            .map_init(Scratch::default, |scratch, (f, (out, out_p))| {
-                build_contact(&input, f, scratch, out, out_p)
+            .map_init(Scratch::default, |scratch, (f, (previous, out, out_p))| {
+                build_contact(&input, f, previous, scratch, out, out_p)
             })
             .collect();
         let mut first = 0;
