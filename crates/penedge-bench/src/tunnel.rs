@@ -33,7 +33,7 @@
 use crate::system::{pool, timed};
 use penedge::block::FaceOrigin;
 use penedge::generation::generate;
-use penedge::system::BlockSystem;
+use penedge::system::{BlockSystem, BodyShape};
 use penedge::{ContactType, ConvexBlock, Feature, Tolerance};
 
 struct Options {
@@ -206,19 +206,24 @@ fn table(o: &Options) -> Result<(), String> {
         return Ok(());
     }
     let in_multi: usize = multi.iter().map(|p| p.len()).sum();
-    // Geometrically non-convex: the union's volume below its hull's.
-    let non_convex = multi
-        .iter()
-        .filter(|p| {
-            let blocks = p.iter().map(|&k| &bodies.blocks()[k as usize]);
-            let points: Vec<[f64; 3]> = blocks
-                .clone()
-                .flat_map(|b| b.vertices().iter().map(|v| v.to_array()))
-                .collect();
-            let volume: f64 = blocks.map(ConvexBlock::volume).sum();
-            ConvexBlock::hull(&points).is_ok_and(|h| h.volume() > volume * (1.0 + 1e-9))
-        })
-        .count();
+    let (shapes_s, shapes) = timed(1, || bodies.body_shapes(&tol));
+    let shapes = shapes.map_err(|e| e.to_string())?;
+    let count = |f: &dyn Fn(&BodyShape) -> bool| {
+        let kind = shapes.iter().filter(|s| f(s));
+        (
+            kind.clone().count(),
+            kind.map(|s| s.parts as usize).sum::<usize>(),
+        )
+    };
+    let kinds = [
+        ("non-convex by volume", count(&|s| s.non_convex)),
+        ("cracked", count(&|s| s.cracked())),
+        ("non-convex or cracked (concave)", count(&|s| s.concave())),
+        (
+            "non-convex and cracked",
+            count(&|s| s.non_convex && s.cracked()),
+        ),
+    ];
     println!("## Concave blocks around a tunnel, with rock bridges\n");
     println!(
         "{} threads; {}. Load average at the start: {}.\n",
@@ -234,16 +239,26 @@ fn table(o: &Options) -> Result<(), String> {
     );
     println!(
         "{n} convex parts; {} bodies, {} of them of several parts ({:.1} % of the bodies, \
-         {in_multi} parts: {:.1} % of the parts); {tunnel_concave} made by the tunnel; \
-         {non_convex} of the bodies of several parts geometrically non-convex ({:.1} % of \
-         the bodies); {} internal faces.\n",
+         {in_multi} parts: {:.1} % of the parts); {tunnel_concave} made by the tunnel; {} \
+         internal faces.\n",
         groups.len(),
         multi.len(),
         100.0 * multi.len() as f64 / groups.len() as f64,
         100.0 * in_multi as f64 / n as f64,
-        100.0 * non_convex as f64 / groups.len() as f64,
         bodies.internal_faces().len()
     );
+    println!(
+        "Concavity (`BlockSystem::body_shapes`, {shapes_s:.2} s):\n\n| bodies | count | % of \
+         the bodies | their parts | % of the parts |\n|---|---:|---:|---:|---:|"
+    );
+    for (name, (bodies_of_kind, parts_of_kind)) in kinds {
+        println!(
+            "| {name} | {bodies_of_kind} | {:.1} | {parts_of_kind} | {:.1} |",
+            100.0 * bodies_of_kind as f64 / groups.len() as f64,
+            100.0 * parts_of_kind as f64 / n as f64
+        );
+    }
+    println!();
     // Interleaved rounds (each round times the four in turn), so that a change of the load
     // of a shared machine weighs on all of them alike; medians over the rounds, of the wall
     // time and of the process's CPU time (all threads: under load, the wall time also counts
