@@ -8,16 +8,21 @@
 //!   (`V_hull - V > l A_hull`, `l` the length threshold for the body's bounding box), so the
 //!   excess is not a matter of rounding: an L-block, a block with a notch, the rock left
 //!   around the corner of a tunnel;
-//! - **cracked**: two parts of the body touch face to face over a larger area than the glue
-//!   between them (more than the length threshold times the perimeter of their contact
-//!   polygon), so a real face of a part lies inside the union, not on its boundary: a joint
-//!   that ends inside the block, held by a rock bridge. The union can be convex (a block cut
-//!   through by a joint on part of its section and glued by the bridge on the rest).
+//! - **cracked**: two parts of the body touch face to face on a real face: over faces that
+//!   both lie on a joint (origin [`FaceOrigin::Joint`] of a joint, not of an excavation's
+//!   cut; glued or not), or over more area than the glue between them (by more than the
+//!   length threshold times the perimeter of their contact polygon). There a real face of a
+//!   part lies inside the union, not on its boundary: a joint that ends inside the block,
+//!   held by a rock bridge. Generation glues the crack of a finite joint with bridges for the
+//!   detection (no other block can reach it), hence the test on the faces' origins. The
+//!   union can be convex (a block cut through by a joint on part of its section and held by
+//!   the bridge on the rest).
 
 use super::BlockSystem;
-use crate::block::{hull_volume_and_area, BlockError, ConvexBlock};
+use crate::block::{hull_volume_and_area, BlockError, ConvexBlock, FaceOrigin};
 use crate::classify::{Feature, PairResult};
 use crate::contact::Detector;
+use crate::generation::SetKind;
 use crate::geometry::Aabb;
 use crate::tolerance::Tolerance;
 
@@ -35,9 +40,8 @@ pub struct BodyShape {
     /// Whether `hull_excess` is beyond the tolerance: more than the length threshold times
     /// the hull's surface area.
     pub non_convex: bool,
-    /// The area over which two of its parts touch face to face without glue (a real face
-    /// inside the body), summed over the pairs of parts whose unglued area is beyond the
-    /// tolerance (more than the length threshold times the perimeter of their contact).
+    /// The area over which two of its parts touch face to face on a real face (module docs:
+    /// joint faces on both sides, or no glue), summed over the pairs of parts.
     pub crack_area: f64,
 }
 
@@ -125,10 +129,11 @@ impl BlockSystem {
             let (PairResult::Contact(c), Some(g)) = det.detect_with_geometry(a, b) else {
                 continue;
             };
-            if !matches!(
-                (c.feature_a, c.feature_b),
-                (Feature::Face(_), Feature::Face(_))
-            ) {
+            let (Feature::Face(fa), Feature::Face(fb)) = (c.feature_a, c.feature_b) else {
+                continue;
+            };
+            if self.is_rock_joint(a, fa) && self.is_rock_joint(b, fb) {
+                cracks[index_of(body)] += g.area();
                 continue;
             }
             let pair = [i.min(j), i.max(j)];
@@ -147,6 +152,20 @@ impl BlockSystem {
             if unglued > length * perimeter {
                 cracks[index_of(body)] += unglued;
             }
+        }
+    }
+}
+
+impl BlockSystem {
+    /// Whether face `face` of `block` lies on a joint of the rock (a plane, set, disc or
+    /// polygon of the spec), not on an excavation's cut or a rock bridge.
+    fn is_rock_joint(&self, block: &ConvexBlock, face: u32) -> bool {
+        match block.face_origins()[face as usize] {
+            FaceOrigin::Joint { set, .. } => self
+                .sets
+                .get(set as usize)
+                .is_some_and(|r| r.kind != SetKind::Excavation),
+            _ => false,
         }
     }
 }
@@ -324,5 +343,43 @@ mod tests {
         assert!((shapes[0].crack_area - 1.0).abs() < 1e-9, "{:?}", shapes[0]);
         assert!(shapes[0].cracked() && !shapes[0].non_convex && shapes[0].concave());
         assert!(!shapes[1].concave());
+    }
+
+    #[test]
+    fn concave_shapes_find_a_crack_on_glued_joint_faces() {
+        // The box of the test above, generated as by a polygonal joint with a bridge on the
+        // plane z = 1: the floor's top face and the right cube's bottom face are joint faces
+        // (the crack, x in [1, 2]: area 1), the left cube's bottom face a bridge face. All
+        // three are glued (with_bodies glues every face-face contact of a body), yet the
+        // joint is a real face inside the body; not so for an excavation's cut.
+        let tol = Tolerance::default();
+        let on_plane = |block: ConvexBlock, up: bool, origin: FaceOrigin| {
+            let mut origins = block.face_origins().to_vec();
+            let z = if up { 1.0 } else { -1.0 };
+            let face = block.planes().iter().position(|p| p.normal.z == z).unwrap();
+            origins[face] = origin;
+            block.with_face_origins(origins).unwrap()
+        };
+        let joint = FaceOrigin::Joint { set: 0, joint: 0 };
+        let bridge = FaceOrigin::Bridge { set: 0, joint: 0 };
+        let parts = vec![
+            on_plane(cuboid([0.0, 0.0, 0.0], [2.0, 1.0, 1.0]), true, joint),
+            on_plane(cuboid([0.0, 0.0, 1.0], [1.0, 1.0, 2.0]), false, bridge),
+            on_plane(cuboid([1.0, 0.0, 1.0], [2.0, 1.0, 2.0]), false, joint),
+        ];
+        let record = |kind| crate::generation::SetRecord {
+            name: "J".to_string(),
+            kind,
+        };
+        for (kind, crack) in [(SetKind::Polygon, 1.0), (SetKind::Excavation, 0.0)] {
+            let system =
+                BlockSystem::with_provenance(parts.clone(), vec![], vec![], vec![record(kind)])
+                    .with_bodies(vec![0, 0, 0], &tol)
+                    .unwrap();
+            assert_eq!(system.internal_faces().len(), 3);
+            let s = system.body_shapes(&tol).unwrap()[0];
+            assert!((s.crack_area - crack).abs() < 1e-9, "{kind:?}: {s:?}");
+            assert!(!s.non_convex);
+        }
     }
 }
