@@ -26,7 +26,7 @@ use crate::block::ConvexBlock;
 use crate::classify::{contact_type, Contact, ContactType, Feature, PairResult};
 use crate::contact::Detector;
 use crate::contact_geometry::ContactPoints;
-use crate::geometry::DVec3;
+use crate::geometry::{Aabb, DVec3};
 use crate::tolerance::Tolerance;
 use rayon::prelude::*;
 use std::ops::ControlFlow;
@@ -524,8 +524,11 @@ impl BlockSystem {
                         planes.len() - 1
                     }
                 };
+                // A point held by one face of the plane needs no other.
                 for (held, &x) in holds[k].iter_mut().zip(points) {
-                    *held |= in_face(block, f, x, length);
+                    if !*held {
+                        *held = in_face(block, f, x, length);
+                    }
                 }
             }
         }
@@ -627,6 +630,16 @@ fn group(pieces: &[&Piece]) -> Vec<Vec<usize>> {
         let (a, b) = (find(root, a), find(root, b));
         root[a.max(b)] = a.min(b);
     };
+    // The boxes of the pieces' points: two pieces touch only if their boxes, widened by
+    // the length threshold, overlap (most pairs of pieces of two large bodies do not).
+    let boxes: Vec<Aabb> = pieces
+        .iter()
+        .map(|p| Aabb::of_points(p.points.as_slice()))
+        .collect();
+    let near = |a: usize, b: usize| {
+        boxes[a].overlaps(&boxes[b], pieces[a].length.max(pieces[b].length))
+            && touch(pieces[a], pieces[b])
+    };
     for a in 0..n {
         for b in a + 1..n {
             let (p, q) = (pieces[a], pieces[b]);
@@ -635,7 +648,7 @@ fn group(pieces: &[&Piece]) -> Vec<Vec<usize>> {
                 && p.normal.cross(q.normal).length() <= PARALLEL_SINE
                 && p.normal.dot(q.normal) > 0.0;
             let both_pointlike = !bears_face(p) && !bears_face(q);
-            if (same_plane || both_pointlike) && touch(p, q) {
+            if (same_plane || both_pointlike) && near(a, b) {
                 join(&mut root, a, b);
             }
         }
@@ -646,9 +659,7 @@ fn group(pieces: &[&Piece]) -> Vec<Vec<usize>> {
             continue;
         }
         let members: Vec<usize> = (0..n).filter(|&k| find(&mut root, k) == a).collect();
-        let host = (0..n).find(|&b| {
-            bears_face(pieces[b]) && members.iter().any(|&k| touch(pieces[k], pieces[b]))
-        });
+        let host = (0..n).find(|&b| bears_face(pieces[b]) && members.iter().any(|&k| near(k, b)));
         if let Some(b) = host {
             join(&mut root, a, b);
         }
