@@ -502,7 +502,10 @@ impl BlockSystem {
         marks: &FaceMarks,
     ) -> Vec<DVec3> {
         let mut planes: Vec<crate::geometry::Plane> = Vec::new();
-        let mut holds: Vec<Vec<bool>> = Vec::new();
+        // Per plane found, per point, whether a face of the plane holds it (one array,
+        // `points.len()` per plane).
+        let mut holds: Vec<bool> = Vec::new();
+        let m = points.len();
         for &part in parts {
             let block = &self.blocks()[part as usize];
             for (f, plane) in block.planes().iter().enumerate() {
@@ -520,12 +523,12 @@ impl BlockSystem {
                     Some(k) => k,
                     None => {
                         planes.push(*plane);
-                        holds.push(vec![false; points.len()]);
+                        holds.resize(holds.len() + m, false);
                         planes.len() - 1
                     }
                 };
                 // A point held by one face of the plane needs no other.
-                for (held, &x) in holds[k].iter_mut().zip(points) {
+                for (held, &x) in holds[k * m..(k + 1) * m].iter_mut().zip(points) {
                     if !*held {
                         *held = in_face(block, f, x, length);
                     }
@@ -534,7 +537,7 @@ impl BlockSystem {
         }
         planes
             .iter()
-            .zip(&holds)
+            .zip(holds.chunks(m.max(1)))
             .filter(|(_, h)| h.iter().all(|&x| x))
             .map(|(p, _)| p.normal)
             .collect()
@@ -618,6 +621,9 @@ fn bears_face(p: &Piece) -> bool {
 /// group in piece order, groups by their first piece.
 fn group(pieces: &[&Piece]) -> Vec<Vec<usize>> {
     let n = pieces.len();
+    if n == 1 {
+        return vec![vec![0]];
+    }
     let mut root: Vec<usize> = (0..n).collect();
     fn find(root: &mut [usize], mut k: usize) -> usize {
         while root[k] != k {
