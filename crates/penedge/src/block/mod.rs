@@ -16,6 +16,7 @@ mod pose;
 mod stored;
 pub(crate) use assemble::BlockParts;
 pub(crate) use clearance::Clearance;
+pub(crate) use hull::hull_volume_and_area;
 
 pub use error::BlockError;
 pub use origin::FaceOrigin;
