@@ -27,9 +27,14 @@ fn rock() -> Spec {
 /// the middle lower block: it reaches x = 15 ± 3 cos 30° and y = 5 ± 3, inside the block,
 /// whose section by its plane spans x = 10..20 (z = 5 ∓ 5 tan 30°, inside the block).
 fn square_joint() -> Discontinuity {
+    square_joint_at(15.0)
+}
+
+/// The square joint through `(x, 5, 5 + (x - 15) tan 30°)`, on the same plane.
+fn square_joint_at(x: f64) -> Discontinuity {
     let t = 30f64.to_radians();
     let (u, w) = (DVec3::new(t.cos(), 0.0, t.sin()), DVec3::Y);
-    let centre = DVec3::new(15.0, 5.0, 5.0);
+    let centre = DVec3::new(x, 5.0, 5.0 + (x - 15.0) * t.tan());
     let vertices = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
         .iter()
         .map(|&(s, r)| (centre + u * (3.0 * s) + w * (3.0 * r)).to_array())
@@ -137,6 +142,45 @@ fn the_detection_sees_the_block_as_without_the_joint() {
     let found = with.detect_bodies(&Tolerance::default());
     assert!(found.contacts.iter().all(|c| c.bodies[0] < c.bodies[1]));
     assert!(found.penetrating.is_empty());
+}
+
+#[test]
+fn a_crack_open_to_a_neighbour_leaves_their_contact_whole() {
+    // Centred at x = 18, the joint reaches x = 15.40..20.60: it ends inside the middle block
+    // and inside the right one, both cut through, its mouth a line across the face they
+    // share (x = 20). Their contact is still one face-face region of 10 × 10, made of the
+    // pieces of both sides of the crack.
+    let with = generate(&rock().with(square_joint_at(18.0)))
+        .unwrap()
+        .system;
+    assert_eq!(with.body_parts().len(), 6);
+    assert!(
+        with.body_parts()
+            .iter()
+            .filter(|(_, p)| p.len() > 1)
+            .count()
+            == 2
+    );
+    let without = generate(&rock()).unwrap().system;
+    let (got, reference) = (named_contacts(&with), named_contacts(&without));
+    assert_eq!(got.len(), reference.len(), "{got:?}\nvs\n{reference:?}");
+    for (g, r) in got.iter().zip(&reference) {
+        assert_eq!((g.0, g.1, g.2), (r.0, r.1, r.2));
+        assert!((g.3 - r.3).abs() < 1e-9, "{g:?} vs {r:?}");
+    }
+    let shared = [[15000, 5000, 5000], [25000, 5000, 5000]];
+    let c = got.iter().find(|c| c.0 == shared).unwrap();
+    assert_eq!(c.2, ContactType::FaceFace);
+    assert!((c.3 - 100.0).abs() < 1e-9, "{c:?}");
+    let found = with.detect_bodies(&Tolerance::default());
+    let pieces = |k: usize| found.piece_offsets[k + 1] - found.piece_offsets[k];
+    let k = (0..found.contacts.len())
+        .max_by_key(|&k| pieces(k))
+        .unwrap();
+    assert!(
+        pieces(k) >= 4,
+        "the shared face's region is made of several pieces"
+    );
 }
 
 #[test]
