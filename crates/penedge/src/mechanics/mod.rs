@@ -1151,7 +1151,7 @@ impl Simulation {
         };
         let found: Vec<&Found> = self
             .memo
-            .iter()
+            .par_iter()
             .filter_map(|m| m.found.as_deref())
             .collect();
         // Each contact's sub-contacts (and, in a run with an initial stress, their installed
@@ -1159,7 +1159,8 @@ impl Simulation {
         let counts = counts_and_previous(&self.contacts, &found);
         let total: usize = counts.iter().map(|&(n, _)| n as usize).sum();
         let keep_stress = self.initial_stress.is_some() || !self.contacts.prestresses.is_empty();
-        let mut subs = vec![SubContact::default(); total];
+        let mut subs = Vec::with_capacity(total);
+        subs.par_extend(rayon::iter::repeat_n(SubContact::default(), total));
         let mut prestresses = vec![0.0; if keep_stress { total } else { 0 }];
         let mut slices = Vec::with_capacity(found.len());
         let (mut rest, mut rest_p) = (subs.as_mut_slice(), prestresses.as_mut_slice());
