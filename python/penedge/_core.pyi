@@ -110,7 +110,7 @@ class _Statistics(TypedDict):
 
 class _SetRecord(TypedDict):
     name: str
-    kind: Literal["plane", "set", "disc", "polygon"]
+    kind: Literal["plane", "set", "disc", "polygon", "excavation"]
 
 @final
 class Block:
@@ -242,6 +242,8 @@ class Simulation:
         point_width: float = 0.2,
     ) -> Self: ...
     def __len__(self) -> int: ...
+    @property
+    def block_bodies(self) -> npt.NDArray[np.int64]: ...
     def set_joint(
         self,
         kn: float,

@@ -69,7 +69,9 @@ def test_every_example_reads_and_checks():
         "slope_excavation.toml",
         "slope_planar.toml",
         "slope_step_path.toml",
+        "tunnel_concave.toml",
         "tunnel_roof_bolt.toml",
+        "tunnel_support.toml",
         "wedge_dry.toml",
         "wedge_water.toml",
     ]

@@ -250,11 +250,16 @@ def check_summary(path: Path, setup: Any) -> dict[str, Any]:
         "model": str(path),
         "title": setup.model.title,
         "blocks": len(setup.system),
+        "bodies": len(set(setup.system.body_ids.tolist())),
         "fixed": int(layout.fixed.sum()),
         "driven": int(layout.driven.sum()),
         "free": int((~layout.fixed & ~layout.driven).sum()),
         "sets": setup.model.set_names,
         "monitors": layout.monitors,
+        "supports": [
+            {"name": s.name, "pressure": s.pressure, "area": area}
+            for s, area in zip(setup.model.support, layout.support_areas, strict=True)
+        ],
         "stages": [f"{s.name} {s.kind}" for s in setup.model.stages],
         "not_supported": [f"{field}: {message}" for field, message in unsupported(setup.model)],
     }
@@ -271,6 +276,9 @@ def format_check(summary: dict[str, Any]) -> str:
     if summary["monitors"]:
         monitors = ", ".join(f"{k} (block {v})" for k, v in summary["monitors"].items())
         lines.append(row("monitors", monitors))
+    for support in summary.get("supports", []):
+        pushed = f"{support['pressure']:g} Pa on {support['area']:.4g} m² of free faces"
+        lines.append(row("support", f"{support['name']}: {pushed}"))
     for note in summary["not_supported"]:
         lines.append(row("cannot run yet", note))
     return "\n".join(lines)
@@ -278,7 +286,9 @@ def format_check(summary: dict[str, Any]) -> str:
 
 def blocks_text(summary: dict[str, Any]) -> str:
     driven = f", {summary['driven']} driven" if summary.get("driven") else ""
-    return f"{summary['blocks']} ({summary['fixed']} fixed{driven}, {summary['free']} free)"
+    bodies = summary.get("bodies", summary["blocks"])
+    parts = f" in {bodies} bodies" if bodies != summary["blocks"] else ""  # concave blocks
+    return f"{summary['blocks']}{parts} ({summary['fixed']} fixed{driven}, {summary['free']} free)"
 
 
 def run_summary(
@@ -479,7 +489,11 @@ def without_excavated(engine: Any, system: Any, displacement: Any) -> tuple[Any,
     if not removed.any() or len(blocks) != len(removed):
         return system, displacement
     keep = [b for b, gone in zip(blocks, removed, strict=True) if not gone]
-    return penedge.BlockSystem(keep), displacement[~removed]
+    present = penedge.BlockSystem(keep)
+    bodies = system.body_ids[~removed]
+    if len(set(bodies.tolist())) < len(keep):  # concave blocks (removed whole), drawn as one
+        present = present.with_bodies(bodies.tolist())
+    return present, displacement[~removed]
 
 
 def write_summary_json(folder: Path, summary: dict[str, Any]) -> None:

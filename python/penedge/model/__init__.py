@@ -148,7 +148,7 @@ def prepare(source: str | Path | Mapping[str, Any] | Model, progress: Any = None
 
     blocks = Blocks.of(system)
     layout = resolve(model, blocks)
-    check_excavations(model, layout.regions)
+    check_excavations(model, layout.regions, layout.bodies)
     return Setup(model, system, report, blocks, layout)
 
 

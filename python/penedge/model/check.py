@@ -21,6 +21,33 @@ from penedge.model.schema import FACE_DIRECTIONS, Model, Region
 FACE_ANGLE_DEGREES = 1.0
 
 BOUNDARY_FACE = 1
+JOINT_FACE = 2
+
+#: Two areas agree when they differ by less than this fraction of the larger (a glue
+#: region that is a whole part face).
+AREA_MATCH = 1e-6
+
+
+def polygons(
+    corners: np.ndarray, loops: np.ndarray, normals: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Areas and centroids of planar polygons: polygon `i` is the loop of `corners`
+    `loops[i]:loops[i + 1]` with unit normal `normals[i]` (a fan from its first corner)."""
+    counts = np.diff(loops)
+    corner_face = np.repeat(np.arange(len(counts)), counts)
+    start = corners[loops[:-1]][corner_face]
+    nxt = np.roll(np.arange(len(corners)), -1)
+    nxt[loops[1:] - 1] = loops[:-1]
+    a_, b_ = corners, corners[nxt]
+    cross = np.cross(a_ - start, b_ - start)
+    tri_area = 0.5 * np.einsum("ij,ij->i", cross, normals[corner_face])
+    areas = np.bincount(corner_face, tri_area, len(counts))
+    weighted = (start + a_ + b_) / 3.0 * tri_area[:, None]
+    centroid = np.stack(
+        [np.bincount(corner_face, weighted[:, k], len(counts)) for k in range(3)], axis=1
+    )
+    centroid /= np.where(areas != 0, areas, 1.0)[:, None]
+    return areas, centroid
 
 
 @dataclass
@@ -39,6 +66,12 @@ class Blocks:
     face_index: np.ndarray  # (faces,) domain face, or joint
     domain_normals: list[np.ndarray]  # per domain part: (faces, 3) outward normals
     size: float  # the diagonal of the blocks' bounding box
+    bodies: np.ndarray | None = None  # (n,) the body id of each block (concave blocks)
+    sets: list[dict[str, str]] = field(default_factory=list)  # the spec entries (name, kind)
+    glue_faces: np.ndarray | None = None  # (m, 2) the two faces of each internal face
+    glue_areas: np.ndarray | None = None  # (m,) its area
+    system: Any = None  # the penedge.BlockSystem (contact detection, for bare joint faces)
+    bare: BareFaces | None = None  # the joint faces an excavation left bare (bare_faces)
 
     @classmethod
     def of(cls, system: Any) -> Blocks:
@@ -48,25 +81,14 @@ class Blocks:
         loops = np.asarray(a.loop_offsets)
         fv = np.asarray(a.face_vertices)
         face_block = np.asarray(a.face_block)
-        counts = np.diff(loops)
-        corner_face = np.repeat(np.arange(len(counts)), counts)
         corners = vertices[fv]  # face_vertices index the system's vertex array
-        # polygon area and centroid by a fan from the first corner of each face
-        start = corners[loops[:-1]][corner_face]
-        nxt = np.roll(np.arange(len(fv)), -1)
-        nxt[loops[1:] - 1] = loops[:-1]
-        a_, b_ = corners, corners[nxt]
-        cross = np.cross(a_ - start, b_ - start)
         normals = np.asarray(a.face_normals)
-        tri_area = 0.5 * np.einsum("ij,ij->i", cross, normals[corner_face])
-        areas = np.bincount(corner_face, tri_area, len(counts))
-        tri_centroid = (start + a_ + b_) / 3.0
-        weighted = tri_centroid * tri_area[:, None]
-        centroid = np.stack(
-            [np.bincount(corner_face, weighted[:, k], len(counts)) for k in range(3)], axis=1
-        )
-        centroid /= np.where(areas > 0, areas, 1.0)[:, None]
+        areas, centroid = polygons(corners, loops, normals)
         lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+        glue = system.internal_faces()
+        first_face = np.asarray(a.face_offsets)[:-1]
+        glue_faces = first_face[np.asarray(glue["parts"], dtype=np.int64).reshape(-1, 2)]
+        glue_faces += np.asarray(glue["faces"], dtype=np.int64).reshape(-1, 2)
         return cls(
             centroids=np.asarray(a.centroids),
             volumes=np.asarray(a.volumes),
@@ -80,6 +102,11 @@ class Blocks:
             face_index=np.asarray(a.face_origin_index),
             domain_normals=[np.asarray(part.face_normals) for part in system.domain],
             size=float(np.linalg.norm(hi - lo)),
+            bodies=np.asarray(system.body_ids, dtype=np.int64),
+            sets=[dict(entry) for entry in system.sets],
+            glue_faces=glue_faces,
+            glue_areas=np.asarray(glue["areas"], dtype=float),
+            system=system,
         )
 
     def __len__(self) -> int:
@@ -181,7 +208,9 @@ class Layout:
     bolts: list[tuple[int, int]] = field(default_factory=list)  # block at the collar, at the end
     support_forces: np.ndarray | None = None  # (n, 3) force of the support pressures (N)
     support_moments: np.ndarray | None = None  # (n, 3) their moment about the centroid (N m)
+    support_areas: list[float] = field(default_factory=list)  # per support: area pushed (m²)
     regions: dict[str, np.ndarray] = field(default_factory=dict)  # name -> mask
+    bodies: np.ndarray | None = None  # (n,) body id per block; a concave block's parts share one
 
     @property
     def driven(self) -> np.ndarray:
@@ -196,11 +225,54 @@ def region_path(model: Model, name: str) -> str:
     )
 
 
+def whole_bodies(mask: np.ndarray, bodies: np.ndarray | None) -> np.ndarray:
+    """`mask` grown to every part of each body it touches: the blocks of the bodies (body id
+    per block, `bodies`; None: every block is its own body) that have a block in `mask`."""
+    if bodies is None:
+        return mask
+    return np.isin(bodies, bodies[mask])
+
+
+def partial_body(mask: np.ndarray, bodies: np.ndarray | None) -> str | None:
+    """Why `mask` cannot be excavated when it holds some parts of a concave block and not
+    the others (the first such body; None when it holds whole bodies only)."""
+    if bodies is None:
+        return None
+    inside = np.isin(bodies, bodies[mask])
+    split = np.flatnonzero(inside & ~mask)
+    if len(split) == 0:
+        return None
+    body = bodies[split[0]]
+    parts = np.flatnonzero(bodies == body)
+    taken = parts[mask[parts]]
+    left = parts[~mask[parts]]
+    return (
+        f"the region holds blocks {block_list(taken)} but not blocks {block_list(left)} of "
+        f"one concave block (body {int(body)}): a concave block is one rigid body and is "
+        "excavated whole or not at all; make the region take all its parts (a region takes a "
+        "block when its centroid is inside) or none"
+    )
+
+
+def block_list(ids: np.ndarray) -> str:
+    """Block ids as ``1, 4, 7`` (the first 10, then how many more)."""
+    shown = ", ".join(map(str, ids[:10].tolist()))
+    return shown if len(ids) <= 10 else f"{shown} and {len(ids) - 10} more"
+
+
 def apply_boundary(
-    fixed: np.ndarray, velocities: np.ndarray, mask: np.ndarray, condition: str, velocity: Any
+    fixed: np.ndarray,
+    velocities: np.ndarray,
+    mask: np.ndarray,
+    condition: str,
+    velocity: Any,
+    bodies: np.ndarray | None = None,
 ) -> None:
     """One boundary condition on the blocks of `mask` (later conditions win): updates the
-    `fixed` mask and the prescribed `velocities` (NaN: none) in place."""
+    `fixed` mask and the prescribed `velocities` (NaN: none) in place. With `bodies` (the
+    body id of each block), on whole bodies: a concave block is one rigid body, so a
+    condition on one of its parts holds all of them (docs/models.md, "Concave blocks")."""
+    mask = whole_bodies(mask, bodies)
     fixed[mask] = condition == "fixed"
     velocities[mask] = np.nan
     if condition == "velocity":
@@ -228,9 +300,11 @@ def resolve(model: Model, blocks: Blocks) -> Layout:
         velocity=np.full((n, 3), np.nan),
         monitors={},
         regions=masks,
+        bodies=blocks.bodies,
     )
     for b in model.boundary:
-        apply_boundary(layout.fixed, layout.velocity, masks[b.region], b.condition, b.velocity)
+        mask = masks[b.region]
+        apply_boundary(layout.fixed, layout.velocity, mask, b.condition, b.velocity, blocks.bodies)
     held = layout.fixed | layout.driven
     if not held.any():
         raise ModelError(
@@ -266,26 +340,226 @@ def resolve(model: Model, blocks: Blocks) -> Layout:
         moments = np.zeros((n, 3))
         for i, s in enumerate(model.support):
             path = f"support[{i}]"
-            faces = blocks.face_kind == BOUNDARY_FACE
+            faces, entries = support_faces(blocks, s.face, f"{path}.face")
             faces &= masks[s.region][blocks.face_block]
-            if s.face is not None:
-                part = 0
-                faces &= on_domain_faces(
-                    blocks, domain_faces(blocks, s.face, part, f"{path}.face"), part
-                )
-            if not faces.any():
+            bare = bare_faces(blocks, model.spec.get("excavations", [])) if entries else None
+            if bare is not None:
+                taken = masks[s.region][blocks.face_block[bare.faces]]
+                bare = bare.subset(taken & np.isin(bare.entries, entries))
+            if not faces.any() and (bare is None or len(bare.faces) == 0):
                 raise ModelError(
-                    path, "the region has no free face (a face of the domain's boundary) to push on"
+                    path,
+                    "the region has no free face (a face of the domain's boundary or of an "
+                    "excavation's wall) to push on",
                 )
-            f = -s.pressure * blocks.face_areas[faces, None] * blocks.face_normals[faces]
-            arm = blocks.face_centroids[faces] - blocks.centroids[blocks.face_block[faces]]
-            for k in range(3):
-                forces[:, k] += np.bincount(blocks.face_block[faces], f[:, k], n)
-            m = np.cross(arm, f)
-            for k in range(3):
-                moments[:, k] += np.bincount(blocks.face_block[faces], m[:, k], n)
+            area = pressure_load(blocks, faces, s.pressure, forces, moments, path, bare)
+            layout.support_areas.append(area)
         layout.support_forces, layout.support_moments = forces, moments
     return layout
+
+
+def excavation_entries(blocks: Blocks) -> np.ndarray:
+    """The spec entries (indices into ``BlockSystem.sets``) that are excavations, in the
+    order of the generation's ``[[excavations]]``."""
+    return np.asarray(
+        [i for i, entry in enumerate(blocks.sets) if entry.get("kind") == "excavation"],
+        dtype=np.int64,
+    )
+
+
+def wall_faces(blocks: Blocks, entries: np.ndarray) -> np.ndarray:
+    """A mask of the block faces made by the excavation entries `entries` (its walls, and
+    the glue between the parts of the concave blocks it cut)."""
+    return (blocks.face_kind == JOINT_FACE) & np.isin(blocks.face_set, entries)
+
+
+def support_faces(
+    blocks: Blocks, face: str | int | None, path: str
+) -> tuple[np.ndarray, list[int]]:
+    """The faces a support may push on: a mask of faces, and the excavation entries
+    (indices into ``BlockSystem.sets``; -1: bared by none known) whose bare joint faces it
+    takes too (:func:`bare_faces`). Every free face (the domain's boundary, the
+    excavations' walls and every bare joint face) when `face` is None; the faces on a
+    domain face (a name such as ``top``, or an index); or the walls of an excavation (its
+    name, or ``excavations[i]``, the i-th ``[[excavations]]`` entry)."""
+    entries = excavation_entries(blocks)
+    if face is None:
+        walls = (blocks.face_kind == BOUNDARY_FACE) | wall_faces(blocks, entries)
+        return walls, [*entries.tolist(), -1]
+    if isinstance(face, int) or face in FACE_DIRECTIONS:
+        part = 0
+        return on_domain_faces(blocks, domain_faces(blocks, face, part, path), part), []
+    names = [str(blocks.sets[e].get("name")) for e in entries]
+    chosen = [int(e) for e, name in zip(entries, names, strict=True) if name == face]
+    chosen += [int(e) for k, e in enumerate(entries) if face == f"excavations[{k}]"]
+    if not chosen:
+        known = ", ".join(repr(name) for name in names) if names else "none"
+        raise ModelError(
+            path,
+            f"no domain face or excavation named {face!r} (domain faces: "
+            f"{', '.join(FACE_DIRECTIONS)}, or an index; excavations: {known}, or "
+            "excavations[i])",
+        )
+    return wall_faces(blocks, np.asarray(chosen, dtype=np.int64)), chosen
+
+
+@dataclass
+class BareFaces:
+    """Joint faces with a part that touches no other block (an excavation took the rock
+    beyond): the bare part's area and centroid, and the excavation that bared it."""
+
+    faces: np.ndarray  # (k,) face indices
+    areas: np.ndarray  # (k,) the bare part's area
+    centroids: np.ndarray  # (k, 3) its centroid
+    entries: np.ndarray  # (k,) the excavation entry (index into sets) beyond it; -1 none
+
+    def subset(self, mask: np.ndarray) -> BareFaces:
+        return BareFaces(
+            self.faces[mask], self.areas[mask], self.centroids[mask], self.entries[mask]
+        )
+
+
+def near_any(points: np.ndarray, others: np.ndarray, distance: float) -> np.ndarray:
+    """Per point, whether some point of `others` lies within `distance` (in chunks, so
+    that the distance table stays small)."""
+    out = np.zeros(len(points), bool)
+    if len(others) == 0:
+        return out
+    for start in range(0, len(points), 1024):
+        chunk = points[start : start + 1024]
+        gaps = np.linalg.norm(chunk[:, None, :] - others[None, :, :], axis=2)
+        out[start : start + 1024] = (gaps <= distance).any(axis=1)
+    return out
+
+
+def bare_faces(blocks: Blocks, excavations: list[dict[str, Any]]) -> BareFaces:
+    """The joint faces an excavation left bare, wholly or in part (a face of a block whose
+    neighbour across the joint was inside the excavation keeps the joint's origin).
+
+    A face's covered part is the sum of the face-face contacts on it (contact detection
+    with geometry; the parts of a concave block touch along their glue, which counts); the
+    rest, when more than ``AREA_MATCH`` of the face, is bare, with its centroid by
+    subtraction. Which excavation bared it: the one that removes a small probe cube just
+    beyond the bare part's centroid (``BlockSystem.excavate`` on the probes, each entry of
+    `excavations`, the spec's ``[[excavations]]``, in turn)."""
+    import penedge
+
+    if blocks.bare is not None:  # found once, for every support
+        return blocks.bare
+    n_faces = len(blocks.face_areas)
+    entries = excavation_entries(blocks)
+    joint = (blocks.face_kind == JOINT_FACE) & ~np.isin(blocks.face_set, entries)
+    empty = BareFaces(np.zeros(0, np.int64), np.zeros(0), np.zeros((0, 3)), np.zeros(0, np.int64))
+    if blocks.system is None or not joint.any():
+        return empty
+    contacts = blocks.system.detect(geometry=True)
+    kinds = np.asarray(contacts.feature_kinds).reshape(-1, 2)
+    areas = np.asarray(contacts.areas)
+    rows = np.flatnonzero((kinds == 2).all(axis=1) & (areas > 0))
+    first_face = np.searchsorted(blocks.face_block, np.arange(len(blocks)))
+    pairs = np.asarray(contacts.pairs).reshape(-1, 2)[rows]
+    faces = first_face[pairs] + np.asarray(contacts.feature_ids).reshape(-1, 2)[rows]
+    offsets = np.asarray(contacts.point_offsets)
+    counts = np.diff(offsets)[rows]
+    loops = np.concatenate([[0], np.cumsum(counts)])
+    within = np.arange(loops[-1]) - np.repeat(loops[:-1], counts)  # corner of its polygon
+    points = np.asarray(contacts.points)[np.repeat(offsets[:-1][rows], counts) + within]
+    _, centroids = polygons(points, loops, np.asarray(contacts.normals)[rows])
+    covered = np.zeros(n_faces)
+    moment = np.zeros((n_faces, 3))
+    for side in (0, 1):
+        covered += np.bincount(faces[:, side], areas[rows], n_faces)
+        for k in range(3):
+            moment[:, k] += np.bincount(faces[:, side], areas[rows] * centroids[:, k], n_faces)
+    bare_area = blocks.face_areas - covered
+    bare = np.flatnonzero(joint & (bare_area > AREA_MATCH * blocks.face_areas))
+    area = bare_area[bare]
+    whole = blocks.face_areas[bare, None] * blocks.face_centroids[bare]
+    centroid = (whole - moment[bare]) / area[:, None]
+    found = BareFaces(bare, area, centroid, np.full(len(bare), -1, np.int64))
+    if len(bare):
+        step = 1e-4 * blocks.size
+        probes = centroid + 4 * step * blocks.face_normals[bare]
+        cubes = [penedge.Block.cuboid(p - step, p + step) for p in probes]
+        probe = penedge.BlockSystem(cubes)
+        for k, excavation in enumerate(excavations[: len(entries)]):
+            try:
+                left, _ = probe.excavate(excavation)
+                kept = np.asarray(left.centroids).reshape(-1, 3)
+            except penedge.PenedgeError:
+                continue  # removes none of the probes
+            removed = ~near_any(probes, kept, step)
+            found.entries[removed & (found.entries < 0)] = entries[k]
+    blocks.bare = found
+    return found
+
+
+def pressure_load(
+    blocks: Blocks,
+    faces: np.ndarray,
+    pressure: float,
+    forces: np.ndarray,
+    moments: np.ndarray,
+    path: str,
+    bare: BareFaces | None = None,
+) -> float:
+    """Adds to `forces` and `moments` (per block, about its centroid) the pressure on the
+    free part of the faces of `faces`, pushing into the rock; the area pushed on (the
+    faces' areas less their glue).
+
+    A part face of a concave block may be glued, wholly or in part, to another part of its
+    body (an internal face, docs/concave-blocks.md). Where both sides of a glue are
+    pushed on, their pressures cancel in the body's sum (equal areas, opposite normals,
+    one centroid), so the whole faces are taken. Where one side only is (a region that
+    takes some parts of a concave block), the glue's pressure is taken off that side, at
+    the centroid of the glue: the centroid of the face that is glue all over.
+    """
+    n = len(blocks)
+    block = blocks.face_block[faces]
+    f = -pressure * blocks.face_areas[faces, None] * blocks.face_normals[faces]
+    at = blocks.face_centroids[faces]
+    pushed = float(blocks.face_areas[faces].sum())
+    if bare is not None and len(bare.faces):  # the bare part of joint faces
+        block = np.concatenate([block, blocks.face_block[bare.faces]])
+        normals = blocks.face_normals[bare.faces]
+        f = np.concatenate([f, -pressure * bare.areas[:, None] * normals])
+        at = np.concatenate([at, bare.centroids])
+        pushed += float(bare.areas.sum())
+    if blocks.glue_faces is not None and len(blocks.glue_faces):
+        sides = faces[blocks.glue_faces]
+        pushed -= float(sides.sum(axis=1) @ blocks.glue_areas)
+        rows = np.flatnonzero(sides[:, 0] != sides[:, 1])
+        if len(rows):
+            own = np.where(sides[rows, 0], 0, 1)
+            mine = blocks.glue_faces[rows, own]
+            other = blocks.glue_faces[rows, 1 - own]
+            area = blocks.glue_areas[rows]
+            whole = [
+                np.abs(area - blocks.face_areas[g])
+                <= AREA_MATCH * np.maximum(area, blocks.face_areas[g])
+                for g in (other, mine)
+            ]
+            unknown = ~(whole[0] | whole[1])
+            if unknown.any():
+                k = int(np.flatnonzero(unknown)[0])
+                a, b = blocks.face_block[mine[k]], blocks.face_block[other[k]]
+                raise ModelError(
+                    path,
+                    f"the region takes block {a} but not block {b} of one concave block, and "
+                    "the pressure cannot tell which part of their glued face is free; make "
+                    "the region take all the parts of the concave block or none",
+                )
+            centroid = np.where(
+                whole[0][:, None], blocks.face_centroids[other], blocks.face_centroids[mine]
+            )
+            block = np.concatenate([block, blocks.face_block[mine]])
+            f = np.concatenate([f, pressure * area[:, None] * blocks.face_normals[mine]])
+            at = np.concatenate([at, centroid])
+    m = np.cross(at - blocks.centroids[block], f)
+    for k in range(3):
+        forces[:, k] += np.bincount(block, f[:, k], n)
+        moments[:, k] += np.bincount(block, m[:, k], n)
+    return pushed
 
 
 def bolt_blocks(blocks: Blocks, start: Any, end: Any, path: str) -> tuple[int, int]:

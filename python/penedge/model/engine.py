@@ -4,15 +4,23 @@ DEM of docs/mechanics.md): everything else (stages, factor of safety, outputs) t
 
 An :class:`Engine` is built from a checked :class:`~penedge.model.Setup`; it refuses, before
 any step, what the engine cannot do yet (:func:`unsupported`).
+
+The model speaks of blocks, the engine of bodies: a concave block (parts sharing a body id)
+is one rigid body of several blocks. The :class:`Engine` translates (docs/models.md,
+"Concave blocks"): its arguments and results go per block (a part gets its body's
+displacement, velocity and excavation state), the simulation's per body
+(``Simulation.block_bodies``). A model of convex blocks has one body per block, in order.
 """
 
 from __future__ import annotations
 
 import copy
+import re
 from typing import Any
 
 import numpy as np
 
+from penedge.model.check import block_list, partial_body
 from penedge.model.fields import ModelError
 from penedge.model.schema import JointProperties, Model, Water
 
@@ -108,13 +116,9 @@ class Engine:
         m = model.mechanics
         self.setup = setup
         self.sim = simulation(setup.system, density=m.density, gap=m.gap, point_width=m.point_width)
-        if len(self.sim) != len(setup.system):
-            # A concave block is one body of several blocks: the masks below go per block.
-            raise ModelError(
-                "blocks",
-                "concave blocks (blocks of several parts) are not supported yet by the "
-                "model's boundary conditions, which are set per block",
-            )
+        #: Per block, its body: the row of the simulation's arrays (the parts of a concave
+        #: block share one).
+        self.body = np.asarray(self.sim.block_bodies, dtype=np.int64)
         self.sim.gravity = list(model.gravity)
         self.sim.set_damping(local=m.damping)
         self.set_ids = {name: i for i, name in enumerate(model.set_names)}
@@ -134,14 +138,36 @@ class Engine:
         if stress is not None:
             self.sim.set_initial_stress(**stress)
 
+    @property
+    def concave(self) -> bool:
+        """Whether some body has several blocks (a concave block)."""
+        return len(self.sim) != len(self.body)
+
+    def per_body(self, values: np.ndarray) -> np.ndarray:
+        """Per-block rows (n, k) summed per body."""
+        values = np.asarray(values, dtype=float)
+        return np.stack(
+            [np.bincount(self.body, values[:, k], len(self.sim)) for k in range(values.shape[1])],
+            axis=1,
+        )
+
     def apply_support(self, forces: np.ndarray, moments: np.ndarray | None) -> None:
-        """The support pressures as constant forces on the blocks' centroids and, where
-        their resultant misses the centroid, constant moments about it."""
+        """The support pressures (per block: a force on its centroid and a moment about it)
+        as constant forces on the bodies' centroids and, where their resultant misses the
+        centroid, constant moments about it. A concave block takes the sum of its parts'
+        forces, and their moments about its own centroid: each part's moment plus its force's
+        moment about the body's centroid (the arm from there to the part's centroid)."""
+        forces = np.asarray(forces, dtype=float)
+        moments = np.zeros_like(forces) if moments is None else np.asarray(moments, dtype=float)
+        if self.concave:
+            arm = self.setup.blocks.centroids - self.positions()
+            arm[np.bincount(self.body)[self.body] == 1] = 0.0  # a convex block's own centroid
+            moments = moments + np.cross(arm, forces)
+            forces, moments = self.per_body(forces), self.per_body(moments)
         for i in np.flatnonzero(np.abs(forces).sum(axis=1)):
             self.sim.apply_force(int(i), forces[i].tolist())
-        if moments is not None:
-            for i in np.flatnonzero(np.abs(moments).sum(axis=1)):
-                self.sim.apply_moment(int(i), moments[i].tolist())
+        for i in np.flatnonzero(np.abs(moments).sum(axis=1)):
+            self.sim.apply_moment(int(i), moments[i].tolist())
 
     def apply_bolts(self, bolts: list[Any]) -> list[str]:
         """Installs the model's ``[[bolts]]`` (in order: bolt ``i`` is engine bolt ``i``);
@@ -161,8 +187,22 @@ class Engine:
                     shear_capacity=bolt.shear_capacity,
                 )
             except penedge.MechanicsError as e:
-                raise ModelError(f"bolts[{i}]", str(e)) from e
+                raise ModelError(f"bolts[{i}]", self.with_blocks(str(e))) from e
         return [bolt.name for bolt in bolts]
+
+    def with_blocks(self, message: str) -> str:
+        """An engine message that names a body (``(body 10)``: the engine's row) with the
+        blocks it is made of, the ids a model's user knows."""
+        found = re.search(r"\(body (\d+)\)", message)
+        if found is None:
+            return message
+        body = int(found[1])
+        blocks = np.flatnonzero(self.body == body)
+        if len(blocks) == 1:
+            what = f"block {blocks[0]}"
+        else:
+            what = f"the concave block made of blocks {block_list(blocks)}"
+        return message.replace(found[0], f"(body {body}: {what})")
 
     # --- set-up ---------------------------------------------------------------------
 
@@ -212,26 +252,38 @@ class Engine:
     UNBREAKABLE = 1e30
 
     def set_elastic(self, on: bool) -> None:
-        """With `on`, every joint and bridge model gets an unbreakable bond (cohesion and
-        tension :attr:`UNBREAKABLE`; friction and stiffness kept): a ``solve`` stage with
-        ``elastic = true`` reaches the initial equilibrium without the bonds failing under
-        the sudden load of gravity (3DEC's advice: equilibrium with high strength first). Off:
-        the model's properties again."""
+        """With `on`, every joint and bridge model **with a bond** (cohesion or tension > 0)
+        gets an unbreakable one (cohesion and tension :attr:`UNBREAKABLE`; friction and
+        stiffness kept): a ``solve`` stage with ``elastic = true`` reaches the initial
+        equilibrium without the bonds failing under the sudden load of gravity (3DEC's advice:
+        equilibrium with high strength first). A model without a bond keeps its strength: made
+        unbreakable, a joint of friction only (an open tension crack) would hold the blocks in
+        tension, an equilibrium the model does not have, released at once when the stage ends
+        (docs/mechanics.md, "Rock bridges"). Off: the model's properties again."""
         if not on:
             self.apply_properties(dict(self.properties))
             return
-        strong = {"cohesion": self.UNBREAKABLE, "tension": self.UNBREAKABLE}
-        self.sim.set_joint(**{**self.joint(self.default), **strong}, set=None)
+
+        def strong(props: JointProperties) -> dict[str, float]:
+            engine = self.joint(props)
+            if props.cohesion > 0 or props.tension > 0:
+                engine.update(cohesion=self.UNBREAKABLE, tension=self.UNBREAKABLE)
+            return engine
+
+        self.sim.set_joint(**strong(self.default), set=None)
         for name, props in self.properties.items():
-            self.sim.set_joint(**{**self.joint(props), **strong}, set=self.set_ids[name])
+            self.sim.set_joint(**strong(props), set=self.set_ids[name])
             bridge = self.setup.model.bridges.get(name)
             if bridge is not None:
-                self.sim.set_bridge(**{**self.joint(bridge), **strong}, set=self.set_ids[name])
+                self.sim.set_bridge(**strong(bridge), set=self.set_ids[name])
 
     def apply_boundary(self, fixed: np.ndarray, velocity: np.ndarray) -> None:
-        """Fixes, frees or drives every block as the masks say (excavated blocks stay
-        out)."""
-        present = ~self.removed()
+        """Fixes, frees or drives every body as the per-block masks say (excavated bodies
+        stay out). The parts of a concave block must be given one condition (the model's
+        conditions hold whole bodies: :func:`penedge.model.check.apply_boundary`); parts
+        that disagree are a :exc:`ModelError` naming the body and its blocks."""
+        fixed, velocity = self.body_conditions(np.asarray(fixed, bool), np.asarray(velocity))
+        present = ~np.asarray(self.sim.removed, dtype=bool)
         driven = ~np.isnan(velocity[:, 0]) & present
         fixed = fixed & present
         free = ~fixed & ~driven & present
@@ -241,6 +293,41 @@ class Engine:
             self.sim.free(np.flatnonzero(free).tolist())
         for i in np.flatnonzero(driven):
             self.sim.prescribe(int(i), velocity[i].tolist())
+
+    def body_conditions(
+        self, fixed: np.ndarray, velocity: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Per-block fixity and prescribed velocity (NaN: none) as per-body ones; an error
+        when the parts of one body disagree."""
+        if not self.concave:
+            return fixed, velocity
+        first = np.full(len(self.sim), len(self.body))
+        np.minimum.at(first, self.body, np.arange(len(self.body)))
+        same_fixed = fixed == fixed[first][self.body]
+        theirs = velocity[first][self.body]
+        same_velocity = ((velocity == theirs) | (np.isnan(velocity) & np.isnan(theirs))).all(1)
+        wrong = np.flatnonzero(~(same_fixed & same_velocity))
+        if len(wrong):
+            k = int(wrong[0])
+            body = int(self.body[k])
+            j = int(first[body])
+            parts = ", ".join(map(str, np.flatnonzero(self.body == body).tolist()))
+
+            def condition(i: int) -> str:
+                if fixed[i]:
+                    return "fixed"
+                if np.isnan(velocity[i, 0]):
+                    return "free"
+                return "velocity ({:g}, {:g}, {:g})".format(*velocity[i])
+
+            raise ModelError(
+                "boundary",
+                f"blocks {j} and {k} are parts of one concave block (body {body}: blocks "
+                f"{parts}) but are given different conditions, {condition(j)} and "
+                f"{condition(k)}: a concave block is one rigid body; give its parts one "
+                "condition",
+            )
+        return fixed[first], velocity[first]
 
     def copy(self) -> Engine:
         """An independent copy (state, contacts and shear histories included).
@@ -259,17 +346,23 @@ class Engine:
     # --- excavation and restart (docs/models.md, "Excavation" and "Restart") --------
 
     def removed(self) -> np.ndarray:
-        """Which blocks were excavated, (n,) bool."""
+        """Which blocks were excavated (their body was), (n,) bool."""
         removed = getattr(self.sim, "removed", None)
         n = len(self.setup.blocks)
-        return np.zeros(n, bool) if removed is None else np.array(removed, dtype=bool)
+        return np.zeros(n, bool) if removed is None else np.array(removed, dtype=bool)[self.body]
 
     def excavate(self, mask: np.ndarray, relax_steps: int) -> np.ndarray:
-        """Removes the blocks of `mask` not removed yet; their forces on the rest relax over
-        `relax_steps` steps (the steps the caller takes next). The ids removed."""
+        """Removes the blocks of `mask` not removed yet, whole bodies only (a `mask` that
+        holds some parts of a concave block and not the others is a :exc:`ModelError`);
+        their forces on the rest relax over `relax_steps` steps (the steps the caller takes
+        next). The block ids removed."""
+        split = partial_body(mask, self.body)
+        if split is not None:
+            raise ModelError("excavate", split)
         ids = np.flatnonzero(mask & ~self.removed())
         if len(ids):
-            self.sim.excavate(ids.tolist(), relax_steps=relax_steps)
+            bodies = np.unique(self.body[ids])
+            self.sim.excavate(bodies.tolist(), relax_steps=relax_steps)
         return ids
 
     def save(self, path: Any, note: str) -> None:
@@ -280,11 +373,12 @@ class Engine:
         """Replaces the simulation by the one of the restart file `path` (which must have
         this model's blocks); its note."""
         sim = simulation_class().load(str(path))
-        n = len(self.setup.blocks)
+        n = len(self.sim)
         if len(sim) != n:
+            what = "bodies" if self.concave else "blocks"
             raise ModelError(
                 "restart",
-                f"{path} holds {len(sim)} blocks, the model {n}: it was saved from another model",
+                f"{path} holds {len(sim)} {what}, the model {n}: it was saved from another model",
             )
         self.sim = sim
         note: str | None = sim.note
@@ -319,20 +413,34 @@ class Engine:
         return float(self.sim.unbalanced_ratio)
 
     def positions(self) -> np.ndarray:
-        """Block centroids now, (n, 3)."""
-        return np.array(self.sim.positions, dtype=float)
+        """Per block, its body's centroid now, (n, 3): a convex block's centroid; the
+        parts of a concave block share their body's (so their displacements are the
+        body's)."""
+        return np.array(self.sim.positions, dtype=float)[self.body]
 
     def velocities(self) -> np.ndarray:
-        """Block velocities now, (n, 3)."""
-        return np.array(self.sim.velocities, dtype=float)
+        """Per block, its body's velocity (of the centroid) now, (n, 3)."""
+        return np.array(self.sim.velocities, dtype=float)[self.body]
 
     def kinetic_energy(self) -> float:
         """Total kinetic energy of the blocks (J)."""
         return float(self.sim.kinetic_energy())
 
     def system(self) -> Any:
-        """The blocks at their current poses, as a :class:`penedge.BlockSystem`."""
-        return self.sim.system()
+        """The blocks at their current poses, as a :class:`penedge.BlockSystem`, in the
+        model's block order (the simulation lists the parts body by body) with their body
+        ids (a picture draws a concave block as one)."""
+        placed = self.sim.system()
+        if not self.concave:
+            return placed
+        import penedge
+
+        order = np.argsort(self.body, kind="stable")  # the blocks in the parts' order
+        row = np.empty_like(order)
+        row[order] = np.arange(len(order))
+        parts = placed.blocks
+        system = penedge.BlockSystem([parts[r] for r in row.tolist()])
+        return system.with_bodies(self.body.tolist())
 
     def bolts(self) -> list[dict[str, Any]]:
         """Per bolt: its name, its largest axial force now (N, tension > 0; over its

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from penedge._core import PenedgeError
-from penedge.model.check import apply_boundary
+from penedge.model.check import apply_boundary, partial_body
 from penedge.model.fields import ModelError
 from penedge.model.schema import JointProperties, Model, Stage
 
@@ -196,7 +196,7 @@ class Runner:
         self.chunk = self.model.results.history_every
         self.folder = Path(folder) if folder is not None else Path()
         self.first = 0  # the first stage to run (after a restart, the one after the save)
-        check_excavations(self.model, setup.layout.regions)
+        check_excavations(self.model, setup.layout.regions, setup.layout.bodies)
         if restart is not None:
             self.restore(Path(restart))
 
@@ -321,7 +321,8 @@ class Runner:
             assert stage.boundary is not None
             b = stage.boundary
             mask = self.setup.layout.regions[b.region]
-            apply_boundary(self.fixed, self.velocity, mask, b.condition, b.velocity)
+            bodies = self.setup.layout.bodies
+            apply_boundary(self.fixed, self.velocity, mask, b.condition, b.velocity, bodies)
             e.apply_boundary(self.fixed, self.velocity)
         elif stage.kind == "reset":
             self.reference = e.positions()
@@ -533,14 +534,21 @@ def removed_of(engine: Any) -> np.ndarray:
     return np.zeros(n, bool) if removed is None else np.asarray(removed(), dtype=bool)
 
 
-def check_excavations(model: Model, regions: dict[str, np.ndarray]) -> None:
+def check_excavations(
+    model: Model, regions: dict[str, np.ndarray], bodies: np.ndarray | None = None
+) -> None:
     """Before any step: each ``excavate`` stage has rock left to remove (its region's
-    blocks are not all removed by earlier stages)."""
+    blocks are not all removed by earlier stages) and, with `bodies` (the body id of each
+    block), removes whole bodies only: a concave block is one rigid body, so a region that
+    holds some of its parts and not others is refused (:func:`partial_body`)."""
     removed: np.ndarray | None = None
     for i, stage in enumerate(model.stages):
         if stage.kind != "excavate" or stage.region is None:
             continue
         mask = regions[stage.region]
+        split = partial_body(mask, bodies)
+        if split is not None:
+            raise ModelError(f"stages[{i}].region", split)
         if removed is None:
             removed = np.zeros(len(mask), bool)
         if not (mask & ~removed).any():

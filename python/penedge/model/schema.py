@@ -14,8 +14,9 @@ from typing import Any
 
 from penedge.model.fields import ModelError, Table, check_direction, check_vector
 
-#: The generation spec's tables, passed unchanged to :func:`penedge.generate`.
-SPEC_TABLES = ("domain", "joints", "options")
+#: The generation spec's tables, passed unchanged to :func:`penedge.generate` (excavations
+#: make concave blocks: docs/models.md, "Concave blocks").
+SPEC_TABLES = ("domain", "joints", "excavations", "options")
 
 #: Joint property fields: unit, and whether the default table must give it.
 PROPERTY_FIELDS = {
@@ -187,7 +188,7 @@ class Support:
     name: str
     region: str
     pressure: float  # Pa, pushing into the rock
-    face: str | int | None = None  # limit to the faces on this domain face
+    face: str | int | None = None  # limit to a domain face, or an excavation's walls
 
 
 @dataclass(frozen=True)
@@ -429,8 +430,11 @@ def parse_properties(
 
 
 #: Rock-bridge fields: the intact rock's strength must be given; kn and ks default to the
-#: set's joint stiffness.
-BRIDGE_FIELDS = ("kn", "ks", "friction", "cohesion", "tension")
+#: set's joint stiffness, the residual cohesion to 0 (a brittle bridge).
+BRIDGE_FIELDS = ("kn", "ks", "friction", "cohesion", "tension", "residual_cohesion")
+
+#: The bridge fields that may be left out.
+OPTIONAL_BRIDGE_FIELDS = ("kn", "ks", "residual_cohesion")
 
 
 def parse_bridge_values(t: Table) -> dict[str, float]:
@@ -443,8 +447,14 @@ def parse_bridge_values(t: Table) -> dict[str, float]:
             bounds = {"at_least": 0, "below": 90}
         else:
             bounds = {"at_least": 0}
-        if key not in ("kn", "ks") or t.has(key):
+        if key not in OPTIONAL_BRIDGE_FIELDS or t.has(key):
             values[key] = t.number(key, required=True, **bounds)
+    if values.get("residual_cohesion", 0.0) > values["cohesion"]:
+        raise ModelError(
+            t.field("residual_cohesion"),
+            f"{values['residual_cohesion']} is above the cohesion ({values['cohesion']}): "
+            "a bridge loses strength when it breaks, it gains none",
+        )
     t.done()
     return values
 
@@ -753,10 +763,18 @@ def parse_support(t: Table, regions: dict[str, Region]) -> Support:
         name=t.text("name", index),
         region=region_ref(t, "region", regions),
         pressure=t.number("pressure", required=True, above=0),
-        face=parse_face(t, "face") if t.has("face") else None,
+        face=parse_support_face(t) if t.has("face") else None,
     )
     t.done()
     return support
+
+
+def parse_support_face(t: Table) -> str | int:
+    """A support's ``face``: a domain face (a name or an index) or an excavation (its name,
+    or ``excavations[i]``), resolved with the blocks (check.support_faces)."""
+    if isinstance(t.raw("face"), str):
+        return t.text("face")
+    return parse_face(t, "face")
 
 
 def parse_seismic(t: Table) -> Seismic:

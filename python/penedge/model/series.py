@@ -39,8 +39,9 @@ def vtu_text(
     moving: np.ndarray,
     excavated: np.ndarray | None = None,
 ) -> str:
-    """The VTU file of `system` with per-block ``displacement`` (m, vector and
-    ``displacement_magnitude``), ``velocity`` (m/s) and ``moving`` (0/1) cell data, and
+    """The VTU file of `system` with per-block ``block_id``, ``body_id`` (the parts of a
+    concave block share one), ``displacement`` (m, vector and ``displacement_magnitude``),
+    ``velocity`` (m/s) and ``moving`` (0/1) cell data, and
     ``excavated`` (0/1: removed by an excavate stage; threshold it away in ParaView) when
     given."""
     a = system.arrays()
@@ -73,6 +74,7 @@ def vtu_text(
     ]
     data = [
         _array("Int64", "block_id", _ints(np.arange(n))),
+        _array("Int64", "body_id", _ints(np.asarray(system.body_ids))),
         _array("Float64", "displacement", _floats(displacement), 3),
         _array("Float64", "displacement_magnitude", _floats(magnitude)),
         _array("Float64", "velocity", _floats(velocity), 3),

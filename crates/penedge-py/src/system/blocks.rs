@@ -196,8 +196,10 @@ impl BlockSystem {
     }
 
     /// The entries of the generation spec, in order: ``{"name": ..., "kind": ...}`` with kind
-    /// ``"plane"``, ``"set"``, ``"disc"`` or ``"polygon"`` (empty when not generated).
-    /// ``BlockArrays.face_origin_set`` of a joint face indexes this list.
+    /// ``"plane"``, ``"set"``, ``"disc"``, ``"polygon"`` or ``"excavation"`` (an
+    /// ``[[excavations]]`` entry: the faces it makes are the opening's walls, free faces)
+    /// (empty when not generated). ``BlockArrays.face_origin_set`` of a joint face indexes
+    /// this list.
     #[getter]
     fn sets<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         arrays::to_python(py, self.inner.sets())

@@ -65,27 +65,7 @@ impl ConvexBlock {
         points: &[[f64; 3]],
         tol: &Tolerance,
     ) -> Result<ConvexBlock, BlockError> {
-        let p = check_points(points)?;
-        check_range(&p)?;
-        if p.len() < 4 {
-            return Err(BlockError::TooSmall {
-                vertices: p.len(),
-                faces: 0,
-            });
-        }
-        let eps = tol.for_box(&Aabb::of_points(&p)).length;
-        let mut triangles = first_tetrahedron(&p, eps)?;
-        let centre = triangles
-            .iter()
-            .flat_map(|t| t.corners)
-            .map(|i| p[i])
-            .sum::<DVec3>()
-            / 12.0;
-        let mut order: Vec<usize> = (0..p.len()).collect();
-        order.sort_by(|&a, &b| p[b].distance(centre).total_cmp(&p[a].distance(centre)));
-        for i in order {
-            add_point(&p, &mut triangles, i, eps);
-        }
+        let (p, triangles, _) = incremental_hull(points, tol)?;
         // The corners, in the order given, and the triangles in their numbering.
         let mut used = vec![false; p.len()];
         for t in triangles.iter().filter(|t| t.alive) {
@@ -104,6 +84,74 @@ impl ConvexBlock {
             .collect();
         ConvexBlock::with_tolerance(&vertices, &faces, tol)
     }
+}
+
+/// The hull's triangles (alive ones only) of `points` checked, with the points and the
+/// first tetrahedron's centre.
+fn incremental_hull(
+    points: &[[f64; 3]],
+    tol: &Tolerance,
+) -> Result<(Vec<DVec3>, Vec<Triangle>, DVec3), BlockError> {
+    let p = check_points(points)?;
+    check_range(&p)?;
+    if p.len() < 4 {
+        return Err(BlockError::TooSmall {
+            vertices: p.len(),
+            faces: 0,
+        });
+    }
+    let eps = tol.for_box(&Aabb::of_points(&p)).length;
+    let mut triangles = first_tetrahedron(&p, eps)?;
+    let centre = triangles
+        .iter()
+        .flat_map(|t| t.corners)
+        .map(|i| p[i])
+        .sum::<DVec3>()
+        / 12.0;
+    let mut order: Vec<usize> = (0..p.len()).collect();
+    order.sort_by(|&a, &b| p[b].distance(centre).total_cmp(&p[a].distance(centre)));
+    for i in order {
+        add_point(&p, &mut triangles, i, eps);
+    }
+    Ok((p, triangles, centre))
+}
+
+/// The volume and surface area of the convex hull of `points`, summed over the hull's
+/// triangles (the incremental hull of [`ConvexBlock::hull_with_tolerance`], points within
+/// `tol`'s length threshold of the hull left out). Unlike a hull block, it does not need the
+/// hull's vertices to be corners: a point left on an edge or in a face (the parts of a
+/// concave block share many) changes neither. Errors as the hull block's, and
+/// [`BlockError::OpenSurface`] should the triangles not close (never seen; checked so that
+/// a wrong volume is never returned).
+pub(crate) fn hull_volume_and_area(
+    points: &[[f64; 3]],
+    tol: &Tolerance,
+) -> Result<(f64, f64), BlockError> {
+    let (p, triangles, centre) = incremental_hull(points, tol)?;
+    // Closed: each directed edge once, and its reverse once.
+    let mut edges = HashSet::new();
+    for t in &triangles {
+        let [a, b, c] = t.corners;
+        for e in [(a, b), (b, c), (c, a)] {
+            if !edges.insert(e) {
+                return Err(BlockError::NonManifoldEdge {
+                    first: e.0,
+                    second: e.1,
+                });
+            }
+        }
+    }
+    if let Some(&(first, second)) = edges.iter().find(|&&(a, b)| !edges.contains(&(b, a))) {
+        return Err(BlockError::OpenSurface { first, second });
+    }
+    let (mut volume, mut area) = (0.0, 0.0);
+    for t in &triangles {
+        let [a, b, c] = t.corners.map(|i| p[i] - centre);
+        let n = a.cross(b) + b.cross(c) + c.cross(a);
+        volume += a.dot(b.cross(c)) / 6.0;
+        area += n.length() / 2.0;
+    }
+    Ok((volume, area))
 }
 
 /// A tetrahedron of four of the points, as far apart as a quick search finds (two extremes
@@ -235,6 +283,28 @@ mod tests {
         // Each face of a hull of points in general position is a triangle: V - E + F = 2
         // with 3F = 2E.
         assert_eq!(ball.n_faces(), 2 * 200 - 4);
+    }
+
+    #[test]
+    fn the_hull_volume_of_an_l_shape_with_points_on_its_hull_edges() {
+        // The vertices of an L-block's two boxes (the floor [0,3]x[0,1]x[0,1], the column
+        // [0,1]x[0,1]x[1,3]): (0,y,1) lies on the hull's edge, (1,y,1) inside. The hull is
+        // the 3 x 3 profile less the triangle (1,3) (3,1) (3,3): area 7, 1 deep; its surface
+        // 2 x 7 + the profile's perimeter 3 + 1 + 2 sqrt(2) + 1 + 3 (times 1).
+        let mut points = Vec::new();
+        for (lo, hi) in [
+            ([0.0, 0.0, 0.0], [3.0, 1.0, 1.0]),
+            ([0.0, 0.0, 1.0], [1.0, 1.0, 3.0]),
+        ] {
+            for k in 0..8 {
+                let pick = |d: usize| if k >> d & 1 == 1 { hi[d] } else { lo[d] };
+                points.push([pick(0), pick(1), pick(2)]);
+            }
+        }
+        let (volume, area) = hull_volume_and_area(&points, &Tolerance::default()).unwrap();
+        assert!((volume - 7.0).abs() < 1e-12, "{volume}");
+        let expected = 14.0 + 8.0 + 2.0 * 2f64.sqrt();
+        assert!((area - expected).abs() < 1e-12, "{area}");
     }
 
     #[test]

@@ -16,11 +16,14 @@ mod pose;
 mod stored;
 pub(crate) use assemble::BlockParts;
 pub(crate) use clearance::Clearance;
+pub(crate) use hull::hull_volume_and_area;
 
 pub use error::BlockError;
 pub use origin::FaceOrigin;
+#[cfg(test)]
+pub(crate) use pose::assert_same_placed;
 pub use pose::Pose;
-pub(crate) use pose::Prefetch;
+pub(crate) use pose::{prefetch_bytes, Prefetch};
 
 /// The largest coordinate magnitude of a block: beyond it, products of four lengths (the
 /// volume's moments) would overflow `f64`.

@@ -101,6 +101,17 @@ impl ConvexBlock {
     /// coordinates and what derives from them are written. Placing is bound by memory
     /// traffic, and the topology is a third of a block's bytes.
     pub(crate) fn place_geometry(&mut self, reference: &ConvexBlock, pose: &Pose) {
+        self.place_coordinates(reference, pose);
+        self.place_query_data();
+    }
+
+    /// The first half of [`ConvexBlock::place_geometry`]: the coordinates (vertices, face
+    /// planes, centroid, box), without what only the pair query reads (the clearance and the
+    /// vertices' local coordinates), which [`ConvexBlock::place_query_data`] then derives
+    /// from them. Until it is called the block must not be queried; the two halves give the
+    /// same block, bit for bit, as [`ConvexBlock::place_geometry`] (the mechanics places
+    /// every moved body's parts but completes only those of the pairs it queries).
+    pub(crate) fn place_coordinates(&mut self, reference: &ConvexBlock, pose: &Pose) {
         debug_assert!(
             self.edges == reference.edges && self.face_vertices == reference.face_vertices
         );
@@ -113,6 +124,11 @@ impl ConvexBlock {
             .extend(reference.planes.iter().map(|pl| rigid.plane(pl)));
         self.centroid = rigid.point(reference.centroid);
         self.bounds = Bounds::of(&self.vertices);
+    }
+
+    /// The second half of [`ConvexBlock::place_geometry`]: the clearance and the local
+    /// coordinates, from the block's own (placed) vertices and planes.
+    pub(crate) fn place_query_data(&mut self) {
         // Recomputed as `ConvexBlock::transformed` does (the same block, bit for bit): it
         // lets the classification read the faces at a vertex from the topology instead of
         // computing their distances, in every query of the pairs of this block. Leaving it
@@ -174,6 +190,19 @@ impl LocalCoordinates {
     }
 }
 
+/// Asserts that `block` is `expected` bit for bit in everything placing writes: coordinates,
+/// box, centroid and the pair query's data (clearance, local coordinates).
+#[cfg(test)]
+pub(crate) fn assert_same_placed(block: &ConvexBlock, expected: &ConvexBlock) {
+    assert_eq!(block.vertices(), expected.vertices());
+    assert_eq!(block.planes(), expected.planes());
+    assert_eq!(block.aabb(), expected.aabb());
+    assert_eq!(block.centroid(), expected.centroid());
+    assert_eq!(block.clearance(), expected.clearance());
+    let local = |b: &ConvexBlock| format!("{:?}", b.local());
+    assert_eq!(local(block), local(expected));
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -210,6 +239,30 @@ mod tests {
     }
 
     #[test]
+    fn placing_in_two_halves_gives_the_block_placed_at_once() {
+        let reference = ConvexBlock::cuboid([0.0, 0.0, 0.0], [1.0, 2.0, 3.0]).unwrap();
+        let first = Pose::new(DQuat::from_rotation_y(0.2), DVec3::new(1.0, 2.0, 3.0)).unwrap();
+        let pose = Pose::new(
+            DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -0.2, 1.1),
+            DVec3::new(5.0, -1.0, 2.0),
+        )
+        .unwrap();
+        let mut halves = reference.clone();
+        halves.place_from(&reference, &first);
+        halves.place_coordinates(&reference, &pose);
+        // The coordinates moved, the query data not yet.
+        let expected = reference.transformed(pose.rotation, pose.translation, 1.0);
+        assert_eq!(halves.vertices(), expected.vertices());
+        assert_ne!(halves.clearance(), expected.clearance());
+        halves.place_query_data();
+        let mut whole = reference.clone();
+        whole.place_geometry(&reference, &pose);
+        for block in [&halves, &whole] {
+            assert_same_placed(block, &expected);
+        }
+    }
+
+    #[test]
     fn poses_with_nan_or_a_zero_rotation_are_refused() {
         assert!(Pose::new(DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0), DVec3::ZERO).is_none());
         assert!(Pose::new(DQuat::IDENTITY, DVec3::new(f64::NAN, 0.0, 0.0)).is_none());
@@ -231,7 +284,7 @@ pub(crate) enum Prefetch {
 
 /// Asks for the cache lines of `items` (never faults, whatever the address).
 #[inline(always)]
-fn prefetch_bytes<T>(items: &[T]) {
+pub(crate) fn prefetch_bytes<T>(items: &[T]) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};

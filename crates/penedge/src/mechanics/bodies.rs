@@ -5,7 +5,7 @@ use super::MechanicsError;
 use crate::block::{ConvexBlock, Pose};
 use crate::body::Shape;
 use crate::geometry::DVec3;
-use glam::DMat3;
+use glam::{DMat3, DQuat};
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 
@@ -139,13 +139,13 @@ impl Bodies {
 
     /// The mass of body `i` (its shape's volume times its density).
     pub fn mass(&self, i: usize) -> f64 {
-        self.shapes[i].volume() * self.density[i]
+        self.inertia().mass(i)
     }
 
     /// The principal moments of inertia of body `i` about its axes (mass, not per unit
     /// density).
     pub fn moments(&self, i: usize) -> DVec3 {
-        self.shapes[i].principal_moments() * self.density[i]
+        self.inertia().moments(i)
     }
 
     /// Masses.
@@ -165,18 +165,12 @@ impl Bodies {
 
     /// Whether body `i` is free (moved by the forces on it).
     pub fn is_free(&self, i: usize) -> bool {
-        self.scale[i] > 0.0
+        self.inertia().is_free(i)
     }
 
     /// How body `i` moves.
     pub fn fixity(&self, i: usize) -> Fixity {
-        if self.is_free(i) {
-            return Fixity::Free;
-        }
-        match self.prescribed.get(&(i as u32)) {
-            Some(&[velocity, spin]) => Fixity::Prescribed { velocity, spin },
-            None => Fixity::Fixed,
-        }
+        self.inertia().fixity(i)
     }
 
     /// How each body moves.
@@ -186,13 +180,7 @@ impl Bodies {
 
     /// The applied force on body `i` (zero when none was applied).
     pub fn applied_force(&self, i: usize) -> DVec3 {
-        if self.applied.is_empty() {
-            return DVec3::ZERO;
-        }
-        self.applied
-            .get(&(i as u32))
-            .copied()
-            .unwrap_or(DVec3::ZERO)
+        self.inertia().applied_force(i)
     }
 
     /// Applied forces.
@@ -202,18 +190,18 @@ impl Bodies {
 
     /// The mass-scaling factor of body `i` (1 without mass scaling).
     pub fn mass_scale(&self, i: usize) -> f64 {
-        self.scale[i].abs()
+        self.inertia().mass_scale(i)
     }
 
     /// The mass of body `i` in its equation of motion: its mass times its mass-scaling factor.
     pub fn inertial_mass(&self, i: usize) -> f64 {
-        self.mass(i) * self.mass_scale(i)
+        self.inertia().inertial_mass(i)
     }
 
     /// The principal moments of body `i` in its equation of motion (times its mass-scaling
     /// factor).
     pub fn inertial_moments(&self, i: usize) -> DVec3 {
-        self.moments(i) * self.mass_scale(i)
+        self.inertia().inertial_moments(i)
     }
 
     /// Mass-scaling factors (1 without mass scaling).
@@ -269,14 +257,8 @@ impl Bodies {
     /// The angular velocity of body `i` (world frame): `ω = R I⁻¹ Rᵀ L` for a free body,
     /// the prescribed spin or zero otherwise.
     pub fn spin(&self, i: usize) -> DVec3 {
-        match self.fixity(i) {
-            Fixity::Free => {
-                let q = self.pose[i].rotation;
-                q * (q.conjugate() * self.momentum[i] / self.inertial_moments(i))
-            }
-            Fixity::Fixed => DVec3::ZERO,
-            Fixity::Prescribed { spin, .. } => spin,
-        }
+        self.inertia()
+            .spin(i, self.pose[i].rotation, self.momentum[i])
     }
 
     /// The velocity of body `i`'s centroid: its own when free, else fixed or prescribed.
@@ -345,8 +327,36 @@ impl Bodies {
 
     /// The inertia tensor of body `i` in the world frame (of its equation of motion).
     pub fn world_inertia(&self, i: usize) -> DMat3 {
-        let r = DMat3::from_quat(self.pose[i].rotation);
-        r * DMat3::from_diagonal(self.inertial_moments(i)) * r.transpose()
+        self.inertia().world_inertia(i, self.pose[i].rotation)
+    }
+
+    /// What the bodies are, apart from their motion (shapes, densities, fixities, loads).
+    pub(super) fn inertia(&self) -> Inertia<'_> {
+        Inertia {
+            shapes: &self.shapes,
+            density: &self.density,
+            scale: &self.scale,
+            prescribed: &self.prescribed,
+            applied: &self.applied,
+        }
+    }
+
+    /// The bodies split into what a step reads ([`Inertia`]) and their motion, which it
+    /// writes in place, body by body in parallel: poses, velocities, angular momenta.
+    pub(super) fn split_motion(&mut self) -> (Inertia<'_>, Motions<'_>) {
+        let inertia = Inertia {
+            shapes: &self.shapes,
+            density: &self.density,
+            scale: &self.scale,
+            prescribed: &self.prescribed,
+            applied: &self.applied,
+        };
+        let motions = Motions {
+            pose: &mut self.pose,
+            velocity: &mut self.velocity,
+            momentum: &mut self.momentum,
+        };
+        (inertia, motions)
     }
 
     /// The critical time step for the largest joint stiffness `k`: the smallest bound of the
@@ -365,6 +375,112 @@ impl Bodies {
             .reduce(f64::min);
         self.critical.set(Some((k, step)));
         step
+    }
+}
+
+/// The motion of the bodies, one slice per quantity ([`Bodies::split_motion`]).
+pub(super) struct Motions<'a> {
+    pub pose: &'a mut [Pose],
+    pub velocity: &'a mut [DVec3],
+    /// Angular momentum, world frame.
+    pub momentum: &'a mut [DVec3],
+}
+
+/// What the bodies are, apart from their motion: the quantities of their equations of
+/// motion. The one place their formulas are written ([`Bodies`] asks it), so that the step,
+/// which reads it while it writes the motion, computes the same bits.
+#[derive(Clone, Copy)]
+pub(super) struct Inertia<'a> {
+    shapes: &'a [Arc<Shape>],
+    density: &'a [f64],
+    scale: &'a [f64],
+    prescribed: &'a BTreeMap<u32, [DVec3; 2]>,
+    applied: &'a BTreeMap<u32, DVec3>,
+}
+
+impl Inertia<'_> {
+    /// The shape of body `i`.
+    #[inline]
+    pub(super) fn shape(&self, i: usize) -> &Arc<Shape> {
+        &self.shapes[i]
+    }
+
+    /// Asks the processor for body `i`'s shape (a hint: no effect on any result; the shapes
+    /// are scattered through memory, and the step reads one per body).
+    #[inline(always)]
+    pub(super) fn prefetch(&self, i: usize) {
+        if let Some(shape) = self.shapes.get(i) {
+            crate::block::prefetch_bytes(std::slice::from_ref(&**shape));
+        }
+    }
+
+    #[inline]
+    pub(super) fn mass(&self, i: usize) -> f64 {
+        self.shapes[i].volume() * self.density[i]
+    }
+
+    #[inline]
+    pub(super) fn moments(&self, i: usize) -> DVec3 {
+        self.shapes[i].principal_moments() * self.density[i]
+    }
+
+    #[inline]
+    pub(super) fn is_free(&self, i: usize) -> bool {
+        self.scale[i] > 0.0
+    }
+
+    #[inline]
+    pub(super) fn fixity(&self, i: usize) -> Fixity {
+        if self.is_free(i) {
+            return Fixity::Free;
+        }
+        match self.prescribed.get(&(i as u32)) {
+            Some(&[velocity, spin]) => Fixity::Prescribed { velocity, spin },
+            None => Fixity::Fixed,
+        }
+    }
+
+    #[inline]
+    pub(super) fn applied_force(&self, i: usize) -> DVec3 {
+        if self.applied.is_empty() {
+            return DVec3::ZERO;
+        }
+        self.applied
+            .get(&(i as u32))
+            .copied()
+            .unwrap_or(DVec3::ZERO)
+    }
+
+    #[inline]
+    pub(super) fn mass_scale(&self, i: usize) -> f64 {
+        self.scale[i].abs()
+    }
+
+    #[inline]
+    pub(super) fn inertial_mass(&self, i: usize) -> f64 {
+        self.mass(i) * self.mass_scale(i)
+    }
+
+    #[inline]
+    pub(super) fn inertial_moments(&self, i: usize) -> DVec3 {
+        self.moments(i) * self.mass_scale(i)
+    }
+
+    /// The angular velocity of body `i` at orientation `q` with angular momentum
+    /// `momentum` ([`Bodies::spin`]).
+    #[inline]
+    pub(super) fn spin(&self, i: usize, q: DQuat, momentum: DVec3) -> DVec3 {
+        match self.fixity(i) {
+            Fixity::Free => q * (q.conjugate() * momentum / self.inertial_moments(i)),
+            Fixity::Fixed => DVec3::ZERO,
+            Fixity::Prescribed { spin, .. } => spin,
+        }
+    }
+
+    /// The world inertia tensor of body `i` at orientation `q` ([`Bodies::world_inertia`]).
+    pub(super) fn world_inertia(&self, i: usize, q: DQuat) -> DMat3 {
+        let r = DMat3::from_quat(q);
+        r * DMat3::from_diagonal(self.inertial_moments(i)) * r.transpose()
     }
 }
 

@@ -256,8 +256,8 @@ impl Bolts {
             }
             [b] => {
                 return Err(MechanicsError::Bolt(format!(
-                    "the bolt from {} to {} lies in one block ({b}): it crosses no joint and \
-                     ties nothing",
+                    "the bolt from {} to {} lies in one body (body {b}): it crosses no joint \
+                     and ties nothing",
                     text(bolt.collar),
                     text(end)
                 )))

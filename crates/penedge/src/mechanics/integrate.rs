@@ -2,7 +2,7 @@
 //! equations for rotation, damping, and the critical time step (docs/mechanics.md,
 //! "Integration").
 
-use super::bodies::{stiffness_bounds, Bodies, Fixity};
+use super::bodies::{stiffness_bounds, Bodies, Fixity, Inertia};
 use crate::block::Pose;
 use crate::geometry::DVec3;
 use glam::DQuat;
@@ -44,47 +44,58 @@ fn local_damping(f: DVec3, v: DVec3, alpha: f64) -> DVec3 {
 }
 
 /// The unbalanced force and moment of free body `i` after damping: contact forces plus
-/// gravity and the applied force.
+/// gravity and the applied force; `motion` is its motion at the start of the step.
 pub(super) fn damped(
-    bodies: &Bodies,
+    inertia: &Inertia,
     i: usize,
-    force: DVec3,
-    moment: DVec3,
+    motion: &Motion,
+    [force, moment]: [DVec3; 2],
     gravity: DVec3,
     damping: &Damping,
 ) -> (DVec3, DVec3) {
-    let f = force + gravity * bodies.mass(i) + bodies.applied_force(i);
-    let v = bodies.velocity[i];
-    let w = bodies.spin(i);
+    let f = force + gravity * inertia.mass(i) + inertia.applied_force(i);
+    let v = motion.velocity;
+    let w = inertia.spin(i, motion.pose.rotation, motion.momentum);
     let mut f = local_damping(f, v, damping.local);
     let mut m = local_damping(moment, w, damping.local);
     if damping.viscous > 0.0 {
-        f -= v * (damping.viscous * bodies.inertial_mass(i));
-        m -= bodies.world_inertia(i) * w * damping.viscous;
+        f -= v * (damping.viscous * inertia.inertial_mass(i));
+        m -= inertia.world_inertia(i, motion.pose.rotation) * w * damping.viscous;
     }
     (f, m)
 }
 
-/// The state of body `i` (pose, velocity, angular momentum) after `dt` under the damped
-/// unbalanced force `f` and moment `m`; `kick` is the fraction of `dt` of the velocity update
-/// (1, or 1/2 when velocities are at the whole step, right after they were set). A function
-/// of body `i` alone, so that the bodies advance in parallel.
+/// One body's motion: pose, velocity of the centroid, angular momentum (world frame).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Motion {
+    pub pose: Pose,
+    pub velocity: DVec3,
+    pub momentum: DVec3,
+}
+
+/// The motion of body `i` after `dt` from `motion` under the damped unbalanced force `f` and
+/// moment `m`; `kick` is the fraction of `dt` of the velocity update (1, or 1/2 when
+/// velocities are at the whole step, right after they were set). A function of body `i`
+/// alone, so that the bodies advance in parallel.
 pub(super) fn advanced(
-    bodies: &Bodies,
+    inertia: &Inertia,
     i: usize,
-    f: DVec3,
-    m: DVec3,
+    motion: Motion,
+    [f, m]: [DVec3; 2],
     dt: f64,
     kick: f64,
-) -> (Pose, DVec3, DVec3) {
-    let (mut pose, mut velocity, mut momentum) =
-        (bodies.pose[i], bodies.velocity[i], bodies.momentum[i]);
-    match bodies.fixity(i) {
+) -> Motion {
+    let Motion {
+        mut pose,
+        mut velocity,
+        mut momentum,
+    } = motion;
+    match inertia.fixity(i) {
         Fixity::Free => {
-            let mass = bodies.inertial_mass(i);
+            let mass = inertia.inertial_mass(i);
             velocity += f * (kick * dt / mass);
             momentum += m * (kick * dt);
-            let moments = bodies.inertial_moments(i);
+            let moments = inertia.inertial_moments(i);
             pose.translation += velocity * dt;
             pose.rotation = free_rotation(pose.rotation, momentum, moments, dt);
         }
@@ -98,7 +109,11 @@ pub(super) fn advanced(
             }
         }
     }
-    (pose, velocity, momentum)
+    Motion {
+        pose,
+        velocity,
+        momentum,
+    }
 }
 
 /// The critical time step bound of free body `i` for the largest joint stiffness `k`

@@ -26,7 +26,7 @@ use crate::block::ConvexBlock;
 use crate::classify::{contact_type, Contact, ContactType, Feature, PairResult};
 use crate::contact::Detector;
 use crate::contact_geometry::ContactPoints;
-use crate::geometry::DVec3;
+use crate::geometry::{Aabb, DVec3};
 use crate::tolerance::Tolerance;
 use rayon::prelude::*;
 use std::ops::ControlFlow;
@@ -502,7 +502,10 @@ impl BlockSystem {
         marks: &FaceMarks,
     ) -> Vec<DVec3> {
         let mut planes: Vec<crate::geometry::Plane> = Vec::new();
-        let mut holds: Vec<Vec<bool>> = Vec::new();
+        // Per plane found, per point, whether a face of the plane holds it (one array,
+        // `points.len()` per plane).
+        let mut holds: Vec<bool> = Vec::new();
+        let m = points.len();
         for &part in parts {
             let block = &self.blocks()[part as usize];
             for (f, plane) in block.planes().iter().enumerate() {
@@ -520,18 +523,21 @@ impl BlockSystem {
                     Some(k) => k,
                     None => {
                         planes.push(*plane);
-                        holds.push(vec![false; points.len()]);
+                        holds.resize(holds.len() + m, false);
                         planes.len() - 1
                     }
                 };
-                for (held, &x) in holds[k].iter_mut().zip(points) {
-                    *held |= in_face(block, f, x, length);
+                // A point held by one face of the plane needs no other.
+                for (held, &x) in holds[k * m..(k + 1) * m].iter_mut().zip(points) {
+                    if !*held {
+                        *held = in_face(block, f, x, length);
+                    }
                 }
             }
         }
         planes
             .iter()
-            .zip(&holds)
+            .zip(holds.chunks(m.max(1)))
             .filter(|(_, h)| h.iter().all(|&x| x))
             .map(|(p, _)| p.normal)
             .collect()
@@ -615,6 +621,9 @@ fn bears_face(p: &Piece) -> bool {
 /// group in piece order, groups by their first piece.
 fn group(pieces: &[&Piece]) -> Vec<Vec<usize>> {
     let n = pieces.len();
+    if n == 1 {
+        return vec![vec![0]];
+    }
     let mut root: Vec<usize> = (0..n).collect();
     fn find(root: &mut [usize], mut k: usize) -> usize {
         while root[k] != k {
@@ -627,6 +636,16 @@ fn group(pieces: &[&Piece]) -> Vec<Vec<usize>> {
         let (a, b) = (find(root, a), find(root, b));
         root[a.max(b)] = a.min(b);
     };
+    // The boxes of the pieces' points: two pieces touch only if their boxes, widened by
+    // the length threshold, overlap (most pairs of pieces of two large bodies do not).
+    let boxes: Vec<Aabb> = pieces
+        .iter()
+        .map(|p| Aabb::of_points(p.points.as_slice()))
+        .collect();
+    let near = |a: usize, b: usize| {
+        boxes[a].overlaps(&boxes[b], pieces[a].length.max(pieces[b].length))
+            && touch(pieces[a], pieces[b])
+    };
     for a in 0..n {
         for b in a + 1..n {
             let (p, q) = (pieces[a], pieces[b]);
@@ -635,7 +654,7 @@ fn group(pieces: &[&Piece]) -> Vec<Vec<usize>> {
                 && p.normal.cross(q.normal).length() <= PARALLEL_SINE
                 && p.normal.dot(q.normal) > 0.0;
             let both_pointlike = !bears_face(p) && !bears_face(q);
-            if (same_plane || both_pointlike) && touch(p, q) {
+            if (same_plane || both_pointlike) && near(a, b) {
                 join(&mut root, a, b);
             }
         }
@@ -646,9 +665,7 @@ fn group(pieces: &[&Piece]) -> Vec<Vec<usize>> {
             continue;
         }
         let members: Vec<usize> = (0..n).filter(|&k| find(&mut root, k) == a).collect();
-        let host = (0..n).find(|&b| {
-            bears_face(pieces[b]) && members.iter().any(|&k| touch(pieces[k], pieces[b]))
-        });
+        let host = (0..n).find(|&b| bears_face(pieces[b]) && members.iter().any(|&k| near(k, b)));
         if let Some(b) = host {
             join(&mut root, a, b);
         }

@@ -5,6 +5,7 @@ mod body_contacts;
 mod bridge_bodies;
 mod broad_phase;
 mod concave;
+mod concave_shapes;
 #[cfg(test)]
 mod concave_tests;
 mod detect;
@@ -19,6 +20,7 @@ mod tracker;
 pub use body_contacts::{BodyContact, BodyContacts};
 pub use broad_phase::{BroadPhase, WideBoxes};
 pub use concave::{ConcaveError, InternalFace};
+pub use concave_shapes::BodyShape;
 pub use detect::{count_types, Cancelled, DetectProgress, PairContact, SystemContacts};
 #[cfg(test)]
 pub(crate) use examples::paper_pairs;
