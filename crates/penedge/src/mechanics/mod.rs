@@ -300,19 +300,6 @@ impl Simulation {
         Ok(sim)
     }
 
-    /// Per block of `system`, the index of the body [`Simulation::new`] makes it part of: the
-    /// parts of a concave block share one body, bodies by ascending body id (the order of
-    /// [`BlockSystem::body_parts`]); a system of convex blocks maps block `i` to body `i`.
-    pub fn block_bodies(system: &BlockSystem) -> Vec<u32> {
-        let mut out = vec![0; system.len()];
-        for (body, (_, parts)) in system.body_parts().into_iter().enumerate() {
-            for k in parts {
-                out[k as usize] = body as u32;
-            }
-        }
-        out
-    }
-
     /// A simulation of the given bodies (settings as [`Simulation::new`]).
     pub fn from_bodies(bodies: Bodies) -> Simulation {
         let mut part_body = Vec::new();
