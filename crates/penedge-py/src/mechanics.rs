@@ -769,8 +769,8 @@ impl Simulation {
         arrays::read_only(arrays::rows3(py, &rows))
     }
 
-    /// Per block of the system the simulation was made of, the body it is a part of, shape
-    /// (number of blocks,), int64. A concave block is one body of several blocks, except
+    /// Per block of the system the simulation was made of, the body it is a part of (the row
+    /// of :attr:`positions`, the id of :meth:`fix`), shape (number of blocks,), int64. A concave block is one body of several blocks, except
     /// that the pieces rock bridges hold are separate bodies (so that a bridge can break:
     /// ``docs/mechanics.md``, "Rock bridges"), so neither the blocks nor the system's bodies
     /// are the simulation's bodies in general. For a simulation read from an older restart

@@ -322,17 +322,23 @@ fn restart_files_keep_the_blocks_bodies() {
     );
 }
 
+/// A cavern centred at `center`, its long axis at azimuth `trend`, of `[length, width,
+/// height]`.
+fn cavern(center: [f64; 3], trend: f64, [length, width, height]: [f64; 3]) -> Excavation {
+    Excavation::new(ExcavationShape::Cavern {
+        center,
+        trend,
+        length,
+        width,
+        height,
+    })
+}
+
 #[test]
 fn parts_an_excavation_glued_stay_one_rigid_body_beside_the_bridges() {
     // A cavern along x through the upper layer: each upper block a ring of parts, one body
     // and one rigid body; the bridged block below one body of 6 rigid pieces.
-    let cavern = Excavation::new(ExcavationShape::Cavern {
-        center: [15.0, 5.0, 12.5],
-        trend: 90.0,
-        length: 40.0,
-        width: 2.0,
-        height: 1.0,
-    });
+    let cavern = cavern([15.0, 5.0, 12.5], 90.0, [40.0, 2.0, 1.0]);
     let mut spec = rock().with(square_joint());
     spec.excavations.push(cavern);
     let system = generate(&spec).unwrap().system;
@@ -349,5 +355,30 @@ fn parts_an_excavation_glued_stay_one_rigid_body_beside_the_bridges() {
         if above {
             assert!(parts.len() > 1, "a ring is made of several parts");
         }
+    }
+}
+
+#[test]
+fn an_excavation_that_removes_the_bridge_leaves_the_crack_open() {
+    // A horizontal joint at z = 5 over x < 7 ends inside the box [0, 10]³ at x = 7: the
+    // piece above, the joint's piece below (x < 7) and the bridge's (x > 7), one body. A
+    // cavern over x = 6.5..10.5 removes the bridge: the two sides of the joint, touching
+    // only across it, are two blocks.
+    let joint = Discontinuity::polygon(vec![
+        [-1.0, -1.0, 5.0],
+        [7.0, -1.0, 5.0],
+        [7.0, 11.0, 5.0],
+        [-1.0, 11.0, 5.0],
+    ])
+    .with_bridges();
+    let spec = Spec::new(Domain::cuboid([0.0; 3], [10.0; 3]).unwrap()).with(joint);
+    let system = generate(&spec).unwrap().system;
+    assert_eq!((system.len(), system.body_parts().len()), (3, 1));
+    let cavern = cavern([8.5, 5.0, 5.0], 0.0, [20.0, 4.0, 20.0]);
+    let (left, _) = system.excavate(&cavern, &Tolerance::default()).unwrap();
+    assert_eq!(left.len(), 2);
+    assert_eq!(left.body_parts().len(), 2, "{:?}", left.body_ids());
+    for b in left.blocks() {
+        assert!((b.volume() - 6.5 * 10.0 * 5.0).abs() < 1e-9);
     }
 }

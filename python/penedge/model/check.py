@@ -102,7 +102,7 @@ class Blocks:
             face_index=np.asarray(a.face_origin_index),
             domain_normals=[np.asarray(part.face_normals) for part in system.domain],
             size=float(np.linalg.norm(hi - lo)),
-            bodies=np.asarray(system.body_ids, dtype=np.int64),
+            bodies=np.asarray(system.rigid_body_ids, dtype=np.int64),
             sets=[dict(entry) for entry in system.sets],
             glue_faces=glue_faces,
             glue_areas=np.asarray(glue["areas"], dtype=float),

@@ -72,6 +72,28 @@ impl BlockSystem {
         arrays::vector(py, ids)
     }
 
+    /// The rigid body of each block in the mechanics, shape (n,), int64: the parts of a body
+    /// joined by rigid glue, numbered in the order of their first block. A body held by rock
+    /// bridges (``docs/generation.md``, "Rock bridges") is several rigid bodies, so that the
+    /// bridge can break; any other body is one. What :class:`Simulation` makes its bodies of
+    /// (its :attr:`Simulation.block_bodies`).
+    ///
+    /// >>> import penedge
+    /// >>> a = penedge.Block.cuboid([0, 0, 0], [1, 1, 1])
+    /// >>> b = penedge.Block.cuboid([1, 0, 0], [2, 1, 1])
+    /// >>> penedge.BlockSystem([a, b]).with_bodies([3, 3]).rigid_body_ids.tolist()
+    /// [0, 0]
+    #[getter]
+    fn rigid_body_ids<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
+        let ids = self
+            .inner
+            .rigid_body_ids()
+            .into_iter()
+            .map(i64::from)
+            .collect();
+        arrays::vector(py, ids)
+    }
+
     /// The internal faces (glue between the parts of concave blocks), as a dict of arrays:
     /// ``parts`` (m, 2) block ids, ``faces`` (m, 2) the face of each, ``areas`` (m,).
     fn internal_faces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

@@ -190,7 +190,7 @@ pub fn generate_with(
         system = excavated;
     }
     // The pieces a bridged joint cut through, one body while the bridge holds (after the
-    // excavations, whose regrouping of a body's parts would glue the two sides of a crack).
+    // excavations: they cut and remove single pieces, and the bridges left glue what holds).
     if let Some(ids) = system.bridge_glued_ids(&spec.options.tolerance) {
         system = system
             .with_bodies(ids, &spec.options.tolerance)

@@ -114,15 +114,27 @@ impl BlockSystem {
     fn is_breakable_glue(&self, parts: [u32; 2], faces: [u32; 2]) -> bool {
         (0..2).any(|s| {
             let origin = self.blocks[parts[s] as usize].face_origins()[faces[s] as usize];
-            match origin {
-                FaceOrigin::Bridge { .. } => true,
-                FaceOrigin::Joint { set, .. } => self
-                    .sets
-                    .get(set as usize)
-                    .is_some_and(|r| matches!(r.kind, SetKind::Disc | SetKind::Polygon)),
-                _ => false,
-            }
+            origin.is_bridge() || self.is_finite_joint(origin)
         })
+    }
+
+    /// Whether two faces in contact are a crack: faces of a finite joint with no bridge face
+    /// on either side. A crack holds nothing by itself: two pieces of a body touching only
+    /// there are held by the bridges beside it, if any are left.
+    pub(super) fn is_crack(&self, parts: [u32; 2], faces: [u32; 2]) -> bool {
+        let origins =
+            [0, 1].map(|s| self.blocks[parts[s] as usize].face_origins()[faces[s] as usize]);
+        !origins.iter().any(|o| o.is_bridge()) && origins.iter().any(|&o| self.is_finite_joint(o))
+    }
+
+    fn is_finite_joint(&self, origin: FaceOrigin) -> bool {
+        match origin {
+            FaceOrigin::Joint { set, .. } => self
+                .sets
+                .get(set as usize)
+                .is_some_and(|r| matches!(r.kind, SetKind::Disc | SetKind::Polygon)),
+            _ => false,
+        }
     }
 
     /// The rigid bodies of the mechanics, per block: the parts of one body joined by rigid

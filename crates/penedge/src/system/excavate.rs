@@ -236,7 +236,8 @@ fn subtract(
 }
 
 /// Body ids after a cut: the parts of one body (`bodies`, per block) that are connected
-/// through face-face contacts of positive area stay one body; a body cut in two becomes two.
+/// through face-face contacts of positive area (not across a crack, [`BlockSystem::is_crack`])
+/// stay one body; a body cut in two becomes two.
 /// Ids are renumbered `0..` in the order of each body's first part.
 fn connected_bodies(system: &BlockSystem, bodies: &[u32], tol: &Tolerance) -> Vec<u32> {
     let n = bodies.len();
@@ -255,13 +256,14 @@ fn connected_bodies(system: &BlockSystem, bodies: &[u32], tol: &Tolerance) -> Ve
             continue;
         }
         let glued = match det.detect_with_geometry(&system.blocks[i], &system.blocks[j]) {
-            (PairResult::Contact(c), Some(g)) => {
-                g.area() > 0.0
-                    && matches!(
-                        (c.feature_a, c.feature_b),
-                        (Feature::Face(_), Feature::Face(_))
-                    )
-            }
+            (PairResult::Contact(c), Some(g)) => match (c.feature_a, c.feature_b) {
+                // Not across a crack: the pieces of a body held by rock bridges that touch
+                // only there are apart once the excavation has removed the bridges.
+                (Feature::Face(fa), Feature::Face(fb)) => {
+                    g.area() > 0.0 && !system.is_crack([i as u32, j as u32], [fa, fb])
+                }
+                _ => false,
+            },
             _ => false,
         };
         if glued {
