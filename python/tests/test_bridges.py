@@ -402,3 +402,43 @@ def test_solve_stage_elastic_flag():
     with pytest.raises(penedge.SpecError) as caught:
         pm.parse_model(MODEL + stage.replace("true", "1"))
     assert caught.value.field == "stages[0].elastic"
+
+
+def test_the_pieces_a_bridge_holds_are_one_body_for_the_detection():
+    """The box cut through by the square joint is one body of its 6 pieces, and glued to
+    nothing else: the same box without the joint (one block) plus a block on top touches it
+    in one face-face region of the top's area, as the box alone does."""
+    top = '\n[[joints]]\ntype = "plane"\npoint = [0, 0, 8]\ndip = 0\ndip_direction = 0\n'
+    system = generated(SPEC + "bridge = true\n" + top)
+    ids = system.body_ids
+    assert ids.dtype == np.int64
+    assert len(ids) == len(system)
+    # The plane z = 8 splits the box; the square at z = 5 ends inside the lower block only.
+    assert sorted(np.bincount(ids).tolist()) == [1, 6]
+    found = system.detect_bodies()
+    assert len(found) == 1
+    reference = generated(SPEC + top).detect_bodies()  # the rock without the finite joint
+    assert len(reference) == 1
+    assert found.types.tolist() == reference.types.tolist() == [7]
+    assert found.areas[0] == pytest.approx(reference.areas[0], rel=1e-12)
+    assert found.areas[0] == pytest.approx(100.0, rel=1e-12)
+
+
+@needs_engine
+def test_block_bodies_maps_the_blocks_to_the_simulation_bodies():
+    system = generated(SPEC + "bridge = true\n")
+    assert len(set(system.body_ids.tolist())) == 1  # one block for the detection...
+    sim = penedge.Simulation(system, density=2600.0)
+    # ...six bodies for the mechanics, held by their bridges: one per piece, in block order
+    assert len(sim) == 6
+    bodies = sim.block_bodies
+    assert bodies.dtype == np.int64
+    assert bodies.tolist() == list(range(6))
+    with pytest.raises(ValueError, match="read-only"):
+        bodies[0] = 1
+    # A concave block of glued boxes (no bridge) is one body whatever its id.
+    a = penedge.Block.cuboid([0, 0, 0], [1, 1, 1])
+    b = penedge.Block.cuboid([1, 0, 0], [2, 1, 1])
+    c = penedge.Block.cuboid([0, 0, 1], [1, 1, 2])
+    glued = penedge.BlockSystem([a, b, c]).with_bodies([1, 0, 1])
+    assert penedge.Simulation(glued).block_bodies.tolist() == [0, 1, 0]

@@ -25,7 +25,10 @@ use std::path::PathBuf;
 /// system : BlockSystem
 ///     The blocks, at rest and free: one body each, except that a concave block (parts sharing
 ///     a body id, :meth:`BlockSystem.with_bodies`) is one rigid body of all its parts, with
-///     the mass, centroid and inertia of their union; bodies then go by ascending body id.
+///     the mass, centroid and inertia of their union, unless rock bridges hold the parts (the
+///     pieces a bridged finite joint cut through stay separate bodies held by bonded bridge
+///     contacts, so that the bridge can break); bodies go in the order of their first block,
+///     and :attr:`block_bodies` gives each block's body.
 /// density : float, default 2700.0
 ///     Density of every block (mass per volume; :meth:`set_density` per block).
 /// gap : float, default 1e-3
@@ -794,6 +797,31 @@ impl Simulation {
         let b = self.inner.bodies();
         let rows: Vec<[f64; 3]> = (0..b.len()).map(|i| b.spin(i).to_array()).collect();
         arrays::read_only(arrays::rows3(py, &rows))
+    }
+
+    /// Per block of the system the simulation was made of, the body it is a part of, shape
+    /// (number of blocks,), int64. A concave block is one body of several blocks, except
+    /// that the pieces rock bridges hold are separate bodies (so that a bridge can break:
+    /// ``docs/mechanics.md``, "Rock bridges"), so neither the blocks nor the system's bodies
+    /// are the simulation's bodies in general. For a simulation read from an older restart
+    /// file, per convex part in body order.
+    ///
+    /// >>> import penedge
+    /// >>> a = penedge.Block.cuboid([0, 0, 0], [1, 1, 1])
+    /// >>> b = penedge.Block.cuboid([1, 0, 0], [2, 1, 1])
+    /// >>> c = penedge.Block.cuboid([0, 0, 1], [1, 1, 2])
+    /// >>> system = penedge.BlockSystem([a, b, c]).with_bodies([1, 0, 1])
+    /// >>> penedge.Simulation(system).block_bodies.tolist()
+    /// [0, 1, 0]
+    #[getter]
+    fn block_bodies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        let ids = self
+            .inner
+            .block_bodies()
+            .iter()
+            .map(|&b| i64::from(b))
+            .collect();
+        arrays::read_only(arrays::vector(py, ids))
     }
 
     /// Masses, shape (n,).

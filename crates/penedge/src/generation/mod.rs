@@ -189,6 +189,13 @@ pub fn generate_with(
         report.excavated_volume += done.volume_removed;
         system = excavated;
     }
+    // The pieces a bridged joint cut through, one body while the bridge holds (after the
+    // excavations, whose regrouping of a body's parts would glue the two sides of a crack).
+    if let Some(ids) = system.bridge_glued_ids(&spec.options.tolerance) {
+        system = system
+            .with_bodies(ids, &spec.options.tolerance)
+            .map_err(|e| SpecError::new("joints", Problem::Invalid(e.to_string())))?;
+    }
     if !spec.excavations.is_empty() {
         report.blocks = system.len();
         report.block_volume = system.blocks().iter().map(|b| b.volume()).sum();

@@ -517,29 +517,43 @@ pub(super) fn stiffness_bounds(shape: &Shape) -> [f64; 2] {
 }
 
 impl Bodies {
-    /// One body per body of `system` ([`crate::BlockSystem::body_parts`], by ascending body
-    /// id): a concave block (parts sharing a body id, [`crate::BlockSystem::with_bodies`]) is
-    /// one rigid body of all its parts, with the mass, centroid and inertia of their union
-    /// ([`Shape::from_parts`]); each block of a system without concave blocks is its own
-    /// body, in block order (as [`Bodies::from_blocks`]). Density `density`, at rest.
+    /// One rigid body per rigid body of `system` ([`crate::BlockSystem::rigid_body_ids`], in
+    /// the order of their first block): a concave block (parts sharing a body id,
+    /// [`crate::BlockSystem::with_bodies`]) is one rigid body of all its parts, with the mass,
+    /// centroid and inertia of their union ([`Shape::from_parts`]), except that parts glued
+    /// only across rock bridges (or a finite joint's crack) stay separate bodies, held by
+    /// their bonded bridge contacts (docs/mechanics.md, "Rock bridges"); each block of a
+    /// system without concave blocks is its own body, in block order (as
+    /// [`Bodies::from_blocks`]). Density `density`, at rest.
     pub fn from_system(
         system: &crate::BlockSystem,
         density: f64,
     ) -> Result<Bodies, MechanicsError> {
+        Ok(Bodies::of_system(system, density)?.0)
+    }
+
+    /// [`Bodies::from_system`], and per block of `system` its body.
+    pub(super) fn of_system(
+        system: &crate::BlockSystem,
+        density: f64,
+    ) -> Result<(Bodies, Vec<u32>), MechanicsError> {
         if !system.has_concave() {
-            return Bodies::from_blocks(system.blocks(), density);
+            let bodies = Bodies::from_blocks(system.blocks(), density)?;
+            return Ok((bodies, (0..system.len() as u32).collect()));
         }
         check_density(density)?;
+        let ids = system.rigid_body_ids();
+        let n = ids.iter().max().map_or(0, |&m| m as usize + 1);
+        let mut parts: Vec<Vec<ConvexBlock>> = vec![Vec::new(); n];
+        for (block, &b) in system.blocks().iter().zip(&ids) {
+            parts[b as usize].push(block.clone());
+        }
         let mut bodies = Bodies::default();
-        for (i, (_, parts)) in system.body_parts().into_iter().enumerate() {
-            let blocks: Vec<ConvexBlock> = parts
-                .iter()
-                .map(|&k| system.blocks()[k as usize].clone())
-                .collect();
+        for (i, blocks) in parts.iter().enumerate() {
             let (shape, pose) =
-                Shape::from_parts(&blocks).map_err(|e| MechanicsError::Body(i, e))?;
+                Shape::from_parts(blocks).map_err(|e| MechanicsError::Body(i, e))?;
             bodies.push(Arc::new(shape), pose, density);
         }
-        Ok(bodies)
+        Ok((bodies, ids))
     }
 }

@@ -7,7 +7,7 @@
 //! residual values after failure (cohesion and tension zero). Only its properties differ:
 //! those of the intact rock.
 
-use super::joint::{JointModel, JointTable};
+use super::joint::{face_set, JointModel, JointTable};
 use super::MechanicsError;
 use crate::block::ConvexBlock;
 use crate::classify::Feature;
@@ -81,6 +81,7 @@ impl BridgeTable {
 /// joint model ([`JointTable::set_of_contact`]), a bridge face counting as a face of its
 /// set: an edge or a vertex against a bridge face (where pieces of a cut block meet along a
 /// line) holds no area of intact rock, and once broken a bridge face is a fracture of its set.
+#[cfg(test)]
 pub(super) fn contact_model(
     joints: &JointTable,
     bridges: &BridgeTable,
@@ -89,20 +90,46 @@ pub(super) fn contact_model(
     b: &ConvexBlock,
     fb: Feature,
 ) -> (Option<u32>, bool, JointModel) {
-    let bridge_face = |block: &ConvexBlock, f: Feature| match f {
-        Feature::Face(i) => block
-            .face_origins()
-            .get(i as usize)
-            .is_some_and(|o| o.is_bridge()),
-        _ => false,
-    };
-    let set = joints.set_of_contact(a, fa, b, fb);
-    let faces = matches!((fa, fb), (Feature::Face(_), Feature::Face(_)));
-    match set {
-        Some(s) if faces && (bridge_face(a, fa) || bridge_face(b, fb)) => {
-            (Some(s), true, bridges.of_set(s, joints))
+    ContactFaces::of(a, fa, b, fb).model(joints, bridges)
+}
+
+/// What a contact's model takes from its two features (their faces' joint sets, and whether
+/// the contact is face-face with a bridge face on either side): the features are kept
+/// between two queries of a pair, so a contact keeps this rather than reading its blocks'
+/// face origins at every step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct ContactFaces {
+    sets: [Option<u32>; 2],
+    bridge_faces: bool,
+}
+
+impl ContactFaces {
+    /// The faces of the contact between feature `fa` of `a` and feature `fb` of `b`.
+    pub fn of(a: &ConvexBlock, fa: Feature, b: &ConvexBlock, fb: Feature) -> ContactFaces {
+        let bridge_face = |block: &ConvexBlock, f: Feature| match f {
+            Feature::Face(i) => block
+                .face_origins()
+                .get(i as usize)
+                .is_some_and(|o| o.is_bridge()),
+            _ => false,
+        };
+        let faces = matches!((fa, fb), (Feature::Face(_), Feature::Face(_)));
+        ContactFaces {
+            sets: [face_set(a, fa), face_set(b, fb)],
+            bridge_faces: faces && (bridge_face(a, fa) || bridge_face(b, fb)),
         }
-        _ => (set, false, *joints.of_set(set)),
+    }
+
+    /// The contact's set, whether it is a bridge, and its model ([`contact_model`]).
+    pub fn model(
+        self,
+        joints: &JointTable,
+        bridges: &BridgeTable,
+    ) -> (Option<u32>, bool, JointModel) {
+        match joints.set_of_faces(self.sets) {
+            Some(s) if self.bridge_faces => (Some(s), true, bridges.of_set(s, joints)),
+            set => (set, false, *joints.of_set(set)),
+        }
     }
 }
 

@@ -3,14 +3,15 @@
 //! (docs/mechanics.md, steps 2 to 4).
 
 use super::bodies::Bodies;
-use super::bridge::{contact_model, BridgeTable};
+use super::bridge::{BridgeTable, ContactFaces};
 use super::joint::{joint_law, JointTable, SubState};
 use super::stress::InitialStress;
 use crate::block::{ConvexBlock, Pose};
 use crate::classify::{Contact, ContactType, Feature};
 use crate::contact_geometry::{ContactGeometry, ContactPoints};
-use crate::geometry::DVec3;
+use crate::geometry::{DVec3, Plane};
 use glam::Vec3;
+use std::sync::OnceLock;
 
 /// A contact between two bodies' convex parts, as the mechanics keeps it.
 #[derive(Clone, Debug, PartialEq)]
@@ -94,10 +95,9 @@ impl Contacts {
         self.prestresses.get(k).copied().unwrap_or(0.0)
     }
 
-    /// The sub-contacts of the contact of `parts`, and the index of its first.
-    fn find(&self, parts: [u32; 2]) -> Option<(usize, &[SubContact])> {
-        let i = self.list.binary_search_by_key(&parts, |c| c.parts).ok()?;
-        Some((self.list[i].first as usize, self.subs_of(i)))
+    /// The index of the contact of `parts`.
+    fn find(&self, parts: [u32; 2]) -> Option<usize> {
+        self.list.binary_search_by_key(&parts, |c| c.parts).ok()
     }
 }
 
@@ -128,6 +128,17 @@ pub(super) struct Carry {
     /// The travel sum since the query past which the pair is queried again (tau; 0: every
     /// step its bodies move).
     pub tolerance: f64,
+    /// What the contact's joint model takes from its features (kept with them).
+    pub faces: ContactFaces,
+    /// The two features (A's, B's) as placed at the query: a carried contact moves them with
+    /// their bodies rather than reading the placed blocks.
+    pub features: [FeatureAt; 2],
+    /// The larger of the two blocks' magnitudes at the query (for the rounding slack of a
+    /// carried contact's gaps).
+    pub magnitude: f64,
+    /// The smaller body's diameter, once a step has asked for it (the bodies' shapes do not
+    /// change; read from them at every step, it cost a cache miss per body).
+    pub diameter: OnceLock<f64>,
 }
 
 impl Carry {
@@ -169,13 +180,45 @@ impl Carry {
             with_b,
             normal_with_b,
             tolerance,
+            faces: ContactFaces::of(a, contact.feature_a, b, contact.feature_b),
+            features: [
+                FeatureAt::of(a, contact.feature_a),
+                FeatureAt::of(b, contact.feature_b),
+            ],
+            magnitude: a.magnitude().max(b.magnitude()),
+            diameter: OnceLock::new(),
         }
     }
+}
+
+/// A body's pose, velocity and spin at the step, side by side: a contact reads its two
+/// bodies' from one place (computed once per body, rather than per contact from the
+/// bodies' scattered arrays and shapes).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Motion {
+    pub pose: Pose,
+    pub velocity: DVec3,
+    pub spin: DVec3,
+}
+
+/// The motions of all bodies ([`Motion`]), in parallel.
+pub(super) fn motions(bodies: &Bodies) -> Vec<Motion> {
+    use rayon::prelude::*;
+    (0..bodies.len())
+        .into_par_iter()
+        .map(|i| Motion {
+            pose: bodies.pose[i],
+            velocity: bodies.velocity(i),
+            spin: bodies.spin(i),
+        })
+        .collect()
 }
 
 /// What a new contact's sub-contacts need besides the geometry.
 pub(super) struct StepInput<'a> {
     pub bodies: &'a Bodies,
+    /// The bodies' motions ([`motions`]).
+    pub motions: &'a [Motion],
     pub part_body: &'a [u32],
     pub placed: &'a [ConvexBlock],
     pub joints: &'a JointTable,
@@ -205,12 +248,39 @@ pub(super) fn sub_count(found: &Found) -> usize {
     found.geometry.points().len()
 }
 
+/// For each contact found this step (in pair order), its sub-contact count and the index of
+/// the same pair's contact in `previous` (if it had one): one merge of the two lists, both
+/// sorted by pair, rather than a binary search per contact (a pair not met by the merge is
+/// searched, so the answer does not depend on the order).
+pub(super) fn counts_and_previous(
+    previous: &Contacts,
+    found: &[&Found],
+) -> Vec<(u32, Option<u32>)> {
+    let list = &previous.list;
+    let mut j = 0;
+    found
+        .iter()
+        .map(|f| {
+            while j < list.len() && list[j].parts < f.parts {
+                j += 1;
+            }
+            let at = if j < list.len() && list[j].parts == f.parts {
+                Some(j)
+            } else {
+                previous.find(f.parts)
+            };
+            (sub_count(f) as u32, at.map(|i| i as u32))
+        })
+        .collect()
+}
+
 /// The contact, its sub-contacts with their forces for this step written to `subs` (of
-/// length [`sub_count`]), and their installed normal stresses to `prestresses` (of the same
+/// length [`sub_count`]; `previous`: the index of the pair's contact at the last step), and their installed normal stresses to `prestresses` (of the same
 /// length, or empty when the step keeps none: no initial stress in the run).
 pub(super) fn build_contact(
     input: &StepInput,
     found: &Found,
+    previous: Option<u32>,
     scratch: &mut Scratch,
     subs: &mut [SubContact],
     prestresses: &mut [f64],
@@ -225,7 +295,8 @@ pub(super) fn build_contact(
     let (a, b) = (&input.placed[pa as usize], &input.placed[pb as usize]);
     let bodies = [input.part_body[pa as usize], input.part_body[pb as usize]];
     let g = &found.geometry;
-    let poses = bodies.map(|i| input.bodies.pose[i as usize]);
+    let motion = bodies.map(|i| &input.motions[i as usize]);
+    let poses = motion.map(|m| m.pose);
     // Between queries the geometry moves with the bodies (docs/mechanics.md, "Carried
     // contacts"): the motion of each body since the query, `None` at the query's poses.
     let carried = (0..2)
@@ -244,26 +315,43 @@ pub(super) fn build_contact(
         Some(m) => (m[usize::from(found.carry.normal_with_b)].rotation * g.normal()).normalize(),
         None => g.normal(),
     };
-    let (fa, fb) = (found.contact.feature_a, found.contact.feature_b);
-    let (set, bridge, model) = contact_model(input.joints, input.bridges, a, fa, b, fb);
+    let (set, bridge, model) = found.carry.faces.model(input.joints, input.bridges);
     let model = &model;
     // The smaller body's diameter (twice its radius about the centroid): the same whatever
     // its orientation, unlike a bounding box.
-    let diameter = 2.0
-        * input
-            .bodies
-            .shape(bodies[0] as usize)
-            .radius()
-            .min(input.bodies.shape(bodies[1] as usize).radius());
+    let diameter = *found.carry.diameter.get_or_init(|| {
+        let radius = |i: u32| input.bodies.shape(i as usize).radius();
+        2.0 * radius(bodies[0]).min(radius(bodies[1]))
+    });
     let width = input.point_width * diameter;
+    // The two features where they are now: read from the placed blocks at the query's poses,
+    // else moved from where they were at the query as the points are (docs/mechanics.md,
+    // "Carried contacts": the same rigid motions, so a carried contact reads neither block).
+    let features = match carried {
+        None => [
+            FeatureAt::of(a, found.contact.feature_a),
+            FeatureAt::of(b, found.contact.feature_b),
+        ],
+        Some(m) => [0, 1].map(|k| found.carry.features[k].moved(&m[k])),
+    };
     // The rounding of a gap of zero, far above it (and above the rounding of coordinates
-    // far from the origin): a bond at zero gap is not broken by it.
-    let magnitude = a.magnitude().max(b.magnitude());
+    // far from the origin): a bond at zero gap is not broken by it. (A carried contact takes
+    // its blocks' magnitude at the query: they have moved by less than tau since.)
+    let magnitude = match carried {
+        None => a.magnitude().max(b.magnitude()),
+        Some(_) => found.carry.magnitude,
+    };
     let slack = (1e-9 * diameter).max(crate::tolerance::ROUNDING_FLOOR * magnitude);
     // The shares of the geometry at the query: a rigid motion keeps them.
     area_shares(g.shape(), g.normal(), width, areas, floors);
     let pose_a = poses[0];
-    let previous = input.previous.find(found.parts);
+    let previous = previous.map(|i| {
+        let i = i as usize;
+        (
+            input.previous.list[i].first as usize,
+            input.previous.subs_of(i),
+        )
+    });
     points.clear();
     match carried {
         None => points.extend_from_slice(g.points()),
@@ -276,27 +364,21 @@ pub(super) fn build_contact(
     match (g.shape(), carried) {
         (ContactPoints::Point(_), None) => gaps.push(g.distance()),
         _ => gaps.extend(points.iter().map(|&p| {
-            let sa = feature_height(a, found.contact.feature_a, p, n);
-            let sb = feature_height(b, found.contact.feature_b, p, n);
+            let sa = features[0].height(p, n);
+            let sb = features[1].height(p, n);
             sb - sa
         })),
     };
-    if let (ContactType::FaceFace, 2, Feature::Face(fa), Feature::Face(fb)) = (
-        found.contact.kind,
-        gaps.len(),
-        found.contact.feature_a,
-        found.contact.feature_b,
-    ) {
+    if let (ContactType::FaceFace, 2, FeatureAt::Face(plane_a), FeatureAt::Face(plane_b)) =
+        (found.contact.kind, gaps.len(), features[0], features[1])
+    {
         // A face-face polygon narrower than the length threshold, given as a segment: a
         // strip along an edge (a block rocking onto it), whose two points the detection
         // gives to within the threshold, one of them possibly across the strip where the
         // faces have opened. The shallower end is moved across the strip, along the gap's
         // gradient on the contact plane, to the deeper end's depth: both ends then lie on
         // the edge, as the segment of the edge-face contact the strip becomes.
-        let (na, nb) = (
-            a.planes()[fa as usize].normal,
-            b.planes()[fb as usize].normal,
-        );
+        let (na, nb) = (plane_a.normal, plane_b.normal);
         let grad = na / na.dot(n) - nb / nb.dot(n);
         let grad = grad - n * grad.dot(n);
         let (deep, shallow) = if gaps[0] <= gaps[1] { (0, 1) } else { (1, 0) };
@@ -305,20 +387,11 @@ pub(super) fn build_contact(
         }
         gaps[shallow] = gaps[deep];
     }
-    // The bodies' motion, once per contact: velocities, spins and centroids.
-    let motion = bodies.map(|i| {
-        let i = i as usize;
-        (
-            input.bodies.velocity(i),
-            input.bodies.spin(i),
-            input.bodies.pose[i].translation,
-        )
-    });
-    let mean_spin = 0.5 * (motion[0].1 + motion[1].1);
+    let mean_spin = 0.5 * (motion[0].spin + motion[1].spin);
     // Rotated with the contact plane: onto the new plane, and about the normal by the
     // bodies' mean spin over the step (3DEC's rule).
     let twist = glam::DQuat::from_axis_angle(n, mean_spin.dot(n) * input.dt);
-    let point_velocity = |(v, w, c): (DVec3, DVec3, DVec3), p: DVec3| v + w.cross(p - c);
+    let point_velocity = |m: &Motion, p: DVec3| m.velocity + m.spin.cross(p - m.pose.translation);
     debug_assert_eq!(subs.len(), points.len());
     debug_assert!(prestresses.is_empty() || prestresses.len() == subs.len());
     for (k_sub, (((&p, &area), &gap), sub)) in points
@@ -333,16 +406,8 @@ pub(super) fn build_contact(
         // stress carries over (the area shares change as the polygon does).
         let (mut shear, mut slip, bonded, prestress) = match previous {
             Some((first, old)) => {
-                let (k, o) = old
-                    .iter()
-                    .enumerate()
-                    .min_by(|(_, x), (_, y)| {
-                        x.local
-                            .as_dvec3()
-                            .distance_squared(local)
-                            .total_cmp(&y.local.as_dvec3().distance_squared(local))
-                    })
-                    .expect("a contact has at least one sub-contact");
+                let k = nearest(old, local);
+                let o = &old[k];
                 (
                     o.shear_force * (area / o.area),
                     o.shear_displacement,
@@ -412,6 +477,19 @@ pub(super) fn build_contact(
     }
 }
 
+/// The index of the sub-contact of `old` whose `local` is nearest `p` (the first of equals).
+fn nearest(old: &[SubContact], p: DVec3) -> usize {
+    let distance = |o: &SubContact| o.local.as_dvec3().distance_squared(p);
+    let (mut best, mut smallest) = (0, distance(&old[0]));
+    for (k, o) in old.iter().enumerate().skip(1) {
+        let d = distance(o);
+        if d.total_cmp(&smallest).is_lt() {
+            (best, smallest) = (k, d);
+        }
+    }
+    best
+}
+
 /// A point in the body frame of the pose.
 fn to_body(pose: &Pose, p: DVec3) -> DVec3 {
     pose.rotation.conjugate() * (p - pose.translation)
@@ -469,40 +547,71 @@ fn area_shares(
     }
 }
 
-/// Where the line through `p` along `n` meets the feature `f` of `block`, as `s` in
-/// `p + s n`: a face's plane, the point of an edge's line nearest the line, a vertex's
-/// height (docs/mechanics.md, "Normal force").
-fn feature_height(block: &ConvexBlock, f: Feature, p: DVec3, n: DVec3) -> f64 {
-    match f {
-        Feature::Vertex(v) => n.dot(block.vertices()[v as usize] - p),
-        Feature::Face(k) => {
-            let plane = &block.planes()[k as usize];
-            let cos = plane.normal.dot(n);
-            if cos.abs() > 1e-6 {
-                plane.normal.dot(plane.point - p) / cos
-            } else {
-                // A face along the normal: its centroid's height (not met in practice: the
-                // contact normal of a face feature is close to the face's normal).
-                n.dot(plane.point - p)
+/// A contact feature of a placed block, where it is: a vertex, a face's plane, or an edge's
+/// two ends (all that [`FeatureAt::height`] reads of the block).
+#[derive(Clone, Copy, Debug)]
+pub(super) enum FeatureAt {
+    Vertex(DVec3),
+    Face(Plane),
+    Edge([DVec3; 2]),
+}
+
+impl FeatureAt {
+    /// Feature `f` of `block`.
+    fn of(block: &ConvexBlock, f: Feature) -> FeatureAt {
+        match f {
+            Feature::Vertex(v) => FeatureAt::Vertex(block.vertices()[v as usize]),
+            Feature::Face(k) => FeatureAt::Face(block.planes()[k as usize]),
+            Feature::Edge(e) => {
+                let edge = block.edges()[e as usize];
+                FeatureAt::Edge(edge.vertices.map(|v| block.vertices()[v as usize]))
             }
         }
-        Feature::Edge(e) => {
-            let edge = block.edges()[e as usize];
-            let e0 = block.vertices()[edge.vertices[0] as usize];
-            let e1 = block.vertices()[edge.vertices[1] as usize];
-            let d = e1 - e0;
-            // The edge's direction within the contact plane; its point nearest the line
-            // p + s n is where its projection passes nearest p.
-            let dp = d - n * d.dot(n);
-            let w = e0 - p;
-            let wp = w - n * w.dot(n);
-            let len2 = dp.length_squared();
-            let t = if len2 > 1e-24 * d.length_squared() {
-                -wp.dot(dp) / len2
-            } else {
-                0.5
-            };
-            n.dot(w + d * t)
+    }
+
+    /// The feature moved rigidly by `m`.
+    fn moved(self, m: &Pose) -> FeatureAt {
+        match self {
+            FeatureAt::Vertex(v) => FeatureAt::Vertex(m.apply(v)),
+            FeatureAt::Face(plane) => FeatureAt::Face(Plane {
+                normal: m.rotation * plane.normal,
+                point: m.apply(plane.point),
+            }),
+            FeatureAt::Edge(ends) => FeatureAt::Edge(ends.map(|v| m.apply(v))),
+        }
+    }
+
+    /// Where the line through `p` along `n` meets the feature, as `s` in `p + s n`: a face's
+    /// plane, the point of an edge's line nearest the line, a vertex's height
+    /// (docs/mechanics.md, "Normal force").
+    fn height(&self, p: DVec3, n: DVec3) -> f64 {
+        match *self {
+            FeatureAt::Vertex(v) => n.dot(v - p),
+            FeatureAt::Face(plane) => {
+                let cos = plane.normal.dot(n);
+                if cos.abs() > 1e-6 {
+                    plane.normal.dot(plane.point - p) / cos
+                } else {
+                    // A face along the normal: its centroid's height (not met in practice:
+                    // the contact normal of a face feature is close to the face's normal).
+                    n.dot(plane.point - p)
+                }
+            }
+            FeatureAt::Edge([e0, e1]) => {
+                let d = e1 - e0;
+                // The edge's direction within the contact plane; its point nearest the line
+                // p + s n is where its projection passes nearest p.
+                let dp = d - n * d.dot(n);
+                let w = e0 - p;
+                let wp = w - n * w.dot(n);
+                let len2 = dp.length_squared();
+                let t = if len2 > 1e-24 * d.length_squared() {
+                    -wp.dot(dp) / len2
+                } else {
+                    0.5
+                };
+                n.dot(w + d * t)
+            }
         }
     }
 }
@@ -545,8 +654,8 @@ mod tests {
         assert_eq!(shares, vec![0.025; 2]);
         assert!((g.area() - 1.0).abs() < 1e-6);
         for &p in g.points() {
-            let sa = feature_height(&a, contact.feature_a, p, g.normal());
-            let sb = feature_height(&b, contact.feature_b, p, g.normal());
+            let sa = FeatureAt::of(&a, contact.feature_a).height(p, g.normal());
+            let sb = FeatureAt::of(&b, contact.feature_b).height(p, g.normal());
             // B's bottom at x: z = x tan(1e-4) (rotation about y by -1e-4 lifts +x).
             let expected = p.x * 1e-4f64.tan();
             assert!(

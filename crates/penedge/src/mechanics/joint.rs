@@ -145,23 +145,35 @@ impl JointTable {
         b: &ConvexBlock,
         fb: Feature,
     ) -> Option<u32> {
-        let set = |block: &ConvexBlock, f: Feature| match f {
-            Feature::Face(i) => block
-                .face_origins()
-                .get(i as usize)
-                .copied()
-                .and_then(FaceOrigin::set),
-            _ => None,
-        };
-        match (set(a, fa), set(b, fb)) {
-            (Some(x), Some(y)) if x != y => {
+        self.set_of_faces([face_set(a, fa), face_set(b, fb)])
+    }
+
+    /// The joint set of a contact whose two features have the sets `sets` ([`face_set`]):
+    /// of two different sets, the weaker one (as [`JointTable::set_of_contact`]). A contact
+    /// keeps its features between queries, so it keeps their sets and asks only this.
+    pub(super) fn set_of_faces(&self, sets: [Option<u32>; 2]) -> Option<u32> {
+        match sets {
+            [Some(x), Some(y)] if x != y => {
                 let (mx, my) = (self.of_set(Some(x)), self.of_set(Some(y)));
                 let key = |m: &JointModel| (m.tan_friction(), m.cohesion);
                 Some(if key(my) < key(mx) { y } else { x })
             }
-            (Some(x), _) => Some(x),
-            (None, y) => y,
+            [Some(x), _] => Some(x),
+            [None, y] => y,
         }
+    }
+}
+
+/// The joint set of feature `f` of `block`: its face's set, none for an edge, a vertex or a
+/// face of no set.
+pub(super) fn face_set(block: &ConvexBlock, f: Feature) -> Option<u32> {
+    match f {
+        Feature::Face(i) => block
+            .face_origins()
+            .get(i as usize)
+            .copied()
+            .and_then(FaceOrigin::set),
+        _ => None,
     }
 }
 

@@ -61,7 +61,7 @@ use crate::system::{
     EDGE_CERTIFICATE_STEPS,
 };
 use crate::tolerance::{Tolerance, ToleranceError};
-use contacts::{build_contact, sub_count, Carry, Found, Scratch, StepInput};
+use contacts::{build_contact, counts_and_previous, Carry, Found, Scratch, StepInput};
 use rayon::prelude::*;
 use std::time::Instant;
 use thiserror::Error;
@@ -222,6 +222,9 @@ impl StepTimings {
 #[derive(Clone, Debug)]
 pub struct Simulation {
     bodies: Bodies,
+    /// Per block of the system it was made of, its body (`from_bodies`: per part, in body
+    /// order); a body held by rock bridges is several bodies (`Bodies::of_system`).
+    block_bodies: Vec<u32>,
     /// Per convex part: its body and its index among the body's parts.
     part_body: Vec<u32>,
     part_index: Vec<u32>,
@@ -285,13 +288,16 @@ pub struct Simulation {
 
 impl Simulation {
     /// A simulation of `system`'s blocks, one body each (a concave block, parts sharing a
-    /// body id, is one rigid body of its parts: [`Bodies::from_system`], bodies by ascending
-    /// body id), all of density `density`, free and at rest, with the default joint model,
+    /// body id, is one rigid body of its parts unless rock bridges hold them:
+    /// [`Bodies::from_system`], bodies in the order of their first block;
+    /// [`Simulation::block_bodies`] maps blocks to bodies), all of density `density`, free and at rest, with the default joint model,
     /// gravity `(0, 0, -9.81)`, no damping, a detection gap of 1e-3 (relative), point
     /// contacts 0.2 of the smaller body's diameter wide and the automatic time step.
     pub fn new(system: &BlockSystem, density: f64) -> Result<Simulation, MechanicsError> {
-        let bodies = Bodies::from_system(system, density)?;
-        Ok(Simulation::from_bodies(bodies))
+        let (bodies, block_bodies) = Bodies::of_system(system, density)?;
+        let mut sim = Simulation::from_bodies(bodies);
+        sim.block_bodies = block_bodies;
+        Ok(sim)
     }
 
     /// Per block of `system`, the index of the body [`Simulation::new`] makes it part of: the
@@ -326,6 +332,7 @@ impl Simulation {
         let n = bodies.len();
         Simulation {
             bodies,
+            block_bodies: part_body.clone(),
             part_body,
             part_index,
             complete: vec![true; placed.len()],
@@ -370,6 +377,20 @@ impl Simulation {
     /// The bodies and their state.
     pub fn bodies(&self) -> &Bodies {
         &self.bodies
+    }
+
+    /// Per block of the system the simulation was made of ([`Simulation::new`]), the body it
+    /// is a part of: the bodies are not the system's bodies when rock bridges hold some of
+    /// them (docs/mechanics.md, "Rock bridges"). For [`Simulation::from_bodies`], per part in
+    /// body order.
+    pub fn block_bodies(&self) -> &[u32] {
+        &self.block_bodies
+    }
+
+    /// The body of block `block` of the system ([`Simulation::block_bodies`]); `None` for no
+    /// such block.
+    pub fn body_of_block(&self, block: usize) -> Option<u32> {
+        self.block_bodies.get(block).copied()
     }
 
     /// The contacts and sub-contacts of the last step.
@@ -1127,8 +1148,10 @@ impl Simulation {
 
     /// Sub-contacts with their forces (in parallel per contact), matched to the last step's.
     fn update_contacts(&mut self, dt: f64) {
+        let motions = contacts::motions(&self.bodies);
         let input = StepInput {
             bodies: &self.bodies,
+            motions: &motions,
             part_body: &self.part_body,
             placed: &self.placed,
             joints: &self.joints,
@@ -1146,25 +1169,26 @@ impl Simulation {
             .collect();
         // Each contact's sub-contacts (and, in a run with an initial stress, their installed
         // stresses) are written in place, in contact order: no allocation per contact.
-        let counts: Vec<usize> = found.iter().map(|f| sub_count(f)).collect();
-        let total: usize = counts.iter().sum();
+        let counts = counts_and_previous(&self.contacts, &found);
+        let total: usize = counts.iter().map(|&(n, _)| n as usize).sum();
         let keep_stress = self.initial_stress.is_some() || !self.contacts.prestresses.is_empty();
         let mut subs = vec![SubContact::default(); total];
         let mut prestresses = vec![0.0; if keep_stress { total } else { 0 }];
         let mut slices = Vec::with_capacity(found.len());
         let (mut rest, mut rest_p) = (subs.as_mut_slice(), prestresses.as_mut_slice());
-        for &count in &counts {
+        for &(count, previous) in &counts {
+            let count = count as usize;
             let (head, tail) = rest.split_at_mut(count);
             let (head_p, tail_p) = rest_p.split_at_mut(if keep_stress { count } else { 0 });
-            slices.push((head, head_p));
+            slices.push((previous, head, head_p));
             rest = tail;
             rest_p = tail_p;
         }
         let mut list: Vec<BodyContact> = found
             .par_iter()
             .zip(slices)
-            .map_init(Scratch::default, |scratch, (f, (out, out_p))| {
-                build_contact(&input, f, scratch, out, out_p)
+            .map_init(Scratch::default, |scratch, (f, (previous, out, out_p))| {
+                build_contact(&input, f, previous, scratch, out, out_p)
             })
             .collect();
         let mut first = 0;

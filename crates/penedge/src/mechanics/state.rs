@@ -47,6 +47,10 @@ struct StateFile {
     clock: ClockFile,
     shapes: Vec<ShapeFile>,
     bodies: Vec<BodyFile>,
+    /// Per block of the system the simulation was made of, its body (absent in files
+    /// written before penedge stored it: per part, in body order).
+    #[serde(default)]
+    block_bodies: Vec<u32>,
     contacts: Vec<ContactFile>,
     /// Per body, the sum of its contact forces and moments at the last step.
     forces: Vec<V3>,
@@ -486,6 +490,7 @@ fn check_header(format: Option<&str>, version: Option<u32>) -> Result<(), IoErro
 fn file_of(sim: &Simulation) -> StateFile {
     let Simulation {
         bodies,
+        block_bodies,
         // Derived from the shapes and poses (recomputed by `Simulation::from_bodies`).
         part_body: _,
         part_index: _,
@@ -583,6 +588,7 @@ fn file_of(sim: &Simulation) -> StateFile {
         bodies: (0..bodies.len())
             .map(|i| body_file(bodies, i, shape_ids[i]))
             .collect(),
+        block_bodies: block_bodies.clone(),
         contacts: contacts_file(contacts),
         forces: forces.iter().map(|f| f.to_array()).collect(),
         moments: moments.iter().map(|m| m.to_array()).collect(),
@@ -1365,6 +1371,22 @@ fn per_body(field: &str, values: &[V3], n: usize) -> Result<Vec<DVec3>, IoError>
         .collect()
 }
 
+/// The block-to-body map of a file: every body of the `n` a block's.
+fn block_bodies_of(ids: &[u32], n: usize) -> Result<Vec<u32>, IoError> {
+    let mut seen = vec![false; n];
+    for (k, &b) in ids.iter().enumerate() {
+        let Some(s) = seen.get_mut(b as usize) else {
+            let field = format!("block_bodies[{k}]");
+            return Err(bad(field, format!("no body {b}: the file has {n}")));
+        };
+        *s = true;
+    }
+    if let Some(b) = seen.iter().position(|s| !s) {
+        return Err(bad("block_bodies", format!("body {b} has no block")));
+    }
+    Ok(ids.to_vec())
+}
+
 fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
     let shapes = file
         .shapes
@@ -1464,6 +1486,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
         // Every field of the simulation, so that one added to it is not forgotten here.
         let Simulation {
             bodies: _,
+            block_bodies: bb,
             part_body: _,
             part_index: _,
             placed: _,
@@ -1501,6 +1524,9 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             excavation: ex,
             initial_stress: stress,
         } = &mut sim;
+        if !file.block_bodies.is_empty() {
+            *bb = block_bodies_of(&file.block_bodies, n)?;
+        }
         *j = joints;
         *br = bridge_table;
         *g = gravity;

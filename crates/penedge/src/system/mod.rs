@@ -2,6 +2,7 @@
 //! [`crate::generation`]), and the detection of every contact in it.
 
 mod body_contacts;
+mod bridge_bodies;
 mod broad_phase;
 mod concave;
 mod concave_shapes;
