@@ -64,8 +64,6 @@ pub struct Simulation {
     inner: mechanics::Simulation,
     /// The note of the restart file it was read from (:meth:`load`).
     note: Option<String>,
-    /// Per block of the system it was made of, its body (:attr:`block_bodies`).
-    block_bodies: Vec<i64>,
 }
 
 /// A joint model as a dict of its properties.
@@ -109,40 +107,12 @@ impl Simulation {
         let mut inner = mechanics::Simulation::new(&system.inner, density).map_err(to_py_err)?;
         inner.set_gap(gap).map_err(to_py_err)?;
         inner.set_point_width(point_width).map_err(to_py_err)?;
-        let block_bodies = mechanics::Simulation::block_bodies(&system.inner)
-            .into_iter()
-            .map(i64::from)
-            .collect();
-        Ok(Simulation {
-            inner,
-            note: None,
-            block_bodies,
-        })
+        Ok(Simulation { inner, note: None })
     }
 
     /// Number of bodies.
     fn __len__(&self) -> usize {
         self.inner.bodies().len()
-    }
-
-    /// Per block of the system the simulation was made of, the index of the body it belongs
-    /// to (the row of :attr:`positions`, the id of :meth:`fix`), shape (n_blocks,), int64:
-    /// the parts of a concave block share one body; convex blocks only: ``0..n``. A
-    /// simulation read from a restart file (:meth:`load`) maps its parts, in the file's
-    /// order (the parts of one body consecutive), to their bodies.
-    ///
-    /// Examples
-    /// --------
-    /// >>> import penedge
-    /// >>> parts = [penedge.Block.cuboid([0, 0, 0], [1, 1, 1]),
-    /// ...          penedge.Block.cuboid([3, 0, 0], [4, 1, 1]),
-    /// ...          penedge.Block.cuboid([1, 0, 0], [2, 1, 1])]
-    /// >>> system = penedge.BlockSystem(parts).with_bodies([5, 1, 5])  # body 5: a bar of two parts
-    /// >>> penedge.Simulation(system).block_bodies.tolist()
-    /// [1, 0, 1]
-    #[getter]
-    fn block_bodies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<i64>>> {
-        arrays::read_only(arrays::vector(py, self.block_bodies.clone()))
     }
 
     fn __repr__(&self) -> String {
@@ -985,7 +955,6 @@ impl Simulation {
         Simulation {
             inner: self.inner.clone(),
             note: self.note.clone(),
-            block_bodies: self.block_bodies.clone(),
         }
     }
 
@@ -1031,14 +1000,7 @@ impl Simulation {
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Simulation> {
         py.detach(|| mechanics::Simulation::load_state_noted(&path))
-            .map(|(inner, note)| {
-                let block_bodies = inner.part_bodies().iter().map(|&b| i64::from(b)).collect();
-                Simulation {
-                    inner,
-                    note,
-                    block_bodies,
-                }
-            })
+            .map(|(inner, note)| Simulation { inner, note })
             .map_err(file_error(&path))
     }
 

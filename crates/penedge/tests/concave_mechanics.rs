@@ -263,8 +263,9 @@ fn an_l_block_rests_on_a_base_with_its_weight_through_its_centroid_however_it_is
     }
 }
 
-/// The map from blocks to bodies: bodies by ascending body id, whatever the blocks' order;
-/// the parts, listed body by body, are the system's blocks (each part where its block is).
+/// The map from blocks to bodies: bodies in the order of their first block, whatever the
+/// body ids; the parts, listed body by body, are the system's blocks (each part where its
+/// block is).
 #[test]
 fn each_block_maps_to_its_body_and_the_parts_are_the_blocks() {
     let blocks = vec![
@@ -276,19 +277,22 @@ fn each_block_maps_to_its_body_and_the_parts_are_the_blocks() {
     let system = BlockSystem::new(blocks.clone())
         .with_bodies(vec![5, 1, 5], &Tolerance::default())
         .unwrap();
-    assert_eq!(Simulation::block_bodies(&system), vec![1, 0, 1]);
     let sim = Simulation::new(&system, DENSITY).unwrap();
+    assert_eq!(sim.block_bodies(), &[0, 1, 0]);
+    assert_eq!(sim.body_of_block(2), Some(0));
+    assert_eq!(sim.body_of_block(3), None);
     assert_eq!(sim.bodies().len(), 2);
-    assert_eq!(sim.part_bodies(), &[0, 1, 1]);
-    // body 0 is block 1 (mass of one cube), body 1 the bar of blocks 0 and 2 (two cubes)
+    assert_eq!(sim.part_bodies(), &[0, 0, 1]);
+    // body 0 the bar of blocks 0 and 2 (two cubes), body 1 is block 1 (mass of one cube)
     let masses = sim.bodies().masses();
-    assert!((masses[0] - DENSITY).abs() < 1e-9 && (masses[1] - 2.0 * DENSITY).abs() < 1e-9);
+    assert!((masses[0] - 2.0 * DENSITY).abs() < 1e-9 && (masses[1] - DENSITY).abs() < 1e-9);
     let placed = sim.placed_system();
-    for (part, block) in [(0, 1), (1, 0), (2, 2)] {
+    for (part, block) in [(0, 0), (1, 2), (2, 1)] {
         let centroid = placed.blocks()[part].centroid();
         assert!((centroid - blocks[block].centroid()).length() < 1e-12);
     }
     // convex blocks: block i is body i
     let convex = BlockSystem::new(blocks);
-    assert_eq!(Simulation::block_bodies(&convex), vec![0, 1, 2]);
+    let sim = Simulation::new(&convex, DENSITY).unwrap();
+    assert_eq!(sim.block_bodies(), &[0, 1, 2]);
 }

@@ -249,27 +249,31 @@ pub(super) fn sub_count(found: &Found) -> usize {
 }
 
 /// For each contact found this step (in pair order), its sub-contact count and the index of
-/// the same pair's contact in `previous` (if it had one): one merge of the two lists, both
-/// sorted by pair, rather than a binary search per contact (a pair not met by the merge is
-/// searched, so the answer does not depend on the order).
+/// the same pair's contact in `previous` (if it had one): a merge of the two lists, both
+/// sorted by pair, rather than a binary search per contact (in parallel, by chunks that each
+/// search where they start; a pair not met by the merge is searched, so the answer does not
+/// depend on the order).
 pub(super) fn counts_and_previous(
     previous: &Contacts,
     found: &[&Found],
 ) -> Vec<(u32, Option<u32>)> {
+    use rayon::prelude::*;
     let list = &previous.list;
-    let mut j = 0;
     found
-        .iter()
-        .map(|f| {
-            while j < list.len() && list[j].parts < f.parts {
-                j += 1;
-            }
-            let at = if j < list.len() && list[j].parts == f.parts {
-                Some(j)
-            } else {
-                previous.find(f.parts)
-            };
-            (sub_count(f) as u32, at.map(|i| i as u32))
+        .par_chunks(4096)
+        .flat_map_iter(|chunk| {
+            let mut j = list.partition_point(|c| c.parts < chunk[0].parts);
+            chunk.iter().map(move |f| {
+                while j < list.len() && list[j].parts < f.parts {
+                    j += 1;
+                }
+                let at = if j < list.len() && list[j].parts == f.parts {
+                    Some(j)
+                } else {
+                    previous.find(f.parts)
+                };
+                (sub_count(f) as u32, at.map(|i| i as u32))
+            })
         })
         .collect()
 }

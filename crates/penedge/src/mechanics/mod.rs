@@ -300,19 +300,6 @@ impl Simulation {
         Ok(sim)
     }
 
-    /// Per block of `system`, the index of the body [`Simulation::new`] makes it part of: the
-    /// parts of a concave block share one body, bodies by ascending body id (the order of
-    /// [`BlockSystem::body_parts`]); a system of convex blocks maps block `i` to body `i`.
-    pub fn block_bodies(system: &BlockSystem) -> Vec<u32> {
-        let mut out = vec![0; system.len()];
-        for (body, (_, parts)) in system.body_parts().into_iter().enumerate() {
-            for k in parts {
-                out[k as usize] = body as u32;
-            }
-        }
-        out
-    }
-
     /// A simulation of the given bodies (settings as [`Simulation::new`]).
     pub fn from_bodies(bodies: Bodies) -> Simulation {
         let mut part_body = Vec::new();
@@ -1164,7 +1151,7 @@ impl Simulation {
         };
         let found: Vec<&Found> = self
             .memo
-            .iter()
+            .par_iter()
             .filter_map(|m| m.found.as_deref())
             .collect();
         // Each contact's sub-contacts (and, in a run with an initial stress, their installed
@@ -1172,7 +1159,8 @@ impl Simulation {
         let counts = counts_and_previous(&self.contacts, &found);
         let total: usize = counts.iter().map(|&(n, _)| n as usize).sum();
         let keep_stress = self.initial_stress.is_some() || !self.contacts.prestresses.is_empty();
-        let mut subs = vec![SubContact::default(); total];
+        let mut subs = Vec::with_capacity(total);
+        subs.par_extend(rayon::iter::repeat_n(SubContact::default(), total));
         let mut prestresses = vec![0.0; if keep_stress { total } else { 0 }];
         let mut slices = Vec::with_capacity(found.len());
         let (mut rest, mut rest_p) = (subs.as_mut_slice(), prestresses.as_mut_slice());
