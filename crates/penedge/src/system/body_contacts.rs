@@ -471,7 +471,19 @@ impl BlockSystem {
             let mut parts: Vec<u32> = members.iter().map(|p| p.parts[side]).collect();
             parts.sort_unstable();
             parts.dedup();
-            self.holding_planes(&parts, &points, length, marks)
+            // Per point, the face of this side's part that its piece lies on, if any.
+            let own: Vec<Option<(u32, u32)>> = members
+                .iter()
+                .flat_map(|p| {
+                    let feature = [p.contact.feature_a, p.contact.feature_b][side];
+                    let face = match feature {
+                        Feature::Face(f) => Some((p.parts[side], f)),
+                        _ => None,
+                    };
+                    std::iter::repeat_n(face, p.points.as_slice().len())
+                })
+                .collect();
+            self.holding_planes(&parts, &points, &own, length, marks)
         });
         let feature = |n: &[DVec3]| match n.len() {
             1 => Feature::Face(0),
@@ -494,10 +506,14 @@ impl BlockSystem {
 
     /// The normals of the distinct planes of the non-internal faces of `parts` that hold
     /// every point: each point within `length` of the plane and of one of its faces.
+    /// `own` names, per point, the part face its piece lies on (if any), which is tried
+    /// first: it holds the point unless rounding says otherwise, and the other faces of the
+    /// plane are then not tried (the answer is the same in any order).
     fn holding_planes(
         &self,
         parts: &[u32],
         points: &[DVec3],
+        own: &[Option<(u32, u32)>],
         length: f64,
         marks: &FaceMarks,
     ) -> Vec<DVec3> {
@@ -506,6 +522,8 @@ impl BlockSystem {
         // `points.len()` per plane).
         let mut holds: Vec<bool> = Vec::new();
         let m = points.len();
+        // The faces on the planes: (part, face, plane).
+        let mut on_planes: Vec<(u32, u32, usize)> = Vec::new();
         for &part in parts {
             let block = &self.blocks()[part as usize];
             for (f, plane) in block.planes().iter().enumerate() {
@@ -527,11 +545,25 @@ impl BlockSystem {
                         planes.len() - 1
                     }
                 };
-                // A point held by one face of the plane needs no other.
-                for (held, &x) in holds[k * m..(k + 1) * m].iter_mut().zip(points) {
-                    if !*held {
-                        *held = in_face(block, f, x, length);
-                    }
+                on_planes.push((part, f as u32, k));
+            }
+        }
+        // Each point on its own face first; then, for the points not held yet, every face
+        // of each plane (a point held by one face of the plane needs no other).
+        for (i, owner) in own.iter().enumerate() {
+            let Some(&(part, f, k)) =
+                owner.and_then(|o| on_planes.iter().find(|c| (c.0, c.1) == o))
+            else {
+                continue;
+            };
+            holds[k * m + i] =
+                in_face(&self.blocks()[part as usize], f as usize, points[i], length);
+        }
+        for &(part, f, k) in &on_planes {
+            let block = &self.blocks()[part as usize];
+            for (held, &x) in holds[k * m..(k + 1) * m].iter_mut().zip(points) {
+                if !*held {
+                    *held = in_face(block, f as usize, x, length);
                 }
             }
         }

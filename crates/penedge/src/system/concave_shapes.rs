@@ -382,4 +382,27 @@ mod tests {
             assert!(!s.non_convex);
         }
     }
+
+    #[test]
+    fn concave_shapes_of_a_generated_bridged_joint_are_one_cracked_convex_body() {
+        // A 10 m cube and a horizontal 4 x 4 m square joint with bridges at z = 5, inside
+        // its section: generation cuts the cube through and glues the pieces into one body
+        // (docs/generation.md, "Rock bridges"). The union is the cube (convex); the crack is
+        // the joint's square, 16 m2.
+        let spec = crate::io::spec::parse_toml(
+            "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n\n\
+             [[joints]]\ntype = \"polygon\"\nbridge = true\n\
+             vertices = [[3, 3, 5], [7, 3, 5], [7, 7, 5], [3, 7, 5]]\n",
+        )
+        .unwrap();
+        let system = crate::generation::generate(&spec).unwrap().system;
+        assert!(system.len() > 2);
+        let tol = Tolerance::default();
+        let shapes = system.body_shapes(&tol).unwrap();
+        assert_eq!(shapes.len(), 1);
+        let s = shapes[0];
+        assert!((s.volume - 1000.0).abs() < 1e-9);
+        assert!(s.hull_excess.abs() < 1e-9 && !s.non_convex);
+        assert!((s.crack_area - 16.0).abs() < 1e-9, "{s:?}");
+    }
 }
