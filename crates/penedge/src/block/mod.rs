@@ -23,7 +23,7 @@ pub use origin::FaceOrigin;
 #[cfg(test)]
 pub(crate) use pose::assert_same_placed;
 pub use pose::Pose;
-pub(crate) use pose::{prefetch_bytes, Prefetch};
+pub(crate) use pose::Prefetch;
 
 /// The largest coordinate magnitude of a block: beyond it, products of four lengths (the
 /// volume's moments) would overflow `f64`.

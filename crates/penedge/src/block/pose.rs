@@ -284,7 +284,7 @@ pub(crate) enum Prefetch {
 
 /// Asks for the cache lines of `items` (never faults, whatever the address).
 #[inline(always)]
-pub(crate) fn prefetch_bytes<T>(items: &[T]) {
+fn prefetch_bytes<T>(items: &[T]) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};

@@ -405,15 +405,6 @@ impl Inertia<'_> {
         &self.shapes[i]
     }
 
-    /// Asks the processor for body `i`'s shape (a hint: no effect on any result; the shapes
-    /// are scattered through memory, and the step reads one per body).
-    #[inline(always)]
-    pub(super) fn prefetch(&self, i: usize) {
-        if let Some(shape) = self.shapes.get(i) {
-            crate::block::prefetch_bytes(std::slice::from_ref(&**shape));
-        }
-    }
-
     #[inline]
     pub(super) fn mass(&self, i: usize) -> f64 {
         self.shapes[i].volume() * self.density[i]

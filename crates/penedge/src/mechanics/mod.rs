@@ -51,7 +51,7 @@ pub const DEFAULT_UPDATE_FRACTION: f64 = 0.0;
 /// their bodies until they have moved a tenth of the detection gap.
 pub const FAST_UPDATE_FRACTION: f64 = 0.1;
 
-use crate::block::{ConvexBlock, Pose, Prefetch};
+use crate::block::{ConvexBlock, Pose};
 use crate::body::BodyError;
 use crate::classify::PairResult;
 use crate::contact::Detector;
@@ -817,13 +817,14 @@ impl Simulation {
         let mut t = self.timings;
         self.update_pairs();
         lap(&mut t.pairs);
-        let mut outcomes = self.kept_answers();
+        let (asked, counts) = self.kept_answers();
         lap(&mut t.detect);
-        self.complete_queried(&outcomes);
+        self.complete_queried(&asked);
         lap(&mut t.placement);
-        let detected = self.detect(&mut outcomes);
+        let detected = self.detect(&asked);
         lap(&mut t.detect);
-        let [queried, unmoved, certified, carried] = detected?;
+        detected?;
+        let [queried, unmoved, certified, carried] = counts;
         self.update_contacts(dt);
         lap(&mut t.contacts);
         self.sum_forces();
@@ -921,57 +922,27 @@ impl Simulation {
     fn place_moving(&mut self) {
         let (bodies, part_body, part_index) = (&self.bodies, &self.part_body, &self.part_index);
         let (moved_at, next) = (&self.moved_at, self.steps + 1);
-        let moved = |k: usize| moved_at[part_body[k] as usize] == next;
-        let reference = |k: usize| {
-            let b = part_body[k] as usize;
-            &bodies.shape(b).parts()[part_index[k] as usize]
-        };
-        /// Parts per parallel task, and how far ahead (in parts) each is asked for.
-        const RUN: usize = 256;
-        const AHEAD: usize = 4;
         self.placed
-            .par_chunks_mut(RUN)
-            .zip(self.complete.par_chunks_mut(RUN))
+            .par_iter_mut()
+            .zip(&mut self.complete)
             .enumerate()
-            .for_each(|(c, (run, complete))| {
-                // Each part reads its body's shape, its reference part and that part's
-                // coordinates, one dependent load after another, scattered through memory:
-                // each is asked for a few parts ahead of its turn (hints, no effect on any
-                // result), as the tracker does.
-                for k in 0..run.len() {
-                    let at = c * RUN + k;
-                    if k + 3 * AHEAD < run.len() && moved(at + 3 * AHEAD) {
-                        bodies
-                            .inertia()
-                            .prefetch(part_body[at + 3 * AHEAD] as usize);
-                    }
-                    if k + 2 * AHEAD < run.len() && moved(at + 2 * AHEAD) {
-                        reference(at + 2 * AHEAD).prefetch(Prefetch::Block);
-                    }
-                    if k + AHEAD < run.len() && moved(at + AHEAD) {
-                        reference(at + AHEAD).prefetch(Prefetch::Coordinates);
-                        run[k + AHEAD].prefetch(Prefetch::Coordinates);
-                    }
-                    if moved(at) {
-                        let b = part_body[at] as usize;
-                        run[k].place_coordinates(reference(at), &bodies.pose[b]);
-                        complete[k] = false;
-                    }
+            .for_each(|(k, (p, complete))| {
+                let b = part_body[k] as usize;
+                if moved_at[b] == next {
+                    let part = &bodies.shape(b).parts()[part_index[k] as usize];
+                    p.place_coordinates(part, &bodies.pose[b]);
+                    *complete = false;
                 }
             });
     }
 
-    /// Completes the placing of the parts of the pairs to query this step (`outcomes`:
-    /// [`Outcome::Queried`]): their clearance and local coordinates, from the coordinates
-    /// placed after their last motion. The same block, bit for bit, as placing it whole.
-    fn complete_queried(&mut self, outcomes: &[Outcome]) {
+    /// Completes the placing of the parts of the pairs to query this step (`asked`, their
+    /// indices): their clearance and local coordinates, from the coordinates placed after
+    /// their last motion. The same block, bit for bit, as placing it whole.
+    fn complete_queried(&mut self, asked: &[u32]) {
         let mut needed = vec![false; self.placed.len()];
-        for (&[i, j], _) in self
-            .pairs
-            .iter()
-            .zip(outcomes)
-            .filter(|(_, &o)| o == Outcome::Queried)
-        {
+        for &k in asked {
+            let [i, j] = self.pairs[k as usize];
             needed[i as usize] = true;
             needed[j as usize] = true;
         }
@@ -1029,11 +1000,14 @@ impl Simulation {
     /// not moved since (unmoved) or it is certified separated (docs/mechanics.md, "Contact
     /// updates"), or carries its contact when its bodies moved less than the update
     /// tolerance since its query (docs/mechanics.md, "Carried contacts"); else it is queried.
-    fn kept_answers(&self) -> Vec<Outcome> {
+    /// The indices of the pairs to query, in order, and the numbers of pairs queried,
+    /// unmoved, certified and carried.
+    fn kept_answers(&self) -> (Vec<u32>, [u64; 4]) {
         let part_body = &self.part_body;
         let (moved_at, travel) = (&self.moved_at, &self.travel);
         let full = self.full_detection;
-        self.pairs
+        let outcomes: Vec<Outcome> = self
+            .pairs
             .par_iter()
             .zip(&self.memo)
             .map(|(&[i, j], memo)| {
@@ -1057,34 +1031,46 @@ impl Simulation {
                 }
                 Outcome::Queried
             })
-            .collect()
+            .collect();
+        let mut counts = [0u64; 4];
+        let mut asked = Vec::new();
+        for (k, outcome) in outcomes.iter().enumerate() {
+            match outcome {
+                Outcome::Queried => {
+                    counts[0] += 1;
+                    asked.push(k as u32);
+                }
+                Outcome::Unmoved => counts[1] += 1,
+                Outcome::Certified => counts[2] += 1,
+                Outcome::Carried => counts[3] += 1,
+            }
+        }
+        (asked, counts)
     }
 
-    /// Queries the candidate pairs `outcomes` marks [`Outcome::Queried`] (in parallel) and
-    /// keeps the answers in `memo` (a penetrating pair is marked
-    /// [`Outcome::Penetrating`]). The numbers of pairs queried, unmoved, certified and
-    /// carried.
-    fn detect(&mut self, outcomes: &mut [Outcome]) -> Result<[u64; 4], MechanicsError> {
+    /// Queries the candidate pairs `asked` (their indices, ascending; in parallel) and keeps
+    /// the answers in their memos; the first pair (in pair order) found penetrating is an
+    /// error.
+    fn detect(&mut self, asked: &[u32]) -> Result<(), MechanicsError> {
         let tol = self.tolerance;
-        let (placed, part_body) = (&self.placed, &self.part_body);
+        let (placed, part_body, pairs) = (&self.placed, &self.part_body, &self.pairs);
         let (travel, last_step) = (&self.travel, &self.last_step);
         let (step, full, fraction) = (self.steps, self.full_detection, self.update_fraction);
         let bodies = &self.bodies;
-        self.pairs
+        let answers: Vec<(PairMemo, bool)> = asked
             .par_iter()
-            .zip(&mut self.memo)
-            .zip(&mut *outcomes)
-            .filter(|(_, outcome)| **outcome == Outcome::Queried)
-            .for_each_init(
+            .map_init(
                 || Detector::new(tol),
-                |det, ((&[i, j], memo), outcome)| {
+                |det, &k| {
+                    let [i, j] = pairs[k as usize];
                     let [bi, bj] =
                         [part_body[i as usize], part_body[j as usize]].map(|b| b as usize);
                     let (a, b) = (&placed[i as usize], &placed[j as usize]);
                     let (result, geometry) = det.detect_with_geometry(a, b);
-                    memo.asked_at = Some(step);
-                    memo.deadline = f64::NEG_INFINITY;
-                    memo.found = None;
+                    let mut memo = PairMemo {
+                        asked_at: Some(step),
+                        ..PairMemo::default()
+                    };
                     match (result, geometry) {
                         (PairResult::Contact(contact), Some(geometry)) => {
                             let gap = det.thresholds(a, b).gap;
@@ -1105,32 +1091,34 @@ impl Simulation {
                                 carry,
                             }));
                         }
-                        (PairResult::Penetrating, _) => *outcome = Outcome::Penetrating,
+                        (PairResult::Penetrating, _) => return (memo, true),
                         _ if !full => {
                             memo.deadline =
                                 certificate(det, [a, b], [bi, bj], bodies, travel, last_step);
                         }
                         _ => {}
                     }
+                    (memo, false)
                 },
-            );
-        let mut counts = [0u64; 4];
-        for (k, outcome) in outcomes.iter().enumerate() {
-            match outcome {
-                Outcome::Queried => counts[0] += 1,
-                Outcome::Unmoved => counts[1] += 1,
-                Outcome::Certified => counts[2] += 1,
-                Outcome::Carried => counts[3] += 1,
-                Outcome::Penetrating => {
-                    let [i, j] = self.pairs[k];
-                    return Err(MechanicsError::Penetration {
-                        bodies: [part_body[i as usize], part_body[j as usize]],
-                        step: self.steps,
-                    });
-                }
+            )
+            .collect();
+        let mut penetrating = None;
+        for (&k, (memo, deep)) in asked.iter().zip(answers) {
+            if deep && penetrating.is_none() {
+                penetrating = Some(k);
+            }
+            self.memo[k as usize] = memo;
+        }
+        match penetrating {
+            None => Ok(()),
+            Some(k) => {
+                let [i, j] = self.pairs[k as usize];
+                Err(MechanicsError::Penetration {
+                    bodies: [part_body[i as usize], part_body[j as usize]],
+                    step: self.steps,
+                })
             }
         }
-        Ok(counts)
     }
 
     /// Sub-contacts with their forces (in parallel per contact), matched to the last step's.
@@ -1253,8 +1241,6 @@ impl Simulation {
             .zip(bookkeeping.2.par_iter_mut())
             .enumerate()
             .map(|(i, (((((pose, v), l), last_step), travel), moved_at))| {
-                // The shapes are scattered through memory: ask for one a few bodies ahead.
-                inertia.prefetch(i + 8);
                 let unbalanced = if inertia.is_free(i) {
                     let load = gravity * inertia.mass(i) + inertia.applied_force(i);
                     [(forces[i] + load).length(), load.length()]
@@ -1382,7 +1368,6 @@ enum Outcome {
     Unmoved,
     Carried,
     Certified,
-    Penetrating,
 }
 
 /// The certificate of a pair of parts found separated (docs/mechanics.md, "Contact
