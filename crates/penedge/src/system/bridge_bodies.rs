@@ -16,6 +16,7 @@ use super::BlockSystem;
 use crate::block::FaceOrigin;
 use crate::classify::{Feature, PairResult};
 use crate::contact::Detector;
+use crate::contact_geometry::ContactGeometry;
 use crate::generation::SetKind;
 use crate::tolerance::Tolerance;
 
@@ -87,26 +88,45 @@ impl BlockSystem {
             let head = *first.entry(self.body_of(k)).or_insert(k);
             sets.union(head, k);
         }
-        let mut det = Detector::new(*tol);
         let mut glued = false;
+        self.face_face_contacts(
+            tol,
+            |i, j| bridged[i as usize] || bridged[j as usize],
+            |[i, j], [fa, fb], _| {
+                let bridge = self.blocks[i as usize].face_origins()[fa as usize].is_bridge()
+                    || self.blocks[j as usize].face_origins()[fb as usize].is_bridge();
+                if bridge {
+                    glued |= sets.union(i, j);
+                }
+            },
+        );
+        glued.then(|| sets.labels())
+    }
+
+    /// Calls `each(parts, faces, geometry)` for every face-face contact of positive area
+    /// between two blocks of a candidate pair that `keep` accepts (the scan both the bridges'
+    /// glue and the cracks' measure make: docs/concave-blocks.md).
+    pub(super) fn face_face_contacts(
+        &self,
+        tol: &Tolerance,
+        keep: impl Fn(u32, u32) -> bool,
+        mut each: impl FnMut([u32; 2], [u32; 2], &ContactGeometry),
+    ) {
+        let mut det = Detector::new(*tol);
         for [i, j] in self.candidate_pairs(tol) {
-            if !(bridged[i as usize] || bridged[j as usize]) {
+            if !keep(i, j) {
                 continue;
             }
             let (a, b) = (&self.blocks[i as usize], &self.blocks[j as usize]);
             let (PairResult::Contact(c), Some(g)) = det.detect_with_geometry(a, b) else {
                 continue;
             };
-            let (Feature::Face(fa), Feature::Face(fb)) = (c.feature_a, c.feature_b) else {
-                continue;
-            };
-            let bridge = a.face_origins()[fa as usize].is_bridge()
-                || b.face_origins()[fb as usize].is_bridge();
-            if bridge && g.area() > 0.0 {
-                glued |= sets.union(i, j);
+            if let (Feature::Face(fa), Feature::Face(fb)) = (c.feature_a, c.feature_b) {
+                if g.area() > 0.0 {
+                    each([i, j], [fa, fb], &g);
+                }
             }
         }
-        glued.then(|| sets.labels())
     }
 
     /// Whether an internal face between two parts is breakable glue (module doc): a bridge

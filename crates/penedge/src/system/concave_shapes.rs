@@ -20,8 +20,6 @@
 
 use super::BlockSystem;
 use crate::block::{hull_volume_and_area, BlockError, ConvexBlock, FaceOrigin};
-use crate::classify::{Feature, PairResult};
-use crate::contact::Detector;
 use crate::generation::SetKind;
 use crate::geometry::Aabb;
 use crate::tolerance::Tolerance;
@@ -119,40 +117,34 @@ impl BlockSystem {
     fn add_cracks(&self, bodies: &[(u32, Vec<u32>)], tol: &Tolerance, cracks: &mut [f64]) {
         let index_of = |body: u32| bodies.partition_point(|(b, _)| *b < body);
         let internal = self.internal_faces();
-        let mut det = Detector::new(*tol);
-        for [i, j] in self.candidate_pairs(tol) {
-            let body = self.body_of(i);
-            if body != self.body_of(j) {
-                continue;
-            }
-            let (a, b) = (&self.blocks[i as usize], &self.blocks[j as usize]);
-            let (PairResult::Contact(c), Some(g)) = det.detect_with_geometry(a, b) else {
-                continue;
-            };
-            let (Feature::Face(fa), Feature::Face(fb)) = (c.feature_a, c.feature_b) else {
-                continue;
-            };
-            if self.is_rock_joint(a, fa) && self.is_rock_joint(b, fb) {
-                cracks[index_of(body)] += g.area();
-                continue;
-            }
-            let pair = [i.min(j), i.max(j)];
-            let from = internal.partition_point(|f| f.parts < pair);
-            let glued: f64 = internal[from..]
-                .iter()
-                .take_while(|f| f.parts == pair)
-                .map(|f| f.area)
-                .sum();
-            let points = g.points();
-            let perimeter: f64 = (0..points.len())
-                .map(|k| points[k].distance(points[(k + 1) % points.len()]))
-                .sum();
-            let length = tol.for_box(&union_box(&[a, b])).length;
-            let unglued = g.area() - glued;
-            if unglued > length * perimeter {
-                cracks[index_of(body)] += unglued;
-            }
-        }
+        self.face_face_contacts(
+            tol,
+            |i, j| self.body_of(i) == self.body_of(j),
+            |[i, j], [fa, fb], g| {
+                let body = self.body_of(i);
+                let (a, b) = (&self.blocks[i as usize], &self.blocks[j as usize]);
+                if self.is_rock_joint(a, fa) && self.is_rock_joint(b, fb) {
+                    cracks[index_of(body)] += g.area();
+                    return;
+                }
+                let pair = [i.min(j), i.max(j)];
+                let from = internal.partition_point(|f| f.parts < pair);
+                let glued: f64 = internal[from..]
+                    .iter()
+                    .take_while(|f| f.parts == pair)
+                    .map(|f| f.area)
+                    .sum();
+                let points = g.points();
+                let perimeter: f64 = (0..points.len())
+                    .map(|k| points[k].distance(points[(k + 1) % points.len()]))
+                    .sum();
+                let length = tol.for_box(&union_box(&[a, b])).length;
+                let unglued = g.area() - glued;
+                if unglued > length * perimeter {
+                    cracks[index_of(body)] += unglued;
+                }
+            },
+        );
     }
 }
 
