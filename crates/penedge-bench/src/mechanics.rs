@@ -3,7 +3,7 @@
 //!
 //! `cargo run --release -p penedge-bench -- mechanics [--blocks N] [--threads T]
 //! [--ratio R] [--speed V] [--max-steps S] [--samples K] [--seed X] [--export FILE] [--full 0|1]
-//! [--update F]`
+//! [--update F] [--progress P]`
 //!
 //! `--update F` (default 0.1, `FAST_UPDATE_FRACTION`) carries touching pairs until their
 //! bodies have moved `F` × the gap; `--update 0` is the engine's exact default.
@@ -31,6 +31,11 @@
 //! free block is slower than `V` (m/s) after one has been faster than the moving speed
 //! (1 mm/s): a physical criterion that YADE's run (`settle.py`, given the same `speed` in the
 //! exported model) checks the same way, for the time to the same settled state.
+//!
+//! `--progress P` prints a line every `P` steps while the run goes on (step, simulated time,
+//! wall and CPU seconds so far, the fastest free block, the ratio, the mean settlement, the
+//! kinetic energy of the free blocks, contacts): a long run to equilibrium then gives figures
+//! even when it is stopped before it ends.
 //!
 //! **Time split** (the mechanics has no counters of its own): at `K` steps spread over the
 //! run (default 8), the detection alone is timed from outside on the same poses
@@ -99,6 +104,8 @@ struct Options {
     /// The update tolerance of touching pairs, a fraction of the gap
     /// (`Simulation::set_update_fraction`).
     update: f64,
+    /// Print a progress line every this many steps (0: none).
+    progress: u64,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -113,6 +120,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         export: None,
         full: false,
         update: penedge::mechanics::FAST_UPDATE_FRACTION,
+        progress: 0,
     };
     for pair in args.chunks(2) {
         let [flag, value] = pair else {
@@ -132,6 +140,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--samples" => o.samples = crate::number(value)?,
             "--seed" => o.seed = crate::number(value)?,
             "--export" => o.export = Some(value.clone()),
+            "--progress" => o.progress = crate::number(value)?,
             "--full" => o.full = crate::number::<u8>(value)? != 0,
             other => return Err(format!("unknown option {other}")),
         }
@@ -260,6 +269,12 @@ fn settle(o: &Options) -> Result<(), String> {
         crate::report::load(),
     );
     let z0: Vec<f64> = free_ids(&m).map(|i| pose_z(&sim, i)).collect();
+    if o.progress > 0 {
+        println!(
+            "progress: | step | simulated s | wall s | CPU s | fastest free block m/s | ratio | \
+             mean settlement mm | kinetic energy of the free blocks J | contacts | sub-contacts |"
+        );
+    }
     let sample_every = (o.max_steps / o.samples.max(1)).max(1);
     let mut heap_at = Heap {
         before,
@@ -300,16 +315,22 @@ fn settle(o: &Options) -> Result<(), String> {
             log.settled_by_speed = true;
             break;
         }
+        if o.progress > 0 && sim.steps() % o.progress == 0 {
+            progress(
+                &sim,
+                &m,
+                &z0,
+                start.elapsed().as_secs_f64(),
+                log.cpu_s,
+                fastest,
+            );
+        }
         if o.samples > 0 && sim.steps() % sample_every == 0 {
             log.splits.push(split(&sim, &m, s));
         }
     }
     let wall = start.elapsed().as_secs_f64();
-    let settlement = free_ids(&m)
-        .zip(&z0)
-        .map(|(i, z)| z - pose_z(&sim, i))
-        .sum::<f64>()
-        / free as f64;
+    let settlement = mean_settlement(&sim, &m, &z0);
     let steps = sim.steps();
     println!("| bodies | free | steps | converged | ratio | simulated s | wall s | steps/s | block-steps/s (all bodies) | CPU s | block-steps per CPU s | free-block-steps/s | moving steps | block-steps/s while moving | mean settlement mm | contacts | sub-contacts |");
     println!(
@@ -364,6 +385,32 @@ pub(crate) fn process_cpu_s() -> f64 {
     assert_eq!(rc, 0, "getrusage(RUSAGE_SELF) failed");
     let s = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
     s(usage.ru_utime) + s(usage.ru_stime)
+}
+
+/// The mean fall of the free blocks since the start (m).
+fn mean_settlement(sim: &Simulation, m: &Model, z0: &[f64]) -> f64 {
+    free_ids(m)
+        .zip(z0)
+        .map(|(i, z)| z - pose_z(sim, i))
+        .sum::<f64>()
+        / z0.len() as f64
+}
+
+/// One progress line (`--progress`), flushed so that a stopped run keeps it.
+fn progress(sim: &Simulation, m: &Model, z0: &[f64], wall: f64, cpu: f64, fastest: f64) {
+    use std::io::Write as _;
+    let kinetic: f64 = free_ids(m).map(|i| sim.bodies().kinetic_energy(i)).sum();
+    println!(
+        "progress: | {} | {:.4} | {wall:.1} | {cpu:.1} | {fastest:.3e} | {:.2e} | {:.4} | {kinetic:.3e} | {} | {} |",
+        sim.steps(),
+        sim.time(),
+        sim.unbalanced_ratio(),
+        mean_settlement(sim, m, z0) * 1e3,
+        sim.contacts().list.len(),
+        sim.contacts().subs.len(),
+    );
+    // A closed stdout is no reason to stop the run: the final table says the same.
+    let _ = std::io::stdout().flush();
 }
 
 fn free_ids(m: &Model) -> impl Iterator<Item = usize> + '_ {
