@@ -20,10 +20,6 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
 BRIDGE = 3  # face origin code
 STEP_BRIDGE = "[joint_properties.step.bridge]\nfriction = 50\ncohesion = 1e6\n"
 
-needs_engine = pytest.mark.skipif(
-    not hasattr(penedge, "Simulation"), reason="this build has no mechanics engine"
-)
-
 SPEC = """\
 [domain]
 type = "box"
@@ -68,7 +64,6 @@ def test_a_square_joint_with_bridges_leaves_the_rest_of_the_plane_as_bridge():
     assert Blocks.of(system).volumes.sum() == pytest.approx(1000.0, rel=1e-12)
 
 
-@needs_engine
 def test_simulation_bridge_properties():
     system = generated(SPEC + "bridge = true\n")
     sim = penedge.Simulation(system, density=2600.0)
@@ -253,7 +248,6 @@ def ductile(text):
     return text.replace("tension = 100e3", "tension = 100e3\nresidual_cohesion = 50e3")
 
 
-@needs_engine
 def test_step_path_example_factor_of_safety_against_its_statics():
     """Friction only, F is the joint's tan 30 / tan 35 (0.82). With the bridge: a ductile
     bridge (residual cohesion = cohesion) gives the limit equilibrium (1.391) within the
@@ -286,7 +280,6 @@ def bridge_corners(contacts):
     return x, contacts["normal_forces"][a:b], contacts["bonded"][a:b]
 
 
-@needs_engine
 def test_step_path_bridge_breaks_from_the_joints_end():
     """The mechanism: at rest the corners carry the normal forces of the statics (the
     block's weight acts behind the middle of its base: the bridge's back corners are pressed
@@ -330,7 +323,6 @@ def test_step_path_bridge_breaks_from_the_joints_end():
     assert brittle[17] < brittle[12]
 
 
-@needs_engine
 def test_an_elastic_solve_glues_no_joint_that_has_no_bond():
     """``elastic = true`` makes the bonds unbreakable, not new ones: the step-path block
     settles on the bedding and the bridge, the tension crack (friction only) open behind
@@ -351,7 +343,6 @@ def test_an_elastic_solve_glues_no_joint_that_has_no_bond():
     assert (c["states"][np.repeat(crack, counts)] == 2).all()
 
 
-@needs_engine
 def test_the_step_path_block_settles_to_roundings_with_a_cohesive_bridge():
     """Friction 40 on the joint and the bridge (the block stands on friction alone, every
     sub-contact elastic), the bridge bonded with its cohesion: the unbalanced-force ratio
@@ -377,7 +368,6 @@ def test_the_step_path_block_settles_to_roundings_with_a_cohesive_bridge():
     assert (c["states"] != 1).all()  # none sliding
 
 
-@needs_engine
 def test_detection_keeps_the_face_of_the_bridge_piece_under_the_sliding_block():
     """A face inside a larger coplanar face, sharing two corners, placed by the simulation
     (coordinates moved by rounding): once a triangle of half the area (the hull's chain popped
@@ -424,7 +414,6 @@ def test_the_pieces_a_bridge_holds_are_one_body_for_the_detection():
     assert found.areas[0] == pytest.approx(100.0, rel=1e-12)
 
 
-@needs_engine
 def test_block_bodies_maps_the_blocks_to_the_simulation_bodies():
     system = generated(SPEC + "bridge = true\n")
     assert len(set(system.body_ids.tolist())) == 1  # one block for the detection...

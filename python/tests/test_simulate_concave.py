@@ -16,10 +16,6 @@ import penedge
 import penedge.model as pm
 from penedge import cli
 
-needs_engine = pytest.mark.skipif(
-    not hasattr(penedge, "Simulation"), reason="this build has no mechanics engine"
-)
-
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
 TUNNEL = EXAMPLES / "tunnel_concave.toml"
 TEXT = TUNNEL.read_text()
@@ -60,7 +56,6 @@ def test_the_example_has_concave_blocks_held_as_whole_bodies():
     assert len(free_bodies) == 12  # two middle columns, three rows above the floor, 2 slices
 
 
-@needs_engine
 def test_the_example_runs_and_the_fixed_rock_carries_the_weight_of_the_free_rock():
     from penedge.model.engine import Engine
     from penedge.model.run import Runner
@@ -107,7 +102,6 @@ def cells(path):
     }
 
 
-@needs_engine
 def test_penedge_simulate_runs_the_concave_example(tmp_path):
     out = tmp_path / "out"
     assert cli.main(["simulate", str(TUNNEL), "-o", str(out), "-q"]) == 0
@@ -155,7 +149,6 @@ def test_an_excavation_that_splits_a_concave_block_is_refused_before_any_step():
         excavating(region)
 
 
-@needs_engine
 def test_an_excavation_removes_whole_concave_blocks():
     from penedge.model.engine import Engine
     from penedge.model.run import Runner
@@ -171,7 +164,6 @@ def test_an_excavation_removes_whole_concave_blocks():
     assert np.asarray(runner.engine.sim.removed).sum() == 2  # one concave block per slice
 
 
-@needs_engine
 def test_the_engine_refuses_parts_of_one_body_given_different_conditions():
     from penedge.model.engine import Engine
 
@@ -185,7 +177,6 @@ def test_the_engine_refuses_parts_of_one_body_given_different_conditions():
         e.apply_boundary(fixed, setup.layout.velocity)
 
 
-@needs_engine
 def test_a_bolt_within_one_concave_block_is_refused():
     # from the West wall of the block above the tunnel towards the opening, at z = 6.5:
     # through two of its parts, both ends in rock, and no other body on the way
@@ -223,7 +214,6 @@ class Recorder:
         self.moments[i] += moment
 
 
-@needs_engine
 def test_support_forces_on_parts_add_up_on_the_body_with_their_moments_about_its_centroid():
     from penedge.model.engine import Engine
 
@@ -250,7 +240,6 @@ def test_support_forces_on_parts_add_up_on_the_body_with_their_moments_about_its
         assert np.array_equal(e.sim.moments[e.body[k]], moments[k])
 
 
-@needs_engine
 def test_a_restarted_concave_model_is_bit_for_bit_the_run_that_did_not_stop(tmp_path):
     stages = (
         '[[stages]]\ntype = "cycle"\nsteps = 60\n[[stages]]\ntype = "save"\n'
@@ -268,7 +257,6 @@ def test_a_restarted_concave_model_is_bit_for_bit_the_run_that_did_not_stop(tmp_
     assert len(sim) == len(np.unique(ids))
 
 
-@needs_engine
 def test_the_picture_after_an_excavation_keeps_the_concave_blocks_whole():
     from penedge.cli.simulate import without_excavated
     from penedge.model.engine import Engine

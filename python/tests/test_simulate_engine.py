@@ -8,12 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import penedge
 import penedge.model as pm
-
-needs_engine = pytest.mark.skipif(
-    not hasattr(penedge, "Simulation"), reason="this build has no mechanics engine"
-)
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
 
@@ -106,7 +101,6 @@ def run_wedge(friction, max_steps):
     return pm.simulate(text)
 
 
-@needs_engine
 def test_wedge_factor_of_safety_matches_limit_equilibrium():
     outcome = run_wedge(40.0, 8000)
     assert outcome.stages[0].converged
@@ -127,7 +121,6 @@ def critical_friction(friction, factor):
     return math.degrees(math.atan(math.tan(math.radians(friction)) / factor))
 
 
-@needs_engine
 def test_wedge_with_water_factor_of_safety_matches_limit_equilibrium():
     """examples/models/wedge_water.toml (5 kPa in both joints): the factor of safety by
     strength reduction against Hoek & Bray's limit equilibrium with the water forces u A on
@@ -147,7 +140,6 @@ def test_wedge_with_water_factor_of_safety_matches_limit_equilibrium():
     assert safety.failing_blocks == np.flatnonzero(free).tolist()
 
 
-@needs_engine
 def test_wedge_below_a_water_table_matches_limit_equilibrium():
     """The wedge with a water table at z = 8 m instead (it crosses both joints: hydrostatic
     below, zero above): against limit equilibrium with the water forces integrated in the
@@ -165,14 +157,12 @@ def test_wedge_below_a_water_table_matches_limit_equilibrium():
     assert safety.failing - safety.stable <= 0.01 + 1e-12
 
 
-@needs_engine
 def test_factor_of_safety_does_not_depend_on_the_step_budget():
     once = run_wedge(40.0, 8000).safety
     twice = run_wedge(40.0, 16000).safety
     assert (once.stable, once.failing) == (twice.stable, twice.failing)
 
 
-@needs_engine
 def test_block_column_settles_by_its_elastic_closure():
     outcome = pm.simulate(EXAMPLES / "block_column.toml")
     assert outcome.stable
@@ -186,7 +176,6 @@ def test_block_column_settles_by_its_elastic_closure():
     assert np.abs(outcome.displacement[:, :2]).max() < 1e-3 * closure
 
 
-@needs_engine
 def test_planar_slope_failure_matches_limit_equilibrium():
     """Hoek & Bray's planar failure, dry, no cohesion, a tension crack: F = tan phi / tan
     psi_p whatever the block's shape (psi_p = 35 degrees, the bedding's dip)."""
@@ -200,7 +189,6 @@ def test_planar_slope_failure_matches_limit_equilibrium():
     assert safety.failing_blocks == np.flatnonzero(free).tolist()
 
 
-@needs_engine
 def test_seismic_coefficient_lowers_the_wedge_factor_as_limit_equilibrium_does():
     """The pseudo-static load kh g towards the slope face (East) in limit equilibrium and
     in the model, as critical friction angles within 1 degree."""
@@ -216,7 +204,6 @@ def test_seismic_coefficient_lowers_the_wedge_factor_as_limit_equilibrium_does()
     assert found == pytest.approx(exact, abs=1.0)
 
 
-@needs_engine
 def test_residual_values_reach_the_engine_and_are_reduced_by_the_trial_factor():
     """The residual friction and cohesion of a set go to the engine's joint model, and a
     strength-reduction trial divides them as the peak values: tan(phi_r) / F, c_r / F."""
@@ -237,7 +224,6 @@ def test_residual_values_reach_the_engine_and_are_reduced_by_the_trial_factor():
     assert joint["residual_cohesion"] == pytest.approx(500)
 
 
-@needs_engine
 def test_slope_excavated_at_its_toe_then_its_factor_matches_limit_equilibrium():
     """The toe cut of examples/models/slope_excavation.toml: before it, the block between the
     crack and the cut rests (on the bedding and the rock in front); the cut removes that rock

@@ -13,9 +13,6 @@ import penedge
 from penedge import cli
 from penedge.model.series import Series
 
-needs_engine = pytest.mark.skipif(
-    not hasattr(penedge, "Simulation"), reason="this build has no mechanics engine"
-)
 STIFFNESS = 1e7  # the bolt's, N/m
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
 
@@ -45,7 +42,6 @@ def listed(index):
     return [d.get("file") for d in ET.parse(index).getroot().iter("DataSet")]
 
 
-@needs_engine
 def test_the_series_shows_the_water_forces_and_the_bolts(tmp_path):
     sim = bolted_cube_under_water()
     contacts, bolts = sim.contacts(), sim.bolts()
@@ -92,7 +88,6 @@ def test_a_frame_without_bolts_writes_no_bolt_series(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["blocks.pvd", "blocks_000000.vtu"]
 
 
-@needs_engine
 def test_penedge_simulate_writes_the_bolt_series_of_a_bolted_model(tmp_path):
     out = tmp_path / "out"
     model = EXAMPLES / "tunnel_roof_bolt.toml"

@@ -12,10 +12,6 @@ import penedge
 import penedge.model as pm
 from penedge import cli
 
-needs_engine = pytest.mark.skipif(
-    not hasattr(penedge, "Simulation"), reason="this build has no mechanics engine"
-)
-
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
 COLUMN = (EXAMPLES / "block_column.toml").read_text()
 BASE = COLUMN[: COLUMN.index("[[stages]]")]
@@ -42,7 +38,6 @@ steps = 90
 """
 
 
-@needs_engine
 def test_a_restarted_run_is_bit_for_bit_the_run_that_did_not_stop(tmp_path):
     whole = pm.simulate(column(SAVE_AND_GO_ON), folder=tmp_path)
     state = tmp_path / "state.json"
@@ -80,7 +75,6 @@ shear_capacity = 500
 [[stages]]"""
 
 
-@needs_engine
 def test_a_restarted_run_with_water_and_a_bolt_is_bit_for_bit(tmp_path):
     # The column under a water table (its lower joints wet) and pushed sideways, with a bolt
     # from its top down across two joints; the state of the water and of the bolt's
@@ -102,7 +96,6 @@ def test_a_restarted_run_with_water_and_a_bolt_is_bit_for_bit(tmp_path):
     assert not np.array_equal(dry.displacement, whole.displacement)
 
 
-@needs_engine
 def test_simulate_restart_on_the_command_line(tmp_path, capsys):
     model = tmp_path / "column.toml"
     model.write_text(column(SAVE_AND_GO_ON))
@@ -141,7 +134,6 @@ steps = 200
 """
 
 
-@needs_engine
 def test_an_excavate_stage_relaxes_the_load_then_the_blocks_above_fall():
     relax = 100
     setup = pm.prepare(column(EXCAVATE.format(relax=relax), seismic=False))
@@ -236,7 +228,6 @@ steps = 50
 )
 
 
-@needs_engine
 def test_a_confined_block_under_an_initial_stress_stays_put():
     """A 3 x 3 x 3 box of cubes, the 26 outer ones fixed, the middle one free, gravity off,
     under a uniform stress with shear: the middle block's six faces carry the stress's
@@ -291,7 +282,6 @@ def test_an_overburden_is_the_engine_field_of_the_model():
     assert field["per_depth"] == [-2500 * 10 * 1.5, -2500 * 10 * 0.5, -2500 * 10, 0, 0, 0]
 
 
-@needs_engine
 def test_the_outputs_mark_or_leave_out_the_excavated_rock(tmp_path):
     """The ParaView frames after an excavation flag the removed block (cell data
     ``excavated``); the picture of the final state leaves it out."""
@@ -318,7 +308,6 @@ def test_the_outputs_mark_or_leave_out_the_excavated_rock(tmp_path):
     assert len(shown.blocks) == len(displacement) == 4
 
 
-@needs_engine
 def test_the_excavation_example_runs_and_restarts(tmp_path):
     example = EXAMPLES / "column_excavation.toml"
     whole = pm.simulate(example, folder=tmp_path)

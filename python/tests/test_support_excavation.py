@@ -12,12 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import penedge
 import penedge.model as pm
-
-needs_engine = pytest.mark.skipif(
-    not hasattr(penedge, "Simulation"), reason="this build has no mechanics engine"
-)
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
 TUNNEL = EXAMPLES / "tunnel_concave.toml"
@@ -218,7 +213,6 @@ def test_the_gallery_support_pushes_its_roof_up_with_the_pressure_times_its_area
     assert forces.sum(0) == pytest.approx([0, 0, 0], abs=1e-6)
 
 
-@needs_engine
 @pytest.mark.parametrize("margin", [0.1, -0.1])
 def test_the_roof_block_holds_when_the_support_beats_its_weight_and_falls_otherwise(margin):
     from penedge.model.engine import Engine
@@ -241,7 +235,6 @@ def test_the_roof_block_holds_when_the_support_beats_its_weight_and_falls_otherw
         assert moved[2] == pytest.approx(-fall, rel=0.05)  # measured 0.2 % off
 
 
-@needs_engine
 def test_the_lining_example_solves_with_the_roof_block_held(tmp_path):
     outcome = pm.simulate(EXAMPLES / "tunnel_support.toml", folder=tmp_path)
     assert outcome.stable
@@ -251,7 +244,6 @@ def test_the_lining_example_solves_with_the_roof_block_held(tmp_path):
     assert 0 < outcome.max_displacement[0] < 2 * closure
 
 
-@needs_engine
 def test_a_bolt_within_one_concave_block_is_refused_naming_the_body_and_its_blocks():
     # from the West wall of the block above the tunnel towards the opening, at z = 6.5:
     # through two of its parts, both ends in rock, and no other body on the way
