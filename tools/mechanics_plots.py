@@ -6,16 +6,19 @@ crates/penedge/tests/mechanics.rs, which check the criteria).
 * ``mech-rotation.png``: free rotation about each principal axis (the intermediate one flips);
 * ``mech-contact.png``: the oscillation of a block on a face against 2 pi sqrt(m / (kn A)),
   and the energy of an undamped bounce;
-* ``mech-topple.png``: sliding, toppling and stable blocks on a 30 degree slope.
+* ``mech-topple.png``: sliding, toppling, stable, and sliding-and-toppling blocks on a 30
+  degree slope (rotation and slide), the last against the rigid block.
 
 Run from the repository root, with penedge installed with the ``plot`` extra:
 
-    python3 tools/mechanics_plots.py
+    python3 tools/mechanics_plots.py            # all of them
+    python3 tools/mechanics_plots.py topple     # some: slope, rotation, contact, topple, ...
 """
 
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 
 import matplotlib as mpl
@@ -192,14 +195,49 @@ def contact_plots(ax_period, ax_energy):
     )
 
 
-def topple_plot(ax):
+def sliding_and_toppling_rigid_block(theta, phi, b, h, ramp, times, dt=1e-5):
+    """The rigid block turning by psi about its downhill edge, which slides against mu N
+    (the reference of the Rust test, docs/verification.md section 3): the edge's slide and
+    psi (radians) at `times`, gravity ramped from 0 to g over `ramp`, by RK4."""
+    mu = math.tan(phi)
+    inertia = (b * b + h * h) / 12
+
+    def derivative(t, s):
+        g = G * min(t / ramp, 1.0)
+        psi, w = s[2], s[3]
+        rx = -b / 2 * math.cos(psi) + h / 2 * math.sin(psi)
+        rz = b / 2 * math.sin(psi) + h / 2 * math.cos(psi)
+        arm = rx + mu * rz
+        alpha = arm * (g * math.cos(theta) - rz * w * w) / (inertia + rx * arm)
+        normal = g * math.cos(theta) - rx * alpha - rz * w * w
+        ax = g * math.sin(theta) - mu * normal - rz * alpha + rx * w * w
+        return np.array([s[1], ax, s[3], alpha])
+
+    t, s, out = 0.0, np.zeros(4), []
+    for end in times:
+        while t < end - 1e-12:
+            step = min(dt, end - t)
+            k1 = derivative(t, s)
+            k2 = derivative(t + step / 2, s + step / 2 * k1)
+            k3 = derivative(t + step / 2, s + step / 2 * k2)
+            k4 = derivative(t + step, s + step * k3)
+            s = s + step / 6 * (k1 + 2 * (k2 + k3) + k4)
+            t += step
+        out.append((s[0], s[2]))
+    return np.array(out)
+
+
+def topple_plot(ax_turn, ax_slide):
     theta = math.radians(30)
+    frame = rot_z(0.6) @ rot_x(theta)
+    down = frame @ np.array([0.0, -1.0, 0.0])
     for phi, b, label, color in [
         (20, 1.0, "φ = 20°, b/h = 1: slides", "C0"),
         (40, 0.4, "φ = 40°, b/h = 0.4: topples", "C1"),
         (40, 1.0, "φ = 40°, b/h = 1: stays", "C2"),
+        (12.5, 0.2, "φ = 12.5°, b/h = 0.2: slides and topples", "C3"),
+        (20, 0.4, "φ = 20°, b/h = 0.4 (> tan φ): slides", "C4"),
     ]:
-        frame = rot_z(0.6) @ rot_x(theta)
         base = penedge.Block.cuboid([-5, -5, -1], [5, 5, 0])
         block = penedge.Block.cuboid([-0.25, -b / 2, 0], [0.25, b / 2, 1.0])
         sim = penedge.Simulation(
@@ -208,37 +246,62 @@ def topple_plot(ax):
         sim.fix([0])
         sim.set_joint(kn=1e9, ks=1e9, friction=phi)
         q0 = sim.quaternions[1].copy()
-        ts, angles = [], []
+        # The downhill bottom edge's midpoint, in the block's frame.
+        edge = frame @ np.array([0.0, -b / 2, 0.0])
+        local = quaternion_matrix(q0).T @ (edge - sim.positions[1])
+        ts, angles, slides = [], [], []
         while sim.time < 0.4:
             sim.gravity = [0, 0, -G * min(sim.time / 0.05, 1.0)]
             sim.step(5)
             ts.append(sim.time)
             angles.append(math.degrees(2 * math.acos(min(abs(q0 @ sim.quaternions[1]), 1.0))))
-        ax.plot(ts, angles, color=color, label=label)
-    ax.set(xlabel="t (s)", ylabel="rotation (°)", title="3. A block on a 30° slope (Hoek and Bray)")
-    ax.legend(fontsize=8)
+            moved = sim.positions[1] + quaternion_matrix(sim.quaternions[1]) @ local
+            slides.append((moved - edge) @ down)
+        # The last block slides as the first: dotted over it.
+        style = {"ls": ":", "lw": 2} if b == 0.4 and phi == 20 else {"lw": 2.5, "alpha": 0.5}
+        ax_turn.plot(ts, angles, color=color, label=label, **style)
+        ax_slide.plot(ts, slides, color=color, label=label, **style)
+        if phi == 12.5:
+            rigid = sliding_and_toppling_rigid_block(theta, math.radians(phi), b, 1.0, 0.05, ts)
+            ax_turn.plot(ts, np.degrees(rigid[:, 1]), "k--", lw=0.8, label="rigid block")
+            ax_slide.plot(ts, rigid[:, 0], "k--", lw=0.8, label="rigid block")
+    ax_turn.set(xlabel="t (s)", ylabel="rotation (°)", title="3. Blocks on a 30° slope: rotation")
+    ax_slide.set(
+        xlabel="t (s)",
+        ylabel="downhill edge's slide (m)",
+        title="3. Blocks on a 30° slope: slide",
+    )
+    ax_turn.legend(fontsize=7)
 
 
-def main():
+def draw(name, plot, panels=1):
+    """Draws `plot` (a function of its axes) into docs/img/`name`."""
+    fig, axes = plt.subplots(1, panels, figsize=(6 if panels == 1 else 11, 4))
+    plot(*np.atleast_1d(axes))
+    fig.tight_layout()
+    fig.savefig(IMG / name, dpi=110)
+    plt.close(fig)
+    print("wrote", name)
+
+
+# Each plot: its file, the function drawing it and its number of panels.
+PLOTS = {
+    "slope": ("mech-slope.png", slope_plot, 1),
+    "rotation": ("mech-rotation.png", rotation_plot, 1),
+    "contact": ("mech-contact.png", contact_plots, 2),
+    "topple": ("mech-topple.png", topple_plot, 2),
+}
+
+
+def main(names):
+    """Draws the plots named (keys of PLOTS), all of them if none is."""
+    unknown = [n for n in names if n not in PLOTS]
+    if unknown:
+        raise SystemExit(f"unknown plot(s) {unknown}; choose among {list(PLOTS)}")
     IMG.mkdir(parents=True, exist_ok=True)
-    fig, ax = plt.subplots(figsize=(6, 4))
-    slope_plot(ax)
-    fig.tight_layout()
-    fig.savefig(IMG / "mech-slope.png", dpi=110)
-    fig, ax = plt.subplots(figsize=(6, 4))
-    rotation_plot(ax)
-    fig.tight_layout()
-    fig.savefig(IMG / "mech-rotation.png", dpi=110)
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4))
-    contact_plots(a1, a2)
-    fig.tight_layout()
-    fig.savefig(IMG / "mech-contact.png", dpi=110)
-    fig, ax = plt.subplots(figsize=(6, 4))
-    topple_plot(ax)
-    fig.tight_layout()
-    fig.savefig(IMG / "mech-topple.png", dpi=110)
-    print("wrote", *sorted(p.name for p in IMG.glob("mech-*.png")))
+    for name in names or PLOTS:
+        draw(*PLOTS[name])
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])
