@@ -3,7 +3,7 @@
 //!
 //! `cargo run --release -p penedge-bench -- mechanics [--blocks N] [--threads T]
 //! [--ratio R] [--speed V] [--max-steps S] [--samples K] [--seed X] [--export FILE] [--full 0|1]
-//! [--update F] [--progress P]`
+//! [--update F] [--progress P] [--save-at S --save FILE] [--load FILE]`
 //!
 //! `--update F` (default 0.1, `FAST_UPDATE_FRACTION`) carries touching pairs until their
 //! bodies have moved `F` × the gap; `--update 0` is the engine's exact default.
@@ -36,6 +36,13 @@
 //! wall and CPU seconds so far, the fastest free block, the ratio, the mean settlement, the
 //! kinetic energy of the free blocks, contacts): a long run to equilibrium then gives figures
 //! even when it is stopped before it ends.
+//!
+//! `--save-at S --save FILE` writes the simulation's restart file (`Simulation::save_state`)
+//! after step `S`; `--load FILE` starts from such a file instead of the model's initial state
+//! (the same model and options otherwise): a profile of the dense phase of a long run then
+//! starts where it is, without the minutes of steps before it. The steps of a loaded run
+//! count from the file's step; its first step re-queries the pairs (the pair answers are not
+//! in the file), so time a loaded run over many steps.
 //!
 //! **Time split** (the mechanics has no counters of its own): at `K` steps spread over the
 //! run (default 8), the detection alone is timed from outside on the same poses
@@ -106,6 +113,10 @@ struct Options {
     update: f64,
     /// Print a progress line every this many steps (0: none).
     progress: u64,
+    /// Write the restart file to the path after the step.
+    save: Option<(u64, String)>,
+    /// Start from this restart file.
+    load: Option<String>,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -121,7 +132,11 @@ fn parse(args: &[String]) -> Result<Options, String> {
         full: false,
         update: penedge::mechanics::FAST_UPDATE_FRACTION,
         progress: 0,
+        save: None,
+        load: None,
     };
+    let mut save_at = None;
+    let mut save_to = None;
     for pair in args.chunks(2) {
         let [flag, value] = pair else {
             return Err(format!("{} needs a value", pair[0]));
@@ -141,10 +156,18 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--seed" => o.seed = crate::number(value)?,
             "--export" => o.export = Some(value.clone()),
             "--progress" => o.progress = crate::number(value)?,
+            "--save-at" => save_at = Some(crate::number(value)?),
+            "--save" => save_to = Some(value.clone()),
+            "--load" => o.load = Some(value.clone()),
             "--full" => o.full = crate::number::<u8>(value)? != 0,
             other => return Err(format!("unknown option {other}")),
         }
     }
+    o.save = match (save_at, save_to) {
+        (Some(step), Some(path)) => Some((step, path)),
+        (None, None) => None,
+        _ => return Err("--save-at and --save go together".to_string()),
+    };
     if o.blocks < 18 {
         return Err("--blocks must be at least 18 (one free block in its box)".to_string());
     }
@@ -236,6 +259,18 @@ fn settle(o: &Options) -> Result<(), String> {
         sim.fix(i).map_err(|e| e.to_string())?;
     }
     sim.set_default_joint(JOINT).map_err(|e| e.to_string())?;
+    if let Some(path) = &o.load {
+        sim = Simulation::load_state(std::path::Path::new(path))
+            .map_err(|e| format!("{path}: {e}"))?;
+        if sim.bodies().len() != m.system.len() {
+            return Err(format!(
+                "{path}: {} bodies, the model of --blocks {} has {}",
+                sim.bodies().len(),
+                o.blocks,
+                m.system.len()
+            ));
+        }
+    }
     sim.set_full_detection(o.full);
     sim.set_update_fraction(o.update)
         .map_err(|e| e.to_string())?;
@@ -314,6 +349,12 @@ fn settle(o: &Options) -> Result<(), String> {
             converged = true;
             log.settled_by_speed = true;
             break;
+        }
+        if let Some((at, path)) = &o.save {
+            if sim.steps() == *at {
+                sim.save_state(std::path::Path::new(path))
+                    .map_err(|e| format!("{path}: {e}"))?;
+            }
         }
         if o.progress > 0 && sim.steps() % o.progress == 0 {
             progress(
