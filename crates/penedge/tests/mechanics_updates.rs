@@ -307,3 +307,60 @@ fn a_carried_contact_keeps_its_points_on_the_moving_block() {
         "the contact was not carried"
     );
 }
+
+/// Determinism of the carried mode (`FAST_UPDATE_FRACTION`, the benchmark's): the settling
+/// stack run with 1, 2 and 4 threads gives bitwise the same poses, velocities, angular
+/// momenta, contacts and sub-contacts (geometry, forces, history, state) every 100 steps,
+/// and the same counts of pairs queried, kept, certified and carried. The run must carry and
+/// certify pairs, so that those paths are the ones compared.
+#[test]
+fn carried_contacts_give_the_same_motion_with_any_number_of_threads() {
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build();
+        pool.unwrap().install(|| {
+            let mut sim = settling_stack();
+            sim.set_update_fraction(penedge::mechanics::FAST_UPDATE_FRACTION)
+                .unwrap();
+            let mut out: Vec<u64> = Vec::new();
+            for _ in 0..9 {
+                sim.cycle(100).unwrap();
+                let b = sim.bodies();
+                for i in 0..b.len() {
+                    let p = b.poses()[i];
+                    out.extend(bits(p.translation));
+                    out.extend(p.rotation.to_array().map(f64::to_bits));
+                    out.extend(bits(b.velocities()[i]));
+                    out.extend(bits(b.angular_momenta()[i]));
+                }
+                let contacts = sim.contacts();
+                for c in &contacts.list {
+                    out.extend(c.parts.map(u64::from));
+                    out.extend([c.kind as u64, u64::from(c.first), u64::from(c.count)]);
+                    out.extend(bits(c.normal));
+                }
+                for s in &contacts.subs {
+                    out.extend(bits(s.point));
+                    out.extend(s.local.to_array().map(|x| u64::from(x.to_bits())));
+                    out.extend([s.area, s.gap, s.normal_force].map(f64::to_bits));
+                    out.extend(bits(s.shear_force));
+                    out.extend(bits(s.shear_displacement));
+                    out.extend([s.state as u64, u64::from(s.bonded)]);
+                }
+            }
+            let t = sim.timings();
+            (out, [t.queried, t.unmoved, t.certified, t.carried])
+        })
+    };
+    let (one, counts) = run(1);
+    let [queried, _, certified, carried] = counts;
+    assert!(
+        queried > 0 && certified > 0 && carried > 0,
+        "queried {queried}, certified {certified}, carried {carried}"
+    );
+    println!("1 thread: queried {queried}, certified {certified}, carried {carried}");
+    for threads in [2, 4] {
+        let (other, other_counts) = run(threads);
+        assert_eq!(other_counts, counts, "{threads} threads: pair counts");
+        assert!(other == one, "{threads} threads: the motion differs");
+    }
+}
