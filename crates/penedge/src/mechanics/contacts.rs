@@ -191,6 +191,34 @@ impl Carry {
     }
 }
 
+/// B's pose in A's body frame: where B's body-frame points are, seen from A.
+pub(super) fn b_in_a(a: &Pose, b: &Pose) -> Pose {
+    let to_a = a.rotation.conjugate();
+    Pose {
+        rotation: to_a * b.rotation,
+        translation: to_a * (b.translation - a.translation),
+    }
+}
+
+/// An upper bound of how far any point of B (within `radius_b` of B's centroid) has moved
+/// relative to A since B was at `before` in A's frame ([`b_in_a`]), A and B now at `now`
+/// (docs/mechanics.md, "Contact updates"): seen in A's frame, A is still and B has moved by a
+/// rigid motion, so a plane fixed in A's frame that separated them by `s` still separates them
+/// by `s` less this bound. Zero, up to rounding, for two bodies moved by the same rigid motion
+/// (a stack falling or sliding as one), whose travels grow all the same.
+pub(super) fn motion_in_a(before: &Pose, now: [&Pose; 2], radius_b: f64) -> f64 {
+    let after = b_in_a(now[0], now[1]);
+    // The frames were composed from world coordinates: their rounding, a few units in the
+    // last place of the largest world coordinate, on top of `displacement_bound`'s own.
+    let world = now[0]
+        .translation
+        .abs()
+        .max_element()
+        .max(now[1].translation.abs().max_element());
+    before.displacement_bound(&after, DVec3::ZERO, radius_b)
+        + 32.0 * f64::EPSILON * (world + radius_b)
+}
+
 /// A body's pose, velocity and spin at the step, side by side: a contact reads its two
 /// bodies' from one place (computed once per body, rather than per contact from the
 /// bodies' scattered arrays and shapes).

@@ -58,7 +58,7 @@ use crate::contact::Detector;
 use crate::geometry::DVec3;
 use crate::system::{
     deadline, edge_certificate, holds, separation, BlockSystem, BroadPhase, WideBoxes,
-    EDGE_CERTIFICATE_STEPS,
+    EDGE_CERTIFICATE_STEPS, TRAVEL_SLACK,
 };
 use crate::tolerance::{Tolerance, ToleranceError};
 use contacts::{build_contact, counts_and_previous, Carry, Found, Scratch, StepInput};
@@ -246,6 +246,8 @@ pub struct Simulation {
     pairs: Vec<[u32; 2]>,
     /// Per candidate pair, its last query's answer (docs/mechanics.md, "Contact updates").
     memo: Vec<PairMemo>,
+    /// Per candidate pair, where its certificate was made (when it has one).
+    frames: Vec<Frame>,
     /// Per body: the step whose detection first sees its current pose (the pose last changed
     /// in any bit in the step before), the sum of the bounds of its motions (travel), and
     /// the bound of its last step's motion.
@@ -334,6 +336,7 @@ impl Simulation {
             skin: 0.05 * mean_size,
             pairs: Vec::new(),
             memo: Vec::new(),
+            frames: Vec::new(),
             moved_at: vec![0; n],
             travel: vec![0.0; n],
             last_step: vec![0.0; n],
@@ -987,6 +990,7 @@ impl Simulation {
             })
             .collect();
         self.memo = vec![PairMemo::default(); self.pairs.len()];
+        self.frames = vec![Frame::default(); self.pairs.len()];
         let poses = &self.bodies.pose;
         self.skin_passed = (0..self.bodies.len())
             .into_par_iter()
@@ -1002,25 +1006,35 @@ impl Simulation {
     /// tolerance since its query (docs/mechanics.md, "Carried contacts"); else it is queried.
     /// The indices of the pairs to query, in order, and the numbers of pairs queried,
     /// unmoved, certified and carried.
-    fn kept_answers(&self) -> (Vec<u32>, [u64; 4]) {
+    fn kept_answers(&mut self) -> (Vec<u32>, [u64; 4]) {
         let part_body = &self.part_body;
         let (moved_at, travel) = (&self.moved_at, &self.travel);
+        let poses = &self.bodies.pose;
         let full = self.full_detection;
         let outcomes: Vec<Outcome> = self
             .pairs
             .par_iter()
-            .zip(&self.memo)
-            .map(|(&[i, j], memo)| {
+            .zip(&mut self.memo)
+            .zip(&mut self.frames)
+            .map(|((&[i, j], memo), frame)| {
                 let [bi, bj] = [part_body[i as usize], part_body[j as usize]].map(|b| b as usize);
                 if let (Some(asked), false) = (memo.asked_at, full) {
                     if moved_at[bi] <= asked && moved_at[bj] <= asked {
                         return Outcome::Unmoved;
                     }
+                    let travels = [travel[bi], travel[bj]];
+                    if memo.found.is_none()
+                        && (holds(memo.deadline, travels)
+                            || memo.renew(frame, [&poses[bi], &poses[bj]], travels))
+                    {
+                        return Outcome::Certified;
+                    }
                     match &memo.found {
-                        None if holds(memo.deadline, [travel[bi], travel[bj]]) => {
-                            return Outcome::Certified;
-                        }
                         Some(f) if f.carry.tolerance > 0.0 => {
+                            // The travels' sum, not the net relative motion: it grows with
+                            // every motion, so a carried contact is queried again in the end
+                            // even when its bodies move back and forth (docs/mechanics.md,
+                            // "Carried contacts").
                             let [ti, tj] = f.carry.travels;
                             if (travel[bi] - ti) + (travel[bj] - tj) <= f.carry.tolerance {
                                 return Outcome::Carried;
@@ -1057,7 +1071,7 @@ impl Simulation {
         let (travel, last_step) = (&self.travel, &self.last_step);
         let (step, full, fraction) = (self.steps, self.full_detection, self.update_fraction);
         let bodies = &self.bodies;
-        let answers: Vec<(PairMemo, bool)> = asked
+        let answers: Vec<(PairMemo, Frame, bool)> = asked
             .par_iter()
             .map_init(
                 || Detector::new(tol),
@@ -1071,6 +1085,7 @@ impl Simulation {
                         asked_at: Some(step),
                         ..PairMemo::default()
                     };
+                    let mut frame = Frame::default();
                     match (result, geometry) {
                         (PairResult::Contact(contact), Some(geometry)) => {
                             let gap = det.thresholds(a, b).gap;
@@ -1091,23 +1106,29 @@ impl Simulation {
                                 carry,
                             }));
                         }
-                        (PairResult::Penetrating, _) => return (memo, true),
+                        (PairResult::Penetrating, _) => return (memo, frame, true),
                         _ if !full => {
                             memo.deadline =
                                 certificate(det, [a, b], [bi, bj], bodies, travel, last_step);
+                            frame = Frame {
+                                b_in_a: contacts::b_in_a(&bodies.pose[bi], &bodies.pose[bj]),
+                                travels: travel[bi] + travel[bj],
+                                radius_b: bodies.shape(bj).radius(),
+                            };
                         }
                         _ => {}
                     }
-                    (memo, false)
+                    (memo, frame, false)
                 },
             )
             .collect();
         let mut penetrating = None;
-        for (&k, (memo, deep)) in asked.iter().zip(answers) {
+        for (&k, (memo, frame, deep)) in asked.iter().zip(answers) {
             if deep && penetrating.is_none() {
                 penetrating = Some(k);
             }
             self.memo[k as usize] = memo;
+            self.frames[k as usize] = frame;
         }
         match penetrating {
             None => Ok(()),
@@ -1351,6 +1372,18 @@ struct PairMemo {
     deadline: f64,
 }
 
+/// A separated pair's two bodies when its certificate was made (beside its [`PairMemo`],
+/// apart: read only for the pairs whose travels have used up their certificate).
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    /// B's pose in A's body frame ([`contacts::b_in_a`]).
+    b_in_a: Pose,
+    /// The sum of the two bodies' travels.
+    travels: f64,
+    /// B's body radius.
+    radius_b: f64,
+}
+
 impl Default for PairMemo {
     fn default() -> Self {
         PairMemo {
@@ -1358,6 +1391,51 @@ impl Default for PairMemo {
             found: None,
             deadline: f64::NEG_INFINITY,
         }
+    }
+}
+
+impl Default for Frame {
+    fn default() -> Self {
+        Frame {
+            b_in_a: Pose::IDENTITY,
+            travels: 0.0,
+            radius_b: 0.0,
+        }
+    }
+}
+
+impl PairMemo {
+    /// Renews the separated pair's certificate by its bodies' relative motion since it was
+    /// made, when their travels have used it up (docs/mechanics.md, "Contact updates"):
+    /// `true` if it still holds, with the certificate made anew at the current poses.
+    ///
+    /// The certificate allows the two bodies' travels to grow by `allowed`, its deadline less
+    /// the travels when it was made (its margin less the gap, less rounding). What closes the
+    /// pair is the motion `d` of B relative to A ([`contacts::motion_in_a`]), at most that
+    /// travel and zero when the two move as one; the gap's rounding floor grows with the
+    /// coordinates' magnitude, by at most `TRAVEL_SLACK - 1` times the travels `t`. So it
+    /// holds while `d + (TRAVEL_SLACK - 1) t < allowed`; then `allowed - d` is left from here,
+    /// and the certificate is written again at the current poses and travels: the travels'
+    /// test serves it again for the steps that follow (the relative motion since the renewal
+    /// is at most the travel since), rather than this test at every step.
+    fn renew(&mut self, frame: &mut Frame, now: [&Pose; 2], travel: [f64; 2]) -> bool {
+        let allowed = self.deadline - frame.travels;
+        let travels = travel[0] + travel[1];
+        let d = if allowed > 0.0 {
+            contacts::motion_in_a(&frame.b_in_a, now, frame.radius_b)
+        } else {
+            f64::INFINITY
+        };
+        let holds = d + (TRAVEL_SLACK - 1.0) * travels < allowed;
+        if holds {
+            self.deadline = allowed - d + travels - 4.0 * f64::EPSILON * (allowed + d + travels);
+            *frame = Frame {
+                b_in_a: contacts::b_in_a(now[0], now[1]),
+                travels,
+                radius_b: frame.radius_b,
+            };
+        }
+        holds
     }
 }
 

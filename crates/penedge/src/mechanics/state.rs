@@ -511,6 +511,7 @@ fn file_of(sim: &Simulation) -> StateFile {
         // bit for bit (docs/mechanics.md, "Contact updates").
         pairs: _,
         memo: _,
+        frames: _,
         moved_at: _,
         travel: _,
         last_step: _,
@@ -1497,6 +1498,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             bolts: bo,
             pairs: _,
             memo: _,
+            frames: _,
             moved_at: _,
             travel: _,
             last_step: _,

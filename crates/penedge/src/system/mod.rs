@@ -28,7 +28,9 @@ pub use examples::{paper_example, paper_spec, paper_table3, PaperExample};
 pub use excavate::ExcavationReport;
 pub use flat::FlatBlocks;
 pub use geometry::ContactGeometries;
-pub(crate) use tracker::{deadline, edge_certificate, holds, separation, EDGE_CERTIFICATE_STEPS};
+pub(crate) use tracker::{
+    deadline, edge_certificate, holds, separation, EDGE_CERTIFICATE_STEPS, TRAVEL_SLACK,
+};
 pub use tracker::{ContactTracker, TrackerError, UpdateReport};
 
 use crate::block::{BlockError, ConvexBlock};

@@ -98,7 +98,7 @@ pub struct UpdateReport {
 /// Slack on the certificates' comparison: the rounding floor of the gap grows with the
 /// coordinates' magnitude, which grows by at most the distance travelled, plus the rounding
 /// of the sums themselves.
-const TRAVEL_SLACK: f64 = 1.0 + ROUNDING_FLOOR + 4.0 * f64::EPSILON;
+pub(crate) const TRAVEL_SLACK: f64 = 1.0 + ROUNDING_FLOOR + 4.0 * f64::EPSILON;
 
 /// The travel sum below which a certificate holds: with margin `m` (separation or depth)
 /// and gap `g` recorded when the blocks had travelled `ti0` and `tj0`, the answer stands
