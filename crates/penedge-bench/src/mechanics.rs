@@ -3,7 +3,7 @@
 //!
 //! `cargo run --release -p penedge-bench -- mechanics [--blocks N] [--threads T]
 //! [--ratio R] [--speed V] [--max-steps S] [--samples K] [--seed X] [--export FILE] [--full 0|1]
-//! [--update F] [--progress P] [--save-at S --save FILE] [--load FILE]`
+//! [--update F] [--progress P] [--save-at S --save FILE] [--load FILE] [--max-wall W]`
 //!
 //! `--update F` (default 0.1, `FAST_UPDATE_FRACTION`) carries touching pairs until their
 //! bodies have moved `F` × the gap; `--update 0` is the engine's exact default.
@@ -36,6 +36,10 @@
 //! wall and CPU seconds so far, the fastest free block, the ratio, the mean settlement, the
 //! kinetic energy of the free blocks, contacts): a long run to equilibrium then gives figures
 //! even when it is stopped before it ends.
+//!
+//! `--max-wall W` stops the run, as not converged, after the first step that ends `W`
+//! seconds (wall) after the first step began, and prints the same summary: a run to
+//! equilibrium longer than the time at hand still gives its figures so far.
 //!
 //! `--save-at S --save FILE` writes the simulation's restart file (`Simulation::save_state`)
 //! after step `S`; `--load FILE` starts from such a file instead of the model's initial state
@@ -117,6 +121,8 @@ struct Options {
     save: Option<(u64, String)>,
     /// Start from this restart file.
     load: Option<String>,
+    /// Stop after this many wall seconds of steps.
+    max_wall: Option<f64>,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -134,6 +140,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         progress: 0,
         save: None,
         load: None,
+        max_wall: None,
     };
     let mut save_at = None;
     let mut save_to = None;
@@ -159,6 +166,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--save-at" => save_at = Some(crate::number(value)?),
             "--save" => save_to = Some(value.clone()),
             "--load" => o.load = Some(value.clone()),
+            "--max-wall" => o.max_wall = Some(crate::number(value)?),
             "--full" => o.full = crate::number::<u8>(value)? != 0,
             other => return Err(format!("unknown option {other}")),
         }
@@ -365,6 +373,11 @@ fn settle(o: &Options) -> Result<(), String> {
                 log.cpu_s,
                 fastest,
             );
+        }
+        if o.max_wall
+            .is_some_and(|w| start.elapsed().as_secs_f64() > w)
+        {
+            break;
         }
         if o.samples > 0 && sim.steps() % sample_every == 0 {
             log.splits.push(split(&sim, &m, s));
