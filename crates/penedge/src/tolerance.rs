@@ -150,6 +150,16 @@ impl Tolerance {
     pub fn for_box(&self, aabb: &crate::geometry::Aabb) -> Thresholds {
         self.at_scale(aabb.diagonal(), aabb.magnitude())
     }
+    /// How fast the gap of [`Tolerance::at_scale`] grows with the scale (the block size): the
+    /// relative gap, or for an absolute gap the cap `MAX_GAP` (a bound: the gap is then
+    /// constant until the cap). The certificates of separation charge the growth of the
+    /// blocks' sizes (their boxes' diagonals, which turn with them) to it.
+    pub(crate) fn gap_slope(&self) -> f64 {
+        match self.absolute_gap {
+            Some(_) => MAX_GAP,
+            None => self.gap,
+        }
+    }
 
     /// Absolute thresholds for a given length scale, for coordinates of magnitude at most
     /// `magnitude` (see the rounding floor in the module docs).

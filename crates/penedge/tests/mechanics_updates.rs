@@ -394,3 +394,60 @@ fn bodies_falling_as_one_keep_their_certificates() {
         "separated pairs queried again"
     );
 }
+
+/// Two cubes side by side, a little more than the gap apart, turned together about the
+/// vertical axis through their midpoint (no gravity; each step both are given the velocity
+/// and spin of that common rotation): neither moves relative to the other, but their boxes
+/// turn and grow, and with them the detection gap (a fraction of the smaller box's
+/// diagonal), until the pair is within it. The certificate must see that (docs/mechanics.md,
+/// "Contact updates": the renewal by the relative motion charges the bodies' turns): the
+/// contacts are those of a full detection at every step, and the pair does become a contact.
+#[test]
+fn a_separated_pair_turning_together_becomes_a_contact_when_a_full_detection_says() {
+    let gap = 1e-3 * 3f64.sqrt();
+    // A turn of 0.0087 rad widens the gap by 1e-5 (d diagonal / dθ = 2 / √3 at 0).
+    let s = gap + 1e-5;
+    let a = ConvexBlock::cuboid([-1.0 - s / 2.0, -0.5, -0.5], [-s / 2.0, 0.5, 0.5]).unwrap();
+    let b = ConvexBlock::cuboid([s / 2.0, -0.5, -0.5], [1.0 + s / 2.0, 0.5, 0.5]).unwrap();
+    let mut cheap = Simulation::new(&BlockSystem::new(vec![a, b]), 2500.0).unwrap();
+    cheap.set_gravity(DVec3::ZERO).unwrap();
+    cheap.set_default_joint(joint(30.0)).unwrap();
+    cheap.set_update_fraction(0.0).unwrap();
+    let mut full = cheap.clone();
+    full.set_full_detection(true);
+    let spin = DVec3::new(0.0, 0.0, 1.0);
+    let mut first_contact = None;
+    for step in 0..2000 {
+        for sim in [&mut cheap, &mut full] {
+            for i in 0..2 {
+                let centre = sim.bodies().poses()[i].translation;
+                sim.set_velocity(i, spin.cross(centre), spin).unwrap();
+            }
+            sim.step().unwrap();
+        }
+        let kinds = |sim: &Simulation| {
+            sim.contacts()
+                .list
+                .iter()
+                .map(|c| c.kind)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(kinds(&cheap), kinds(&full), "step {step}");
+        for (p, q) in cheap.bodies().poses().iter().zip(full.bodies().poses()) {
+            assert_eq!(bits(p.translation), bits(q.translation), "step {step}");
+        }
+        if !full.contacts().list.is_empty() {
+            first_contact = Some((step, cheap.timings()));
+            break;
+        }
+    }
+    let (first, t) = first_contact.expect("no contact after 2000 steps");
+    // The pair was certified at most steps before it became a contact (by renewals: its
+    // travels alone would have let it go within a few steps), and no rebuild of the
+    // candidate pairs (which queries every pair) came before the contact.
+    assert!(
+        t.certified > first as u64 / 2,
+        "{t:?}, contact at step {first}"
+    );
+    assert_eq!(t.rebuilds, 1, "{t:?}, contact at step {first}");
+}

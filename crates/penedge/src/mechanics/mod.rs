@@ -58,10 +58,11 @@ use crate::contact::Detector;
 use crate::geometry::DVec3;
 use crate::system::{
     deadline, edge_certificate, holds, separation, BlockSystem, BroadPhase, WideBoxes,
-    EDGE_CERTIFICATE_STEPS, TRAVEL_SLACK,
+    EDGE_CERTIFICATE_STEPS, SIZE_GROWTH, TRAVEL_SLACK,
 };
 use crate::tolerance::{Tolerance, ToleranceError};
 use contacts::{build_contact, counts_and_previous, Carry, Found, Scratch, StepInput};
+use glam::DQuat;
 use rayon::prelude::*;
 use std::time::Instant;
 use thiserror::Error;
@@ -1112,8 +1113,10 @@ impl Simulation {
                                 certificate(det, [a, b], [bi, bj], bodies, travel, last_step);
                             frame = Frame {
                                 b_in_a: contacts::b_in_a(&bodies.pose[bi], &bodies.pose[bj]),
+                                rotation_a: bodies.pose[bi].rotation,
                                 travels: travel[bi] + travel[bj],
-                                radius_b: bodies.shape(bj).radius(),
+                                radii: [bi, bj].map(|b| bodies.shape(b).radius()),
+                                growth: SIZE_GROWTH * tol.gap_slope(),
                             };
                         }
                         _ => {}
@@ -1378,10 +1381,16 @@ struct PairMemo {
 struct Frame {
     /// B's pose in A's body frame ([`contacts::b_in_a`]).
     b_in_a: Pose,
+    /// A's world rotation (B's is A's times `b_in_a`'s): a common turn of the two bodies
+    /// moves neither relative to the other but turns their boxes, whose diagonals set the
+    /// gap.
+    rotation_a: DQuat,
     /// The sum of the two bodies' travels.
     travels: f64,
-    /// B's body radius.
-    radius_b: f64,
+    /// The two bodies' radii (A, B).
+    radii: [f64; 2],
+    /// The gap's growth per unit of size ([`Tolerance::gap_slope`]) times `SIZE_GROWTH`.
+    growth: f64,
 }
 
 impl Default for PairMemo {
@@ -1398,8 +1407,10 @@ impl Default for Frame {
     fn default() -> Self {
         Frame {
             b_in_a: Pose::IDENTITY,
+            rotation_a: DQuat::IDENTITY,
             travels: 0.0,
-            radius_b: 0.0,
+            radii: [0.0; 2],
+            growth: 0.0,
         }
     }
 }
@@ -1410,29 +1421,44 @@ impl PairMemo {
     /// `true` if it still holds, with the certificate made anew at the current poses.
     ///
     /// The certificate allows the two bodies' travels to grow by `allowed`, its deadline less
-    /// the travels when it was made (its margin less the gap, less rounding). What closes the
-    /// pair is the motion `d` of B relative to A ([`contacts::motion_in_a`]), at most that
-    /// travel and zero when the two move as one; the gap's rounding floor grows with the
-    /// coordinates' magnitude, by at most `TRAVEL_SLACK - 1` times the travels `t`. So it
-    /// holds while `d + (TRAVEL_SLACK - 1) t < allowed`; then `allowed - d` is left from here,
-    /// and the certificate is written again at the current poses and travels: the travels'
-    /// test serves it again for the steps that follow (the relative motion since the renewal
-    /// is at most the travel since), rather than this test at every step.
+    /// the travels when it was made (its margin less the gap, over `1 + growth`, less
+    /// rounding: [`deadline`]). What closes the pair is the motion `d` of B relative to A
+    /// ([`contacts::motion_in_a`]), at most that travel and zero when the two move as one.
+    /// What widens the gap is the turn of either body in the world (its box's diagonal, the
+    /// size that sets the gap, grows by at most `SIZE_GROWTH` times how far its vertices
+    /// move relative to its centroid, `2 sin(θ / 2) r`) and the coordinates' magnitude (the
+    /// rounding floor, by at most `TRAVEL_SLACK - 1` times the travels `t`). So it holds while
+    /// `d + w + (TRAVEL_SLACK - 1) t < allowed`, `w` the gap's growth by the turns; then
+    /// `allowed - d - w` is left from here, and the certificate is written again at the
+    /// current poses and travels: the travels' test serves it again for the steps that follow
+    /// (the relative motion and the turns since the renewal are at most the travel since),
+    /// rather than this test at every step.
     fn renew(&mut self, frame: &mut Frame, now: [&Pose; 2], travel: [f64; 2]) -> bool {
         let allowed = self.deadline - frame.travels;
         let travels = travel[0] + travel[1];
-        let d = if allowed > 0.0 {
-            contacts::motion_in_a(&frame.b_in_a, now, frame.radius_b)
+        let [ra, rb] = frame.radii;
+        let (d, w) = if allowed > 0.0 {
+            // The sine of half the angle each body has turned since (of the quaternion
+            // taking the old rotation to the new one), as `Pose::displacement_bound`.
+            let sin_half = |then: DQuat, now: DQuat| (now * then.conjugate()).xyz().length();
+            let rotation_b = frame.rotation_a * frame.b_in_a.rotation;
+            let turn = (2.0 * sin_half(frame.rotation_a, now[0].rotation) * ra)
+                .max(2.0 * sin_half(rotation_b, now[1].rotation) * rb);
+            // Rounding of the rotations' products: a few units in the last place of r.
+            let w = frame.growth * (turn + 16.0 * f64::EPSILON * (ra + rb));
+            (contacts::motion_in_a(&frame.b_in_a, now, rb), w)
         } else {
-            f64::INFINITY
+            (f64::INFINITY, f64::INFINITY)
         };
-        let holds = d + (TRAVEL_SLACK - 1.0) * travels < allowed;
+        let holds = d + w + (TRAVEL_SLACK - 1.0) * travels < allowed;
         if holds {
-            self.deadline = allowed - d + travels - 4.0 * f64::EPSILON * (allowed + d + travels);
+            let left = allowed - d - w;
+            self.deadline = left + travels - 4.0 * f64::EPSILON * (allowed + d + w + travels);
             *frame = Frame {
                 b_in_a: contacts::b_in_a(now[0], now[1]),
+                rotation_a: now[0].rotation,
                 travels,
-                radius_b: frame.radius_b,
+                ..*frame
             };
         }
         holds
@@ -1461,15 +1487,17 @@ fn certificate(
     last_step: &[f64],
 ) -> f64 {
     let gap = det.thresholds(a, b).gap;
+    let slope = det.tolerance().gap_slope();
     let margin = separation(a, b);
     let travels = [travel[bi], travel[bj]];
     if margin > gap {
-        return deadline(margin, gap, travels);
+        return deadline(margin, gap, travels, slope);
     }
     let wider = EDGE_CERTIFICATE_STEPS * (last_step[bi] + last_step[bj]);
     let radii = [bodies.shape(bi).radius(), bodies.shape(bj).radius()];
-    edge_certificate(det, [a, b], radii, gap, wider)
-        .map_or(f64::NEG_INFINITY, |m| deadline(m + gap, gap, travels))
+    edge_certificate(det, [a, b], radii, gap, wider).map_or(f64::NEG_INFINITY, |m| {
+        deadline(m + gap, gap, travels, slope)
+    })
 }
 
 /// Whether a body of radius `radius` (about its centroid) at `pose`, at `built` when the
@@ -1601,6 +1629,10 @@ mod tests {
         assert_eq!(body, 128);
         assert_eq!(size_of::<BodyContact>(), 64);
         assert_eq!(size_of::<SubContact>(), 112);
+        // Per candidate pair (docs/mechanics.md, "Memory"): the memo and, apart, the frame
+        // of its certificate.
+        assert_eq!(size_of::<PairMemo>(), 32);
+        assert_eq!(size_of::<Frame>(), 120);
         // A face-face contact of two quadrilaterals: within the 512 bytes (an
         // initial stress adds 8 per sub-contact in a side table, in the runs that have one).
         assert_eq!(size_of::<BodyContact>() + 4 * size_of::<SubContact>(), 512);

@@ -29,7 +29,8 @@ pub use excavate::ExcavationReport;
 pub use flat::FlatBlocks;
 pub use geometry::ContactGeometries;
 pub(crate) use tracker::{
-    deadline, edge_certificate, holds, separation, EDGE_CERTIFICATE_STEPS, TRAVEL_SLACK,
+    deadline, edge_certificate, holds, separation, EDGE_CERTIFICATE_STEPS, SIZE_GROWTH,
+    TRAVEL_SLACK,
 };
 pub use tracker::{ContactTracker, TrackerError, UpdateReport};
 

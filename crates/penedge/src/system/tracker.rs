@@ -100,16 +100,25 @@ pub struct UpdateReport {
 /// of the sums themselves.
 pub(crate) const TRAVEL_SLACK: f64 = 1.0 + ROUNDING_FLOOR + 4.0 * f64::EPSILON;
 
+/// How much a block's box diagonal (its size, which sets its gap) can grow per unit of its
+/// largest vertex motion: each of the box's three extents by twice the motion.
+pub(crate) const SIZE_GROWTH: f64 = 2.0 * 1.732_050_807_568_877_2;
+
 /// The travel sum below which a certificate holds: with margin `m` (separation or depth)
 /// and gap `g` recorded when the blocks had travelled `ti0` and `tj0`, the answer stands
-/// while `m - (ti - ti0) - (tj - tj0) > g + floor growth`, that is while
-/// `(ti + tj) * TRAVEL_SLACK < m - g + ti0 + tj0` (less the rounding of this sum). One
-/// number per pair, so that checking a certified pair reads 16 bytes and two travels.
-pub(crate) fn deadline(margin: f64, gap: f64, travel: [f64; 2]) -> f64 {
+/// while `m - (ti - ti0) - (tj - tj0) > g + gap growth + floor growth`. The gap is `slope`
+/// ([`Tolerance::gap_slope`](crate::Tolerance)) times the smaller block's box diagonal,
+/// which turns with the block and so grows by at most `SIZE_GROWTH` times its travel: the
+/// travel since is charged `1 + SIZE_GROWTH slope` times. That is while `(ti + tj) *
+/// TRAVEL_SLACK < (m - g) / (1 + SIZE_GROWTH slope) + ti0 + tj0` (less the rounding of this
+/// sum). One number per pair, so that checking a certified pair reads 16 bytes and two
+/// travels.
+pub(crate) fn deadline(margin: f64, gap: f64, travel: [f64; 2], slope: f64) -> f64 {
     if margin <= gap {
         return f64::NEG_INFINITY;
     }
-    let sum = margin - gap + travel[0] + travel[1];
+    let allowed = (margin - gap) / (1.0 + SIZE_GROWTH * slope);
+    let sum = allowed + travel[0] + travel[1];
     sum - 4.0 * f64::EPSILON * (margin + gap + travel[0] + travel[1])
 }
 
@@ -634,6 +643,7 @@ impl ContactTracker {
                 (det.detect(a, b), None)
             };
             let gap = det.thresholds(a, b).gap;
+            let slope = det.tolerance().gap_slope();
             let margin = match result {
                 PairResult::Separated => separation(a, b),
                 PairResult::Penetrating => depth(a, b, det.penetration_edges()),
@@ -643,10 +653,11 @@ impl ContactTracker {
                 // No separating face plane: try the certificate of a wider gap.
                 let wider = EDGE_CERTIFICATE_STEPS * (last_step[i] + last_step[j]);
                 let radii = [radius[i], radius[j]];
-                edge_certificate(det, [a, b], radii, gap, wider)
-                    .map_or(f64::NEG_INFINITY, |m| deadline(m + gap, gap, [ti, tj]))
+                edge_certificate(det, [a, b], radii, gap, wider).map_or(f64::NEG_INFINITY, |m| {
+                    deadline(m + gap, gap, [ti, tj], slope)
+                })
             } else {
-                deadline(margin, gap, [ti, tj])
+                deadline(margin, gap, [ti, tj], slope)
             };
             (result, deadline, piece)
         };
