@@ -423,6 +423,27 @@ fn settle(o: &Options) -> Result<(), String> {
         "\nAt the end: fastest free block {fastest:.3e} m/s, kinetic energy of the free blocks \
          {kinetic:.3e} J."
     );
+    // Contacts that carry no force: every sub-contact open (a positive gap, no bond), as
+    // the lateral joints open by less than the detection gap.
+    let contacts = sim.contacts();
+    let open = (0..contacts.list.len())
+        .filter(|&i| {
+            contacts
+                .subs_of(i)
+                .iter()
+                .all(|s| s.gap > 0.0 && !s.bonded && s.normal_force == 0.0)
+        })
+        .count();
+    let open_subs: usize = (0..contacts.list.len())
+        .flat_map(|i| contacts.subs_of(i))
+        .filter(|s| s.gap > 0.0 && !s.bonded && s.normal_force == 0.0)
+        .count();
+    println!(
+        "Open contacts (every sub-contact at a positive gap, unbonded, without force): {open} \
+         of {}; open sub-contacts {open_subs} of {}.",
+        contacts.list.len(),
+        contacts.subs.len()
+    );
     print_splits(&log.splits);
     print_memory(&heap_at, bodies, log.first_contacts);
     println!("\nLoad average at the end: {}.", crate::report::load());
