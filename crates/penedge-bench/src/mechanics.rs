@@ -426,18 +426,17 @@ fn settle(o: &Options) -> Result<(), String> {
     // Contacts that carry no force: every sub-contact open (a positive gap, no bond), as
     // the lateral joints open by less than the detection gap.
     let contacts = sim.contacts();
-    let open = (0..contacts.list.len())
-        .filter(|&i| {
-            contacts
-                .subs_of(i)
-                .iter()
-                .all(|s| s.gap > 0.0 && !s.bonded && s.normal_force == 0.0)
-        })
-        .count();
-    let open_subs: usize = (0..contacts.list.len())
-        .flat_map(|i| contacts.subs_of(i))
-        .filter(|s| s.gap > 0.0 && !s.bonded && s.normal_force == 0.0)
-        .count();
+    let (open, open_subs) = (0..contacts.list.len()).fold((0, 0), |(open, subs), i| {
+        let n = contacts
+            .subs_of(i)
+            .iter()
+            .filter(|s| s.gap > 0.0 && !s.bonded && s.normal_force == 0.0)
+            .count();
+        (
+            open + usize::from(n == contacts.list[i].count as usize),
+            subs + n,
+        )
+    });
     println!(
         "Open contacts (every sub-contact at a positive gap, unbonded, without force): {open} \
          of {}; open sub-contacts {open_subs} of {}.",

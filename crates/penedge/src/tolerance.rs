@@ -150,6 +150,7 @@ impl Tolerance {
     pub fn for_box(&self, aabb: &crate::geometry::Aabb) -> Thresholds {
         self.at_scale(aabb.diagonal(), aabb.magnitude())
     }
+
     /// How fast the gap of [`Tolerance::at_scale`] grows with the scale (the block size): the
     /// relative gap, or for an absolute gap the cap `MAX_GAP` (a bound: the gap is then
     /// constant until the cap). The certificates of separation charge the growth of the

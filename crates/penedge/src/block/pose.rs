@@ -207,14 +207,20 @@ pub(crate) fn assert_same_placed(block: &ConvexBlock, expected: &ConvexBlock) {
 mod tests {
     use super::*;
 
-    #[test]
-    fn placing_matches_transformed_and_the_bound_holds() {
+    /// A 1 x 2 x 3 box and a pose that turns it about three axes and moves it.
+    fn box_and_pose() -> (ConvexBlock, Pose) {
         let reference = ConvexBlock::cuboid([0.0, 0.0, 0.0], [1.0, 2.0, 3.0]).unwrap();
         let pose = Pose::new(
             DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -0.2, 1.1),
             DVec3::new(5.0, -1.0, 2.0),
         )
         .unwrap();
+        (reference, pose)
+    }
+
+    #[test]
+    fn placing_matches_transformed_and_the_bound_holds() {
+        let (reference, pose) = box_and_pose();
         let mut placed = reference.clone();
         placed.place_from(&reference, &pose);
         let expected = reference.transformed(pose.rotation, pose.translation, 1.0);
@@ -240,13 +246,8 @@ mod tests {
 
     #[test]
     fn placing_in_two_halves_gives_the_block_placed_at_once() {
-        let reference = ConvexBlock::cuboid([0.0, 0.0, 0.0], [1.0, 2.0, 3.0]).unwrap();
+        let (reference, pose) = box_and_pose();
         let first = Pose::new(DQuat::from_rotation_y(0.2), DVec3::new(1.0, 2.0, 3.0)).unwrap();
-        let pose = Pose::new(
-            DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -0.2, 1.1),
-            DVec3::new(5.0, -1.0, 2.0),
-        )
-        .unwrap();
         let mut halves = reference.clone();
         halves.place_from(&reference, &first);
         halves.place_coordinates(&reference, &pose);

@@ -205,8 +205,9 @@ pub(super) fn b_in_a(a: &Pose, b: &Pose) -> Pose {
 /// (docs/mechanics.md, "Contact updates"): seen in A's frame, A is still and B has moved by a
 /// rigid motion, so a plane fixed in A's frame that separated them by `s` still separates them
 /// by `s` less this bound. Zero, up to rounding, for two bodies moved by the same rigid motion
-/// (a stack falling or sliding as one), whose travels grow all the same.
-pub(super) fn motion_in_a(before: &Pose, now: [&Pose; 2], radius_b: f64) -> f64 {
+/// (a stack falling or sliding as one), whose travels grow all the same. With the bound, B's
+/// pose in A's frame now.
+pub(super) fn motion_in_a(before: &Pose, now: [&Pose; 2], radius_b: f64) -> (f64, Pose) {
     let after = b_in_a(now[0], now[1]);
     // The frames were composed from world coordinates: their rounding, a few units in the
     // last place of the largest world coordinate, on top of `displacement_bound`'s own.
@@ -215,8 +216,9 @@ pub(super) fn motion_in_a(before: &Pose, now: [&Pose; 2], radius_b: f64) -> f64 
         .abs()
         .max_element()
         .max(now[1].translation.abs().max_element());
-    before.displacement_bound(&after, DVec3::ZERO, radius_b)
-        + 32.0 * f64::EPSILON * (world + radius_b)
+    let bound = before.displacement_bound(&after, DVec3::ZERO, radius_b)
+        + 32.0 * f64::EPSILON * (world + radius_b);
+    (bound, after)
 }
 
 /// A body's pose, velocity and spin at the step, side by side: a contact reads its two

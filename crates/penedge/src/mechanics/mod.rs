@@ -1012,6 +1012,8 @@ impl Simulation {
         let (moved_at, travel) = (&self.moved_at, &self.travel);
         let poses = &self.bodies.pose;
         let full = self.full_detection;
+        // How much a turning body widens its pairs' gap per unit of its vertices' motion.
+        let growth = SIZE_GROWTH * self.tolerance.gap_slope();
         let outcomes: Vec<Outcome> = self
             .pairs
             .par_iter()
@@ -1026,7 +1028,7 @@ impl Simulation {
                     let travels = [travel[bi], travel[bj]];
                     if memo.found.is_none()
                         && (holds(memo.deadline, travels)
-                            || memo.renew(frame, [&poses[bi], &poses[bj]], travels))
+                            || memo.renew(frame, [&poses[bi], &poses[bj]], travels, growth))
                     {
                         return Outcome::Certified;
                     }
@@ -1116,7 +1118,6 @@ impl Simulation {
                                 rotation_a: bodies.pose[bi].rotation,
                                 travels: travel[bi] + travel[bj],
                                 radii: [bi, bj].map(|b| bodies.shape(b).radius()),
-                                growth: SIZE_GROWTH * tol.gap_slope(),
                             };
                         }
                         _ => {}
@@ -1389,8 +1390,6 @@ struct Frame {
     travels: f64,
     /// The two bodies' radii (A, B).
     radii: [f64; 2],
-    /// The gap's growth per unit of size ([`Tolerance::gap_slope`]) times `SIZE_GROWTH`.
-    growth: f64,
 }
 
 impl Default for PairMemo {
@@ -1410,7 +1409,6 @@ impl Default for Frame {
             rotation_a: DQuat::IDENTITY,
             travels: 0.0,
             radii: [0.0; 2],
-            growth: 0.0,
         }
     }
 }
@@ -1433,29 +1431,35 @@ impl PairMemo {
     /// current poses and travels: the travels' test serves it again for the steps that follow
     /// (the relative motion and the turns since the renewal are at most the travel since),
     /// rather than this test at every step.
-    fn renew(&mut self, frame: &mut Frame, now: [&Pose; 2], travel: [f64; 2]) -> bool {
+    fn renew(&mut self, frame: &mut Frame, now: [&Pose; 2], travel: [f64; 2], growth: f64) -> bool {
         let allowed = self.deadline - frame.travels;
+        if allowed <= 0.0 {
+            return false;
+        }
         let travels = travel[0] + travel[1];
         let [ra, rb] = frame.radii;
-        let (d, w) = if allowed > 0.0 {
-            // The sine of half the angle each body has turned since (of the quaternion
-            // taking the old rotation to the new one), as `Pose::displacement_bound`.
-            let sin_half = |then: DQuat, now: DQuat| (now * then.conjugate()).xyz().length();
-            let rotation_b = frame.rotation_a * frame.b_in_a.rotation;
-            let turn = (2.0 * sin_half(frame.rotation_a, now[0].rotation) * ra)
-                .max(2.0 * sin_half(rotation_b, now[1].rotation) * rb);
-            // Rounding of the rotations' products: a few units in the last place of r.
-            let w = frame.growth * (turn + 16.0 * f64::EPSILON * (ra + rb));
-            (contacts::motion_in_a(&frame.b_in_a, now, rb), w)
-        } else {
-            (f64::INFINITY, f64::INFINITY)
+        // How far each body's vertices have moved about its centroid: its turn alone.
+        let turned = |then: DQuat, now: DQuat, r: f64| {
+            let at = |rotation| Pose {
+                rotation,
+                translation: DVec3::ZERO,
+            };
+            at(then).displacement_bound(&at(now), DVec3::ZERO, r)
         };
+        let rotation_b = frame.rotation_a * frame.b_in_a.rotation;
+        let w = growth
+            * turned(frame.rotation_a, now[0].rotation, ra).max(turned(
+                rotation_b,
+                now[1].rotation,
+                rb,
+            ));
+        let (d, b_in_a) = contacts::motion_in_a(&frame.b_in_a, now, rb);
         let holds = d + w + (TRAVEL_SLACK - 1.0) * travels < allowed;
         if holds {
             let left = allowed - d - w;
             self.deadline = left + travels - 4.0 * f64::EPSILON * (allowed + d + w + travels);
             *frame = Frame {
-                b_in_a: contacts::b_in_a(now[0], now[1]),
+                b_in_a,
                 rotation_a: now[0].rotation,
                 travels,
                 ..*frame
@@ -1632,7 +1636,7 @@ mod tests {
         // Per candidate pair (docs/mechanics.md, "Memory"): the memo and, apart, the frame
         // of its certificate.
         assert_eq!(size_of::<PairMemo>(), 32);
-        assert_eq!(size_of::<Frame>(), 120);
+        assert_eq!(size_of::<Frame>(), 112);
         // A face-face contact of two quadrilaterals: within the 512 bytes (an
         // initial stress adds 8 per sub-contact in a side table, in the runs that have one).
         assert_eq!(size_of::<BodyContact>() + 4 * size_of::<SubContact>(), 512);
