@@ -3,12 +3,15 @@
 //!
 //! `cargo run --release -p penedge-bench -- mechanics [--blocks N] [--threads T]
 //! [--ratio R] [--speed V] [--max-steps S] [--samples K] [--seed X] [--export FILE] [--full 0|1]
-//! [--update F] [--progress P] [--save-at S --save FILE] [--load FILE] [--max-wall W]`
+//! [--update F] [--dormant 0|1] [--progress P] [--save-at S --save FILE] [--load FILE]
+//! [--max-wall W]`
 //!
 //! `--update F` (default 0.1, `FAST_UPDATE_FRACTION`) carries touching pairs until their
 //! bodies have moved `F` × the gap; `--update 0` is the engine's exact default.
 //! `--full 1` queries every candidate pair at every step (`Simulation::set_full_detection`,
-//! the step before the contact updates), for comparison.
+//! the step before the contact updates), for comparison. `--dormant 0` updates every
+//! carried open contact's sub-contacts (`Simulation::set_dormant_contacts`; default 1: an
+//! open contact certified to stay open keeps them), for comparison.
 //!
 //! **The model** (`N` blocks at most, default 100,000): a grid of `(n + 2) × (n + 2) ×
 //! (n + 1)` unit cubes, `n` the largest that fits in `N`, at a spacing of 1.002 (open joints
@@ -115,6 +118,8 @@ struct Options {
     /// The update tolerance of touching pairs, a fraction of the gap
     /// (`Simulation::set_update_fraction`).
     update: f64,
+    /// Whether carried open contacts may stay dormant (`Simulation::set_dormant_contacts`).
+    dormant: bool,
     /// Print a progress line every this many steps (0: none).
     progress: u64,
     /// Write the restart file to the path after the step.
@@ -137,6 +142,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         export: None,
         full: false,
         update: penedge::mechanics::FAST_UPDATE_FRACTION,
+        dormant: true,
         progress: 0,
         save: None,
         load: None,
@@ -168,6 +174,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--load" => o.load = Some(value.clone()),
             "--max-wall" => o.max_wall = Some(crate::number(value)?),
             "--full" => o.full = crate::number::<u8>(value)? != 0,
+            "--dormant" => o.dormant = crate::number::<u8>(value)? != 0,
             other => return Err(format!("unknown option {other}")),
         }
     }
@@ -280,6 +287,7 @@ fn settle(o: &Options) -> Result<(), String> {
         }
     }
     sim.set_full_detection(o.full);
+    sim.set_dormant_contacts(o.dormant);
     sim.set_update_fraction(o.update)
         .map_err(|e| e.to_string())?;
     sim.set_damping(Damping {
@@ -304,8 +312,13 @@ fn settle(o: &Options) -> Result<(), String> {
         } else {
             format!(
                 "contact updates (answers kept for unmoved and certified pairs, touching \
-                 pairs carried up to --update {} × the gap)",
-                o.update
+                 pairs carried up to --update {} × the gap{})",
+                o.update,
+                if o.dormant {
+                    ", open ones dormant while certified"
+                } else {
+                    "; --dormant 0: open ones updated"
+                }
             )
         },
         crate::report::machine(),
@@ -426,21 +439,27 @@ fn settle(o: &Options) -> Result<(), String> {
     // Contacts that carry no force: every sub-contact open (a positive gap, no bond), as
     // the lateral joints open by less than the detection gap.
     let contacts = sim.contacts();
+    let mut by_kind = std::collections::BTreeMap::<String, usize>::new();
     let (open, open_subs) = (0..contacts.list.len()).fold((0, 0), |(open, subs), i| {
         let n = contacts
             .subs_of(i)
             .iter()
             .filter(|s| s.gap > 0.0 && !s.bonded && s.normal_force == 0.0)
             .count();
-        (
-            open + usize::from(n == contacts.list[i].count as usize),
-            subs + n,
-        )
+        let all = n == contacts.list[i].count as usize;
+        if all {
+            *by_kind
+                .entry(format!("{:?}", contacts.list[i].kind))
+                .or_default() += 1;
+        }
+        (open + usize::from(all), subs + n)
     });
+    let kinds: Vec<String> = by_kind.iter().map(|(k, n)| format!("{k} {n}")).collect();
     println!(
         "Open contacts (every sub-contact at a positive gap, unbonded, without force): {open} \
-         of {}; open sub-contacts {open_subs} of {}.",
+         of {} ({}); open sub-contacts {open_subs} of {}.",
         contacts.list.len(),
+        kinds.join(", "),
         contacts.subs.len()
     );
     print_splits(&log.splits);
@@ -578,13 +597,15 @@ fn print_phases(t: &StepTimings, bodies: usize) {
     println!(
         "\nTime per part of the step (`Simulation::timings`, wall clock, summed over the {} \
          steps; {} broad phases built). Candidate pairs per step: {:.0} queried, {:.0} kept \
-         unmoved, {:.0} kept certified separated, {:.0} carried.\n",
+         unmoved, {:.0} kept certified separated, {:.0} carried ({:.0} of them dormant: \
+         open contacts kept).\n",
         t.steps,
         t.rebuilds,
         t.queried as f64 / t.steps.max(1) as f64,
         t.unmoved as f64 / t.steps.max(1) as f64,
         t.certified as f64 / t.steps.max(1) as f64,
         t.carried as f64 / t.steps.max(1) as f64,
+        t.dormant as f64 / t.steps.max(1) as f64,
     );
     println!("| part | s | share | per step ms | ns per block-step |");
     println!("|---|---:|---:|---:|---:|");

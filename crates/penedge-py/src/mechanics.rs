@@ -680,6 +680,23 @@ impl Simulation {
         self.inner.update_fraction()
     }
 
+    /// Whether carried open contacts may stay dormant (``docs/mechanics.md``, "Dormant
+    /// contacts"; default ``True``): a carried face-face contact open at every sub-contact
+    /// (positive gaps, no bond, no force) keeps its sub-contacts without updating them while
+    /// a certificate shows that none can have closed. The motion and the forces are the same
+    /// bit for bit; a dormant contact's points, gaps and shear displacements are those of its
+    /// last update. Only carried contacts can be dormant: nothing changes with an update
+    /// fraction of ``0`` (the default) or with water in the joints.
+    #[getter]
+    fn dormant_contacts(&self) -> bool {
+        self.inner.dormant_contacts()
+    }
+
+    #[setter]
+    fn set_dormant_contacts(&mut self, on: bool) {
+        self.inner.set_dormant_contacts(on);
+    }
+
     /// Cumulative wall time (seconds) of each part of the step since the simulation was made:
     /// ``pairs`` (candidate pairs, broad phase when rebuilt), ``detect`` (pair queries),
     /// ``contacts`` (sub-contacts and joint law), ``forces`` (sums per body), ``integration``,
@@ -687,8 +704,8 @@ impl Simulation {
     /// ``rebuilds`` (broad phases built) and, summed over the steps, the candidate pairs
     /// ``queried``, kept ``unmoved`` (neither body moved since their query), kept
     /// ``certified`` separated (``docs/mechanics.md``, "Contact updates in the step") and
-    /// touching pairs ``carried`` with their bodies ("Carried contacts"). One clock reading
-    /// per part and step.
+    /// touching pairs ``carried`` with their bodies ("Carried contacts"), of them ``dormant``
+    /// (open contacts kept: "Dormant contacts"). One clock reading per part and step.
     ///
     /// Examples
     /// --------
@@ -722,6 +739,7 @@ impl Simulation {
             ("unmoved", t.unmoved),
             ("certified", t.certified),
             ("carried", t.carried),
+            ("dormant", t.dormant),
         ] {
             out.set_item(key, value)?;
         }

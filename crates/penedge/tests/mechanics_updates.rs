@@ -451,3 +451,66 @@ fn a_separated_pair_turning_together_becomes_a_contact_when_a_full_detection_say
     );
     assert_eq!(t.rebuilds, 1, "{t:?}, contact at step {first}");
 }
+
+/// Dormant contacts (docs/mechanics.md, "Dormant contacts"): the settling stack carried at
+/// the benchmark's fraction, with and without them. A dormant contact keeps its last
+/// update's sub-contacts, so its points, gaps and shear displacements may differ; but its
+/// certificate says that every one would be open, unbonded and without force, so the motion
+/// and every force are the same bit for bit at every step. Letting a certificate hold
+/// whatever the motion (a contact dormant while its gap closes) fails this test.
+#[test]
+fn dormant_contacts_give_the_same_motion_and_forces_bit_for_bit() {
+    let mut updated = settling_stack();
+    updated
+        .set_update_fraction(penedge::mechanics::FAST_UPDATE_FRACTION)
+        .unwrap();
+    assert!(updated.dormant_contacts(), "dormant contacts are the default");
+    let mut dormant = updated.clone();
+    updated.set_dormant_contacts(false);
+    for step in 0..900 {
+        dormant.step().unwrap();
+        updated.step().unwrap();
+        let (d, u) = (dormant.bodies(), updated.bodies());
+        for i in 0..d.len() {
+            let (p, q) = (d.poses()[i], u.poses()[i]);
+            assert_eq!(bits(p.translation), bits(q.translation), "step {step}: body {i}");
+            assert_eq!(p.rotation.to_array(), q.rotation.to_array(), "step {step}");
+            assert_eq!(bits(d.velocities()[i]), bits(u.velocities()[i]), "step {step}");
+            assert_eq!(
+                bits(d.angular_momenta()[i]),
+                bits(u.angular_momenta()[i]),
+                "step {step}"
+            );
+        }
+        let (c, f) = (dormant.contacts(), updated.contacts());
+        assert_eq!(c.list.len(), f.list.len(), "step {step}: number of contacts");
+        for (x, y) in c.list.iter().zip(&f.list) {
+            assert_eq!(
+                (x.parts, x.kind, x.first, x.count),
+                (y.parts, y.kind, y.first, y.count),
+                "step {step}"
+            );
+        }
+        for (x, y) in c.subs.iter().zip(&f.subs) {
+            assert_eq!(
+                (x.normal_force.to_bits(), bits(x.shear_force), x.state, x.bonded),
+                (y.normal_force.to_bits(), bits(y.shear_force), y.state, y.bonded),
+                "step {step}: sub-contact forces"
+            );
+        }
+    }
+    let (d, u) = (dormant.timings(), updated.timings());
+    assert_eq!(u.dormant, 0);
+    assert!(d.dormant > 0, "no contact was dormant");
+    // The same pairs queried, certified and carried (dormant ones among the carried).
+    assert_eq!(
+        [d.queried, d.certified, d.carried],
+        [u.queried, u.certified, u.carried]
+    );
+    println!(
+        "carried {} pair-steps, of them dormant {} ({:.0} %)",
+        d.carried,
+        d.dormant,
+        100.0 * d.dormant as f64 / d.carried as f64
+    );
+}

@@ -221,6 +221,69 @@ pub(super) fn motion_in_a(before: &Pose, now: [&Pose; 2], radius_b: f64) -> (f64
     (bound, after)
 }
 
+/// The certificate of an open face-face contact (docs/mechanics.md, "Dormant contacts"): a
+/// carried contact whose sub-contacts are all open (unbonded, positive gap, no force) keeps
+/// them, without updating them, while its carried gaps cannot have reached zero.
+///
+/// Between two queries a carried contact's gaps are a function of B's pose in A's frame
+/// alone (its points, normal and features move rigidly with A or B). From B's pose `P` in A's
+/// frame at the update that made the certificate to its pose now, let `T + s r` bound the
+/// motion of B's points within `r` of its centroid (`s = 2 sin(θ / 2)`, `θ` the turn). A
+/// gap of the face-face contact, measured along the normal `n` (moving with A) from A's
+/// plane to B's plane at a point `p`, changes by at most `(T + s (ρ + H)) / (c - s)`: `ρ`
+/// bounds the distances from B's centroid of the points and of where the normal through
+/// them meets B's plane, `H` the heights of B's plane above the points along `n`, `c` the
+/// smaller of `|n · n_A|` and `|n · n_B|` (the two faces' normals) at the update; the proof is
+/// in docs/mechanics.md. The certificate holds while that bound stays below the smallest gap
+/// less a rounding margin: every gap is then still positive, so every sub-contact would be
+/// open, unbonded and without force, the same forces as those kept.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct OpenCert {
+    /// B's pose in A's body frame at the update ([`b_in_a`]).
+    pub b_in_a: Pose,
+    /// The smallest gap then, less the rounding margin.
+    pub min_gap: f64,
+    /// `ρ + H`.
+    pub reach: f64,
+    /// `c`.
+    pub cos: f64,
+}
+
+impl OpenCert {
+    /// An upper bound of how much any gap of the contact has changed since the update, A
+    /// and B at `now`: `(T + s (ρ + H)) / (c - s)`; `None` when the turn is too large for
+    /// it (`s` above half of `c`: never for a carried contact, which has moved less than its
+    /// update tolerance).
+    pub fn gap_change(&self, now: [&Pose; 2]) -> Option<f64> {
+        let (numerator, after) = motion_in_a(&self.b_in_a, now, self.reach);
+        let relative = after.rotation * self.b_in_a.rotation.conjugate();
+        let s = 2.0 * relative.xyz().length().min(1.0);
+        let cos = self.cos - s;
+        (cos > 0.5 * self.cos).then(|| numerator / cos)
+    }
+
+    /// Whether every gap of the contact is still positive with A and B at `now`.
+    pub fn holds(&self, now: [&Pose; 2]) -> bool {
+        self.gap_change(now).is_some_and(|d| d < self.min_gap)
+    }
+}
+
+/// `ρ + H` and `c` of [`OpenCert`] for a face-face contact's points `points` with normal `n`
+/// and faces `planes` (A's, B's), B's centroid at `centre`.
+fn open_terms(points: &[DVec3], n: DVec3, planes: [Plane; 2], centre: DVec3) -> (f64, f64) {
+    let face_b = FeatureAt::Face(planes[1]);
+    let (mut reach, mut heights) = (0.0f64, 0.0f64);
+    for &p in points {
+        let h = face_b.height(p, n);
+        heights = heights.max(h.abs());
+        reach = reach
+            .max(p.distance(centre))
+            .max((p + n * h).distance(centre));
+    }
+    let cos = planes[0].normal.dot(n).abs().min(planes[1].normal.dot(n).abs());
+    (reach + heights, cos)
+}
+
 /// A body's pose, velocity and spin at the step, side by side: a contact reads its two
 /// bodies' from one place (computed once per body, rather than per contact from the
 /// bodies' scattered arrays and shapes).
@@ -261,6 +324,9 @@ pub(super) struct StepInput<'a> {
     pub point_width: f64,
     /// The stress installed on the first detection's touching sub-contacts.
     pub initial_stress: Option<&'a InitialStress>,
+    /// Whether open contacts may be left dormant ([`OpenCert`]): on, and no water in the
+    /// joints (water pushes on open joints too).
+    pub dormancy: bool,
 }
 
 /// Buffers of [`build_contact`], one per thread, so that a contact allocates nothing once
@@ -278,15 +344,27 @@ pub(super) fn sub_count(found: &Found) -> usize {
     found.geometry.points().len()
 }
 
-/// For each contact found this step (in pair order), its sub-contact count and the index of
-/// the same pair's contact in `previous` (if it had one): a merge of the two lists, both
-/// sorted by pair, rather than a binary search per contact (in parallel, by chunks that each
-/// search where they start; a pair not met by the merge is searched, so the answer does not
-/// depend on the order).
+/// A contact of this step, before its sub-contacts: its candidate pair (index and parts),
+/// the detection's answer, and whether it is dormant (its sub-contacts kept from the last
+/// step: docs/mechanics.md, "Dormant contacts").
+pub(super) struct Current<'a> {
+    pub pair: u32,
+    pub parts: [u32; 2],
+    pub found: &'a Found,
+    pub dormant: bool,
+}
+
+/// For each contact found this step (in pair order), its sub-contact count, the index of
+/// the same pair's contact in `previous` (if it had one) and whether it is dormant (a
+/// dormant contact without one in `previous` is not: it is updated): a merge of the two
+/// lists, both sorted by pair, rather than a binary search per contact (in parallel, by
+/// chunks that each search where they start; a pair not met by the merge is searched, so
+/// the answer does not depend on the order). A dormant contact keeps its count and does
+/// not read its answer.
 pub(super) fn counts_and_previous(
     previous: &Contacts,
-    found: &[&Found],
-) -> Vec<(u32, Option<u32>)> {
+    found: &[Current],
+) -> Vec<(u32, Option<u32>, bool)> {
     use rayon::prelude::*;
     let list = &previous.list;
     found
@@ -302,15 +380,21 @@ pub(super) fn counts_and_previous(
                 } else {
                     previous.find(f.parts)
                 };
-                (sub_count(f) as u32, at.map(|i| i as u32))
+                match at {
+                    Some(i) if f.dormant => (list[i].count, Some(i as u32), true),
+                    _ => (sub_count(f.found) as u32, at.map(|i| i as u32), false),
+                }
             })
         })
         .collect()
 }
 
 /// The contact, its sub-contacts with their forces for this step written to `subs` (of
-/// length [`sub_count`]; `previous`: the index of the pair's contact at the last step), and their installed normal stresses to `prestresses` (of the same
-/// length, or empty when the step keeps none: no initial stress in the run).
+/// length [`sub_count`]; `previous`: the index of the pair's contact at the last step), and
+/// their installed normal stresses to `prestresses` (of the same length, or empty when the
+/// step keeps none: no initial stress in the run). With it, the certificate that lets the
+/// contact stay dormant at the next steps, when it is a carried face-face contact open at
+/// every sub-contact ([`OpenCert`]).
 pub(super) fn build_contact(
     input: &StepInput,
     found: &Found,
@@ -318,7 +402,7 @@ pub(super) fn build_contact(
     scratch: &mut Scratch,
     subs: &mut [SubContact],
     prestresses: &mut [f64],
-) -> BodyContact {
+) -> (BodyContact, Option<OpenCert>) {
     let Scratch {
         areas,
         floors,
@@ -402,6 +486,22 @@ pub(super) fn build_contact(
             let sb = features[1].height(p, n);
             sb - sa
         })),
+    };
+    // What a certificate of the open contact needs, from the gaps before the strip's
+    // adjustment below (which only lowers the shallower gap to the deeper one): the smallest
+    // gap, and the reach and cosine of `OpenCert`.
+    let open = match (features[0], features[1]) {
+        (FeatureAt::Face(plane_a), FeatureAt::Face(plane_b))
+            if input.dormancy
+                && found.carry.tolerance > 0.0
+                && found.contact.kind == ContactType::FaceFace
+                && !found.carry.normal_with_b =>
+        {
+            let min_gap = gaps.iter().copied().fold(f64::INFINITY, f64::min);
+            let (reach, cos) = open_terms(points, n, [plane_a, plane_b], poses[1].translation);
+            Some((min_gap, reach, cos))
+        }
+        _ => None,
     };
     if let (ContactType::FaceFace, 2, FeatureAt::Face(plane_a), FeatureAt::Face(plane_b)) =
         (found.contact.kind, gaps.len(), features[0], features[1])
@@ -499,7 +599,20 @@ pub(super) fn build_contact(
             bonded: out.bonded,
         };
     }
-    BodyContact {
+    // Dormant from the next step while every gap stays above twice the rounding slack.
+    let cert = open.and_then(|(min_gap, reach, cos)| {
+        let min_gap = min_gap - 2.0 * slack;
+        let all_open = subs
+            .iter()
+            .all(|s| s.state == SubState::Open && !s.bonded && s.gap > 0.0);
+        (all_open && min_gap > 0.0 && cos > 0.5).then(|| OpenCert {
+            b_in_a: b_in_a(&poses[0], &poses[1]),
+            min_gap,
+            reach,
+            cos,
+        })
+    });
+    let contact = BodyContact {
         parts: found.parts,
         bodies,
         kind: found.contact.kind,
@@ -508,7 +621,8 @@ pub(super) fn build_contact(
         bridge,
         first: 0,
         count: subs.len() as u32,
-    }
+    };
+    (contact, cert)
 }
 
 /// The index of the sub-contact of `old` whose `local` is nearest `p` (the first of equals).
@@ -655,6 +769,112 @@ mod tests {
     use super::*;
     use crate::contact::Detector;
     use crate::Tolerance;
+
+    /// The lemma of [`OpenCert`], by brute force: two cubes in general orientation, face to
+    /// face 0.6 mm apart with B tilted and shifted so that the polygon has corners of both
+    /// (moving with A and with B); B moved by random small rigid motions about its centroid;
+    /// the carried gaps (points and B's face moved as a carried contact moves them, the
+    /// normal with A) change by at most `gap_change`, and the bound is not far above the
+    /// largest change (within a factor of 10 for some motion).
+    #[test]
+    fn an_open_contacts_gaps_change_by_at_most_the_certificates_bound() {
+        let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
+        let turn = glam::DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), 0.7);
+        let pose_a = Pose {
+            rotation: turn,
+            translation: DVec3::new(3.0, -2.0, 5.0),
+        };
+        let tilt = glam::DQuat::from_axis_angle(DVec3::new(1.0, -1.0, 0.2).normalize(), 4e-4);
+        let pose_b = Pose {
+            rotation: turn * tilt,
+            translation: pose_a.apply(DVec3::new(0.3, 0.2, 1.0006)),
+        };
+        let placed = |pose: &Pose| {
+            let mut block = unit.clone();
+            block.place_from(&unit, pose);
+            block
+        };
+        let (a, b) = (placed(&pose_a), placed(&pose_b));
+        let tol = Tolerance::with_gap(1e-3).unwrap();
+        let mut detector = Detector::new(tol);
+        let (result, geometry) = detector.detect_with_geometry(&a, &b);
+        let contact = match result {
+            crate::PairResult::Contact(c) => c,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(contact.kind, ContactType::FaceFace);
+        let g = geometry.unwrap();
+        let gap = detector.thresholds(&a, &b).gap;
+        let carry = Carry::new([&a, &b], gap, &contact, &g, [pose_a, pose_b], [0.0; 2], 0.1 * gap);
+        let corners = g.points().len();
+        let with_b = (0..corners).filter(|k| carry.with_b & (1 << k) != 0).count();
+        assert!(
+            with_b > 0 && with_b < corners,
+            "{with_b} of {corners} corners with B"
+        );
+        let [fa, fb] = carry.features;
+        let planes = match (fa, fb) {
+            (FeatureAt::Face(pa), FeatureAt::Face(pb)) => [pa, pb],
+            other => panic!("{other:?}"),
+        };
+        let n = g.normal();
+        let gaps = |m: &Pose| -> Vec<f64> {
+            let moved = fb.moved(m);
+            g.points()
+                .iter()
+                .enumerate()
+                .map(|(k, &p)| {
+                    let p = if carry.with_b & (1 << k) != 0 { m.apply(p) } else { p };
+                    moved.height(p, n) - fa.height(p, n)
+                })
+                .collect()
+        };
+        let before = gaps(&Pose::IDENTITY);
+        let min_gap = before.iter().copied().fold(f64::INFINITY, f64::min);
+        assert!(min_gap > 1e-4, "gaps {before:?}");
+        let (reach, cos) = open_terms(g.points(), n, planes, pose_b.translation);
+        let cert = OpenCert {
+            b_in_a: b_in_a(&pose_a, &pose_b),
+            min_gap,
+            reach,
+            cos,
+        };
+        let mut uniform = {
+            let mut seed = 18u64;
+            move || {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+            }
+        };
+        let mut tightest = f64::INFINITY;
+        for trial in 0..2000 {
+            let scale = [1e-6, 1e-5, 1e-4, 3e-4][trial % 4];
+            let axis = DVec3::new(uniform(), uniform(), uniform()).normalize();
+            let q = glam::DQuat::from_axis_angle(axis, scale * uniform());
+            let t = DVec3::new(uniform(), uniform(), uniform()) * scale;
+            // About B's centroid: x -> q (x - c) + c + t.
+            let c = pose_b.translation;
+            let m = Pose {
+                rotation: q,
+                translation: c + t - q * c,
+            };
+            let now_b = Pose {
+                rotation: q * pose_b.rotation,
+                translation: c + t,
+            };
+            let bound = cert.gap_change([&pose_a, &now_b]).unwrap();
+            let change = gaps(&m)
+                .iter()
+                .zip(&before)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max);
+            assert!(change <= bound, "trial {trial}: {change} > {bound}");
+            tightest = tightest.min(bound / change);
+        }
+        assert!(tightest < 10.0, "the bound is {tightest} times the change at best");
+    }
 
     #[test]
     fn a_tilted_face_gives_gaps_that_grow_along_the_tilt_and_areas_that_sum() {

@@ -61,7 +61,9 @@ use crate::system::{
     EDGE_CERTIFICATE_STEPS, SIZE_GROWTH, TRAVEL_SLACK,
 };
 use crate::tolerance::{Tolerance, ToleranceError};
-use contacts::{build_contact, counts_and_previous, Carry, Found, Scratch, StepInput};
+use contacts::{
+    build_contact, counts_and_previous, Carry, Found, OpenCert, Scratch, StepInput,
+};
 use glam::DQuat;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -210,6 +212,9 @@ pub struct StepTimings {
     /// Touching pairs carried: their contact geometry moved with the bodies, not queried
     /// (their relative motion since the query below the update tolerance).
     pub carried: u64,
+    /// Of the carried pairs, the dormant ones: open contacts certified to stay open, whose
+    /// sub-contacts were kept rather than updated.
+    pub dormant: u64,
 }
 
 impl StepTimings {
@@ -247,7 +252,8 @@ pub struct Simulation {
     pairs: Vec<[u32; 2]>,
     /// Per candidate pair, its last query's answer (docs/mechanics.md, "Contact updates").
     memo: Vec<PairMemo>,
-    /// Per candidate pair, where its certificate was made (when it has one).
+    /// Per candidate pair, where its certificate was made (when it has one): a separated
+    /// pair's, or a dormant contact's.
     frames: Vec<Frame>,
     /// Per body: the step whose detection first sees its current pose (the pose last changed
     /// in any bit in the step before), the sum of the bounds of its motions (travel), and
@@ -260,6 +266,9 @@ pub struct Simulation {
     /// The update tolerance, a fraction of each pair's detection gap (docs/mechanics.md,
     /// "Carried contacts").
     update_fraction: f64,
+    /// Whether carried open contacts may stay dormant (docs/mechanics.md, "Dormant
+    /// contacts").
+    dormancy: bool,
     built_at: Option<Vec<Pose>>,
     /// Whether a body has moved more than half the skin from its pose at the last build of
     /// the candidate pairs (`update_pairs`' test, evaluated by the integration for each body
@@ -343,6 +352,7 @@ impl Simulation {
             last_step: vec![0.0; n],
             full_detection: false,
             update_fraction: DEFAULT_UPDATE_FRACTION,
+            dormancy: true,
             built_at: None,
             skin_passed: false,
             contacts: Contacts::default(),
@@ -676,6 +686,22 @@ impl Simulation {
         self.update_fraction
     }
 
+    /// With `on` (the default), a carried face-face contact open at every sub-contact keeps
+    /// its sub-contacts without updating them while a certificate shows that none can have
+    /// closed (docs/mechanics.md, "Dormant contacts"): the forces and the motion are the
+    /// same bit for bit, but its sub-contacts' points, gaps and shear displacements are
+    /// those of its last update. Only carried contacts can be dormant, so this changes
+    /// nothing with an update fraction of 0 (the default), nor with water in the joints.
+    /// Off, for comparisons.
+    pub fn set_dormant_contacts(&mut self, on: bool) {
+        self.dormancy = on;
+    }
+
+    /// Whether carried open contacts may stay dormant.
+    pub fn dormant_contacts(&self) -> bool {
+        self.dormancy
+    }
+
     /// Sets the time step; `None` for the automatic one (safety × critical).
     pub fn set_timestep(&mut self, dt: Option<f64>) -> Result<(), MechanicsError> {
         if let Some(dt) = dt {
@@ -821,15 +847,15 @@ impl Simulation {
         let mut t = self.timings;
         self.update_pairs();
         lap(&mut t.pairs);
-        let (asked, counts) = self.kept_answers();
+        let (asked, counts, outcomes) = self.kept_answers();
         lap(&mut t.detect);
         self.complete_queried(&asked);
         lap(&mut t.placement);
         let detected = self.detect(&asked);
         lap(&mut t.detect);
         detected?;
-        let [queried, unmoved, certified, carried] = counts;
-        self.update_contacts(dt);
+        let [queried, unmoved, certified, carried, dormant] = counts;
+        self.update_contacts(dt, &outcomes);
         lap(&mut t.contacts);
         self.sum_forces();
         self.apply_relaxation();
@@ -845,6 +871,7 @@ impl Simulation {
         t.unmoved += unmoved;
         t.certified += certified;
         t.carried += carried;
+        t.dormant += dormant;
         self.timings = t;
         self.time += dt;
         self.steps += 1;
@@ -1004,10 +1031,11 @@ impl Simulation {
     /// (in parallel; no geometry read): it keeps its last answer when its two bodies have
     /// not moved since (unmoved) or it is certified separated (docs/mechanics.md, "Contact
     /// updates"), or carries its contact when its bodies moved less than the update
-    /// tolerance since its query (docs/mechanics.md, "Carried contacts"); else it is queried.
-    /// The indices of the pairs to query, in order, and the numbers of pairs queried,
-    /// unmoved, certified and carried.
-    fn kept_answers(&mut self) -> (Vec<u32>, [u64; 4]) {
+    /// tolerance since its query (docs/mechanics.md, "Carried contacts"), dormant when its
+    /// carried contact is certified open ("Dormant contacts"); else it is queried.
+    /// The indices of the pairs to query, in order, the numbers of pairs queried, unmoved,
+    /// certified, carried (dormant included) and dormant, and each pair's outcome.
+    fn kept_answers(&mut self) -> (Vec<u32>, [u64; 5], Vec<Outcome>) {
         let part_body = &self.part_body;
         let (moved_at, travel) = (&self.moved_at, &self.travel);
         let poses = &self.bodies.pose;
@@ -1026,9 +1054,13 @@ impl Simulation {
                         return Outcome::Unmoved;
                     }
                     let travels = [travel[bi], travel[bj]];
+                    let now = [&poses[bi], &poses[bj]];
                     if memo.found.is_none()
                         && (holds(memo.deadline, travels)
-                            || memo.renew(frame, [&poses[bi], &poses[bj]], travels, growth))
+                            || match frame {
+                                Frame::Separated(s) => memo.renew(s, now, travels, growth),
+                                _ => false,
+                            })
                     {
                         return Outcome::Certified;
                     }
@@ -1040,7 +1072,10 @@ impl Simulation {
                             // "Carried contacts").
                             let [ti, tj] = f.carry.travels;
                             if (travel[bi] - ti) + (travel[bj] - tj) <= f.carry.tolerance {
-                                return Outcome::Carried;
+                                return match frame {
+                                    Frame::Open(cert) if cert.holds(now) => Outcome::Dormant,
+                                    _ => Outcome::Carried,
+                                };
                             }
                         }
                         _ => {}
@@ -1049,7 +1084,7 @@ impl Simulation {
                 Outcome::Queried
             })
             .collect();
-        let mut counts = [0u64; 4];
+        let mut counts = [0u64; 5];
         let mut asked = Vec::new();
         for (k, outcome) in outcomes.iter().enumerate() {
             match outcome {
@@ -1060,9 +1095,13 @@ impl Simulation {
                 Outcome::Unmoved => counts[1] += 1,
                 Outcome::Certified => counts[2] += 1,
                 Outcome::Carried => counts[3] += 1,
+                Outcome::Dormant => {
+                    counts[3] += 1;
+                    counts[4] += 1;
+                }
             }
         }
-        (asked, counts)
+        (asked, counts, outcomes)
     }
 
     /// Queries the candidate pairs `asked` (their indices, ascending; in parallel) and keeps
@@ -1113,12 +1152,12 @@ impl Simulation {
                         _ if !full => {
                             memo.deadline =
                                 certificate(det, [a, b], [bi, bj], bodies, travel, last_step);
-                            frame = Frame {
+                            frame = Frame::Separated(Separation {
                                 b_in_a: contacts::b_in_a(&bodies.pose[bi], &bodies.pose[bj]),
                                 rotation_a: bodies.pose[bi].rotation,
                                 travels: travel[bi] + travel[bj],
                                 radii: [bi, bj].map(|b| bodies.shape(b).radius()),
-                            };
+                            });
                         }
                         _ => {}
                     }
@@ -1146,8 +1185,9 @@ impl Simulation {
         }
     }
 
-    /// Sub-contacts with their forces (in parallel per contact), matched to the last step's.
-    fn update_contacts(&mut self, dt: f64) {
+    /// Sub-contacts with their forces (in parallel per contact), matched to the last step's;
+    /// a dormant contact (`outcomes`: each pair's this step) keeps its last step's.
+    fn update_contacts(&mut self, dt: f64, outcomes: &[Outcome]) {
         let motions = contacts::motions(&self.bodies);
         let input = StepInput {
             bodies: &self.bodies,
@@ -1161,23 +1201,37 @@ impl Simulation {
             initial: self.initial,
             point_width: self.point_width,
             initial_stress: self.initial_stress.as_ref(),
+            dormancy: self.dormancy && self.water.is_dry(),
         };
-        let found: Vec<&Found> = self
+        // The contacts of this step, in pair order: the pair's index, its parts (from the
+        // pair list, so that a dormant contact does not read its answer), the answer, and
+        // whether it is dormant.
+        let pairs = &self.pairs;
+        let found: Vec<contacts::Current> = self
             .memo
             .par_iter()
-            .filter_map(|m| m.found.as_deref())
+            .zip(outcomes)
+            .enumerate()
+            .filter_map(|(k, (m, &outcome))| {
+                m.found.as_deref().map(|found| contacts::Current {
+                    pair: k as u32,
+                    parts: pairs[k],
+                    found,
+                    dormant: outcome == Outcome::Dormant,
+                })
+            })
             .collect();
         // Each contact's sub-contacts (and, in a run with an initial stress, their installed
         // stresses) are written in place, in contact order: no allocation per contact.
         let counts = counts_and_previous(&self.contacts, &found);
-        let total: usize = counts.iter().map(|&(n, _)| n as usize).sum();
+        let total: usize = counts.iter().map(|&(n, _, _)| n as usize).sum();
         let keep_stress = self.initial_stress.is_some() || !self.contacts.prestresses.is_empty();
         let mut subs = Vec::with_capacity(total);
         subs.par_extend(rayon::iter::repeat_n(SubContact::default(), total));
         let mut prestresses = vec![0.0; if keep_stress { total } else { 0 }];
         let mut slices = Vec::with_capacity(found.len());
         let (mut rest, mut rest_p) = (subs.as_mut_slice(), prestresses.as_mut_slice());
-        for &(count, previous) in &counts {
+        for &(count, previous, _) in &counts {
             let count = count as usize;
             let (head, tail) = rest.split_at_mut(count);
             let (head_p, tail_p) = rest_p.split_at_mut(if keep_stress { count } else { 0 });
@@ -1185,17 +1239,43 @@ impl Simulation {
             rest = tail;
             rest_p = tail_p;
         }
-        let mut list: Vec<BodyContact> = found
+        let old = &self.contacts;
+        let built: Vec<(BodyContact, Option<Frame>)> = found
             .par_iter()
             .zip(slices)
-            .map_init(Scratch::default, |scratch, (f, (previous, out, out_p))| {
-                build_contact(&input, f, previous, scratch, out, out_p)
-            })
+            .zip(&counts)
+            .map_init(
+                Scratch::default,
+                |scratch, ((f, (previous, out, out_p)), &(_, _, dormant))| match previous {
+                    // Dormant: the last step's contact and sub-contacts, its frame kept.
+                    Some(i) if dormant => {
+                        let i = i as usize;
+                        let first = old.list[i].first as usize;
+                        out.copy_from_slice(old.subs_of(i));
+                        for (k, p) in out_p.iter_mut().enumerate() {
+                            *p = old.prestress(first + k);
+                        }
+                        (old.list[i].clone(), None)
+                    }
+                    _ => {
+                        let (contact, cert) =
+                            build_contact(&input, f.found, previous, scratch, out, out_p);
+                        (contact, Some(cert.map_or(Frame::None, Frame::Open)))
+                    }
+                },
+            )
             .collect();
+        let mut list = Vec::with_capacity(built.len());
         let mut first = 0;
-        for c in &mut list {
+        for (f, (mut c, frame)) in found.iter().zip(built) {
             c.first = first;
             first += c.count;
+            list.push(c);
+            match frame {
+                Some(Frame::None) if matches!(self.frames[f.pair as usize], Frame::None) => {}
+                Some(frame) => self.frames[f.pair as usize] = frame,
+                None => {}
+            }
         }
         // The side table only while a sub-contact has an installed stress.
         if prestresses.iter().all(|&p| p == 0.0) {
@@ -1222,6 +1302,12 @@ impl Simulation {
                 self.bodies.pose[b].translation,
             );
             for s in self.contacts.subs_of(i) {
+                // An open sub-contact adds nothing (skipped, so that a dormant contact's
+                // kept normal, whose zero force may differ in the signs of its zeros, gives
+                // the same sums bit for bit).
+                if s.normal_force == 0.0 && s.shear_force == DVec3::ZERO {
+                    continue;
+                }
                 let f = s.force(c.normal);
                 self.forces[b] += f;
                 self.moments[b] += (s.point - cb).cross(f);
@@ -1376,10 +1462,20 @@ struct PairMemo {
     deadline: f64,
 }
 
-/// A separated pair's two bodies when its certificate was made (beside its [`PairMemo`],
-/// apart: read only for the pairs whose travels have used up their certificate).
+/// What a candidate pair keeps beside its [`PairMemo`], apart (read only for the pairs whose
+/// travels have used up their certificate, and for carried contacts): where a separated
+/// pair's certificate was made, or a carried contact's certificate of being open.
+#[derive(Clone, Copy, Debug, Default)]
+enum Frame {
+    #[default]
+    None,
+    Separated(Separation),
+    Open(OpenCert),
+}
+
+/// A separated pair's two bodies when its certificate was made.
 #[derive(Clone, Copy, Debug)]
-struct Frame {
+struct Separation {
     /// B's pose in A's body frame ([`contacts::b_in_a`]).
     b_in_a: Pose,
     /// A's world rotation (B's is A's times `b_in_a`'s): a common turn of the two bodies
@@ -1402,16 +1498,6 @@ impl Default for PairMemo {
     }
 }
 
-impl Default for Frame {
-    fn default() -> Self {
-        Frame {
-            b_in_a: Pose::IDENTITY,
-            rotation_a: DQuat::IDENTITY,
-            travels: 0.0,
-            radii: [0.0; 2],
-        }
-    }
-}
 
 impl PairMemo {
     /// Renews the separated pair's certificate by its bodies' relative motion since it was
@@ -1431,7 +1517,13 @@ impl PairMemo {
     /// current poses and travels: the travels' test serves it again for the steps that follow
     /// (the relative motion and the turns since the renewal are at most the travel since),
     /// rather than this test at every step.
-    fn renew(&mut self, frame: &mut Frame, now: [&Pose; 2], travel: [f64; 2], growth: f64) -> bool {
+    fn renew(
+        &mut self,
+        frame: &mut Separation,
+        now: [&Pose; 2],
+        travel: [f64; 2],
+        growth: f64,
+    ) -> bool {
         let allowed = self.deadline - frame.travels;
         if allowed <= 0.0 {
             return false;
@@ -1458,7 +1550,7 @@ impl PairMemo {
         if holds {
             let left = allowed - d - w;
             self.deadline = left + travels - 4.0 * f64::EPSILON * (allowed + d + w + travels);
-            *frame = Frame {
+            *frame = Separation {
                 b_in_a,
                 rotation_a: now[0].rotation,
                 travels,
@@ -1475,6 +1567,8 @@ enum Outcome {
     Queried,
     Unmoved,
     Carried,
+    /// Carried, and its contact certified open: its sub-contacts are kept.
+    Dormant,
     Certified,
 }
 
@@ -1634,9 +1728,9 @@ mod tests {
         assert_eq!(size_of::<BodyContact>(), 64);
         assert_eq!(size_of::<SubContact>(), 112);
         // Per candidate pair (docs/mechanics.md, "Memory"): the memo and, apart, the frame
-        // of its certificate.
+        // of its certificate (a separated pair's or a dormant contact's, and its tag).
         assert_eq!(size_of::<PairMemo>(), 32);
-        assert_eq!(size_of::<Frame>(), 112);
+        assert_eq!(size_of::<Frame>(), 120);
         // A face-face contact of two quadrilaterals: within the issue's 512 bytes (an
         // initial stress adds 8 per sub-contact in a side table, in the runs that have one).
         assert_eq!(size_of::<BodyContact>() + 4 * size_of::<SubContact>(), 512);

@@ -105,6 +105,10 @@ struct SettingsFile {
     /// (`Simulation::set_update_fraction`; absent in older files: the default).
     #[serde(default = "default_update_fraction")]
     update_fraction: f64,
+    /// Whether carried open contacts may stay dormant (`Simulation::set_dormant_contacts`;
+    /// absent in older files: on, the default).
+    #[serde(default = "default_dormant_contacts")]
+    dormant_contacts: bool,
     /// Applied moments (world frame): `[body, [x, y, z]]` per body that has one.
     applied_moments: Vec<(u32, V3)>,
     /// The water in the joints (absent in files written before penedge stored water: dry).
@@ -363,6 +367,10 @@ enum StateCode {
     Open,
 }
 
+fn default_dormant_contacts() -> bool {
+    true
+}
+
 fn default_update_fraction() -> f64 {
     super::DEFAULT_UPDATE_FRACTION
 }
@@ -519,6 +527,7 @@ fn file_of(sim: &Simulation) -> StateFile {
         skin_passed: _,
         full_detection,
         update_fraction,
+        dormancy,
         applied_moments,
         // Wall-clock diagnostics, not state.
         timings: _,
@@ -560,6 +569,7 @@ fn file_of(sim: &Simulation) -> StateFile {
             },
             full_detection: *full_detection,
             update_fraction: *update_fraction,
+            dormant_contacts: *dormancy,
             applied_moments: applied_moments
                 .iter()
                 .map(|(&b, m)| (b, m.to_array()))
@@ -1506,6 +1516,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             skin_passed: _,
             full_detection,
             update_fraction,
+            dormancy,
             applied_moments,
             timings: _,
             gravity: g,
@@ -1542,6 +1553,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             ));
         }
         *update_fraction = s.update_fraction;
+        *dormancy = s.dormant_contacts;
         *applied_moments = moments_applied;
         *cs = contacts;
         *f = forces;
