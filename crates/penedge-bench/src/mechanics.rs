@@ -45,7 +45,8 @@
 //! equilibrium longer than the time at hand still gives its figures so far.
 //!
 //! `--save-at S --save FILE` writes the simulation's restart file (`Simulation::save_state`)
-//! after step `S`; `--load FILE` starts from such a file instead of the model's initial state
+//! after step `S` (`--save-at end`: after the run's last step, however it stopped: a run to
+//! equilibrium longer than the time at hand goes on later from there); `--load FILE` starts from such a file instead of the model's initial state
 //! (the same model and options otherwise): a profile of the dense phase of a long run then
 //! starts where it is, without the minutes of steps before it. The steps of a loaded run
 //! count from the file's step; its first step re-queries the pairs (the pair answers are not
@@ -122,8 +123,8 @@ struct Options {
     dormant: bool,
     /// Print a progress line every this many steps (0: none).
     progress: u64,
-    /// Write the restart file to the path after the step.
-    save: Option<(u64, String)>,
+    /// Write the restart file to the path after the step (`None`: after the last step).
+    save: Option<(Option<u64>, String)>,
     /// Start from this restart file.
     load: Option<String>,
     /// Stop after this many wall seconds of steps.
@@ -169,7 +170,13 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--seed" => o.seed = crate::number(value)?,
             "--export" => o.export = Some(value.clone()),
             "--progress" => o.progress = crate::number(value)?,
-            "--save-at" => save_at = Some(crate::number(value)?),
+            "--save-at" => {
+                save_at = Some(if value == "end" {
+                    None
+                } else {
+                    Some(crate::number(value)?)
+                })
+            }
             "--save" => save_to = Some(value.clone()),
             "--load" => o.load = Some(value.clone()),
             "--max-wall" => o.max_wall = Some(crate::number(value)?),
@@ -371,7 +378,7 @@ fn settle(o: &Options) -> Result<(), String> {
             log.settled_by_speed = true;
             break;
         }
-        if let Some((at, path)) = &o.save {
+        if let Some((Some(at), path)) = &o.save {
             if sim.steps() == *at {
                 sim.save_state(std::path::Path::new(path))
                     .map_err(|e| format!("{path}: {e}"))?;
@@ -397,6 +404,10 @@ fn settle(o: &Options) -> Result<(), String> {
         }
     }
     let wall = start.elapsed().as_secs_f64();
+    if let Some((None, path)) = &o.save {
+        sim.save_state(std::path::Path::new(path))
+            .map_err(|e| format!("{path}: {e}"))?;
+    }
     let settlement = mean_settlement(&sim, &m, &z0);
     let steps = sim.steps();
     println!("| bodies | free | steps | converged | ratio | simulated s | wall s | steps/s | block-steps/s (all bodies) | CPU s | block-steps per CPU s | free-block-steps/s | moving steps | block-steps/s while moving | mean settlement mm | contacts | sub-contacts |");
