@@ -452,6 +452,55 @@ fn a_separated_pair_turning_together_becomes_a_contact_when_a_full_detection_say
     assert_eq!(t.rebuilds, 1, "{t:?}, contact at step {first}");
 }
 
+/// The settling stack at the benchmark's fraction, stepped `before` steps dry, then with a
+/// water table through it (water pushes on open joints too, so open contacts cannot stay
+/// dormant, even those certified before the water came), with and without dormant contacts:
+/// the same poses and velocities, bit for bit, at every step. Fails if certificates made dry
+/// are still used once the water is set.
+#[test]
+fn water_set_during_a_run_wakes_dormant_contacts() {
+    let mut updated = settling_stack();
+    updated
+        .set_update_fraction(penedge::mechanics::FAST_UPDATE_FRACTION)
+        .unwrap();
+    let mut dormant = updated.clone();
+    updated.set_dormant_contacts(false);
+    for step in 0..600 {
+        if step == 400 {
+            for sim in [&mut dormant, &mut updated] {
+                sim.set_water(penedge::mechanics::Water::level(2.5, 9810.0).unwrap());
+            }
+        }
+        let before = dormant.timings().dormant;
+        dormant.step().unwrap();
+        updated.step().unwrap();
+        if step >= 400 {
+            assert_eq!(
+                dormant.timings().dormant,
+                before,
+                "step {step}: dormant with water"
+            );
+        }
+        let (d, u) = (dormant.bodies(), updated.bodies());
+        for i in 0..d.len() {
+            assert_eq!(
+                bits(d.poses()[i].translation),
+                bits(u.poses()[i].translation),
+                "step {step}"
+            );
+            assert_eq!(
+                bits(d.velocities()[i]),
+                bits(u.velocities()[i]),
+                "step {step}"
+            );
+        }
+    }
+    assert!(
+        dormant.timings().dormant > 0,
+        "no contact was dormant before the water"
+    );
+}
+
 /// Dormant contacts (docs/mechanics.md, "Dormant contacts"): the settling stack carried at
 /// the benchmark's fraction, with and without them. A dormant contact keeps its last
 /// update's sub-contacts, so its points, gaps and shear displacements may differ; but its
@@ -464,7 +513,10 @@ fn dormant_contacts_give_the_same_motion_and_forces_bit_for_bit() {
     updated
         .set_update_fraction(penedge::mechanics::FAST_UPDATE_FRACTION)
         .unwrap();
-    assert!(updated.dormant_contacts(), "dormant contacts are the default");
+    assert!(
+        updated.dormant_contacts(),
+        "dormant contacts are the default"
+    );
     let mut dormant = updated.clone();
     updated.set_dormant_contacts(false);
     for step in 0..900 {
@@ -473,9 +525,17 @@ fn dormant_contacts_give_the_same_motion_and_forces_bit_for_bit() {
         let (d, u) = (dormant.bodies(), updated.bodies());
         for i in 0..d.len() {
             let (p, q) = (d.poses()[i], u.poses()[i]);
-            assert_eq!(bits(p.translation), bits(q.translation), "step {step}: body {i}");
+            assert_eq!(
+                bits(p.translation),
+                bits(q.translation),
+                "step {step}: body {i}"
+            );
             assert_eq!(p.rotation.to_array(), q.rotation.to_array(), "step {step}");
-            assert_eq!(bits(d.velocities()[i]), bits(u.velocities()[i]), "step {step}");
+            assert_eq!(
+                bits(d.velocities()[i]),
+                bits(u.velocities()[i]),
+                "step {step}"
+            );
             assert_eq!(
                 bits(d.angular_momenta()[i]),
                 bits(u.angular_momenta()[i]),
@@ -483,7 +543,11 @@ fn dormant_contacts_give_the_same_motion_and_forces_bit_for_bit() {
             );
         }
         let (c, f) = (dormant.contacts(), updated.contacts());
-        assert_eq!(c.list.len(), f.list.len(), "step {step}: number of contacts");
+        assert_eq!(
+            c.list.len(),
+            f.list.len(),
+            "step {step}: number of contacts"
+        );
         for (x, y) in c.list.iter().zip(&f.list) {
             assert_eq!(
                 (x.parts, x.kind, x.first, x.count),
@@ -493,8 +557,18 @@ fn dormant_contacts_give_the_same_motion_and_forces_bit_for_bit() {
         }
         for (x, y) in c.subs.iter().zip(&f.subs) {
             assert_eq!(
-                (x.normal_force.to_bits(), bits(x.shear_force), x.state, x.bonded),
-                (y.normal_force.to_bits(), bits(y.shear_force), y.state, y.bonded),
+                (
+                    x.normal_force.to_bits(),
+                    bits(x.shear_force),
+                    x.state,
+                    x.bonded
+                ),
+                (
+                    y.normal_force.to_bits(),
+                    bits(y.shear_force),
+                    y.state,
+                    y.bonded
+                ),
                 "step {step}: sub-contact forces"
             );
         }

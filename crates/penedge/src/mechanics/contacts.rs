@@ -268,20 +268,27 @@ impl OpenCert {
     }
 }
 
-/// `ρ + H` and `c` of [`OpenCert`] for a face-face contact's points `points` with normal `n`
-/// and faces `planes` (A's, B's), B's centroid at `centre`.
-fn open_terms(points: &[DVec3], n: DVec3, planes: [Plane; 2], centre: DVec3) -> (f64, f64) {
-    let face_b = FeatureAt::Face(planes[1]);
-    let (mut reach, mut heights) = (0.0f64, 0.0f64);
+/// The smallest gap, `ρ + H` and `c` of [`OpenCert`] for a face-face contact's points
+/// `points` with normal `n` and faces `planes` (A's, B's), B's centroid at `centre`. The gaps
+/// are the faces' heights, as a carried contact computes them (at its query, a point contact's
+/// gap is the detection's distance instead: not the function the certificate bounds).
+fn open_terms(points: &[DVec3], n: DVec3, planes: [Plane; 2], centre: DVec3) -> [f64; 3] {
+    let [face_a, face_b] = planes.map(FeatureAt::Face);
+    let (mut min_gap, mut reach, mut heights) = (f64::INFINITY, 0.0f64, 0.0f64);
     for &p in points {
         let h = face_b.height(p, n);
+        min_gap = min_gap.min(h - face_a.height(p, n));
         heights = heights.max(h.abs());
         reach = reach
             .max(p.distance(centre))
             .max((p + n * h).distance(centre));
     }
-    let cos = planes[0].normal.dot(n).abs().min(planes[1].normal.dot(n).abs());
-    (reach + heights, cos)
+    let cos = planes[0]
+        .normal
+        .dot(n)
+        .abs()
+        .min(planes[1].normal.dot(n).abs());
+    [min_gap, reach + heights, cos]
 }
 
 /// A body's pose, velocity and spin at the step, side by side: a contact reads its two
@@ -497,9 +504,12 @@ pub(super) fn build_contact(
                 && found.contact.kind == ContactType::FaceFace
                 && !found.carry.normal_with_b =>
         {
-            let min_gap = gaps.iter().copied().fold(f64::INFINITY, f64::min);
-            let (reach, cos) = open_terms(points, n, [plane_a, plane_b], poses[1].translation);
-            Some((min_gap, reach, cos))
+            Some(open_terms(
+                points,
+                n,
+                [plane_a, plane_b],
+                poses[1].translation,
+            ))
         }
         _ => None,
     };
@@ -599,9 +609,12 @@ pub(super) fn build_contact(
             bonded: out.bonded,
         };
     }
-    // Dormant from the next step while every gap stays above twice the rounding slack.
-    let cert = open.and_then(|(min_gap, reach, cos)| {
-        let min_gap = min_gap - 2.0 * slack;
+    // Dormant from the next step while every gap stays above the rounding margin: twice the
+    // rounding slack, and the rounding of two gaps computed from world coordinates (tens of
+    // units in the last place of the largest, over a cosine above 1/4), far below the slack
+    // but for coordinates some 10^5 block sizes from the origin.
+    let cert = open.and_then(|[min_gap, reach, cos]| {
+        let min_gap = min_gap - 2.0 * slack - 512.0 * f64::EPSILON * magnitude;
         let all_open = subs
             .iter()
             .all(|s| s.state == SubState::Open && !s.bonded && s.gap > 0.0);
@@ -805,9 +818,19 @@ mod tests {
         assert_eq!(contact.kind, ContactType::FaceFace);
         let g = geometry.unwrap();
         let gap = detector.thresholds(&a, &b).gap;
-        let carry = Carry::new([&a, &b], gap, &contact, &g, [pose_a, pose_b], [0.0; 2], 0.1 * gap);
+        let carry = Carry::new(
+            [&a, &b],
+            gap,
+            &contact,
+            &g,
+            [pose_a, pose_b],
+            [0.0; 2],
+            0.1 * gap,
+        );
         let corners = g.points().len();
-        let with_b = (0..corners).filter(|k| carry.with_b & (1 << k) != 0).count();
+        let with_b = (0..corners)
+            .filter(|k| carry.with_b & (1 << k) != 0)
+            .count();
         assert!(
             with_b > 0 && with_b < corners,
             "{with_b} of {corners} corners with B"
@@ -824,7 +847,11 @@ mod tests {
                 .iter()
                 .enumerate()
                 .map(|(k, &p)| {
-                    let p = if carry.with_b & (1 << k) != 0 { m.apply(p) } else { p };
+                    let p = if carry.with_b & (1 << k) != 0 {
+                        m.apply(p)
+                    } else {
+                        p
+                    };
                     moved.height(p, n) - fa.height(p, n)
                 })
                 .collect()
@@ -832,7 +859,8 @@ mod tests {
         let before = gaps(&Pose::IDENTITY);
         let min_gap = before.iter().copied().fold(f64::INFINITY, f64::min);
         assert!(min_gap > 1e-4, "gaps {before:?}");
-        let (reach, cos) = open_terms(g.points(), n, planes, pose_b.translation);
+        let [smallest, reach, cos] = open_terms(g.points(), n, planes, pose_b.translation);
+        assert_eq!(smallest, min_gap);
         let cert = OpenCert {
             b_in_a: b_in_a(&pose_a, &pose_b),
             min_gap,
@@ -873,7 +901,10 @@ mod tests {
             assert!(change <= bound, "trial {trial}: {change} > {bound}");
             tightest = tightest.min(bound / change);
         }
-        assert!(tightest < 10.0, "the bound is {tightest} times the change at best");
+        assert!(
+            tightest < 10.0,
+            "the bound is {tightest} times the change at best"
+        );
     }
 
     #[test]

@@ -61,9 +61,7 @@ use crate::system::{
     EDGE_CERTIFICATE_STEPS, SIZE_GROWTH, TRAVEL_SLACK,
 };
 use crate::tolerance::{Tolerance, ToleranceError};
-use contacts::{
-    build_contact, counts_and_previous, Carry, Found, OpenCert, Scratch, StepInput,
-};
+use contacts::{build_contact, counts_and_previous, Carry, Found, OpenCert, Scratch, StepInput};
 use glam::DQuat;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -689,10 +687,11 @@ impl Simulation {
     /// With `on` (the default), a carried face-face contact open at every sub-contact keeps
     /// its sub-contacts without updating them while a certificate shows that none can have
     /// closed (docs/mechanics.md, "Dormant contacts"): the forces and the motion are the
-    /// same bit for bit, but its sub-contacts' points, gaps and shear displacements are
-    /// those of its last update. Only carried contacts can be dormant, so this changes
-    /// nothing with an update fraction of 0 (the default), nor with water in the joints.
-    /// Off, for comparisons.
+    /// same bit for bit, but its normal and its sub-contacts' points, gaps, areas and shear
+    /// displacements are those of its last update (a shear displacement missed then stays
+    /// missed). Only carried contacts can be dormant, so this changes nothing with an update
+    /// fraction of 0 (the default), nor with water in the joints (certificates made before
+    /// are not used once water is set or this is off). Off, for comparisons.
     pub fn set_dormant_contacts(&mut self, on: bool) {
         self.dormancy = on;
     }
@@ -1040,6 +1039,9 @@ impl Simulation {
         let (moved_at, travel) = (&self.moved_at, &self.travel);
         let poses = &self.bodies.pose;
         let full = self.full_detection;
+        // Certificates of open contacts made earlier are used only while dormancy is on and
+        // the joints are dry (water set since pushes on open joints: their points must move).
+        let dormancy = self.dormancy && self.water.is_dry();
         // How much a turning body widens its pairs' gap per unit of its vertices' motion.
         let growth = SIZE_GROWTH * self.tolerance.gap_slope();
         let outcomes: Vec<Outcome> = self
@@ -1073,7 +1075,9 @@ impl Simulation {
                             let [ti, tj] = f.carry.travels;
                             if (travel[bi] - ti) + (travel[bj] - tj) <= f.carry.tolerance {
                                 return match frame {
-                                    Frame::Open(cert) if cert.holds(now) => Outcome::Dormant,
+                                    Frame::Open(cert) if dormancy && cert.holds(now) => {
+                                        Outcome::Dormant
+                                    }
                                     _ => Outcome::Carried,
                                 };
                             }
@@ -1497,7 +1501,6 @@ impl Default for PairMemo {
         }
     }
 }
-
 
 impl PairMemo {
     /// Renews the separated pair's certificate by its bodies' relative motion since it was
