@@ -452,6 +452,74 @@ fn a_separated_pair_turning_together_becomes_a_contact_when_a_full_detection_say
     assert_eq!(t.rebuilds, 1, "{t:?}, contact at step {first}");
 }
 
+/// Open edge-edge and vertex-vertex contacts that close (docs/mechanics.md, "Dormant
+/// contacts"): without gravity, a cube moves towards a fixed one along their diagonal, their
+/// parallel edges 1.1 mm apart (within the 1.7 mm gap), and another towards its corner, the
+/// vertices 1.4 mm apart; both contacts are open and dormant on the way, close, push the
+/// cubes back and open again. With and without dormant contacts the poses and velocities are
+/// the same bits at every step. A certificate that holds whatever the motion fails it.
+#[test]
+fn open_edge_and_vertex_contacts_wake_when_they_close() {
+    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
+    let at = |x: f64, y: f64, z: f64| unit.transformed(DQuat::IDENTITY, DVec3::new(x, y, z), 1.0);
+    let system = BlockSystem::new(vec![
+        at(0.0, 0.0, 0.0),
+        at(1.0008, 1.0008, 0.3),
+        at(-1.0008, -1.0008, -1.0008),
+    ]);
+    let mut updated = Simulation::new(&system, 2500.0).unwrap();
+    updated.fix(0).unwrap();
+    updated.set_gravity(DVec3::ZERO).unwrap();
+    updated.set_default_joint(joint(30.0)).unwrap();
+    updated
+        .set_velocity(1, DVec3::new(-0.01, -0.01, 0.0), DVec3::ZERO)
+        .unwrap();
+    updated
+        .set_velocity(2, DVec3::new(0.01, 0.01, 0.01), DVec3::ZERO)
+        .unwrap();
+    updated
+        .set_update_fraction(penedge::mechanics::FAST_UPDATE_FRACTION)
+        .unwrap();
+    let mut dormant = updated.clone();
+    updated.set_dormant_contacts(false);
+    let dt = dormant.timestep().unwrap();
+    // Closing 1.1 mm at 1.4 cm/s and 1.4 mm at 1.7 cm/s: about 0.08 s; then the bounce.
+    let steps = (0.2 / dt) as u64;
+    let mut pushed = [false; 2];
+    for step in 0..steps {
+        dormant.step().unwrap();
+        updated.step().unwrap();
+        let (d, u) = (dormant.bodies(), updated.bodies());
+        for i in 1..3 {
+            assert_eq!(
+                bits(d.poses()[i].translation),
+                bits(u.poses()[i].translation),
+                "step {step}"
+            );
+            assert_eq!(
+                bits(d.velocities()[i]),
+                bits(u.velocities()[i]),
+                "step {step}"
+            );
+        }
+        let contacts = dormant.contacts();
+        for (k, c) in contacts.list.iter().enumerate() {
+            let force = contacts.subs_of(k).iter().any(|s| s.normal_force > 0.0);
+            match c.kind {
+                ContactType::EdgeEdgeSuperposition => pushed[0] |= force,
+                ContactType::VertexVertex => pushed[1] |= force,
+                _ => {}
+            }
+        }
+    }
+    assert_eq!(pushed, [true; 2], "a contact never closed");
+    // Both cubes were pushed back.
+    let v = dormant.bodies().velocities();
+    assert!(v[1].x > 0.0 && v[2].x < 0.0, "{v:?}");
+    assert!(dormant.timings().dormant > 0, "no contact was dormant");
+    assert_eq!(updated.timings().dormant, 0);
+}
+
 /// The settling stack at the benchmark's fraction, stepped `before` steps dry, then with a
 /// water table through it (water pushes on open joints too, so open contacts cannot stay
 /// dormant, even those certified before the water came), with and without dormant contacts:
