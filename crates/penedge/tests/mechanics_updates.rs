@@ -452,6 +452,24 @@ fn a_separated_pair_turning_together_becomes_a_contact_when_a_full_detection_say
     assert_eq!(t.rebuilds, 1, "{t:?}, contact at step {first}");
 }
 
+/// Asserts that every body of `a` and `b` has the same pose, velocity and angular momentum,
+/// bit for bit, after step `step`.
+fn same_motion(step: u64, a: &Simulation, b: &Simulation) {
+    let (a, b) = (a.bodies(), b.bodies());
+    for i in 0..a.len() {
+        let (p, q) = (a.poses()[i], b.poses()[i]);
+        let at = format!("step {step}: body {i}");
+        assert_eq!(bits(p.translation), bits(q.translation), "{at}");
+        assert_eq!(p.rotation.to_array(), q.rotation.to_array(), "{at}");
+        assert_eq!(bits(a.velocities()[i]), bits(b.velocities()[i]), "{at}");
+        assert_eq!(
+            bits(a.angular_momenta()[i]),
+            bits(b.angular_momenta()[i]),
+            "{at}"
+        );
+    }
+}
+
 /// Open edge-edge and vertex-vertex contacts that close (docs/mechanics.md, "Dormant
 /// contacts"): without gravity, a cube moves towards a fixed one along their diagonal, their
 /// parallel edges 1.1 mm apart (within the 1.7 mm gap), and another towards its corner, the
@@ -489,19 +507,7 @@ fn open_edge_and_vertex_contacts_wake_when_they_close() {
     for step in 0..steps {
         dormant.step().unwrap();
         updated.step().unwrap();
-        let (d, u) = (dormant.bodies(), updated.bodies());
-        for i in 1..3 {
-            assert_eq!(
-                bits(d.poses()[i].translation),
-                bits(u.poses()[i].translation),
-                "step {step}"
-            );
-            assert_eq!(
-                bits(d.velocities()[i]),
-                bits(u.velocities()[i]),
-                "step {step}"
-            );
-        }
+        same_motion(step, &dormant, &updated);
         let contacts = dormant.contacts();
         for (k, c) in contacts.list.iter().enumerate() {
             let force = contacts.subs_of(k).iter().any(|s| s.normal_force > 0.0);
@@ -549,19 +555,7 @@ fn water_set_during_a_run_wakes_dormant_contacts() {
                 "step {step}: dormant with water"
             );
         }
-        let (d, u) = (dormant.bodies(), updated.bodies());
-        for i in 0..d.len() {
-            assert_eq!(
-                bits(d.poses()[i].translation),
-                bits(u.poses()[i].translation),
-                "step {step}"
-            );
-            assert_eq!(
-                bits(d.velocities()[i]),
-                bits(u.velocities()[i]),
-                "step {step}"
-            );
-        }
+        same_motion(step, &dormant, &updated);
     }
     assert!(
         dormant.timings().dormant > 0,
@@ -590,26 +584,7 @@ fn dormant_contacts_give_the_same_motion_and_forces_bit_for_bit() {
     for step in 0..900 {
         dormant.step().unwrap();
         updated.step().unwrap();
-        let (d, u) = (dormant.bodies(), updated.bodies());
-        for i in 0..d.len() {
-            let (p, q) = (d.poses()[i], u.poses()[i]);
-            assert_eq!(
-                bits(p.translation),
-                bits(q.translation),
-                "step {step}: body {i}"
-            );
-            assert_eq!(p.rotation.to_array(), q.rotation.to_array(), "step {step}");
-            assert_eq!(
-                bits(d.velocities()[i]),
-                bits(u.velocities()[i]),
-                "step {step}"
-            );
-            assert_eq!(
-                bits(d.angular_momenta()[i]),
-                bits(u.angular_momenta()[i]),
-                "step {step}"
-            );
-        }
+        same_motion(step, &dormant, &updated);
         let (c, f) = (dormant.contacts(), updated.contacts());
         assert_eq!(
             c.list.len(),
