@@ -680,14 +680,14 @@ impl Simulation {
         self.inner.update_fraction()
     }
 
-    /// Whether carried open contacts may stay dormant (``docs/mechanics.md``, "Dormant
-    /// contacts"; default ``True``): a carried face-face contact open at every sub-contact
-    /// (positive gaps, no bond, no force) keeps its sub-contacts without updating them while
-    /// a certificate shows that none can have closed. The motion and the forces are the same
-    /// bit for bit; a dormant contact's points, normal, gaps, areas and shear displacements
-    /// are those of its last update (a shear displacement missed then stays missed). Only
-    /// carried contacts can be dormant: nothing changes with an update
-    /// fraction of ``0`` (the default) or with water in the joints.
+    /// Whether carried open contacts may stay dormant (``docs/mechanics.md``, "Dormant contacts";
+    /// default ``True``): a carried contact of two faces, edges or vertices, open at every
+    /// sub-contact (positive gaps, no bond, no force) keeps its sub-contacts without updating them
+    /// while a certificate shows that none can have closed. The motion and the forces are the same
+    /// bit for bit; a dormant contact's points, normal, gaps, areas and shear displacements are
+    /// those of its last update (a shear displacement missed then stays missed). Only carried
+    /// contacts can be dormant: nothing changes with an update fraction of ``0`` (the default) or
+    /// with water in the joints.
     #[getter]
     fn dormant_contacts(&self) -> bool {
         self.inner.dormant_contacts()

@@ -438,12 +438,12 @@ pub(super) fn counts_and_previous(
         .collect()
 }
 
-/// The contact, its sub-contacts with their forces for this step written to `subs` (of
-/// length [`sub_count`]; `previous`: the index of the pair's contact at the last step), and
-/// their installed normal stresses to `prestresses` (of the same length, or empty when the
-/// step keeps none: no initial stress in the run). With it, the certificate that lets the
-/// contact stay dormant at the next steps, when it is a carried face-face contact open at
-/// every sub-contact ([`OpenCert`]).
+/// The contact, its sub-contacts with their forces for this step written to `subs` (of length
+/// [`sub_count`]; `previous`: the index of the pair's contact at the last step), and their
+/// installed normal stresses to `prestresses` (of the same length, or empty when the step keeps
+/// none: no initial stress in the run). With it, the certificate that lets the contact stay dormant
+/// at the next steps, when it is a carried contact of two faces, edges or vertices open at every
+/// sub-contact ([`OpenCert`]).
 pub(super) fn build_contact(
     input: &StepInput,
     found: &Found,

@@ -684,14 +684,14 @@ impl Simulation {
         self.update_fraction
     }
 
-    /// With `on` (the default), a carried face-face contact open at every sub-contact keeps
-    /// its sub-contacts without updating them while a certificate shows that none can have
-    /// closed (docs/mechanics.md, "Dormant contacts"): the forces and the motion are the
-    /// same bit for bit, but its normal and its sub-contacts' points, gaps, areas and shear
-    /// displacements are those of its last update (a shear displacement missed then stays
+    /// With `on` (the default), a carried contact between two faces, two edges or two vertices,
+    /// open at every sub-contact, keeps its sub-contacts without updating them while a certificate
+    /// shows that none can have closed (docs/mechanics.md, "Dormant contacts"): the forces and the
+    /// motion are the same bit for bit, but its normal and its sub-contacts' points, gaps, areas
+    /// and shear displacements are those of its last update (a shear displacement missed then stays
     /// missed). Only carried contacts can be dormant, so this changes nothing with an update
-    /// fraction of 0 (the default), nor with water in the joints (certificates made before
-    /// are not used once water is set or this is off). Off, for comparisons.
+    /// fraction of 0 (the default), nor with water in the joints (certificates made before are not
+    /// used once water is set or this is off). Off, for comparisons.
     pub fn set_dormant_contacts(&mut self, on: bool) {
         self.dormancy = on;
     }
