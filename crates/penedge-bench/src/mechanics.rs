@@ -46,11 +46,13 @@
 //!
 //! `--save-at S --save FILE` writes the simulation's restart file (`Simulation::save_state`)
 //! after step `S` (`--save-at end`: after the run's last step, however it stopped: a run to
-//! equilibrium longer than the time at hand goes on later from there); `--load FILE` starts from such a file instead of the model's initial state
-//! (the same model and options otherwise): a profile of the dense phase of a long run then
-//! starts where it is, without the minutes of steps before it. The steps of a loaded run
-//! count from the file's step; its first step re-queries the pairs (the pair answers are not
-//! in the file), so time a loaded run over many steps.
+//! equilibrium longer than the time at hand goes on later from there); `--load FILE` starts
+//! from such a file instead of the model's initial state (the same model and options
+//! otherwise): a profile of the dense phase of a long run then starts where it is, without
+//! the minutes of steps before it. The steps of a loaded run count from the file's step
+//! (`--max-steps` and the summary's steps), its rates from the steps it took; its first step
+//! re-queries the pairs (the pair answers are not in the file), so time a loaded run over
+//! many steps.
 //!
 //! **Time split** (the mechanics has no counters of its own): at `K` steps spread over the
 //! run (default 8), the detection alone is timed from outside on the same poses
@@ -347,6 +349,9 @@ fn settle(o: &Options) -> Result<(), String> {
     };
     let mut log = Run::default();
     let start = Instant::now();
+    // The step the run starts from (that of a loaded restart file): rates count the steps
+    // taken here.
+    let first = sim.steps();
     let mut converged = false;
     // Whether a free block has been faster than the moving speed (for `--speed`).
     let mut moved = false;
@@ -410,6 +415,7 @@ fn settle(o: &Options) -> Result<(), String> {
     }
     let settlement = mean_settlement(&sim, &m, &z0);
     let steps = sim.steps();
+    let taken = steps - first;
     println!("| bodies | free | steps | converged | ratio | simulated s | wall s | steps/s | block-steps/s (all bodies) | CPU s | block-steps per CPU s | free-block-steps/s | moving steps | block-steps/s while moving | mean settlement mm | contacts | sub-contacts |");
     println!(
         "|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
@@ -423,11 +429,11 @@ fn settle(o: &Options) -> Result<(), String> {
         },
         sim.unbalanced_ratio(),
         sim.time(),
-        steps as f64 / wall,
-        (bodies as u64 * steps) as f64 / wall,
+        taken as f64 / wall,
+        (bodies as u64 * taken) as f64 / wall,
         log.cpu_s,
-        (bodies as u64 * steps) as f64 / log.cpu_s,
-        (free as u64 * steps) as f64 / wall,
+        (bodies as u64 * taken) as f64 / log.cpu_s,
+        (free as u64 * taken) as f64 / wall,
         log.moving_steps,
         if log.moving_steps > 0 {
             format!("{:.3e}", (bodies as u64 * log.moving_steps) as f64 / log.moving_s)
