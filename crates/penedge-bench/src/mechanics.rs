@@ -4,7 +4,7 @@
 //! `cargo run --release -p penedge-bench -- mechanics [--blocks N] [--threads T]
 //! [--ratio R] [--speed V] [--max-steps S] [--samples K] [--seed X] [--export FILE] [--full 0|1]
 //! [--update F] [--dormant 0|1] [--progress P] [--save-at S --save FILE] [--load FILE]
-//! [--max-wall W]`
+//! [--max-wall W] [--joints open|closed]`
 //!
 //! `--update F` (default 0.1, `FAST_UPDATE_FRACTION`) carries touching pairs until their
 //! bodies have moved `F` × the gap; `--update 0` is the engine's exact default.
@@ -21,6 +21,11 @@
 //! so that no two blocks touch at the start (the smallest gap is above 1 mm, the detection
 //! gap). Density 2500 kg/m³, gravity 9.81 m/s², joints kn = 1e10 Pa/m, ks = 5e9 Pa/m, 30°,
 //! no cohesion or tension, local damping 0.8, the automatic time step.
+//!
+//! `--joints closed`: the same grid at a spacing of 1 with no turn or shift, every joint
+//! closed at zero stress at the start (a jointed rock mass in place, 3DEC's usual start):
+//! the free blocks do not fall, they settle by the joints' elastic closure under their
+//! weight, and every block touches its 26 neighbours (faces, edges, corners).
 //!
 //! **The run**: `Simulation::step` until the unbalanced-force ratio (largest unbalanced
 //! force of a free block over its weight) is below `R` (default 1e-5, 3DEC's), at most `S`
@@ -131,6 +136,8 @@ struct Options {
     load: Option<String>,
     /// Stop after this many wall seconds of steps.
     max_wall: Option<f64>,
+    /// Joints closed at the start (spacing 1, no turn or shift) instead of open 2 mm.
+    closed: bool,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -150,6 +157,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         save: None,
         load: None,
         max_wall: None,
+        closed: false,
     };
     let mut save_at = None;
     let mut save_to = None;
@@ -184,6 +192,13 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--max-wall" => o.max_wall = Some(crate::number(value)?),
             "--full" => o.full = crate::number::<u8>(value)? != 0,
             "--dormant" => o.dormant = crate::number::<u8>(value)? != 0,
+            "--joints" => {
+                o.closed = match value.as_str() {
+                    "open" => false,
+                    "closed" => true,
+                    _ => return Err(format!("--joints is open or closed, got {value}")),
+                }
+            }
             other => return Err(format!("unknown option {other}")),
         }
     }
@@ -225,8 +240,9 @@ fn side(blocks: usize) -> usize {
         .unwrap_or(1)
 }
 
-fn model(blocks: usize, seed: u64) -> Model {
+fn model(blocks: usize, seed: u64, closed: bool) -> Model {
     let n = side(blocks);
+    let spacing = if closed { 1.0 } else { SPACING };
     let (w, h) = (n + 2, n + 1);
     let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).expect("a unit cube");
     let mut rng = SplitMix64::new(seed);
@@ -236,8 +252,8 @@ fn model(blocks: usize, seed: u64) -> Model {
         for j in 0..w {
             for i in 0..w {
                 let wall = k == 0 || i == 0 || j == 0 || i == w - 1 || j == w - 1;
-                let centre = DVec3::new(i as f64, j as f64, k as f64) * SPACING + 0.5;
-                let (turn, shift) = if wall {
+                let centre = DVec3::new(i as f64, j as f64, k as f64) * spacing + 0.5;
+                let (turn, shift) = if wall || closed {
                     (DQuat::IDENTITY, DVec3::ZERO)
                 } else {
                     let angle = rng.range(-TURN, TURN);
@@ -273,7 +289,7 @@ struct Heap {
 }
 
 fn settle(o: &Options) -> Result<(), String> {
-    let m = model(o.blocks, o.seed);
+    let m = model(o.blocks, o.seed, o.closed);
     let (bodies, free) = (m.system.len(), m.n * m.n * m.n);
     heap::count();
     let before = heap::live();
@@ -741,8 +757,23 @@ mod tests {
     }
 
     #[test]
+    fn closed_joints_put_every_block_exactly_on_the_unit_grid() {
+        let m = model(100, 1, true);
+        for (b, block) in m.system.blocks().iter().enumerate() {
+            let (i, j, k) = (b % 5, (b / 5) % 5, b / 25);
+            let lo = DVec3::new(i as f64, j as f64, k as f64);
+            for v in block.vertices() {
+                let d = *v - lo;
+                for x in d.to_array() {
+                    assert!(x == 0.0 || x == 1.0, "block {b}: corner {v:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn neighbouring_blocks_of_the_model_are_at_least_a_millimetre_apart() {
-        let m = model(100, 1);
+        let m = model(100, 1, false);
         assert_eq!(m.system.len(), 5 * 5 * 4);
         assert_eq!(m.fixed.iter().filter(|f| !**f).count(), 27);
         // Along each axis, the extent of a block's corners ends at least 1 mm before its

@@ -538,10 +538,16 @@ pub(super) fn build_contact(
     };
     // What a certificate of the open contact needs, from the gaps before the strip's
     // adjustment below (which only lowers the shallower gap to the deeper one): the smallest
-    // gap, and the terms of `OpenCert`. Only with the normal moving with A (the proofs').
-    let open = (input.dormancy && found.carry.tolerance > 0.0 && !found.carry.normal_with_b)
-        .then(|| open_terms(points, n, features, poses[1].translation))
-        .flatten();
+    // gap, and the terms of `OpenCert`. Only with the normal moving with A (the proofs'), and
+    // only when every gap is positive: a gap at or below zero stays so through the adjustment
+    // (the smallest gap is kept), its sub-contact is not open and the contact gets no
+    // certificate, so its terms are not computed (most contacts of a mass at rest).
+    let open = (input.dormancy
+        && found.carry.tolerance > 0.0
+        && !found.carry.normal_with_b
+        && gaps.iter().all(|&g| g > 0.0))
+    .then(|| open_terms(points, n, features, poses[1].translation))
+    .flatten();
     if let (ContactType::FaceFace, 2, FeatureAt::Face(plane_a), FeatureAt::Face(plane_b)) =
         (found.contact.kind, gaps.len(), features[0], features[1])
     {

@@ -273,6 +273,11 @@ pub struct Simulation {
     /// it moves and at the build for every body).
     skin_passed: bool,
     contacts: Contacts,
+    /// The buffers of the contacts of the step before last, emptied, for the next step's
+    /// contacts: at 10^5 blocks a step's contacts take hundreds of megabytes, which fresh
+    /// allocations would take from the system page by page at every step (no state: its
+    /// contents are never read).
+    spare: Contacts,
     /// Per body, the sum of its contact forces and moments (about the centroid) last step.
     forces: Vec<DVec3>,
     moments: Vec<DVec3>,
@@ -354,6 +359,7 @@ impl Simulation {
             built_at: None,
             skin_passed: false,
             contacts: Contacts::default(),
+            spare: Contacts::default(),
             forces: vec![DVec3::ZERO; n],
             moments: vec![DVec3::ZERO; n],
             bolts: Bolts::default(),
@@ -1230,66 +1236,89 @@ impl Simulation {
         let counts = counts_and_previous(&self.contacts, &found);
         let total: usize = counts.iter().map(|&(n, _, _)| n as usize).sum();
         let keep_stress = self.initial_stress.is_some() || !self.contacts.prestresses.is_empty();
-        let mut subs = Vec::with_capacity(total);
+        // The buffers of the step before last (`spare`), refilled in place.
+        let Contacts {
+            mut list,
+            mut subs,
+            mut prestresses,
+        } = std::mem::take(&mut self.spare);
+        subs.clear();
         subs.par_extend(rayon::iter::repeat_n(SubContact::default(), total));
-        let mut prestresses = vec![0.0; if keep_stress { total } else { 0 }];
+        prestresses.clear();
+        prestresses.resize(if keep_stress { total } else { 0 }, 0.0);
         let mut slices = Vec::with_capacity(found.len());
         let (mut rest, mut rest_p) = (subs.as_mut_slice(), prestresses.as_mut_slice());
+        let mut first = 0;
         for &(count, previous, _) in &counts {
-            let count = count as usize;
-            let (head, tail) = rest.split_at_mut(count);
-            let (head_p, tail_p) = rest_p.split_at_mut(if keep_stress { count } else { 0 });
-            slices.push((previous, head, head_p));
+            let (head, tail) = rest.split_at_mut(count as usize);
+            let (head_p, tail_p) =
+                rest_p.split_at_mut(if keep_stress { count as usize } else { 0 });
+            slices.push((first, previous, head, head_p));
+            first += count;
             rest = tail;
             rest_p = tail_p;
         }
-        let old = &self.contacts;
-        let built: Vec<(BodyContact, Option<Frame>)> = found
-            .par_iter()
-            .zip(slices)
-            .zip(&counts)
-            .map_init(
-                Scratch::default,
-                |scratch, ((f, (previous, out, out_p)), &(_, _, dormant))| match previous {
-                    // Dormant: the last step's contact and sub-contacts, its frame kept.
-                    Some(i) if dormant => {
-                        let i = i as usize;
-                        let first = old.list[i].first as usize;
-                        out.copy_from_slice(old.subs_of(i));
-                        for (k, p) in out_p.iter_mut().enumerate() {
-                            *p = old.prestress(first + k);
-                        }
-                        (old.list[i].clone(), None)
-                    }
-                    _ => {
-                        let (contact, cert) =
-                            build_contact(&input, f.found, previous, scratch, out, out_p);
-                        (contact, Some(cert.map_or(Frame::None, Frame::Open)))
-                    }
-                },
-            )
-            .collect();
-        let mut list = Vec::with_capacity(built.len());
-        let mut first = 0;
-        for (f, (mut c, frame)) in found.iter().zip(built) {
-            c.first = first;
-            first += c.count;
-            list.push(c);
-            match frame {
-                Some(Frame::None) if matches!(self.frames[f.pair as usize], Frame::None) => {}
-                Some(frame) => self.frames[f.pair as usize] = frame,
-                None => {}
-            }
+        // Each contact's frame, written in place: the frames of the contacts' pairs, in pair
+        // order as the contacts are (a merge walk over the frames).
+        let mut frames = Vec::with_capacity(found.len());
+        let mut rest_f = self.frames.as_mut_slice();
+        let mut at = 0;
+        for f in &found {
+            let (_, tail) = std::mem::take(&mut rest_f).split_at_mut(f.pair as usize - at);
+            let (slot, tail) = tail
+                .split_first_mut()
+                .expect("a contact's pair has a frame");
+            frames.push(slot);
+            at = f.pair as usize + 1;
+            rest_f = tail;
         }
+        let old = &self.contacts;
+        list.clear();
+        list.par_extend(
+            found
+                .par_iter()
+                .zip(slices)
+                .zip(frames)
+                .zip(&counts)
+                .map_init(
+                    Scratch::default,
+                    |scratch, (((f, (first, previous, out, out_p)), slot), &(_, _, dormant))| {
+                        let mut contact = match previous {
+                            // Dormant: the last step's contact and sub-contacts, its frame kept.
+                            Some(i) if dormant => {
+                                let i = i as usize;
+                                let from = old.list[i].first as usize;
+                                out.copy_from_slice(old.subs_of(i));
+                                for (k, p) in out_p.iter_mut().enumerate() {
+                                    *p = old.prestress(from + k);
+                                }
+                                old.list[i].clone()
+                            }
+                            _ => {
+                                let (contact, cert) =
+                                    build_contact(&input, f.found, previous, scratch, out, out_p);
+                                *slot = cert.map_or(Frame::None, Frame::Open);
+                                contact
+                            }
+                        };
+                        contact.first = first;
+                        contact
+                    },
+                ),
+        );
         // The side table only while a sub-contact has an installed stress.
         if prestresses.iter().all(|&p| p == 0.0) {
-            prestresses = Vec::new();
+            prestresses.clear();
         }
-        self.contacts = Contacts {
-            list,
-            subs,
-            prestresses,
-        };
+        let last = std::mem::replace(
+            &mut self.contacts,
+            Contacts {
+                list,
+                subs,
+                prestresses,
+            },
+        );
+        self.spare = last;
         self.initial = false;
     }
 
