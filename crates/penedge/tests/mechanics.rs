@@ -1128,3 +1128,124 @@ fn a_jittered_box_of_cubes_settles_to_the_ratio_of_3dec() {
         .fold(0.0, f64::max);
     assert!(report.converged, "{report:?}, fastest {fastest:.2e} m/s");
 }
+
+/// Two unit cubes, A fixed at the origin and B at `corner` (its lowest corner), without
+/// gravity, after one step: each sub-contact's gap and the total normal force on B.
+fn pair_gaps(corner: DVec3) -> (Vec<f64>, f64) {
+    let a = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    let b = ConvexBlock::cuboid(corner.to_array(), (corner + 1.0).to_array()).unwrap();
+    let mut sim = Simulation::new(&BlockSystem::new(vec![a, b]), 2500.0).unwrap();
+    sim.fix(0).unwrap();
+    sim.set_gravity(DVec3::ZERO).unwrap();
+    sim.set_default_joint(joint(1e10, 30.0, 0.0, 0.0)).unwrap();
+    sim.step().unwrap();
+    let c = sim.contacts();
+    assert_eq!(c.list.len(), 1, "one contact between the two cubes");
+    let subs = c.subs_of(0);
+    (
+        subs.iter().map(|s| s.gap).collect(),
+        subs.iter().map(|s| s.normal_force).sum(),
+    )
+}
+
+/// Gaps of point contacts (docs/mechanics.md): two edges or two vertices whose blocks slid
+/// past each other without overlapping are apart (the face plane between them separates
+/// them: gap 0, no force), not pushed along the cone rule's diagonal normal; pushed into
+/// each other along that normal by `e`, the gap is minus the exact minimum translation that
+/// separates the two cubes (their overlap is a box of side `e/√2` or `e/√3` along the axes
+/// concerned: the minimum translation is that side).
+#[test]
+fn point_contacts_of_blocks_that_slid_past_each_other_carry_no_force() {
+    let d = 1e-5;
+    // Diagonal neighbours (a shared edge along y), B slid down by d: touching on the plane
+    // x = 1 over a strip, no overlap.
+    let (gaps, force) = pair_gaps(DVec3::new(1.0, 0.0, 1.0 - d));
+    assert_eq!(gaps.len(), 2);
+    // Zero up to the rounding of the coordinates (kn d A/2 ≈ 5e4 N measured along the
+    // diagonal normal).
+    let rounding = 1e-6 * 1e10 * d;
+    assert!(gaps.iter().all(|&g| g.abs() <= 1e-12), "{gaps:?}");
+    assert!(force.abs() <= rounding, "{force} N");
+    // Corner neighbours (a shared vertex), B slid down by d.
+    let (gaps, force) = pair_gaps(DVec3::new(1.0, 1.0, 1.0 - d));
+    assert!(gaps.iter().all(|&g| g.abs() <= 1e-12), "{gaps:?}");
+    assert!(force.abs() <= rounding, "{force} N");
+    // Pushed in along the diagonals by e: B's corner moves by e along -(1, 0, 1)/√2 (edges)
+    // or -(1, 1, 1)/√3 (vertices), the overlap is a box whose side along the axes concerned
+    // is a = e/√2 or e/√3, and a is the minimum translation that separates the cubes.
+    let e = 1e-5;
+    for (corner, a) in [
+        (DVec3::new(1.0, 0.0, 1.0), e / 2f64.sqrt()),
+        (DVec3::new(1.0, 1.0, 1.0), e / 3f64.sqrt()),
+    ] {
+        let pushed = corner - DVec3::new(a, if corner.y == 0.0 { 0.0 } else { a }, a);
+        let (gaps, force) = pair_gaps(pushed);
+        assert!(
+            gaps.iter().all(|&g| (g + a).abs() <= 1e-6 * a),
+            "gaps {gaps:?}, minimum translation {a:e}"
+        );
+        assert!(force > 0.0);
+    }
+}
+
+/// A jointed mass in place settles by the closure of its horizontal joints alone: a grid of
+/// unit cubes with every joint closed (spacing 1, floor and side walls fixed), under
+/// gravity. The joint below layer `j` (of `n` free layers) carries the weight of the
+/// `n - j + 1` cubes above it, so the cube of layer `k` settles by
+/// `Σ_{j≤k} (n - j + 1) m g / (kn A)`. The lateral joints carry no normal force (rigid blocks: no Poisson effect) and so
+/// no friction; the diagonal neighbours' edges and corners slide past each other without
+/// overlapping and carry nothing either (docs/mechanics.md, "Gaps of point contacts"):
+/// measured along the cone rule's diagonal normal, their shift read as an overlap, and the
+/// mass settled 3.4 times less than this.
+#[test]
+fn a_jointed_mass_in_place_settles_by_the_closure_of_its_horizontal_joints() {
+    let (w, h) = (5usize, 4usize);
+    let n = h - 1;
+    let unit = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    let (mut blocks, mut fixed, mut layer) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..h {
+        for j in 0..w {
+            for i in 0..w {
+                blocks.push(unit.transformed(
+                    DQuat::IDENTITY,
+                    DVec3::new(i as f64, j as f64, k as f64),
+                    1.0,
+                ));
+                fixed.push(k == 0 || i == 0 || j == 0 || i == w - 1 || j == w - 1);
+                layer.push(k);
+            }
+        }
+    }
+    let density = 2500.0;
+    let mut sim = Simulation::new(&BlockSystem::new(blocks), density).unwrap();
+    for i in (0..fixed.len()).filter(|&i| fixed[i]) {
+        sim.fix(i).unwrap();
+    }
+    let kn = 1e10;
+    sim.set_default_joint(JointModel {
+        ks: 5e9,
+        ..joint(kn, 30.0, 0.0, 0.0)
+    })
+    .unwrap();
+    let start: Vec<DVec3> = sim.bodies().poses().iter().map(|p| p.translation).collect();
+    let report = sim.solve(1e-6, 50_000).unwrap();
+    assert!(report.converged, "{report:?}");
+    let per_joint = density * G / kn; // m g / (kn A) for a unit cube
+    for (b, p) in sim.bodies().poses().iter().enumerate() {
+        if fixed[b] {
+            continue;
+        }
+        let k = layer[b];
+        let expected: f64 = (1..=k).map(|j| (n - j + 1) as f64 * per_joint).sum();
+        let moved = p.translation - start[b];
+        assert!(
+            (-moved.z - expected).abs() <= 1e-3 * expected,
+            "block {b} (layer {k}): settled {:.6e}, joints' closure {expected:.6e}",
+            -moved.z
+        );
+        assert!(
+            moved.x.abs() + moved.y.abs() <= 1e-3 * expected,
+            "block {b}: {moved:?}"
+        );
+    }
+}

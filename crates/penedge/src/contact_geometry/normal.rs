@@ -16,7 +16,7 @@
 
 mod cone;
 
-pub(super) use cone::most_separating;
+pub(super) use cone::{most_separating, valid_rays};
 
 use crate::block::ConvexBlock;
 use crate::classify::{Contact, ContactType, Feature};

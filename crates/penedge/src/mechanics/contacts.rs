@@ -139,6 +139,11 @@ pub(super) struct Carry {
     /// The smaller body's diameter, once a step has asked for it (the bodies' shapes do not
     /// change; read from them at every step, it cost a cache miss per body).
     pub diameter: OnceLock<f64>,
+    /// For a contact of two vertices or edges (the cone rule's normal), the other valid
+    /// directions along which its gaps are measured, as at the query (moving with A like
+    /// the normal); empty for the others ([`crate::contact_geometry::cone_rays`];
+    /// docs/mechanics.md, "Gaps of point contacts").
+    pub axes: Box<[DVec3]>,
 }
 
 impl Carry {
@@ -187,6 +192,8 @@ impl Carry {
             ],
             magnitude: a.magnitude().max(b.magnitude()),
             diameter: OnceLock::new(),
+            axes: crate::contact_geometry::cone_rays(a, b, contact, geometry.normal(), gap)
+                .into_boxed_slice(),
         }
     }
 }
@@ -536,6 +543,20 @@ pub(super) fn build_contact(
             sb - sa
         })),
     };
+    // A contact of two vertices or edges: the largest separation along the normal and the
+    // cone's other valid directions (docs/mechanics.md, "Gaps of point contacts"), so that
+    // features that slid past each other without overlapping (diagonal neighbours in a grid
+    // of blocks settling) are apart, not pushed along the normal.
+    if !found.carry.axes.is_empty() {
+        let turn = carried.map(|m| m[0].rotation);
+        for &axis in found.carry.axes.iter() {
+            let axis = turn.map_or(axis, |r| (r * axis).normalize());
+            for (gap, &p) in gaps.iter_mut().zip(points.iter()) {
+                let along = features[1].height(p, axis) - features[0].height(p, axis);
+                *gap = gap.max(along);
+            }
+        }
+    }
     // What a certificate of the open contact needs, from the gaps before the strip's
     // adjustment below (which only lowers the shallower gap to the deeper one): the smallest
     // gap, and the terms of `OpenCert`. Only with the normal moving with A (the proofs'), and

@@ -110,6 +110,44 @@ pub(in crate::contact_geometry) fn most_separating(
     best.map_or(current, |(_, n)| n)
 }
 
+/// The candidate extreme rays of `C` ([`offer_rays`]: the face normals at the features,
+/// negated for B, and `±tA × tB`) that are valid within `slack`, without repeats (closer
+/// than `1e-9` rad) and without those along `normal`, in the order offered: besides the
+/// normal, the directions along which a separation of the features is a true one
+/// (docs/mechanics.md, "Gaps of point contacts"). Any plane through A's feature with a
+/// normal of `C` has A behind it and, moved by the offset of B's feature along it, B in
+/// front of it (both blocks lie in their tangent cones): the offset's component along such a
+/// direction, when positive, is a gap between the blocks.
+pub(in crate::contact_geometry) fn valid_rays(
+    a: &ConvexBlock,
+    fa: Feature,
+    b: &ConvexBlock,
+    fb: Feature,
+    normal: DVec3,
+    slack: f64,
+) -> Vec<DVec3> {
+    let (ca, cb) = (local_cone(a, fa), local_cone(b, fb));
+    let choice = Choice::new(normal, &ca, &cb, slack);
+    let mut rays: Vec<DVec3> = Vec::new();
+    let mut offer = |v: DVec3| {
+        let Some(n) = v.try_normalize() else { return };
+        let same = |u: DVec3| u.dot(n) > 0.0 && u.cross(n).length() <= 1e-9;
+        if choice.margin(n) >= -slack && !same(normal) && !rays.iter().any(|&u| same(u)) {
+            rays.push(n);
+        }
+    };
+    ca.normals.iter().for_each(|&n| offer(n));
+    cb.normals.iter().for_each(|&n| offer(-n));
+    for ta in &ca.into {
+        for tb in &cb.into {
+            let ray = ta.cross(*tb);
+            offer(ray);
+            offer(-ray);
+        }
+    }
+    rays
+}
+
 fn mean(normals: &[DVec3]) -> DVec3 {
     normals
         .iter()
