@@ -4,6 +4,7 @@
 
 use penedge::glam::{DQuat, DVec3, EulerRot};
 use penedge::mechanics::{Damping, JointModel, MechanicsError, Simulation, SubState};
+use penedge::ContactType;
 use penedge::{BlockSystem, ConvexBlock};
 
 mod support;
@@ -1130,8 +1131,9 @@ fn a_jittered_box_of_cubes_settles_to_the_ratio_of_3dec() {
 }
 
 /// Two unit cubes, A fixed at the origin and B at `corner` (its lowest corner), without
-/// gravity, after one step: each sub-contact's gap and the total normal force on B.
-fn pair_gaps(corner: DVec3) -> (Vec<f64>, f64) {
+/// gravity, after one step: the contact's type, each sub-contact's gap and the total normal
+/// force on B.
+fn pair_gaps(corner: DVec3) -> (ContactType, Vec<f64>, f64) {
     let a = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
     let b = ConvexBlock::cuboid(corner.to_array(), (corner + 1.0).to_array()).unwrap();
     let mut sim = Simulation::new(&BlockSystem::new(vec![a, b]), 2500.0).unwrap();
@@ -1143,6 +1145,7 @@ fn pair_gaps(corner: DVec3) -> (Vec<f64>, f64) {
     assert_eq!(c.list.len(), 1, "one contact between the two cubes");
     let subs = c.subs_of(0);
     (
+        c.list[0].kind,
         subs.iter().map(|s| s.gap).collect(),
         subs.iter().map(|s| s.normal_force).sum(),
     )
@@ -1151,35 +1154,47 @@ fn pair_gaps(corner: DVec3) -> (Vec<f64>, f64) {
 /// Gaps of point contacts (docs/mechanics.md): two edges or two vertices whose blocks slid
 /// past each other without overlapping are apart (the face plane between them separates
 /// them: gap 0, no force), not pushed along the cone rule's diagonal normal; pushed into
-/// each other along that normal by `e`, the gap is minus the exact minimum translation that
-/// separates the two cubes (their overlap is a box of side `e/√2` or `e/√3` along the axes
-/// concerned: the minimum translation is that side).
+/// each other along that normal, the gap is minus the exact minimum translation that
+/// separates the two cubes. The slides and pushes (1e-5) are far below the simulation's
+/// length threshold (1e-2 of the size), so the touching strip or square reads as the edges
+/// or corners (checked: the contact types).
 #[test]
 fn point_contacts_of_blocks_that_slid_past_each_other_carry_no_force() {
     let d = 1e-5;
-    // Diagonal neighbours (a shared edge along y), B slid down by d: touching on the plane
-    // x = 1 over a strip, no overlap.
-    let (gaps, force) = pair_gaps(DVec3::new(1.0, 0.0, 1.0 - d));
-    assert_eq!(gaps.len(), 2);
-    // Zero up to the rounding of the coordinates (kn d A/2 ≈ 5e4 N measured along the
-    // diagonal normal).
+    // Zero up to the rounding of the coordinates; along the diagonal normal each of these
+    // read an overlap of d/√2 or 2d/√3 (6 kN and more per sub-contact).
     let rounding = 1e-6 * 1e10 * d;
+    // Diagonal neighbours sharing an edge along y, B slid down by d: touching on the plane
+    // x = 1 over a strip of height d, no overlap.
+    let (kind, gaps, force) = pair_gaps(DVec3::new(1.0, 0.0, 1.0 - d));
+    assert_eq!(kind, ContactType::EdgeEdgeSuperposition);
+    assert_eq!(gaps.len(), 2);
     assert!(gaps.iter().all(|&g| g.abs() <= 1e-12), "{gaps:?}");
     assert!(force.abs() <= rounding, "{force} N");
-    // Corner neighbours (a shared vertex), B slid down by d.
-    let (gaps, force) = pair_gaps(DVec3::new(1.0, 1.0, 1.0 - d));
+    // Corner neighbours sharing a vertex, B slid by d along -y and -z: touching on the plane
+    // x = 1 over a square of side d, no overlap (the cone rule's normal is (1, 1, 1)/√3).
+    let (kind, gaps, force) = pair_gaps(DVec3::new(1.0, 1.0 - d, 1.0 - d));
+    assert_eq!(kind, ContactType::VertexVertex);
     assert!(gaps.iter().all(|&g| g.abs() <= 1e-12), "{gaps:?}");
     assert!(force.abs() <= rounding, "{force} N");
-    // Pushed in along the diagonals by e: B's corner moves by e along -(1, 0, 1)/√2 (edges)
-    // or -(1, 1, 1)/√3 (vertices), the overlap is a box whose side along the axes concerned
-    // is a = e/√2 or e/√3, and a is the minimum translation that separates the cubes.
-    let e = 1e-5;
-    for (corner, a) in [
-        (DVec3::new(1.0, 0.0, 1.0), e / 2f64.sqrt()),
-        (DVec3::new(1.0, 1.0, 1.0), e / 3f64.sqrt()),
+    // Pushed in along the diagonals: B's corner moves by a along each axis concerned (x and
+    // z for the edges, x, y and z for the corners); the overlap is a box of side a along
+    // those axes, and a is the minimum translation that separates the cubes.
+    let a = 1e-5;
+    for (corner, pushed, kind_then) in [
+        (
+            DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(a, 0.0, a),
+            ContactType::EdgeEdgeSuperposition,
+        ),
+        (
+            DVec3::splat(1.0),
+            DVec3::splat(a),
+            ContactType::VertexVertex,
+        ),
     ] {
-        let pushed = corner - DVec3::new(a, if corner.y == 0.0 { 0.0 } else { a }, a);
-        let (gaps, force) = pair_gaps(pushed);
+        let (kind, gaps, force) = pair_gaps(corner - pushed);
+        assert_eq!(kind, kind_then);
         assert!(
             gaps.iter().all(|&g| (g + a).abs() <= 1e-6 * a),
             "gaps {gaps:?}, minimum translation {a:e}"
@@ -1192,11 +1207,11 @@ fn point_contacts_of_blocks_that_slid_past_each_other_carry_no_force() {
 /// unit cubes with every joint closed (spacing 1, floor and side walls fixed), under
 /// gravity. The joint below layer `j` (of `n` free layers) carries the weight of the
 /// `n - j + 1` cubes above it, so the cube of layer `k` settles by
-/// `Σ_{j≤k} (n - j + 1) m g / (kn A)`. The lateral joints carry no normal force (rigid blocks: no Poisson effect) and so
-/// no friction; the diagonal neighbours' edges and corners slide past each other without
-/// overlapping and carry nothing either (docs/mechanics.md, "Gaps of point contacts"):
-/// measured along the cone rule's diagonal normal, their shift read as an overlap, and the
-/// mass settled 3.4 times less than this.
+/// `Σ_{j≤k} (n - j + 1) m g / (kn A)`. The lateral joints carry no normal force (rigid
+/// blocks: no Poisson effect) and so no friction; the diagonal neighbours' edges and corners
+/// slide past each other without overlapping and carry nothing either (docs/mechanics.md,
+/// "Gaps of point contacts"): measured along the cone rule's diagonal normal, their shift
+/// read as an overlap, and the first layer settled 2.6 times less than this.
 #[test]
 fn a_jointed_mass_in_place_settles_by_the_closure_of_its_horizontal_joints() {
     let (w, h) = (5usize, 4usize);

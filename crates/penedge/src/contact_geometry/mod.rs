@@ -42,8 +42,9 @@ use crate::tolerance::Thresholds;
 /// products of their edge directions), valid within the relative gap; empty for the other
 /// types, whose common plane is unique. `gap`: the pair's gap (absolute), which sets the
 /// slack as for the normal. Along each, as along the normal, a positive
-/// offset of B's feature from A's is a true gap (docs/mechanics.md, "Gaps of point
-/// contacts"): the mechanics measures a point contact's gap as the largest of them.
+/// offset of B's feature from A's is a gap between the blocks, to within that slack
+/// (docs/mechanics.md, "Gaps of point contacts"): the mechanics measures a point contact's
+/// gap as the largest of them.
 pub(crate) fn cone_rays(
     a: &ConvexBlock,
     b: &ConvexBlock,

@@ -47,7 +47,9 @@ pub struct SubContact {
     pub local: Vec3,
     /// Its share of the contact area.
     pub area: f64,
-    /// Gap along the normal (> 0 apart, < 0 overlapping).
+    /// Gap along the normal (> 0 apart, < 0 overlapping); for a contact of two vertices or
+    /// edges, the largest along the normal and the cone's other valid directions
+    /// (docs/mechanics.md, "Gaps of point contacts").
     pub gap: f64,
     /// Normal force on B, positive in compression.
     pub normal_force: f64,

@@ -113,11 +113,12 @@ pub(in crate::contact_geometry) fn most_separating(
 /// The candidate extreme rays of `C` ([`offer_rays`]: the face normals at the features,
 /// negated for B, and `±tA × tB`) that are valid within `slack`, without repeats (closer
 /// than `1e-9` rad) and without those along `normal`, in the order offered: besides the
-/// normal, the directions along which a separation of the features is a true one
+/// normal, the directions along which a separation of the features is one of the blocks
 /// (docs/mechanics.md, "Gaps of point contacts"). Any plane through A's feature with a
 /// normal of `C` has A behind it and, moved by the offset of B's feature along it, B in
 /// front of it (both blocks lie in their tangent cones): the offset's component along such a
-/// direction, when positive, is a gap between the blocks.
+/// direction, when positive, is a gap between the blocks (to within the slack, for a ray
+/// valid only within it).
 pub(in crate::contact_geometry) fn valid_rays(
     a: &ConvexBlock,
     fa: Feature,
