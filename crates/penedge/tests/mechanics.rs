@@ -1130,6 +1130,9 @@ fn a_jittered_box_of_cubes_settles_to_the_ratio_of_3dec() {
     assert!(report.converged, "{report:?}, fastest {fastest:.2e} m/s");
 }
 
+/// The joints' normal stiffness of [`pair_gaps`] (Pa/m).
+const PAIR_KN: f64 = 1e10;
+
 /// Two unit cubes, A fixed at the origin and B at `corner` (its lowest corner), without
 /// gravity, after one step: the contact's type, each sub-contact's gap and the total normal
 /// force on B.
@@ -1139,7 +1142,8 @@ fn pair_gaps(corner: DVec3) -> (ContactType, Vec<f64>, f64) {
     let mut sim = Simulation::new(&BlockSystem::new(vec![a, b]), 2500.0).unwrap();
     sim.fix(0).unwrap();
     sim.set_gravity(DVec3::ZERO).unwrap();
-    sim.set_default_joint(joint(1e10, 30.0, 0.0, 0.0)).unwrap();
+    sim.set_default_joint(joint(PAIR_KN, 30.0, 0.0, 0.0))
+        .unwrap();
     sim.step().unwrap();
     let c = sim.contacts();
     assert_eq!(c.list.len(), 1, "one contact between the two cubes");
@@ -1163,7 +1167,7 @@ fn point_contacts_of_blocks_that_slid_past_each_other_carry_no_force() {
     let d = 1e-5;
     // Zero up to the rounding of the coordinates; along the diagonal normal each of these
     // read an overlap of d/√2 or 2d/√3 (6 kN and more per sub-contact).
-    let rounding = 1e-6 * 1e10 * d;
+    let rounding = 1e-6 * PAIR_KN * d;
     // Diagonal neighbours sharing an edge along y, B slid down by d: touching on the plane
     // x = 1 over a strip of height d, no overlap.
     let (kind, gaps, force) = pair_gaps(DVec3::new(1.0, 0.0, 1.0 - d));
@@ -1216,26 +1220,8 @@ fn point_contacts_of_blocks_that_slid_past_each_other_carry_no_force() {
 fn a_jointed_mass_in_place_settles_by_the_closure_of_its_horizontal_joints() {
     let (w, h) = (5usize, 4usize);
     let n = h - 1;
-    let unit = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
-    let (mut blocks, mut fixed, mut layer) = (Vec::new(), Vec::new(), Vec::new());
-    for k in 0..h {
-        for j in 0..w {
-            for i in 0..w {
-                blocks.push(unit.transformed(
-                    DQuat::IDENTITY,
-                    DVec3::new(i as f64, j as f64, k as f64),
-                    1.0,
-                ));
-                fixed.push(k == 0 || i == 0 || j == 0 || i == w - 1 || j == w - 1);
-                layer.push(k);
-            }
-        }
-    }
-    let density = 2500.0;
-    let mut sim = Simulation::new(&BlockSystem::new(blocks), density).unwrap();
-    for i in (0..fixed.len()).filter(|&i| fixed[i]) {
-        sim.fix(i).unwrap();
-    }
+    let mut sim = support::cubes_in_a_box_at(w, h, 1.0, || (DQuat::IDENTITY, DVec3::ZERO));
+    let density = 2500.0; // the box's
     let kn = 1e10;
     sim.set_default_joint(JointModel {
         ks: 5e9,
@@ -1247,10 +1233,10 @@ fn a_jointed_mass_in_place_settles_by_the_closure_of_its_horizontal_joints() {
     assert!(report.converged, "{report:?}");
     let per_joint = density * G / kn; // m g / (kn A) for a unit cube
     for (b, p) in sim.bodies().poses().iter().enumerate() {
-        if fixed[b] {
+        if !sim.bodies().is_free(b) {
             continue;
         }
-        let k = layer[b];
+        let k = b / (w * w);
         let expected: f64 = (1..=k).map(|j| (n - j + 1) as f64 * per_joint).sum();
         let moved = p.translation - start[b];
         assert!(

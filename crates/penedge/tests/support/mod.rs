@@ -230,6 +230,18 @@ pub fn lcg(mut seed: u64) -> impl FnMut() -> f64 {
 pub fn cubes_in_a_box(
     w: usize,
     h: usize,
+    jitter: impl FnMut() -> (glam::DQuat, DVec3),
+) -> penedge::mechanics::Simulation {
+    cubes_in_a_box_at(w, h, 1.002, jitter)
+}
+
+/// [`cubes_in_a_box`] with the cubes `spacing` apart (1: every joint closed). Cube
+/// `i + w (j + w k)` is at grid point `(i, j, k)`, its lowest corner at `(i, j, k) × spacing`
+/// before its jitter.
+pub fn cubes_in_a_box_at(
+    w: usize,
+    h: usize,
+    spacing: f64,
     mut jitter: impl FnMut() -> (glam::DQuat, DVec3),
 ) -> penedge::mechanics::Simulation {
     let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
@@ -238,7 +250,7 @@ pub fn cubes_in_a_box(
         for j in 0..w {
             for i in 0..w {
                 let wall = k == 0 || i == 0 || j == 0 || i == w - 1 || j == w - 1;
-                let centre = DVec3::new(i as f64, j as f64, k as f64) * 1.002 + 0.5;
+                let centre = DVec3::new(i as f64, j as f64, k as f64) * spacing + 0.5;
                 let (turn, shift) = if wall {
                     (glam::DQuat::IDENTITY, DVec3::ZERO)
                 } else {

@@ -68,17 +68,25 @@ pub(super) fn cone_normal(
 }
 
 /// The extreme rays that `C` can have: the face normals at each feature (negated for B), and
-/// `±tA × tB`, where a facet of A's cone meets one of B's.
+/// `±tA × tB` (normalised, where it has a direction), where a facet of A's cone meets one of
+/// B's; in that order, each cross product followed by its opposite.
+fn extreme_rays<'a>(ca: &'a LocalCone, cb: &'a LocalCone) -> impl Iterator<Item = DVec3> + 'a {
+    let crossings = ca.into.iter().flat_map(move |ta| {
+        cb.into
+            .iter()
+            .filter_map(move |tb| ta.cross(*tb).try_normalize())
+            .flat_map(|ray| [ray, -ray])
+    });
+    ca.normals
+        .iter()
+        .copied()
+        .chain(cb.normals.iter().map(|&n| -n))
+        .chain(crossings)
+}
+
+/// Offers every extreme ray that `C` can have ([`extreme_rays`]).
 fn offer_rays(choice: &mut Choice, ca: &LocalCone, cb: &LocalCone) {
-    ca.normals.iter().for_each(|&n| choice.offer(n));
-    cb.normals.iter().for_each(|&n| choice.offer(-n));
-    for ta in &ca.into {
-        for tb in &cb.into {
-            let ray = ta.cross(*tb);
-            choice.offer_vector(ray);
-            choice.offer_vector(-ray);
-        }
-    }
+    extreme_rays(ca, cb).for_each(|n| choice.offer(n));
 }
 
 /// Of `current`, the face normals at the two features (negated for B) and `±tA × tB`, the
@@ -95,22 +103,13 @@ pub(in crate::contact_geometry) fn most_separating(
         local_cone(b, contact.feature_b),
     );
     let mut best = None;
-    let mut offer = |n: DVec3| keep_better(&mut best, (separation(a, b, n), n));
-    offer(current);
-    ca.normals.iter().for_each(|&n| offer(n));
-    cb.normals.iter().for_each(|&n| offer(-n));
-    for ta in &ca.into {
-        for tb in &cb.into {
-            if let Some(n) = ta.cross(*tb).try_normalize() {
-                offer(n);
-                offer(-n);
-            }
-        }
+    for n in std::iter::once(current).chain(extreme_rays(&ca, &cb)) {
+        keep_better(&mut best, (separation(a, b, n), n));
     }
     best.map_or(current, |(_, n)| n)
 }
 
-/// The candidate extreme rays of `C` ([`offer_rays`]: the face normals at the features,
+/// The candidate extreme rays of `C` ([`extreme_rays`]: the face normals at the features,
 /// negated for B, and `±tA × tB`) that are valid within `slack`, without repeats (closer
 /// than `1e-9` rad) and without those along `normal`, in the order offered: besides the
 /// normal, the directions along which a separation of the features is one of the blocks
@@ -130,20 +129,10 @@ pub(in crate::contact_geometry) fn valid_rays(
     let (ca, cb) = (local_cone(a, fa), local_cone(b, fb));
     let choice = Choice::new(normal, &ca, &cb, slack);
     let mut rays: Vec<DVec3> = Vec::new();
-    let mut offer = |v: DVec3| {
-        let Some(n) = v.try_normalize() else { return };
+    for n in extreme_rays(&ca, &cb) {
         let same = |u: DVec3| u.dot(n) > 0.0 && u.cross(n).length() <= 1e-9;
         if choice.margin(n) >= -slack && !same(normal) && !rays.iter().any(|&u| same(u)) {
             rays.push(n);
-        }
-    };
-    ca.normals.iter().for_each(|&n| offer(n));
-    cb.normals.iter().for_each(|&n| offer(-n));
-    for ta in &ca.into {
-        for tb in &cb.into {
-            let ray = ta.cross(*tb);
-            offer(ray);
-            offer(-ray);
         }
     }
     rays
