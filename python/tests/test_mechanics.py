@@ -146,6 +146,32 @@ def test_bad_input_raises_a_mechanics_error(call, kind):
     assert isinstance(info.value, ValueError)
 
 
+def test_a_fixed_block_stays_put_and_falls_freely_once_freed():
+    base = penedge.Block.cuboid([-4, -2, -1], [4, 2, 0])
+    held = penedge.Block.cuboid([-3, -0.5, 0.5], [-2, 0.5, 1.5])  # 0.5 m above the base
+    resting = penedge.Block.cuboid([1, -0.5, 0], [2, 0.5, 1])
+    sim = penedge.Simulation(penedge.BlockSystem([base, held, resting]), density=2500.0)
+    sim.set_joint(kn=1e9, ks=1e9, friction=30.0)
+    sim.fix([0, 1])
+    start = sim.positions[1].copy()
+    sim.step(50)
+    assert sim.positions[1].tolist() == start.tolist()
+    assert sim.velocities[1].tolist() == [0.0, 0.0, 0.0]
+    assert sim.fixed.tolist() == [True, True, False]
+    sim.free([1])
+    assert sim.fixed.tolist() == [True, False, False]
+    # Freed at rest at that time, it falls as x0 - g t^2 / 2 from then (central difference
+    # started with a half kick is exact on a parabola), and nothing touches it on the way
+    # (0.1 m down); its velocity is the leapfrog's, at the half step before the last pose.
+    dt = sim.timestep
+    steps = int(math.sqrt(2 * 0.1 / G) / dt)
+    sim.step(steps)
+    t = steps * dt
+    assert sim.positions[1] == pytest.approx(start - np.array([0, 0, 0.5 * G * t * t]), abs=1e-12)
+    assert sim.velocities[1] == pytest.approx([0, 0, -G * (t - dt / 2)], abs=1e-12)
+    assert sim.positions[0].tolist() == [0.0, 0.0, -0.5]
+
+
 def test_overlapping_bodies_stop_the_run_with_the_pair_named():
     base = penedge.Block.cuboid([-2, -2, -1], [2, 2, 0])
     cube = penedge.Block.cuboid([-0.5, -0.5, -0.2], [0.5, 0.5, 0.8])

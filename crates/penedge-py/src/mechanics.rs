@@ -377,7 +377,7 @@ impl Simulation {
         Ok(())
     }
 
-    /// Frees the given bodies (at rest).
+    /// Frees the given bodies, at rest now (their first step starts with a half kick).
     fn free(&mut self, ids: Vec<usize>) -> PyResult<()> {
         for i in ids {
             self.inner.free(i).map_err(to_py_err)?;

@@ -290,8 +290,8 @@ pub struct Simulation {
     time: f64,
     steps: u64,
     ratio: f64,
-    /// Whether velocities are at the whole step (just set): the next kick is a half one.
-    synced: bool,
+    /// Whose velocities are at the whole step (just set): their next kick is a half one.
+    synced: Synced,
     /// Whether the next detection is the first: its contacts are bonded.
     initial: bool,
     /// Bodies removed and the loads they leave relaxing (`excavation.rs`).
@@ -369,7 +369,7 @@ impl Simulation {
             time: 0.0,
             steps: 0,
             ratio: f64::INFINITY,
-            synced: true,
+            synced: Synced::All,
             initial: true,
             excavation: excavation::Excavation::default(),
             initial_stress: None,
@@ -521,10 +521,13 @@ impl Simulation {
         self.set_fixity(i, Fixity::Fixed)
     }
 
-    /// Frees body `i`, at rest.
+    /// Frees body `i`, at rest at the current time (as [`Simulation::set_velocity`] with
+    /// zeros: its next step starts with a half kick).
     pub fn free(&mut self, i: usize) -> Result<(), MechanicsError> {
         self.set_fixity(i, Fixity::Free)?;
-        self.bodies.set_velocity(i, DVec3::ZERO, DVec3::ZERO)
+        self.bodies.set_velocity(i, DVec3::ZERO, DVec3::ZERO)?;
+        self.synced.add(i);
+        Ok(())
     }
 
     /// Gives body `i` a prescribed velocity and spin (world frame).
@@ -547,8 +550,9 @@ impl Simulation {
         Ok(())
     }
 
-    /// Sets the velocity and spin of free body `i` at the current time (the next step
-    /// starts with a half kick).
+    /// Sets the velocity and spin of free body `i` at the current time (its next step
+    /// starts with a half kick; the other bodies' velocities stay the leapfrog's half-step
+    /// values, and their next kick is a whole one).
     pub fn set_velocity(
         &mut self,
         i: usize,
@@ -557,7 +561,7 @@ impl Simulation {
     ) -> Result<(), MechanicsError> {
         self.check_present(i)?;
         self.bodies.set_velocity(i, velocity, spin)?;
-        self.synced = true;
+        self.synced.add(i);
         Ok(())
     }
 
@@ -1368,7 +1372,7 @@ impl Simulation {
     /// order). A body whose new state is not finite fails the step, after every body has
     /// been advanced.
     fn integrate(&mut self, dt: f64) -> Result<(), MechanicsError> {
-        let kick = if self.synced { 0.5 } else { 1.0 };
+        let synced = &self.synced;
         let (forces, moments) = (&self.forces, &self.moments);
         let (gravity, damping) = (self.gravity, &self.damping);
         let (built, half) = (self.built_at.as_deref(), 0.5 * self.skin);
@@ -1404,6 +1408,7 @@ impl Simulation {
                     gravity,
                     damping,
                 );
+                let kick = synced.kick(i);
                 let after = integrate::advanced(&inertia, i, before, [f, m], dt, kick);
                 let mut passed = false;
                 *last_step = if same_bits(&before.pose, &after.pose) {
@@ -1442,8 +1447,53 @@ impl Simulation {
         } else {
             f64::INFINITY
         };
-        self.synced = false;
+        self.synced = Synced::None;
         Ok(())
+    }
+}
+
+/// Whose velocities are at the whole step rather than the leapfrog's half step: set at
+/// the current time (at the start, or by [`Simulation::set_velocity`] and
+/// [`Simulation::free`] since the last step). Their next kick is half a step's (central
+/// difference started from `v(t)`: `v(t + dt/2) = v(t) + dt/2 F/m`); every other body's
+/// velocity is already at `t - dt/2`, and its kick is a whole step's. (A single flag for
+/// all bodies, before 2026-11-28, gave every moving body half a kick too few when one body's
+/// velocity was set during a run: a lasting error of `dt/2 F/m` in its velocity.)
+#[derive(Clone, Debug, Default, PartialEq)]
+enum Synced {
+    /// None: every velocity is at the half step.
+    #[default]
+    None,
+    /// Every body (a new simulation: all at rest at time 0).
+    All,
+    /// These bodies.
+    Bodies(std::collections::BTreeSet<u32>),
+}
+
+impl Synced {
+    /// Marks body `i`'s velocity as at the whole step.
+    fn add(&mut self, i: usize) {
+        match self {
+            Synced::All => {}
+            Synced::None => *self = Synced::Bodies([i as u32].into()),
+            Synced::Bodies(set) => {
+                set.insert(i as u32);
+            }
+        }
+    }
+
+    /// The fraction of the step of body `i`'s next kick.
+    fn kick(&self, i: usize) -> f64 {
+        let whole = match self {
+            Synced::None => false,
+            Synced::All => true,
+            Synced::Bodies(set) => set.contains(&(i as u32)),
+        };
+        if whole {
+            0.5
+        } else {
+            1.0
+        }
     }
 }
 

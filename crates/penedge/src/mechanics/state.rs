@@ -17,7 +17,7 @@
 use super::excavation::{Excavation, Relaxation};
 use super::{Bodies, BodyContact, Contacts, Damping, Fixity, JointModel, Simulation, SubContact};
 use super::{Bolt, BoltElement, BoltState, Bolts, Dowel, Water};
-use super::{InitialStress, JointTable, SubState};
+use super::{InitialStress, JointTable, SubState, Synced};
 use crate::block::{ConvexBlock, Edge, FaceOrigin, Pose};
 use crate::body::Shape;
 use crate::classify::ContactType;
@@ -256,8 +256,11 @@ struct ClockFile {
     steps: u64,
     /// The unbalanced-force ratio of the last step (`null`: none yet, infinite).
     ratio: Option<f64>,
-    /// Velocities at the whole step (the next step starts with a half kick).
+    /// Every body's velocity at the whole step (the next step starts with a half kick).
     synced: bool,
+    /// Else these bodies' (their velocities set since the last step); absent when none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    synced_bodies: Vec<u32>,
     /// The next detection is the first (its touching sub-contacts get bonds).
     initial: bool,
 }
@@ -593,7 +596,11 @@ fn file_of(sim: &Simulation) -> StateFile {
             time: *time,
             steps: *steps,
             ratio: ratio.is_finite().then_some(*ratio),
-            synced: *synced,
+            synced: *synced == Synced::All,
+            synced_bodies: match synced {
+                Synced::Bodies(set) => set.iter().copied().collect(),
+                _ => Vec::new(),
+            },
             initial: *initial,
         },
         shapes,
@@ -1384,6 +1391,23 @@ fn per_body(field: &str, values: &[V3], n: usize) -> Result<Vec<DVec3>, IoError>
 }
 
 /// The block-to-body map of a file: every body of the `n` a block's.
+/// Whose velocities are at the whole step, from the clock of a file with `n` bodies.
+fn synced_of(c: &ClockFile, n: usize) -> Result<Synced, IoError> {
+    if c.synced {
+        return Ok(Synced::All);
+    }
+    if c.synced_bodies.is_empty() {
+        return Ok(Synced::None);
+    }
+    if let Some(&id) = c.synced_bodies.iter().find(|&&id| id as usize >= n) {
+        return Err(bad(
+            "clock.synced_bodies",
+            format!("body {id} is not one of the {n} bodies"),
+        ));
+    }
+    Ok(Synced::Bodies(c.synced_bodies.iter().copied().collect()))
+}
+
 fn block_bodies_of(ids: &[u32], n: usize) -> Result<Vec<u32>, IoError> {
     let mut seen = vec![false; n];
     for (k, &b) in ids.iter().enumerate() {
@@ -1564,7 +1588,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
         *time = c.time;
         *steps = c.steps;
         *ratio = c.ratio.unwrap_or(f64::INFINITY);
-        *synced = c.synced;
+        *synced = synced_of(c, n)?;
         *initial = c.initial;
         *ex = excavation;
         *stress = initial_stress;
