@@ -377,7 +377,8 @@ impl Simulation {
         Ok(())
     }
 
-    /// Frees the given bodies, at rest now (their first step starts with a half kick).
+    /// Frees the given bodies, at rest now (their first step starts with a half kick); a
+    /// body already free is left as it is.
     fn free(&mut self, ids: Vec<usize>) -> PyResult<()> {
         for i in ids {
             self.inner.free(i).map_err(to_py_err)?;
@@ -772,7 +773,8 @@ impl Simulation {
         arrays::read_only(array.into_pyarray(py))
     }
 
-    /// Velocities of the centroids (at the half step, as 3DEC reports them), shape (n, 3).
+    /// Velocities of the centroids (at the half step, as 3DEC reports them; at the current
+    /// time for a body given one since the last step), shape (n, 3).
     #[getter]
     fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let b = self.inner.bodies();

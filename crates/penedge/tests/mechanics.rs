@@ -238,6 +238,11 @@ fn a_velocity_set_during_a_run_moves_that_body_alone() {
             );
         }
     }
+    // Freeing a body already free leaves it moving (before, it stopped it).
+    let v = sim.bodies().velocities()[1];
+    assert!(v.length() > 1.0);
+    sim.free(1).unwrap();
+    assert_eq!(sim.bodies().velocities()[1], v);
 }
 
 /// Euler's equations of a free rigid body, body frame: dπ/dt = π × (π / I), by RK4 (the

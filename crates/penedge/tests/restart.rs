@@ -416,6 +416,13 @@ fn a_bad_restart_file_is_named() {
         ("clock.synced_bodies", |j| {
             j["clock"]["synced_bodies"] = serde_json::json!([99])
         }),
+        ("clock.synced_bodies", |j| {
+            j["clock"]["synced_bodies"] = serde_json::json!([2, 1])
+        }),
+        ("clock.synced_bodies", |j| {
+            j["clock"]["synced"] = true.into();
+            j["clock"]["synced_bodies"] = serde_json::json!([1])
+        }),
         ("settings.update_fraction", |j| {
             j["settings"]["update_fraction"] = (-0.5).into()
         }),

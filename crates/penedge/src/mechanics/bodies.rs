@@ -29,8 +29,8 @@ pub enum Fixity {
 /// The bodies of a simulation: shapes in their own frames and their state.
 ///
 /// Velocities are those of the leapfrog's half step (`t - dt/2` before a step, as 3DEC
-/// reports them), except right after they are set: then they are at `t` and the next step
-/// starts with a half kick.
+/// reports them), except right after they are set: then they are at `t`, and those bodies'
+/// next step starts with a half kick (the `Simulation` keeps which).
 ///
 /// Memory (docs/mechanics.md, "Memory"): 128 bytes per body, one entry in each of the six
 /// arrays below. Mass and moments are the shape's (per unit density) times the density,

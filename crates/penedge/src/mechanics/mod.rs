@@ -521,9 +521,15 @@ impl Simulation {
         self.set_fixity(i, Fixity::Fixed)
     }
 
-    /// Frees body `i`, at rest at the current time (as [`Simulation::set_velocity`] with
-    /// zeros: its next step starts with a half kick).
+    /// Frees body `i`, fixed or moving at a prescribed velocity, at rest at the current
+    /// time (as [`Simulation::set_velocity`] with zeros: its next step starts with a half
+    /// kick). A body already free is left as it is, moving on (a boundary condition set
+    /// on some bodies does not stop the others).
     pub fn free(&mut self, i: usize) -> Result<(), MechanicsError> {
+        self.check_present(i)?;
+        if self.bodies.fixities()[i] == Fixity::Free {
+            return Ok(());
+        }
         self.set_fixity(i, Fixity::Free)?;
         self.bodies.set_velocity(i, DVec3::ZERO, DVec3::ZERO)?;
         self.synced.add(i);
@@ -1436,6 +1442,8 @@ impl Simulation {
             })
             .reduce(Summary::default, Summary::merge);
         self.skin_passed |= summary.passed;
+        // Every body has been advanced: all velocities are at the half step now.
+        self.synced = Synced::None;
         if !summary.finite {
             return Err(MechanicsError::NotFinite("a body's state after the step"));
         }
@@ -1447,7 +1455,6 @@ impl Simulation {
         } else {
             f64::INFINITY
         };
-        self.synced = Synced::None;
         Ok(())
     }
 }

@@ -1390,24 +1390,37 @@ fn per_body(field: &str, values: &[V3], n: usize) -> Result<Vec<DVec3>, IoError>
         .collect()
 }
 
-/// The block-to-body map of a file: every body of the `n` a block's.
-/// Whose velocities are at the whole step, from the clock of a file with `n` bodies.
+/// Whose velocities are at the whole step, from the clock of a file with `n` bodies: all
+/// (`synced`), else the bodies listed, by increasing id (as written: the file reads back to
+/// the same file).
 fn synced_of(c: &ClockFile, n: usize) -> Result<Synced, IoError> {
+    let ids = &c.synced_bodies;
     if c.synced {
-        return Ok(Synced::All);
+        return if ids.is_empty() {
+            Ok(Synced::All)
+        } else {
+            Err(bad(
+                "clock.synced_bodies",
+                "must be absent when clock.synced is true (every body's velocity is at the whole step)",
+            ))
+        };
     }
-    if c.synced_bodies.is_empty() {
+    if ids.is_empty() {
         return Ok(Synced::None);
     }
-    if let Some(&id) = c.synced_bodies.iter().find(|&&id| id as usize >= n) {
+    if let Some(&id) = ids.iter().find(|&&id| id as usize >= n) {
         return Err(bad(
             "clock.synced_bodies",
             format!("body {id} is not one of the {n} bodies"),
         ));
     }
-    Ok(Synced::Bodies(c.synced_bodies.iter().copied().collect()))
+    if ids.windows(2).any(|w| w[0] >= w[1]) {
+        return Err(bad("clock.synced_bodies", "must be increasing"));
+    }
+    Ok(Synced::Bodies(ids.iter().copied().collect()))
 }
 
+/// The block-to-body map of a file: every body of the `n` a block's.
 fn block_bodies_of(ids: &[u32], n: usize) -> Result<Vec<u32>, IoError> {
     let mut seen = vec![false; n];
     for (k, &b) in ids.iter().enumerate() {
