@@ -1271,7 +1271,6 @@ fn a_jointed_mass_in_place_settles_by_the_closure_of_its_horizontal_joints() {
     let (w, h) = (5usize, 4usize);
     let n = h - 1;
     let mut sim = support::cubes_in_a_box_at(w, h, 1.0, || (DQuat::IDENTITY, DVec3::ZERO));
-    let density = 2500.0; // the box's
     let kn = 1e10;
     sim.set_default_joint(JointModel {
         ks: 5e9,
@@ -1281,11 +1280,11 @@ fn a_jointed_mass_in_place_settles_by_the_closure_of_its_horizontal_joints() {
     let start: Vec<DVec3> = sim.bodies().poses().iter().map(|p| p.translation).collect();
     let report = sim.solve(1e-6, 50_000).unwrap();
     assert!(report.converged, "{report:?}");
-    let per_joint = density * G / kn; // m g / (kn A) for a unit cube
     for (b, p) in sim.bodies().poses().iter().enumerate() {
         if !sim.bodies().is_free(b) {
             continue;
         }
+        let per_joint = sim.bodies().masses()[b] * G / kn; // m g / (kn A), A = 1 m²
         let k = b / (w * w);
         let expected: f64 = (1..=k).map(|j| (n - j + 1) as f64 * per_joint).sum();
         let moved = p.translation - start[b];

@@ -36,33 +36,7 @@ use crate::contact::Detector;
 use crate::geometry::DVec3;
 use crate::tolerance::Thresholds;
 
-/// For a contact whose normal is chosen by the cone rule (vertex-vertex, vertex-edge,
-/// edge-edge superposition), the other directions of the cone of valid normals among its
-/// extreme rays (the face normals at the two features, negated for B, and the cross
-/// products of their edge directions), valid within the relative gap; empty for the other
-/// types, whose common plane is unique. `gap`: the pair's gap (absolute), which sets the
-/// slack as for the normal. Along each, as along the normal, a positive
-/// offset of B's feature from A's is a gap between the blocks, to within that slack
-/// (docs/mechanics.md, "Gaps of point contacts"): the mechanics measures a point contact's
-/// gap as the largest of them.
-pub(crate) fn cone_rays(
-    a: &ConvexBlock,
-    b: &ConvexBlock,
-    contact: &Contact,
-    normal: DVec3,
-    gap: f64,
-) -> Vec<DVec3> {
-    use crate::classify::ContactType;
-    match contact.kind {
-        ContactType::VertexVertex
-        | ContactType::VertexEdge
-        | ContactType::EdgeEdgeSuperposition => {
-            let slack = gap / a.size().min(b.size());
-            normal::valid_rays(a, contact.feature_a, b, contact.feature_b, normal, slack)
-        }
-        _ => Vec::new(),
-    }
-}
+pub(crate) use normal::cone_rays;
 
 /// Where the contact forces act: what A ∩ B reduces to on the contact plane.
 #[derive(Clone, Debug, PartialEq)]

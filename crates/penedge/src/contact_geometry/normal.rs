@@ -16,7 +16,7 @@
 
 mod cone;
 
-pub(super) use cone::{most_separating, valid_rays};
+pub(super) use cone::most_separating;
 
 use crate::block::ConvexBlock;
 use crate::classify::{Contact, ContactType, Feature};
@@ -33,8 +33,7 @@ pub(super) fn contact_normal(
     contact: &Contact,
     th: Thresholds,
 ) -> DVec3 {
-    let scale = a.size().min(b.size());
-    let (parallel, slack) = (th.length / scale, th.gap / scale);
+    let (parallel, slack) = (th.length / scale(a, b), cone_slack(a, b, th.gap));
     let (fa, fb) = (contact.feature_a, contact.feature_b);
     match (fa, fb) {
         (Feature::Face(f), Feature::Face(g)) => (face_normal(a, f) - face_normal(b, g))
@@ -47,6 +46,42 @@ pub(super) fn contact_normal(
                 .unwrap_or_else(|| cone::cone_normal(a, fa, b, fb, slack))
         }
         _ => cone::cone_normal(a, fa, b, fb, slack),
+    }
+}
+
+/// The pair's size: the smaller block's.
+fn scale(a: &ConvexBlock, b: &ConvexBlock) -> f64 {
+    a.size().min(b.size())
+}
+
+/// The cone rule's angular slack for a pair whose gap (absolute) is `gap`: the relative gap.
+fn cone_slack(a: &ConvexBlock, b: &ConvexBlock, gap: f64) -> f64 {
+    gap / scale(a, b)
+}
+
+/// For a contact whose normal is chosen by the cone rule (vertex-vertex, vertex-edge,
+/// edge-edge superposition), the other directions of the cone of valid normals among its
+/// extreme rays (the face normals at the two features, negated for B, and the cross
+/// products of their edge directions), valid within the cone rule's slack (the same as for
+/// `normal`); empty for the other types, whose common plane is unique. `gap`: the pair's
+/// gap (absolute). Along each, as along the normal, a positive offset of B's feature from
+/// A's is a gap between the blocks, to within that slack (docs/mechanics.md, "Gaps of point
+/// contacts"): the mechanics measures a point contact's gap as the largest of them.
+pub(crate) fn cone_rays(
+    a: &ConvexBlock,
+    b: &ConvexBlock,
+    contact: &Contact,
+    normal: DVec3,
+    gap: f64,
+) -> Vec<DVec3> {
+    match contact.kind {
+        ContactType::VertexVertex
+        | ContactType::VertexEdge
+        | ContactType::EdgeEdgeSuperposition => {
+            let slack = cone_slack(a, b, gap);
+            cone::valid_rays(a, contact.feature_a, b, contact.feature_b, normal, slack)
+        }
+        _ => Vec::new(),
     }
 }
 

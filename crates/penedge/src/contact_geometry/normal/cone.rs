@@ -118,7 +118,7 @@ pub(in crate::contact_geometry) fn most_separating(
 /// front of it (both blocks lie in their tangent cones): the offset's component along such a
 /// direction, when positive, is a gap between the blocks (to within the slack, for a ray
 /// valid only within it).
-pub(in crate::contact_geometry) fn valid_rays(
+pub(super) fn valid_rays(
     a: &ConvexBlock,
     fa: Feature,
     b: &ConvexBlock,
