@@ -4,7 +4,7 @@
 
 use super::bodies::Bodies;
 use super::bridge::{BridgeTable, ContactFaces};
-use super::joint::{joint_law, JointTable, SubState};
+use super::joint::{joint_law, JointTable, SubState, Tangents};
 use super::stress::InitialStress;
 use crate::block::{ConvexBlock, Pose};
 use crate::classify::{Contact, ContactType, Feature};
@@ -395,6 +395,7 @@ pub(super) struct Scratch {
     floors: Vec<f64>,
     gaps: Vec<f64>,
     points: Vec<DVec3>,
+    tangents: Tangents,
 }
 
 /// How many sub-contacts the contact of `found` has: one per contact point.
@@ -466,6 +467,7 @@ pub(super) fn build_contact(
         floors,
         gaps,
         points,
+        tangents,
     } = scratch;
     let [pa, pb] = found.parts;
     let (a, b) = (&input.placed[pa as usize], &input.placed[pb as usize]);
@@ -565,12 +567,21 @@ pub(super) fn build_contact(
     // only when every gap is positive: a gap at or below zero stays so through the adjustment
     // (the smallest gap is kept), its sub-contact is not open and the contact gets no
     // certificate, so its terms are not computed (most contacts of a mass at rest).
+    // The rounding margin a certificate's smallest gap must clear (below).
+    let margin = |min_gap: f64| min_gap - 2.0 * slack - 512.0 * f64::EPSILON * magnitude;
+    // Nor are they when the smallest gap cannot clear it: the certificate's smallest gap,
+    // the features' heights along the normal, is at most the gaps computed from those
+    // heights (the largest of them and of the heights along the cone's other directions),
+    // and the margin is monotone in it (a point contact open only by rounding, as the
+    // diagonal neighbours in a grid of blocks at rest are: most of the open contacts).
+    let heights = !matches!((g.shape(), carried), (ContactPoints::Point(_), None));
     let open = (input.dormancy
         && found.carry.tolerance > 0.0
         && !found.carry.normal_with_b
-        && gaps.iter().all(|&g| g > 0.0))
-    .then(|| open_terms(points, n, features, poses[1].translation))
-    .flatten();
+        && gaps.iter().all(|&g| g > 0.0)
+        && !(heights && margin(gaps.iter().copied().fold(f64::INFINITY, f64::min)) <= 0.0))
+        .then(|| open_terms(points, n, features, poses[1].translation))
+        .flatten();
     if let (ContactType::FaceFace, 2, FeatureAt::Face(plane_a), FeatureAt::Face(plane_b)) =
         (found.contact.kind, gaps.len(), features[0], features[1])
     {
@@ -647,6 +658,7 @@ pub(super) fn build_contact(
             shear,
             bonded,
             slack,
+            tangents,
         );
         if let Some(slot) = prestresses.get_mut(k_sub) {
             *slot = if out.state == SubState::Open {
@@ -672,7 +684,7 @@ pub(super) fn build_contact(
     // units in the last place of the largest, over a cosine above 1/4), far below the slack
     // but for coordinates some 10^5 block sizes from the origin.
     let cert = open.and_then(|(min_gap, reach, base, edges)| {
-        let min_gap = min_gap - 2.0 * slack - 512.0 * f64::EPSILON * magnitude;
+        let min_gap = margin(min_gap);
         let all_open = subs
             .iter()
             .all(|s| s.state == SubState::Open && !s.bonded && s.gap > 0.0);

@@ -84,12 +84,45 @@ impl JointModel {
     /// The shear strength of a sub-contact: `(tan φ, c)` while its bond is intact, the
     /// residual `(tan φr, cr)` once it has failed (or for a contact formed during the run).
     pub fn strength(&self, bonded: bool) -> (f64, f64) {
+        self.strength_with(bonded, &mut Tangents::default())
+    }
+
+    /// [`JointModel::strength`], its tangent taken from `tangents`.
+    pub(super) fn strength_with(&self, bonded: bool, tangents: &mut Tangents) -> (f64, f64) {
         if bonded {
-            (self.tan_friction(), self.cohesion)
+            (tangents.of(self.friction), self.cohesion)
         } else {
             let phi = self.residual_friction.unwrap_or(self.friction);
-            (phi.to_radians().tan(), self.residual_cohesion)
+            (tangents.of(phi), self.residual_cohesion)
         }
+    }
+}
+
+/// The tangents of the last two angles asked (degrees), remembered: the sub-contacts of a
+/// step ask for the same one or two friction angles again and again, and a tangent costs
+/// more than the rest of the joint law. The same values as `angle.to_radians().tan()`, bit
+/// for bit.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Tangents {
+    /// The angles' bits (0: 0°, whose tangent is 0, the default `values`).
+    angles: [u64; 2],
+    values: [f64; 2],
+    /// The slot the next new angle replaces.
+    next: usize,
+}
+
+impl Tangents {
+    /// `tan` of `degrees`.
+    pub fn of(&mut self, degrees: f64) -> f64 {
+        let bits = degrees.to_bits();
+        if let Some(k) = self.angles.iter().position(|&a| a == bits) {
+            return self.values[k];
+        }
+        let value = degrees.to_radians().tan();
+        self.angles[self.next] = bits;
+        self.values[self.next] = value;
+        self.next ^= 1;
+        value
     }
 }
 
@@ -216,6 +249,7 @@ pub(super) fn joint_law(
     shear: DVec3,
     bonded: bool,
     slack: f64,
+    tangents: &mut Tangents,
 ) -> LawOutcome {
     let fn_ = -model.kn * area * gap;
     let tension_held = bonded && gap <= model.tension / model.kn + slack;
@@ -228,7 +262,7 @@ pub(super) fn joint_law(
             bonded: false,
         };
     }
-    let (tan_phi, cohesion) = model.strength(bonded);
+    let (tan_phi, cohesion) = model.strength_with(bonded, tangents);
     // Friction from compression only: tension on a bond leaves its cohesion.
     let limit = cohesion * area + fn_.max(0.0) * tan_phi;
     let magnitude = shear.length();
@@ -273,27 +307,83 @@ mod tests {
     fn the_law_follows_mohr_coulomb_with_residual_strength() {
         let m = model();
         // Compression 100 * 2 * 0.01 = 2; strength c A + Fn tan φ = 4 + 2 = 6.
-        let held = joint_law(&m, 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), true, 0.0);
+        let held = joint_law(
+            &m,
+            2.0,
+            -0.01,
+            DVec3::new(5.0, 0.0, 0.0),
+            true,
+            0.0,
+            &mut Tangents::default(),
+        );
         assert_eq!(held.state, SubState::Elastic);
         assert!((held.normal_force - 2.0).abs() < 1e-12);
-        let slid = joint_law(&m, 2.0, -0.01, DVec3::new(7.0, 0.0, 0.0), true, 0.0);
+        let slid = joint_law(
+            &m,
+            2.0,
+            -0.01,
+            DVec3::new(7.0, 0.0, 0.0),
+            true,
+            0.0,
+            &mut Tangents::default(),
+        );
         assert_eq!(slid.state, SubState::Sliding);
         assert!((slid.shear_force.x - 6.0).abs() < 1e-12);
         assert!(!slid.bonded, "a bond that slides loses its cohesion");
         // Unbonded: friction only.
-        let residual = joint_law(&m, 2.0, -0.01, DVec3::new(7.0, 0.0, 0.0), false, 0.0);
+        let residual = joint_law(
+            &m,
+            2.0,
+            -0.01,
+            DVec3::new(7.0, 0.0, 0.0),
+            false,
+            0.0,
+            &mut Tangents::default(),
+        );
         assert!((residual.shear_force.x - 2.0).abs() < 1e-12);
         // Tension 100 * 2 * 0.02 = 4 < T A = 6 holds; 0.04 -> 8 > 6 fails.
-        let pulled = joint_law(&m, 2.0, 0.02, DVec3::ZERO, true, 0.0);
+        let pulled = joint_law(
+            &m,
+            2.0,
+            0.02,
+            DVec3::ZERO,
+            true,
+            0.0,
+            &mut Tangents::default(),
+        );
         assert!((pulled.normal_force + 4.0).abs() < 1e-12 && pulled.bonded);
-        let broken = joint_law(&m, 2.0, 0.04, DVec3::ZERO, true, 0.0);
+        let broken = joint_law(
+            &m,
+            2.0,
+            0.04,
+            DVec3::ZERO,
+            true,
+            0.0,
+            &mut Tangents::default(),
+        );
         assert_eq!((broken.state, broken.bonded), (SubState::Open, false));
-        let apart = joint_law(&m, 2.0, 0.02, DVec3::ZERO, false, 0.0);
+        let apart = joint_law(
+            &m,
+            2.0,
+            0.02,
+            DVec3::ZERO,
+            false,
+            0.0,
+            &mut Tangents::default(),
+        );
         assert_eq!(apart.state, SubState::Open);
         // A bond of tension only that slides in compression fails too (3DEC): it no longer
         // holds tension; held in tension (no shear strength) it keeps its bond.
         let tension_only = JointModel { cohesion: 0.0, ..m };
-        let pulled = joint_law(&tension_only, 2.0, 0.01, DVec3::X * 1e-9, true, 0.0);
+        let pulled = joint_law(
+            &tension_only,
+            2.0,
+            0.01,
+            DVec3::X * 1e-9,
+            true,
+            0.0,
+            &mut Tangents::default(),
+        );
         assert_eq!((pulled.state, pulled.bonded), (SubState::Sliding, true));
         let slid = joint_law(
             &tension_only,
@@ -302,8 +392,25 @@ mod tests {
             DVec3::new(3.0, 0.0, 0.0),
             true,
             0.0,
+            &mut Tangents::default(),
         );
         assert_eq!((slid.state, slid.bonded), (SubState::Sliding, false));
+    }
+
+    /// The remembered tangents are those computed, bit for bit, whichever angles were asked
+    /// before (two slots, replaced in turn).
+    #[test]
+    fn remembered_tangents_are_the_computed_ones() {
+        let mut t = Tangents::default();
+        for &a in &[
+            0.0, 30.0, 30.0, 20.0, 30.0, 45.0, 20.0, -0.0, 89.9, 30.0, 0.0,
+        ] {
+            assert_eq!(
+                t.of(a).to_bits(),
+                f64::to_radians(a).tan().to_bits(),
+                "{a}°"
+            );
+        }
     }
 
     /// After failure the residual friction and cohesion apply: tan φr = tan 20°, cr = 0.5.
@@ -316,13 +423,37 @@ mod tests {
         };
         // Compression 2: peak strength 2 × 2 + 2 tan 45° = 6; residual 0.5 × 2 + 2 tan 20°.
         let residual = 1.0 + 2.0 * 20f64.to_radians().tan();
-        let intact = joint_law(&m, 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), true, 0.0);
+        let intact = joint_law(
+            &m,
+            2.0,
+            -0.01,
+            DVec3::new(5.0, 0.0, 0.0),
+            true,
+            0.0,
+            &mut Tangents::default(),
+        );
         assert_eq!((intact.state, intact.bonded), (SubState::Elastic, true));
-        let failed = joint_law(&m, 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), false, 0.0);
+        let failed = joint_law(
+            &m,
+            2.0,
+            -0.01,
+            DVec3::new(5.0, 0.0, 0.0),
+            false,
+            0.0,
+            &mut Tangents::default(),
+        );
         assert_eq!(failed.state, SubState::Sliding);
         assert!((failed.shear_force.x - residual).abs() < 1e-12);
         // Without residual values: the friction angle, no cohesion.
-        let plain = joint_law(&model(), 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), false, 0.0);
+        let plain = joint_law(
+            &model(),
+            2.0,
+            -0.01,
+            DVec3::new(5.0, 0.0, 0.0),
+            false,
+            0.0,
+            &mut Tangents::default(),
+        );
         assert!((plain.shear_force.x - 2.0).abs() < 1e-12);
     }
 
