@@ -1252,8 +1252,13 @@ impl Simulation {
             mut subs,
             mut prestresses,
         } = std::mem::take(&mut self.spare);
-        subs.clear();
-        subs.par_extend(rayon::iter::repeat_n(SubContact::default(), total));
+        // Every sub-contact of the buffer is written below (built, or copied for a dormant
+        // contact), so only the slots beyond its old length are filled first: filling all
+        // of them wrote each sub-contact's 112 bytes twice (docs/mechanics.md, "The
+        // sub-contact update").
+        subs.truncate(total);
+        let grown = total - subs.len();
+        subs.par_extend(rayon::iter::repeat_n(SubContact::default(), grown));
         prestresses.clear();
         prestresses.resize(if keep_stress { total } else { 0 }, 0.0);
         let mut slices = Vec::with_capacity(found.len());
@@ -1307,7 +1312,11 @@ impl Simulation {
                             _ => {
                                 let (contact, cert) =
                                     build_contact(&input, f.found, previous, scratch, out, out_p);
-                                *slot = cert.map_or(Frame::None, Frame::Open);
+                                // Written only when it changes: most contacts have none, and
+                                // writing the slot dirtied its cache line at every step.
+                                if cert.is_some() || !matches!(slot, Frame::None) {
+                                    *slot = cert.map_or(Frame::None, Frame::Open);
+                                }
                                 contact
                             }
                         };
