@@ -405,47 +405,48 @@ pub(super) fn sub_count(found: &Found) -> usize {
 
 /// A contact of this step, before its sub-contacts: its candidate pair (index and parts),
 /// the detection's answer, and whether it is dormant (its sub-contacts kept from the last
-/// step: docs/mechanics.md, "Dormant contacts").
+/// step: docs/mechanics.md, "Dormant contacts"); then, from [`counts_and_previous`], its
+/// sub-contact count and the index of the same pair's contact at the last step.
 pub(super) struct Current<'a> {
     pub pair: u32,
     pub parts: [u32; 2],
     pub found: &'a Found,
     pub dormant: bool,
+    pub count: u32,
+    pub previous: Option<u32>,
 }
 
 /// For each contact found this step (in pair order), its sub-contact count, the index of
 /// the same pair's contact in `previous` (if it had one) and whether it is dormant (a
-/// dormant contact without one in `previous` is not: it is updated): a merge of the two
-/// lists, both sorted by pair, rather than a binary search per contact (in parallel, by
-/// chunks that each search where they start; a pair not met by the merge is searched, so
-/// the answer does not depend on the order). A dormant contact keeps its count and does
-/// not read its answer.
-pub(super) fn counts_and_previous(
-    previous: &Contacts,
-    found: &[Current],
-) -> Vec<(u32, Option<u32>, bool)> {
+/// dormant contact without one in `previous` is not: it is updated), written to it: a merge
+/// of the two lists, both sorted by pair, rather than a binary search per contact (in
+/// parallel, by chunks that each search where they start; a pair not met by the merge is
+/// searched, so the answer does not depend on the order). A dormant contact keeps its count
+/// and does not read its answer.
+pub(super) fn counts_and_previous(previous: &Contacts, found: &mut [Current]) {
     use rayon::prelude::*;
     let list = &previous.list;
-    found
-        .par_chunks(4096)
-        .flat_map_iter(|chunk| {
-            let mut j = list.partition_point(|c| c.parts < chunk[0].parts);
-            chunk.iter().map(move |f| {
-                while j < list.len() && list[j].parts < f.parts {
-                    j += 1;
+    found.par_chunks_mut(4096).for_each(|chunk| {
+        let mut j = list.partition_point(|c| c.parts < chunk[0].parts);
+        for f in chunk {
+            while j < list.len() && list[j].parts < f.parts {
+                j += 1;
+            }
+            let at = if j < list.len() && list[j].parts == f.parts {
+                Some(j)
+            } else {
+                previous.find(f.parts)
+            };
+            f.previous = at.map(|i| i as u32);
+            match at {
+                Some(i) if f.dormant => f.count = list[i].count,
+                _ => {
+                    f.count = sub_count(f.found) as u32;
+                    f.dormant = false;
                 }
-                let at = if j < list.len() && list[j].parts == f.parts {
-                    Some(j)
-                } else {
-                    previous.find(f.parts)
-                };
-                match at {
-                    Some(i) if f.dormant => (list[i].count, Some(i as u32), true),
-                    _ => (sub_count(f.found) as u32, at.map(|i| i as u32), false),
-                }
-            })
-        })
-        .collect()
+            }
+        }
+    });
 }
 
 /// The contact, its sub-contacts with their forces for this step written to `subs` (of length

@@ -1225,9 +1225,9 @@ impl Simulation {
         };
         // The contacts of this step, in pair order: the pair's index, its parts (from the
         // pair list, so that a dormant contact does not read its answer), the answer, and
-        // whether it is dormant.
+        // whether it is dormant; then their counts and last step's contacts.
         let pairs = &self.pairs;
-        let found: Vec<contacts::Current> = self
+        let mut found: Vec<contacts::Current> = self
             .memo
             .par_iter()
             .zip(outcomes)
@@ -1238,92 +1238,110 @@ impl Simulation {
                     parts: pairs[k],
                     found,
                     dormant: outcome == Outcome::Dormant,
+                    count: 0,
+                    previous: None,
                 })
             })
             .collect();
-        // Each contact's sub-contacts (and, in a run with an initial stress, their installed
-        // stresses) are written in place, in contact order: no allocation per contact.
-        let counts = counts_and_previous(&self.contacts, &found);
-        let total: usize = counts.iter().map(|&(n, _, _)| n as usize).sum();
+        counts_and_previous(&self.contacts, &mut found);
+        let total: usize = found.par_iter().map(|f| f.count as usize).sum();
         let keep_stress = self.initial_stress.is_some() || !self.contacts.prestresses.is_empty();
-        // The buffers of the step before last (`spare`), refilled in place.
+        // The buffers of the step before last (`spare`), refilled in place. Every contact
+        // and sub-contact of them is written below (built, or copied for a dormant contact),
+        // so only the slots beyond their old lengths are filled first: filling all of them
+        // wrote each sub-contact's 112 bytes twice (docs/mechanics.md, "The sub-contact
+        // update").
         let Contacts {
             mut list,
             mut subs,
             mut prestresses,
         } = std::mem::take(&mut self.spare);
-        // Every sub-contact of the buffer is written below (built, or copied for a dormant
-        // contact), so only the slots beyond its old length are filled first: filling all
-        // of them wrote each sub-contact's 112 bytes twice (docs/mechanics.md, "The
-        // sub-contact update").
         subs.truncate(total);
         let grown = total - subs.len();
         subs.par_extend(rayon::iter::repeat_n(SubContact::default(), grown));
         prestresses.clear();
         prestresses.resize(if keep_stress { total } else { 0 }, 0.0);
-        let mut slices = Vec::with_capacity(found.len());
-        let (mut rest, mut rest_p) = (subs.as_mut_slice(), prestresses.as_mut_slice());
-        let mut first = 0;
-        for &(count, previous, _) in &counts {
-            let (head, tail) = rest.split_at_mut(count as usize);
-            let (head_p, tail_p) =
-                rest_p.split_at_mut(if keep_stress { count as usize } else { 0 });
-            slices.push((first, previous, head, head_p));
+        list.truncate(found.len());
+        let placeholder = BodyContact {
+            parts: [0; 2],
+            bodies: [0; 2],
+            kind: crate::ContactType::FaceFace,
+            normal: DVec3::Z,
+            set: None,
+            bridge: false,
+            first: 0,
+            count: 0,
+        };
+        list.resize(found.len(), placeholder);
+        // The contacts by chunks, each with its own slices of the contacts, sub-contacts,
+        // installed stresses and pair frames (a chunk's pairs are a range of them: the
+        // contacts are in pair order), updated in parallel chunk by chunk.
+        const CHUNK: usize = 512;
+        let mut work = Vec::with_capacity(found.len().div_ceil(CHUNK));
+        let mut rest = (
+            list.as_mut_slice(),
+            subs.as_mut_slice(),
+            prestresses.as_mut_slice(),
+            self.frames.as_mut_slice(),
+        );
+        let (mut first, mut frames_at) = (0u32, 0usize);
+        for chunk in found.chunks(CHUNK) {
+            let count: u32 = chunk.iter().map(|f| f.count).sum();
+            let (list, list_tail) = std::mem::take(&mut rest.0).split_at_mut(chunk.len());
+            let (subs, subs_tail) = std::mem::take(&mut rest.1).split_at_mut(count as usize);
+            let stress_count = if keep_stress { count as usize } else { 0 };
+            let (stress, stress_tail) = std::mem::take(&mut rest.2).split_at_mut(stress_count);
+            let (from, to) = (
+                chunk[0].pair as usize,
+                chunk[chunk.len() - 1].pair as usize + 1,
+            );
+            let (_, frames_tail) = std::mem::take(&mut rest.3).split_at_mut(from - frames_at);
+            let (frames, frames_tail) = frames_tail.split_at_mut(to - from);
+            rest = (list_tail, subs_tail, stress_tail, frames_tail);
+            frames_at = to;
+            work.push((chunk, first, list, subs, stress, frames));
             first += count;
-            rest = tail;
-            rest_p = tail_p;
-        }
-        // Each contact's frame, written in place: the frames of the contacts' pairs, in pair
-        // order as the contacts are (a merge walk over the frames).
-        let mut frames = Vec::with_capacity(found.len());
-        let mut rest_f = self.frames.as_mut_slice();
-        let mut at = 0;
-        for f in &found {
-            let (_, tail) = std::mem::take(&mut rest_f).split_at_mut(f.pair as usize - at);
-            let (slot, tail) = tail
-                .split_first_mut()
-                .expect("a contact's pair has a frame");
-            frames.push(slot);
-            at = f.pair as usize + 1;
-            rest_f = tail;
         }
         let old = &self.contacts;
-        list.clear();
-        list.par_extend(
-            found
-                .par_iter()
-                .zip(slices)
-                .zip(frames)
-                .zip(&counts)
-                .map_init(
-                    Scratch::default,
-                    |scratch, (((f, (first, previous, out, out_p)), slot), &(_, _, dormant))| {
-                        let mut contact = match previous {
-                            // Dormant: the last step's contact and sub-contacts, its frame kept.
-                            Some(i) if dormant => {
-                                let i = i as usize;
-                                let from = old.list[i].first as usize;
-                                out.copy_from_slice(old.subs_of(i));
-                                for (k, p) in out_p.iter_mut().enumerate() {
-                                    *p = old.prestress(from + k);
-                                }
-                                old.list[i].clone()
+        work.into_par_iter().for_each_init(
+            Scratch::default,
+            |scratch, (chunk, mut first, list, mut subs, mut stress, frames)| {
+                let from = chunk[0].pair as usize;
+                for (f, slot) in chunk.iter().zip(list) {
+                    let n = f.count as usize;
+                    let (out, tail) = std::mem::take(&mut subs).split_at_mut(n);
+                    subs = tail;
+                    let (out_p, tail) =
+                        std::mem::take(&mut stress).split_at_mut(if keep_stress { n } else { 0 });
+                    stress = tail;
+                    let mut contact = match f.previous {
+                        // Dormant: the last step's contact and sub-contacts, its frame kept.
+                        Some(i) if f.dormant => {
+                            let i = i as usize;
+                            let at = old.list[i].first as usize;
+                            out.copy_from_slice(old.subs_of(i));
+                            for (k, p) in out_p.iter_mut().enumerate() {
+                                *p = old.prestress(at + k);
                             }
-                            _ => {
-                                let (contact, cert) =
-                                    build_contact(&input, f.found, previous, scratch, out, out_p);
-                                // Written only when it changes: most contacts have none, and
-                                // writing the slot dirtied its cache line at every step.
-                                if cert.is_some() || !matches!(slot, Frame::None) {
-                                    *slot = cert.map_or(Frame::None, Frame::Open);
-                                }
-                                contact
+                            old.list[i].clone()
+                        }
+                        previous => {
+                            let (contact, cert) =
+                                build_contact(&input, f.found, previous, scratch, out, out_p);
+                            // Written only when it changes: most contacts have none, and
+                            // writing the slot dirtied its cache line at every step.
+                            let frame = &mut frames[f.pair as usize - from];
+                            if cert.is_some() || !matches!(frame, Frame::None) {
+                                *frame = cert.map_or(Frame::None, Frame::Open);
                             }
-                        };
-                        contact.first = first;
-                        contact
-                    },
-                ),
+                            contact
+                        }
+                    };
+                    contact.first = first;
+                    first += f.count;
+                    *slot = contact;
+                }
+            },
         );
         // The side table only while a sub-contact has an installed stress.
         if prestresses.iter().all(|&p| p == 0.0) {
