@@ -395,6 +395,8 @@ pub(super) struct Scratch {
     floors: Vec<f64>,
     gaps: Vec<f64>,
     points: Vec<DVec3>,
+    /// The points in the frame A had at the query (below).
+    frame: Vec<DVec3>,
     tangents: Tangents,
 }
 
@@ -468,6 +470,7 @@ pub(super) fn build_contact(
         floors,
         gaps,
         points,
+        frame,
         tangents,
     } = scratch;
     let [pa, pb] = found.parts;
@@ -503,15 +506,32 @@ pub(super) fn build_contact(
         2.0 * radius(bodies[0]).min(radius(bodies[1]))
     });
     let width = input.point_width * diameter;
-    // The two features where they are now: read from the placed blocks at the query's poses,
-    // else moved from where they were at the query as the points are (docs/mechanics.md,
-    // "Carried contacts": the same rigid motions, so a carried contact reads neither block).
-    let features = match carried {
+    // The gaps are measured in the frame A had at the query, A's motion since undone (a
+    // rigid motion of both bodies changes no gap): there A's feature, the points moving with
+    // A, the normal (when it moves with A) and the cone's other directions are as they were
+    // at the query, and only B's feature and points have moved, by B's motion relative to A
+    // since the query. (Measured in the world, all of them would be moved, and the
+    // directions renormalised, at every step.) At the query's poses that frame is the world.
+    let relative = carried.map(|[ma, mb]| {
+        let back = ma.rotation.conjugate();
+        Pose {
+            rotation: back * mb.rotation,
+            translation: back * (mb.translation - ma.translation),
+        }
+    });
+    let frame_normal = match relative {
+        Some(r) if found.carry.normal_with_b => (r.rotation * g.normal()).normalize(),
+        _ => g.normal(),
+    };
+    // The two features there: read from the placed blocks at the query's poses, else B's
+    // moved from where it was at the query as its points are (docs/mechanics.md, "Carried
+    // contacts": the same rigid motion, so a carried contact reads neither block).
+    let features = match relative {
         None => [
             FeatureAt::of(a, found.contact.feature_a),
             FeatureAt::of(b, found.contact.feature_b),
         ],
-        Some(m) => [0, 1].map(|k| found.carry.features[k].moved(&m[k])),
+        Some(r) => [found.carry.features[0], found.carry.features[1].moved(&r)],
     };
     // The rounding of a gap of zero, far above it (and above the rounding of coordinates
     // far from the origin): a bond at zero gap is not broken by it. (A carried contact takes
@@ -531,20 +551,38 @@ pub(super) fn build_contact(
             input.previous.subs_of(i),
         )
     });
+    let moves_with_b = |k: usize| k < 64 && found.carry.with_b & (1 << k) != 0;
     points.clear();
     match carried {
         None => points.extend_from_slice(g.points()),
-        Some(m) => points.extend(g.points().iter().enumerate().map(|(k, &p)| {
-            let with_b = k < 64 && found.carry.with_b & (1 << k) != 0;
-            m[usize::from(with_b)].apply(p)
-        })),
+        Some(m) => points.extend(
+            g.points()
+                .iter()
+                .enumerate()
+                .map(|(k, &p)| m[usize::from(moves_with_b(k))].apply(p)),
+        ),
     }
+    // The points in A's frame at the query.
+    let frame: &[DVec3] = match relative {
+        None => g.points(),
+        Some(r) => {
+            frame.clear();
+            frame.extend(g.points().iter().enumerate().map(|(k, &p)| {
+                if moves_with_b(k) {
+                    r.apply(p)
+                } else {
+                    p
+                }
+            }));
+            frame
+        }
+    };
     gaps.clear();
     match (g.shape(), carried) {
         (ContactPoints::Point(_), None) => gaps.push(g.distance()),
-        _ => gaps.extend(points.iter().map(|&p| {
-            let sa = features[0].height(p, n);
-            let sb = features[1].height(p, n);
+        _ => gaps.extend(frame.iter().map(|&p| {
+            let sa = features[0].height(p, frame_normal);
+            let sb = features[1].height(p, frame_normal);
             sb - sa
         })),
     };
@@ -553,10 +591,8 @@ pub(super) fn build_contact(
     // features that slid past each other without overlapping (diagonal neighbours in a grid
     // of blocks settling) are apart, not pushed along the normal.
     if !found.carry.axes.is_empty() {
-        let turn = carried.map(|m| m[0].rotation);
         for &axis in found.carry.axes.iter() {
-            let axis = turn.map_or(axis, |r| (r * axis).normalize());
-            for (gap, &p) in gaps.iter_mut().zip(points.iter()) {
+            for (gap, &p) in gaps.iter_mut().zip(frame) {
                 let along = features[1].height(p, axis) - features[0].height(p, axis);
                 *gap = gap.max(along);
             }
@@ -581,7 +617,12 @@ pub(super) fn build_contact(
         && !found.carry.normal_with_b
         && gaps.iter().all(|&g| g > 0.0)
         && !(heights && margin(gaps.iter().copied().fold(f64::INFINITY, f64::min)) <= 0.0))
-        .then(|| open_terms(points, n, features, poses[1].translation))
+        .then(|| {
+            // B's centroid in A's frame at the query.
+            let centre = found.carry.poses[1].translation;
+            let centre = relative.map_or(poses[1].translation, |r| r.apply(centre));
+            open_terms(frame, frame_normal, features, centre)
+        })
         .flatten();
     if let (ContactType::FaceFace, 2, FeatureAt::Face(plane_a), FeatureAt::Face(plane_b)) =
         (found.contact.kind, gaps.len(), features[0], features[1])
@@ -592,9 +633,11 @@ pub(super) fn build_contact(
         // faces have opened. The shallower end is moved across the strip, along the gap's
         // gradient on the contact plane, to the deeper end's depth: both ends then lie on
         // the edge, as the segment of the edge-face contact the strip becomes.
-        let (na, nb) = (plane_a.normal, plane_b.normal);
-        let grad = na / na.dot(n) - nb / nb.dot(n);
-        let grad = grad - n * grad.dot(n);
+        // The gradient in A's frame at the query, turned into the world.
+        let (na, nb, nf) = (plane_a.normal, plane_b.normal, frame_normal);
+        let grad = na / na.dot(nf) - nb / nb.dot(nf);
+        let grad = grad - nf * grad.dot(nf);
+        let grad = carried.map_or(grad, |m| m[0].rotation * grad);
         let (deep, shallow) = if gaps[0] <= gaps[1] { (0, 1) } else { (1, 0) };
         if grad.length_squared() > 0.0 {
             points[shallow] -= grad * ((gaps[shallow] - gaps[deep]) / grad.length_squared());
