@@ -80,7 +80,10 @@ fn centroid(points: &[DVec3]) -> DVec3 {
 }
 
 /// The midpoint of the closest points of the lines of edge `ea` of A and `eb` of B;
-/// `None` for parallel lines.
+/// `None` for parallel lines. When a line's closest point lies beyond its edge (two nearly
+/// parallel edges within the gap along a stretch, whose lines come closest far from both:
+/// at 2e-3 rad, a metre away), the closest points of the two edges themselves instead, so
+/// that the point is on both edges (docs/contact-geometry.md, "Accuracy and deviations").
 fn crossing_point(a: &ConvexBlock, ea: u32, b: &ConvexBlock, eb: u32) -> Option<DVec3> {
     let line = |block: &ConvexBlock, e: u32| {
         let [p, q] = block.edges()[e as usize].vertices;
@@ -88,17 +91,100 @@ fn crossing_point(a: &ConvexBlock, ea: u32, b: &ConvexBlock, eb: u32) -> Option<
         (start, block.vertices()[q as usize] - start)
     };
     let (la, lb) = (line(a, ea), line(b, eb));
-    Some((closest_on_first(la, lb)? + closest_on_first(lb, la)?) * 0.5)
+    let (s, t) = (closest_parameter(la, lb)?, closest_parameter(lb, la)?);
+    let at = |(p, u): (DVec3, DVec3), s: f64| p + u * s;
+    let within = |s: f64| (0.0..=1.0).contains(&s);
+    if within(s) && within(t) {
+        return Some((at(la, s) + at(lb, t)) * 0.5);
+    }
+    // The closest points of the two segments (Ericson, "Real-Time Collision Detection",
+    // 5.1.9): A's parameter clamped, B's nearest to that point, and A's again if B's was
+    // clamped.
+    let nearest = |(p, u): (DVec3, DVec3), x: DVec3| (x - p).dot(u) / u.length_squared();
+    let s = s.clamp(0.0, 1.0);
+    let t_free = nearest(lb, at(la, s));
+    let t = t_free.clamp(0.0, 1.0);
+    let s = if t == t_free {
+        s
+    } else {
+        nearest(la, at(lb, t)).clamp(0.0, 1.0)
+    };
+    Some((at(la, s) + at(lb, t)) * 0.5)
 }
 
-/// The point of line `p + s u` closest to line `q + t v`:
+/// The parameter `s` of the point of line `p + s u` closest to line `q + t v`:
 /// `s = ((q - p) × v)·(u × v) / |u × v|²`. Written with cross products, which keep their
 /// relative accuracy for lines at small angles (`u·u v·v - (u·v)²` would cancel).
-fn closest_on_first((p, u): (DVec3, DVec3), (q, v): (DVec3, DVec3)) -> Option<DVec3> {
+fn closest_parameter((p, u): (DVec3, DVec3), (q, v): (DVec3, DVec3)) -> Option<f64> {
     let normal = u.cross(v);
     let det = normal.length_squared();
     if det <= 0.0 {
         return None;
     }
-    Some(p + u * ((q - p).cross(v).dot(normal) / det))
+    Some((q - p).cross(v).dot(normal) / det)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DQuat;
+
+    /// The index of the edge of `block` from `p` to `q` (either way).
+    fn edge(block: &ConvexBlock, p: DVec3, q: DVec3) -> u32 {
+        let v = block.vertices();
+        let near = |i: u32, x: DVec3| v[i as usize].distance(x) < 1e-9;
+        block
+            .edges()
+            .iter()
+            .position(|e| {
+                let [i, j] = e.vertices;
+                near(i, p) && near(j, q) || near(i, q) && near(j, p)
+            })
+            .expect("no such edge") as u32
+    }
+
+    /// Two edges that cross inside both keep their lines' closest points; two nearly parallel
+    /// edges side by side (B's cube turned by 2e-3 rad about the vertical, its edge 1 mm from
+    /// A's along their common stretch), whose lines cross 0.6 m beyond A's edge, get a point
+    /// on both edges: the point of the lines, the old answer, was off A's edge by 0.6 m.
+    #[test]
+    fn a_crossing_point_lies_on_both_edges() {
+        let a = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+        let ea = edge(&a, DVec3::new(1.0, 0.0, 1.0), DVec3::new(1.0, 1.0, 1.0));
+        let on_edge = |block: &ConvexBlock, e: u32, x: DVec3| {
+            let [p, q] = block.edges()[e as usize]
+                .vertices
+                .map(|i| block.vertices()[i as usize]);
+            // Within 2 mm of the edge (the segment, not its line).
+            let s = ((x - p).dot(q - p) / (q - p).length_squared()).clamp(0.0, 1.0);
+            (p + (q - p) * s).distance(x) < 2e-3
+        };
+        // Crossing: B's top-back edge runs along x above A's top-right edge, 1 mm up.
+        let b = ConvexBlock::cuboid([0.5, -0.5, 1.001], [1.5, 0.5, 2.001]).unwrap();
+        let eb = edge(&b, DVec3::new(0.5, 0.5, 1.001), DVec3::new(1.5, 0.5, 1.001));
+        let x = crossing_point(&a, ea, &b, eb).unwrap();
+        assert!(x.distance(DVec3::new(1.0, 0.5, 1.0005)) < 1e-12, "{x}");
+        // Nearly parallel: B beside A across its right top edge (x = 1, z = 1), shifted by
+        // 0.6 along y and turned by 2e-3 rad about the vertical through (1, 1.6, 1).
+        let turn = DQuat::from_rotation_z(2e-3);
+        let b = ConvexBlock::cuboid([1.0, 0.6, 1.001], [2.0, 1.6, 2.001])
+            .unwrap()
+            .rotated(turn, DVec3::new(1.0, 1.6, 1.0));
+        let (p, q) = (DVec3::new(1.0, 0.6, 1.001), DVec3::new(1.0, 1.6, 1.001));
+        let near = |x: DVec3| {
+            *b.vertices()
+                .iter()
+                .min_by(|u, v| u.distance(x).total_cmp(&v.distance(x)))
+                .unwrap()
+        };
+        let eb = edge(&b, near(p), near(q));
+        let x = crossing_point(&a, ea, &b, eb).unwrap();
+        assert!(on_edge(&a, ea, x) && on_edge(&b, eb, x), "{x}");
+        // The lines alone come closest where B's turned edge meets x = 1: at its far end
+        // (y = 1.6), 0.6 beyond A's edge.
+        let la = (DVec3::new(1.0, 0.0, 1.0), DVec3::Y);
+        let lb = (near(p), near(q) - near(p));
+        let s = closest_parameter(la, lb).unwrap();
+        assert!((s - 1.6).abs() < 1e-6, "{s}");
+    }
 }
