@@ -571,7 +571,49 @@ fn water_set_during_a_run_wakes_dormant_contacts() {
 /// whatever the motion (a contact dormant while its gap closes) fails this test.
 #[test]
 fn dormant_contacts_give_the_same_motion_and_forces_bit_for_bit() {
-    let mut updated = settling_stack();
+    let (d, _) = dormant_beside_updated(settling_stack(), 900);
+    println!(
+        "carried {} pair-steps, of them dormant {} ({:.0} %)",
+        d.carried,
+        d.dormant,
+        100.0 * d.dormant as f64 / d.carried as f64
+    );
+}
+
+/// The same as the settling stack's, on a box of 12 × 12 × 7 jittered cubes with open joints
+/// (2 mm): over 2,000 contacts, so that the step's update runs over several chunks of 512
+/// contacts, each with its own slices of the contacts, sub-contacts and pair frames. Besides
+/// the bits of the dormant run against the updated one, at every step each contact's first
+/// sub-contact follows the ones before it, the counts fill the sub-contacts exactly, and
+/// every sub-contact of a pair lies within the detection gap of both of its placed blocks
+/// (a chunk handed another chunk's slices would put them at another pair).
+#[test]
+fn dormant_contacts_over_several_chunks_give_the_same_motion_bit_for_bit() {
+    let mut seed = 7u64;
+    let mut uniform = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let sim = support::cubes_in_a_box(12, 7, || {
+        let axis = DVec3::new(uniform(), uniform(), uniform()).normalize();
+        (DQuat::from_axis_angle(axis, 2e-3 * uniform()), DVec3::ZERO)
+    });
+    let (d, most) = dormant_beside_updated(sim, 150);
+    assert!(
+        most > 3 * 512,
+        "{most} contacts at most: fewer than 4 chunks"
+    );
+    println!("{most} contacts at most; {d:?}");
+}
+
+/// Steps `sim` with dormant contacts (the default) beside a copy that updates every contact,
+/// `steps` times, comparing the motion and every contact and sub-contact's forces bit for
+/// bit, and checking the layout of the dormant run's contacts (above). Returns the dormant
+/// run's timings and its largest number of contacts.
+fn dormant_beside_updated(sim: Simulation, steps: u64) -> (penedge::mechanics::StepTimings, usize) {
+    let mut updated = sim;
     updated
         .set_update_fraction(penedge::mechanics::FAST_UPDATE_FRACTION)
         .unwrap();
@@ -581,16 +623,50 @@ fn dormant_contacts_give_the_same_motion_and_forces_bit_for_bit() {
     );
     let mut dormant = updated.clone();
     updated.set_dormant_contacts(false);
-    for step in 0..900 {
+    let mut most = 0;
+    for step in 0..steps {
         dormant.step().unwrap();
         updated.step().unwrap();
         same_motion(step, &dormant, &updated);
         let (c, f) = (dormant.contacts(), updated.contacts());
+        most = most.max(c.list.len());
         assert_eq!(
             c.list.len(),
             f.list.len(),
             "step {step}: number of contacts"
         );
+        let mut first = 0;
+        let placed = dormant.placed_system();
+        for (k, x) in c.list.iter().enumerate() {
+            assert_eq!(x.first, first, "step {step}, contact {k}");
+            first += x.count;
+            let blocks = x.parts.map(|p| &placed.blocks()[p as usize]);
+            for s in c.subs_of(k) {
+                for b in blocks {
+                    // How far the point is outside the block (beyond its farthest face
+                    // plane): within the joints' 2 mm opening and the jitter's turns, under
+                    // 1 cm; a point of another pair is at least half a cube from one of them
+                    // (for a polygon, some of its corners are).
+                    let outside = b
+                        .planes()
+                        .iter()
+                        .map(|p| p.normal.dot(s.point - p.point))
+                        .fold(f64::NEG_INFINITY, f64::max);
+                    assert!(
+                        outside < 1e-2,
+                        "step {step}, contact {k} ({:?}, parts {:?}, {} sub-contacts from {}): \
+                         point {} is {outside} m outside the block at {}",
+                        x.kind,
+                        x.parts,
+                        x.count,
+                        x.first,
+                        s.point,
+                        b.centroid()
+                    );
+                }
+            }
+        }
+        assert_eq!(first as usize, c.subs.len(), "step {step}");
         for (x, y) in c.list.iter().zip(&f.list) {
             assert_eq!(
                 (x.parts, x.kind, x.first, x.count),
@@ -624,10 +700,121 @@ fn dormant_contacts_give_the_same_motion_and_forces_bit_for_bit() {
         [d.queried, d.certified, d.carried],
         [u.queried, u.certified, u.carried]
     );
-    println!(
-        "carried {} pair-steps, of them dormant {} ({:.0} %)",
-        d.carried,
-        d.dormant,
-        100.0 * d.dormant as f64 / d.carried as f64
-    );
+    (d, most)
+}
+
+/// Two bodies turned together (no gravity; each step both are given the velocity and spin
+/// of one rigid rotation about an oblique axis), an open contact between them: its carried
+/// gaps must be the gaps of the two features at the bodies' poses, computed here from the
+/// poses alone. (The bodies drift a little relative to each other: the centroids by the
+/// integration's second-order term, about 1e-8 m per step, and the orientations by its
+/// splitting error, about 6e-12 rad per step for these cubes, whose principal frames
+/// differ.) The carried gaps are measured in the frame A had at the query, B's motion
+/// relative to A since applied to B's feature and points (docs/mechanics.md, "Carried
+/// contacts"); a wrong composition of the two motions misplaces B's feature by about the
+/// distance the bodies have turned through since the query (up to tau, 0.87 mm here), far
+/// above the 1e-12 m asked. Two cases: two parallel faces 0.5 mm apart (the normal moves with
+/// A), and a cube's corner 0.5 mm above a slab's face (A's vertex on B's face: the normal
+/// moves with B).
+#[test]
+fn carried_gaps_of_bodies_turning_together_are_the_gaps_of_their_poses() {
+    let gap = 5e-4;
+    // Each case: the blocks, the contact type, A's feature (a point of it, and its face's
+    // outward normal; none for a vertex) and B's face (a point and its outward normal), at
+    // the start.
+    let faces = {
+        let a = ConvexBlock::cuboid([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]).unwrap();
+        let b = ConvexBlock::cuboid([1.0 + gap, 0.0, 0.0], [2.0 + gap, 1.0, 1.0]).unwrap();
+        let feature_a = (DVec3::new(1.0, 0.5, 0.5), Some(DVec3::X));
+        let face_b = (DVec3::new(1.0 + gap, 0.5, 0.5), DVec3::NEG_X);
+        (vec![a, b], ContactType::FaceFace, feature_a, face_b)
+    };
+    let corner = {
+        // A unit cube turned so that its diagonal (1, 1, 1) points down; its lowest corner
+        // `gap` above the top face of a slab below it.
+        let down = DQuat::from_rotation_arc(DVec3::ONE.normalize(), DVec3::NEG_Z);
+        let cube = ConvexBlock::cuboid([-0.5; 3], [0.5; 3])
+            .unwrap()
+            .rotated(down, DVec3::ZERO);
+        let lowest = cube
+            .vertices()
+            .iter()
+            .map(|v| v.z)
+            .fold(f64::INFINITY, f64::min);
+        let cube = cube.transformed(DQuat::IDENTITY, DVec3::new(0.0, 0.0, gap - lowest), 1.0);
+        let tip = *cube
+            .vertices()
+            .iter()
+            .min_by(|p, q| p.z.total_cmp(&q.z))
+            .unwrap();
+        let slab = ConvexBlock::cuboid([-1.0, -1.0, -1.0], [1.0, 1.0, 0.0]).unwrap();
+        (
+            vec![cube, slab],
+            ContactType::VertexFace,
+            (tip, None),
+            (DVec3::ZERO, DVec3::Z),
+        )
+    };
+    for (blocks, kind, (pa, na), (pb, nb)) in [faces, corner] {
+        let mut sim = Simulation::new(&BlockSystem::new(blocks), 2500.0).unwrap();
+        sim.set_gravity(DVec3::ZERO).unwrap();
+        sim.set_default_joint(joint(30.0)).unwrap();
+        sim.set_update_fraction(0.5).unwrap();
+        // Kept updated at every step (an open contact would otherwise stay dormant).
+        sim.set_dormant_contacts(false);
+        let start = [sim.bodies().poses()[0], sim.bodies().poses()[1]];
+        let spin = DVec3::new(0.3, -0.5, 1.0).normalize() * 0.3;
+        let pivot = DVec3::new(0.7, -0.2, 0.4);
+        let mut worst = 0.0f64;
+        for step in 0..400 {
+            for i in 0..2 {
+                let centre = sim.bodies().poses()[i].translation;
+                sim.set_velocity(i, spin.cross(centre - pivot), spin)
+                    .unwrap();
+            }
+            // The features where the step starts (its contacts' poses): body k's motion since
+            // the start applied to a point and to a direction.
+            let poses = [sim.bodies().poses()[0], sim.bodies().poses()[1]];
+            let moved = |k: usize, p: DVec3| {
+                let (then, now) = (start[k], poses[k]);
+                now.rotation * (then.rotation.conjugate() * (p - then.translation))
+                    + now.translation
+            };
+            let turned = |k: usize, v: DVec3| {
+                let (then, now) = (start[k], poses[k]);
+                now.rotation * (then.rotation.conjugate() * v)
+            };
+            let (pa, na, pb, nb) = (
+                moved(0, pa),
+                na.map(|n| turned(0, n)),
+                moved(1, pb),
+                turned(1, nb),
+            );
+            sim.step().unwrap();
+            let contacts = sim.contacts();
+            assert_eq!(contacts.list.len(), 1, "{kind:?}, step {step}");
+            assert_eq!(contacts.list[0].kind, kind, "step {step}");
+            let n = contacts.list[0].normal;
+            for s in &contacts.subs {
+                // Where the line through the sub-contact's point along the contact normal
+                // meets each feature: B's face's plane less A's (its face's plane, or its
+                // vertex's height).
+                let p = s.point;
+                let to_b = nb.dot(pb - p) / nb.dot(n);
+                let to_a = na.map_or(n.dot(pa - p), |na| na.dot(pa - p) / na.dot(n));
+                let error = (s.gap - (to_b - to_a)).abs();
+                worst = worst.max(error);
+                assert!(
+                    error < 1e-12,
+                    "{kind:?}, step {step}: gap {} against {}",
+                    s.gap,
+                    to_b - to_a
+                );
+            }
+        }
+        let t = sim.timings();
+        // The run carried the contact, and queried it again now and then (its travels).
+        assert!(t.carried > 200 && t.queried > 1, "{kind:?}: {t:?}");
+        println!("{kind:?}: largest gap error {worst:.1e} m; {t:?}");
+    }
 }

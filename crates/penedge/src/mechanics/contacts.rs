@@ -132,8 +132,9 @@ pub(super) struct Carry {
     pub tolerance: f64,
     /// What the contact's joint model takes from its features (kept with them).
     pub faces: ContactFaces,
-    /// The two features (A's, B's) as placed at the query: a carried contact moves them with
-    /// their bodies rather than reading the placed blocks.
+    /// The two features (A's, B's) as placed at the query: a carried contact measures its gaps
+    /// in A's frame at the query, where A's is as it was and B's is moved by B's motion
+    /// relative to A, rather than reading the placed blocks.
     pub features: [FeatureAt; 2],
     /// The larger of the two blocks' magnitudes at the query (for the rounding slack of a
     /// carried contact's gaps).
@@ -296,7 +297,8 @@ impl OpenCert {
 }
 
 /// The terms of [`OpenCert`] for a contact's points `points` with normal `n` between
-/// features `features` (A's, B's), B's centroid at `centre`: the smallest gap, `reach`, `base`
+/// features `features` (A's, B's), B's centroid at `centre`, all in one frame (a carried
+/// contact's: A's at the query): the smallest gap, `reach`, `base`
 /// and whether they are edges; `None` for other pairs of features (a face and an edge, a
 /// vertex and a face, ...: not certified). The gaps are the features' heights, as a carried
 /// contact computes them (at its query, a point contact's gap is the detection's distance

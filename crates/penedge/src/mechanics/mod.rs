@@ -273,8 +273,8 @@ pub struct Simulation {
     /// it moves and at the build for every body).
     skin_passed: bool,
     contacts: Contacts,
-    /// The buffers of the contacts of the step before last, emptied, for the next step's
-    /// contacts: at 10^5 blocks a step's contacts take hundreds of megabytes, which fresh
+    /// The buffers of the contacts of the step before last, refilled in place by the next
+    /// step's contacts: at 10^5 blocks a step's contacts take hundreds of megabytes, which fresh
     /// allocations would take from the system page by page at every step (no state: its
     /// contents are never read).
     spare: Contacts,
@@ -1205,7 +1205,7 @@ impl Simulation {
         }
     }
 
-    /// Sub-contacts with their forces (in parallel per contact), matched to the last step's;
+    /// Sub-contacts with their forces (in parallel, by chunks of contacts), matched to the last step's;
     /// a dormant contact (`outcomes`: each pair's this step) keeps its last step's.
     fn update_contacts(&mut self, dt: f64, outcomes: &[Outcome]) {
         let motions = contacts::motions(&self.bodies);
@@ -1244,7 +1244,13 @@ impl Simulation {
             })
             .collect();
         counts_and_previous(&self.contacts, &mut found);
-        let total: usize = found.par_iter().map(|f| f.count as usize).sum();
+        // The contacts are updated by chunks (below): each chunk's sub-contact count.
+        const CHUNK: usize = 512;
+        let chunk_counts: Vec<u32> = found
+            .par_chunks(CHUNK)
+            .map(|chunk| chunk.iter().map(|f| f.count).sum())
+            .collect();
+        let total: usize = chunk_counts.iter().map(|&n| n as usize).sum();
         let keep_stress = self.initial_stress.is_some() || !self.contacts.prestresses.is_empty();
         // The buffers of the step before last (`spare`), refilled in place. Every contact
         // and sub-contact of them is written below (built, or copied for a dormant contact),
@@ -1276,7 +1282,6 @@ impl Simulation {
         // The contacts by chunks, each with its own slices of the contacts, sub-contacts,
         // installed stresses and pair frames (a chunk's pairs are a range of them: the
         // contacts are in pair order), updated in parallel chunk by chunk.
-        const CHUNK: usize = 512;
         let mut work = Vec::with_capacity(found.len().div_ceil(CHUNK));
         let mut rest = (
             list.as_mut_slice(),
@@ -1285,8 +1290,7 @@ impl Simulation {
             self.frames.as_mut_slice(),
         );
         let (mut first, mut frames_at) = (0u32, 0usize);
-        for chunk in found.chunks(CHUNK) {
-            let count: u32 = chunk.iter().map(|f| f.count).sum();
+        for (chunk, &count) in found.chunks(CHUNK).zip(&chunk_counts) {
             let (list, list_tail) = std::mem::take(&mut rest.0).split_at_mut(chunk.len());
             let (subs, subs_tail) = std::mem::take(&mut rest.1).split_at_mut(count as usize);
             let stress_count = if keep_stress { count as usize } else { 0 };
