@@ -292,6 +292,11 @@ pub(super) fn joint_law(
 mod tests {
     use super::*;
 
+    /// One step of the joint law, without slack, its tangents computed afresh.
+    fn law(m: &JointModel, area: f64, gap: f64, shear: DVec3, bonded: bool) -> LawOutcome {
+        joint_law(m, area, gap, shear, bonded, 0.0, &mut Tangents::default())
+    }
+
     fn model() -> JointModel {
         JointModel {
             kn: 100.0,
@@ -307,93 +312,29 @@ mod tests {
     fn the_law_follows_mohr_coulomb_with_residual_strength() {
         let m = model();
         // Compression 100 * 2 * 0.01 = 2; strength c A + Fn tan φ = 4 + 2 = 6.
-        let held = joint_law(
-            &m,
-            2.0,
-            -0.01,
-            DVec3::new(5.0, 0.0, 0.0),
-            true,
-            0.0,
-            &mut Tangents::default(),
-        );
+        let held = law(&m, 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), true);
         assert_eq!(held.state, SubState::Elastic);
         assert!((held.normal_force - 2.0).abs() < 1e-12);
-        let slid = joint_law(
-            &m,
-            2.0,
-            -0.01,
-            DVec3::new(7.0, 0.0, 0.0),
-            true,
-            0.0,
-            &mut Tangents::default(),
-        );
+        let slid = law(&m, 2.0, -0.01, DVec3::new(7.0, 0.0, 0.0), true);
         assert_eq!(slid.state, SubState::Sliding);
         assert!((slid.shear_force.x - 6.0).abs() < 1e-12);
         assert!(!slid.bonded, "a bond that slides loses its cohesion");
         // Unbonded: friction only.
-        let residual = joint_law(
-            &m,
-            2.0,
-            -0.01,
-            DVec3::new(7.0, 0.0, 0.0),
-            false,
-            0.0,
-            &mut Tangents::default(),
-        );
+        let residual = law(&m, 2.0, -0.01, DVec3::new(7.0, 0.0, 0.0), false);
         assert!((residual.shear_force.x - 2.0).abs() < 1e-12);
         // Tension 100 * 2 * 0.02 = 4 < T A = 6 holds; 0.04 -> 8 > 6 fails.
-        let pulled = joint_law(
-            &m,
-            2.0,
-            0.02,
-            DVec3::ZERO,
-            true,
-            0.0,
-            &mut Tangents::default(),
-        );
+        let pulled = law(&m, 2.0, 0.02, DVec3::ZERO, true);
         assert!((pulled.normal_force + 4.0).abs() < 1e-12 && pulled.bonded);
-        let broken = joint_law(
-            &m,
-            2.0,
-            0.04,
-            DVec3::ZERO,
-            true,
-            0.0,
-            &mut Tangents::default(),
-        );
+        let broken = law(&m, 2.0, 0.04, DVec3::ZERO, true);
         assert_eq!((broken.state, broken.bonded), (SubState::Open, false));
-        let apart = joint_law(
-            &m,
-            2.0,
-            0.02,
-            DVec3::ZERO,
-            false,
-            0.0,
-            &mut Tangents::default(),
-        );
+        let apart = law(&m, 2.0, 0.02, DVec3::ZERO, false);
         assert_eq!(apart.state, SubState::Open);
         // A bond of tension only that slides in compression fails too (3DEC): it no longer
         // holds tension; held in tension (no shear strength) it keeps its bond.
         let tension_only = JointModel { cohesion: 0.0, ..m };
-        let pulled = joint_law(
-            &tension_only,
-            2.0,
-            0.01,
-            DVec3::X * 1e-9,
-            true,
-            0.0,
-            &mut Tangents::default(),
-        );
+        let pulled = law(&tension_only, 2.0, 0.01, DVec3::X * 1e-9, true);
         assert_eq!((pulled.state, pulled.bonded), (SubState::Sliding, true));
-        let slid = joint_law(
-            &tension_only,
-            2.0,
-            -0.01,
-            DVec3::new(3.0, 0.0, 0.0),
-            true,
-            0.0,
-            &mut Tangents::default(),
-        );
+        let slid = law(&tension_only, 2.0, -0.01, DVec3::new(3.0, 0.0, 0.0), true);
         assert_eq!((slid.state, slid.bonded), (SubState::Sliding, false));
     }
 
@@ -423,37 +364,13 @@ mod tests {
         };
         // Compression 2: peak strength 2 × 2 + 2 tan 45° = 6; residual 0.5 × 2 + 2 tan 20°.
         let residual = 1.0 + 2.0 * 20f64.to_radians().tan();
-        let intact = joint_law(
-            &m,
-            2.0,
-            -0.01,
-            DVec3::new(5.0, 0.0, 0.0),
-            true,
-            0.0,
-            &mut Tangents::default(),
-        );
+        let intact = law(&m, 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), true);
         assert_eq!((intact.state, intact.bonded), (SubState::Elastic, true));
-        let failed = joint_law(
-            &m,
-            2.0,
-            -0.01,
-            DVec3::new(5.0, 0.0, 0.0),
-            false,
-            0.0,
-            &mut Tangents::default(),
-        );
+        let failed = law(&m, 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), false);
         assert_eq!(failed.state, SubState::Sliding);
         assert!((failed.shear_force.x - residual).abs() < 1e-12);
         // Without residual values: the friction angle, no cohesion.
-        let plain = joint_law(
-            &model(),
-            2.0,
-            -0.01,
-            DVec3::new(5.0, 0.0, 0.0),
-            false,
-            0.0,
-            &mut Tangents::default(),
-        );
+        let plain = law(&model(), 2.0, -0.01, DVec3::new(5.0, 0.0, 0.0), false);
         assert!((plain.shear_force.x - 2.0).abs() < 1e-12);
     }
 
