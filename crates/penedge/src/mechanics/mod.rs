@@ -1332,8 +1332,9 @@ impl Simulation {
                         previous => {
                             let (contact, cert) =
                                 build_contact(&input, f.found, previous, scratch, out, out_p);
-                            // Written only when it changes: most contacts have none, and
-                            // writing the slot dirtied its cache line at every step.
+                            // Not rewritten for a contact without a certificate that had
+                            // none (most of them): writing the slot dirtied its cache line
+                            // at every step.
                             let frame = &mut frames[f.pair as usize - from];
                             if cert.is_some() || !matches!(frame, Frame::None) {
                                 *frame = cert.map_or(Frame::None, Frame::Open);
