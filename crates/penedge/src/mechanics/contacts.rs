@@ -579,15 +579,19 @@ pub(super) fn build_contact(
             frame
         }
     };
+    // A point contact at its query takes the detection's distance; every other gap is the
+    // features' heights (the function the open-contact certificate bounds).
+    let from_distance = matches!((g.shape(), carried), (ContactPoints::Point(_), None));
     gaps.clear();
-    match (g.shape(), carried) {
-        (ContactPoints::Point(_), None) => gaps.push(g.distance()),
-        _ => gaps.extend(frame.iter().map(|&p| {
+    if from_distance {
+        gaps.push(g.distance());
+    } else {
+        gaps.extend(frame.iter().map(|&p| {
             let sa = features[0].height(p, frame_normal);
             let sb = features[1].height(p, frame_normal);
             sb - sa
-        })),
-    };
+        }));
+    }
     // A contact of two vertices or edges: the largest separation along the normal and the
     // cone's other valid directions (docs/mechanics.md, "Gaps of point contacts"), so that
     // features that slid past each other without overlapping (diagonal neighbours in a grid
@@ -613,12 +617,11 @@ pub(super) fn build_contact(
     // heights (the largest of them and of the heights along the cone's other directions),
     // and the margin is monotone in it (a point contact open only by rounding, as the
     // diagonal neighbours in a grid of blocks at rest are: most of the open contacts).
-    let heights = !matches!((g.shape(), carried), (ContactPoints::Point(_), None));
     let open = (input.dormancy
         && found.carry.tolerance > 0.0
         && !found.carry.normal_with_b
         && gaps.iter().all(|&g| g > 0.0)
-        && !(heights && margin(gaps.iter().copied().fold(f64::INFINITY, f64::min)) <= 0.0))
+        && (from_distance || margin(gaps.iter().copied().fold(f64::INFINITY, f64::min)) > 0.0))
         .then(|| {
             // B's centroid in A's frame at the query.
             let centre = found.carry.poses[1].translation;

@@ -274,9 +274,9 @@ pub struct Simulation {
     skin_passed: bool,
     contacts: Contacts,
     /// The buffers of the contacts of the step before last, refilled in place by the next
-    /// step's contacts: at 10^5 blocks a step's contacts take hundreds of megabytes, which fresh
-    /// allocations would take from the system page by page at every step (no state: its
-    /// contents are never read).
+    /// step's contacts: at 10^5 blocks a step's contacts take hundreds of megabytes, which
+    /// fresh allocations would take from the system page by page at every step (no state:
+    /// its contents are never read).
     spare: Contacts,
     /// Per body, the sum of its contact forces and moments (about the centroid) last step.
     forces: Vec<DVec3>,
@@ -1205,8 +1205,9 @@ impl Simulation {
         }
     }
 
-    /// Sub-contacts with their forces (in parallel, by chunks of contacts), matched to the last step's;
-    /// a dormant contact (`outcomes`: each pair's this step) keeps its last step's.
+    /// Sub-contacts with their forces (in parallel, by chunks of contacts), matched to the
+    /// last step's; a dormant contact (`outcomes`: each pair's this step) keeps its last
+    /// step's.
     fn update_contacts(&mut self, dt: f64, outcomes: &[Outcome]) {
         let motions = contacts::motions(&self.bodies);
         let input = StepInput {
