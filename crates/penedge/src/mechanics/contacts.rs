@@ -586,23 +586,18 @@ pub(super) fn build_contact(
     if from_distance {
         gaps.push(g.distance());
     } else {
-        gaps.extend(frame.iter().map(|&p| {
-            let sa = features[0].height(p, frame_normal);
-            let sb = features[1].height(p, frame_normal);
-            sb - sa
-        }));
+        separations(features, frame_normal, frame, |_, s| gaps.push(s));
     }
     // A contact of two vertices or edges: the largest separation along the normal and the
     // cone's other valid directions (docs/mechanics.md, "Gaps of point contacts"), so that
     // features that slid past each other without overlapping (diagonal neighbours in a grid
     // of blocks settling) are apart, not pushed along the normal.
-    if !found.carry.axes.is_empty() {
-        for &axis in found.carry.axes.iter() {
-            for (gap, &p) in gaps.iter_mut().zip(frame) {
-                let along = features[1].height(p, axis) - features[0].height(p, axis);
-                *gap = gap.max(along);
+    for &axis in found.carry.axes.iter() {
+        separations(features, axis, frame, |k, s| {
+            if let Some(gap) = gaps.get_mut(k) {
+                *gap = gap.max(s);
             }
-        }
+        });
     }
     // What a certificate of the open contact needs, from the gaps before the strip's
     // adjustment below (which only lowers the shallower gap to the deeper one): the smallest
@@ -758,23 +753,121 @@ pub(super) fn build_contact(
     (contact, cert)
 }
 
-/// For an edge's ends `[e0, e1]`, a point `p` and a normal `n`: `e0 - p`, `e1 - e0` and the
-/// parameter `t` of the edge line's point whose projection along `n` passes nearest `p`
-/// (`0.5` for an edge along `n`).
-fn edge_foot([e0, e1]: [DVec3; 2], p: DVec3, n: DVec3) -> (DVec3, DVec3, f64) {
-    let d = e1 - e0;
-    // The edge's direction within the contact plane; its point nearest the line p + s n is
-    // where its projection passes nearest p.
-    let dp = d - n * d.dot(n);
-    let w = e0 - p;
-    let wp = w - n * w.dot(n);
-    let len2 = dp.length_squared();
-    let t = if len2 > 1e-24 * d.length_squared() {
-        -wp.dot(dp) / len2
-    } else {
-        0.5
-    };
-    (w, d, t)
+/// A feature ([`FeatureAt`]) made ready to give its heights along one direction `n` at many
+/// points: what does not depend on the point is computed once (an edge's direction and its
+/// projection on the plane normal to `n`, a face's cosine to `n`): the heights are the same
+/// bits as when these were computed again for each point. A contact's gaps take them at each
+/// of its points, along its normal and the cone's other directions (docs/mechanics.md, "The
+/// sub-contact update").
+#[derive(Clone, Copy, Debug)]
+struct Along {
+    /// The direction.
+    n: DVec3,
+    feature: Ready,
+}
+
+/// A feature made ready for a direction ([`Along`]).
+#[derive(Clone, Copy, Debug)]
+enum Ready {
+    Vertex(DVec3),
+    /// A face's plane and the cosine of its normal to the direction.
+    Face(Plane, f64),
+    Edge(EdgeAlong),
+}
+
+/// An edge made ready for a direction `n` ([`Along`]).
+#[derive(Clone, Copy, Debug)]
+struct EdgeAlong {
+    /// Its first end.
+    e0: DVec3,
+    /// From its first end to its second.
+    d: DVec3,
+    /// `d` projected on the plane normal to `n`.
+    dp: DVec3,
+    /// `|dp|²`.
+    len2: f64,
+    /// Whether `len2` is large enough to divide by (else the edge is along `n`).
+    slanted: bool,
+}
+
+impl EdgeAlong {
+    fn new([e0, e1]: [DVec3; 2], n: DVec3) -> EdgeAlong {
+        let d = e1 - e0;
+        // The edge's direction within the plane normal to `n`: its point nearest the line
+        // p + s n is where its projection passes nearest p.
+        let dp = d - n * d.dot(n);
+        let len2 = dp.length_squared();
+        EdgeAlong {
+            e0,
+            d,
+            dp,
+            len2,
+            slanted: len2 > 1e-24 * d.length_squared(),
+        }
+    }
+
+    /// `e0 - p` and the parameter `t` of the edge line's point whose projection along `n`
+    /// (the direction it was made for) passes nearest `p` (`0.5`, the middle, for an edge
+    /// along `n`).
+    fn foot(&self, p: DVec3, n: DVec3) -> (DVec3, f64) {
+        let w = self.e0 - p;
+        let t = if self.slanted {
+            let wp = w - n * w.dot(n);
+            -wp.dot(self.dp) / self.len2
+        } else {
+            0.5
+        };
+        (w, t)
+    }
+}
+
+impl Along {
+    /// `feature` made ready for direction `n`.
+    fn new(feature: FeatureAt, n: DVec3) -> Along {
+        let feature = match feature {
+            FeatureAt::Vertex(v) => Ready::Vertex(v),
+            FeatureAt::Face(plane) => Ready::Face(plane, plane.normal.dot(n)),
+            FeatureAt::Edge(ends) => Ready::Edge(EdgeAlong::new(ends, n)),
+        };
+        Along { n, feature }
+    }
+
+    /// The height ([`FeatureAt::height`]) at `p` along the direction.
+    fn height(&self, p: DVec3) -> f64 {
+        let n = self.n;
+        match self.feature {
+            Ready::Vertex(v) => n.dot(v - p),
+            Ready::Face(plane, cos) => {
+                if cos.abs() > 1e-6 {
+                    plane.normal.dot(plane.point - p) / cos
+                } else {
+                    // A face along the normal: its centroid's height (not met in practice:
+                    // the contact normal of a face feature is close to the face's normal).
+                    n.dot(plane.point - p)
+                }
+            }
+            Ready::Edge(edge) => {
+                let (w, t) = edge.foot(p, n);
+                n.dot(w + edge.d * t)
+            }
+        }
+    }
+}
+
+/// The separations along `n` of the two features (A's, B's) at each of `points`, B's height
+/// less A's ([`FeatureAt::height`]), given to `each` with the point's index.
+fn separations(
+    [fa, fb]: [FeatureAt; 2],
+    n: DVec3,
+    points: &[DVec3],
+    mut each: impl FnMut(usize, f64),
+) {
+    let (a, b) = (Along::new(fa, n), Along::new(fb, n));
+    for (k, &p) in points.iter().enumerate() {
+        let sa = a.height(p);
+        let sb = b.height(p);
+        each(k, sb - sa);
+    }
 }
 
 /// The index of the sub-contact of `old` whose `local` is nearest `p` (the first of equals).
@@ -885,23 +978,7 @@ impl FeatureAt {
     /// plane, the point of an edge's line nearest the line, a vertex's height
     /// (docs/mechanics.md, "Normal force").
     fn height(&self, p: DVec3, n: DVec3) -> f64 {
-        match *self {
-            FeatureAt::Vertex(v) => n.dot(v - p),
-            FeatureAt::Face(plane) => {
-                let cos = plane.normal.dot(n);
-                if cos.abs() > 1e-6 {
-                    plane.normal.dot(plane.point - p) / cos
-                } else {
-                    // A face along the normal: its centroid's height (not met in practice:
-                    // the contact normal of a face feature is close to the face's normal).
-                    n.dot(plane.point - p)
-                }
-            }
-            FeatureAt::Edge(ends) => {
-                let (w, d, t) = edge_foot(ends, p, n);
-                n.dot(w + d * t)
-            }
-        }
+        Along::new(*self, n).height(p)
     }
 
     /// The point of an edge's line whose height [`FeatureAt::height`] takes: where its
@@ -910,8 +987,9 @@ impl FeatureAt {
     fn foot(&self, p: DVec3, n: DVec3) -> DVec3 {
         match *self {
             FeatureAt::Edge(ends) => {
-                let (_, d, t) = edge_foot(ends, p, n);
-                ends[0] + d * t
+                let edge = EdgeAlong::new(ends, n);
+                let (_, t) = edge.foot(p, n);
+                edge.e0 + edge.d * t
             }
             FeatureAt::Vertex(v) => v,
             FeatureAt::Face(_) => p + n * self.height(p, n),
@@ -1080,6 +1158,63 @@ mod tests {
             tightest < 10.0,
             "the bound is {tightest} times the change at best"
         );
+    }
+
+    /// The heights of [`FeatureAt::height`], made ready for a direction ([`Along`]), against
+    /// where the line `p + s n` meets the feature, computed otherwise: a vertex's projection;
+    /// a plane's intersection; for an edge, the closest points of two lines from the cross
+    /// products (`s = ((e0 - p) × d) · (n × d) / |n × d|²`); an edge along `n` at its middle.
+    #[test]
+    fn heights_are_where_the_line_along_the_direction_meets_the_feature() {
+        let mut seed = 7u64;
+        let mut uniform = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let mut vector = || DVec3::new(uniform(), uniform(), uniform());
+        for _ in 0..200 {
+            let n = vector().normalize();
+            let (v, e0, e1) = (vector(), vector(), vector());
+            let plane = Plane {
+                normal: (n + 0.5 * vector()).normalize(),
+                point: vector(),
+            };
+            let features = [
+                FeatureAt::Vertex(v),
+                FeatureAt::Face(plane),
+                FeatureAt::Edge([e0, e1]),
+                FeatureAt::Edge([e0, e0 + 0.7 * n]),
+            ];
+            let d = e1 - e0;
+            let points: Vec<DVec3> = (0..3).map(|_| vector()).collect();
+            for (k, feature) in features.into_iter().enumerate() {
+                let mut heights = Vec::new();
+                separations(
+                    [FeatureAt::Vertex(DVec3::ZERO), feature],
+                    n,
+                    &points,
+                    |_, s| heights.push(s),
+                );
+                for (&p, &h) in points.iter().zip(&heights) {
+                    let along = Along::new(feature, n).height(p);
+                    let expected = match k {
+                        0 => n.dot(v - p),
+                        1 => plane.normal.dot(plane.point - p) / plane.normal.dot(n),
+                        2 => (e0 - p).cross(d).dot(n.cross(d)) / n.cross(d).length_squared(),
+                        _ => n.dot(e0 + 0.35 * n - p),
+                    };
+                    assert_eq!(along, feature.height(p, n));
+                    assert!(
+                        (along - expected).abs() < 1e-9 * (1.0 + expected.abs()),
+                        "feature {k}: {along} vs {expected}"
+                    );
+                    // Separations are B's height less A's (A: a vertex at the origin).
+                    assert!((h - (along - n.dot(-p))).abs() < 1e-12 * (1.0 + h.abs()));
+                }
+            }
+        }
     }
 
     #[test]
