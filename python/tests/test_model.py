@@ -516,3 +516,30 @@ def test_docstring_example():
     failures, tried = doctest.testmod(pm, optionflags=doctest.NORMALIZE_WHITESPACE)
     assert tried > 0
     assert failures == 0
+
+
+def test_a_model_file_not_in_utf8_is_named(tmp_path):
+    # A degree sign saved by an editor in Windows-1252: byte 0xb0, not UTF-8.
+    path = tmp_path / "m.toml"
+    path.write_bytes((BASE + "# friction 30\u00b0\n" + FIX_BASE).encode("cp1252"))
+    with pytest.raises(pm.ModelError) as caught:
+        pm.read_model(path)
+    assert caught.value.field == "model"
+    assert "not UTF-8" in str(caught.value)
+    assert str(path) in str(caught.value)
+
+
+def test_a_model_whose_blocks_are_all_dropped_has_no_blocks():
+    text = BASE + FIX_BASE + '[options]\nmin_volume = 10\nslivers = "drop"\n'
+    e = error_of(text, prepare=True)
+    assert e.field == "domain"
+    assert "no blocks" in str(e)
+
+
+def test_numbers_too_large_are_named():
+    e = error_of(BASE + FIX_BASE + "[mechanics]\nmax_steps = 1e20\n")
+    assert e.field == "mechanics.max_steps"
+    assert "at most" in str(e)
+    e = error_of(BASE.replace("density = 2000", "density = " + "9" * 400) + FIX_BASE)
+    assert e.field == "rock.density"
+    assert "too large" in str(e)

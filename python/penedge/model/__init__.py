@@ -107,7 +107,16 @@ def parse_model(text: str) -> Model:
 def read_model(path: str | Path) -> Model:
     """A model from a TOML file (``OSError`` when it cannot be read)."""
     path = Path(path)
-    text = path.read_text(encoding="utf-8")
+    data = path.read_bytes()
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        # As the generator says it of a spec file (a model saved in another encoding, a
+        # degree sign from a Windows editor, a binary file given by mistake).
+        raise ModelError(
+            "model",
+            f"not UTF-8 text (byte {e.start} is not valid UTF-8; a binary file?) (in {path})",
+        ) from None
     try:
         return parse_model(text)
     except ModelError as e:
@@ -146,6 +155,12 @@ def prepare(source: str | Path | Mapping[str, Any] | Model, progress: Any = None
     system, report = penedge.generate(model.spec, progress=progress)
     from penedge.model.run import check_excavations
 
+    if len(system) == 0:
+        # Before the blocks' arrays are built (they assume some).
+        raise ModelError(
+            "domain",
+            "the model has no blocks (every block was dropped as a sliver or excavated)",
+        )
     blocks = Blocks.of(system)
     layout = resolve(model, blocks)
     check_excavations(model, layout.regions, layout.bodies)

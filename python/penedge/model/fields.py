@@ -15,6 +15,9 @@ from typing import Any
 
 from penedge._core import SpecError
 
+#: The largest whole number a model field takes (:meth:`Table.integer`).
+MAX_WHOLE = 10**15
+
 
 class ModelError(SpecError):
     """A model file that cannot be run: ``field: what is wrong`` (also a
@@ -106,8 +109,11 @@ class Table:
         """A number when given, else None."""
         return self.number(key, **bounds) if self.has(key) else None
 
-    def integer(self, key: str, default: int | None = None, *, minimum: int = 0) -> int:
-        """A whole number >= `minimum`."""
+    def integer(
+        self, key: str, default: int | None = None, *, minimum: int = 0, maximum: int = MAX_WHOLE
+    ) -> int:
+        """A whole number from `minimum` to `maximum` (by default 10^15: more steps or items
+        than any run takes, and within what the engine's counters hold)."""
         value = self.raw(key, default)
         field = self.field(key)
         if value is None:
@@ -119,6 +125,8 @@ class Table:
                 raise ModelError(field, f"must be a whole number, got {_describe(value)}")
         if value < minimum:
             raise ModelError(field, f"must be at least {minimum}, got {value}")
+        if value > maximum:
+            raise ModelError(field, f"must be at most {maximum:.0e}, got {value:.3g}")
         return value
 
     def text(self, key: str, default: str | None = None, choices: Sequence[str] = ()) -> str:
@@ -182,7 +190,11 @@ def check_number(
     """`value` as a finite float within the bounds, or a :exc:`ModelError` naming `field`."""
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise ModelError(field, f"must be a number, got {_describe(value)}")
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:
+        # A whole number of hundreds of digits: beyond any float.
+        raise ModelError(field, "must be a finite number, got a number too large") from None
     if not math.isfinite(value):
         raise ModelError(field, f"must be a finite number, got {value}")
     if above is not None and not value > above:
