@@ -7,6 +7,7 @@ import argparse
 import csv
 import io
 import json
+import math
 import sys
 import time
 from pathlib import Path
@@ -231,7 +232,7 @@ def progress_text(engine: Any, stage: Any, done: int, total: int | None) -> str:
 
 def print_summary(args: argparse.Namespace, summary: dict[str, Any], text: str) -> None:
     if args.json:
-        print(json.dumps(summary, indent=2))
+        print(summary_json(summary))
     elif not args.quiet:
         print(text)
 
@@ -498,5 +499,23 @@ def without_excavated(engine: Any, system: Any, displacement: Any) -> tuple[Any,
 
 def write_summary_json(folder: Path, summary: dict[str, Any]) -> None:
     """summary.json (replaced atomically)."""
-    text = json.dumps(summary, indent=2)
+    text = summary_json(summary)
     write_via_temp(folder / OUTPUT_NAMES["summary"], True, lambda h: h.write(text.encode()))
+
+
+def summary_json(summary: dict[str, Any]) -> str:
+    """`summary` as strict JSON: a value that is not finite (the unbalanced-force ratio of
+    an engine that has taken no step yet, under no gravity, is infinite) is written null,
+    since JSON has no Infinity or NaN."""
+    return json.dumps(finite(summary), indent=2, allow_nan=False)
+
+
+def finite(value: Any) -> Any:
+    """`value` with every float that is not finite replaced by None, in lists and dicts."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite(v) for v in value]
+    return value

@@ -1,0 +1,49 @@
+"""The front end of ``penedge simulate`` (docs/models.md): strict JSON outputs, save files
+checked before any step, stages that cannot run refused up front, the factor-of-safety
+range and the verdict of a restarted run."""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from penedge import cli
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
+COLUMN = (EXAMPLES / "block_column.toml").read_text()
+BASE = COLUMN[: COLUMN.index("[[stages]]")]
+QUIET = ["--no-pictures", "--no-series"]
+
+
+def strict(text: str) -> dict:
+    """`text` read as strict JSON: Infinity and NaN are refused."""
+
+    def refuse(constant: str) -> None:
+        raise ValueError(f"not JSON: {constant}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+def simulate(tmp_path: Path, stages: str, *flags: str, base: str = BASE) -> int:
+    """Runs ``penedge simulate`` on the block column with these stages into tmp_path/out."""
+    model = tmp_path / "column.toml"
+    model.write_text(base + stages)
+    return cli.main(["simulate", str(model), "-o", str(tmp_path / "out"), *QUIET, *flags])
+
+
+@pytest.mark.parametrize(
+    ("stages", "base"),
+    [
+        ('[[stages]]\ntype = "properties"\nfriction = 20\n', BASE),
+        ('[[stages]]\ntype = "reset"\n', BASE),
+        # No gravity: nothing pushes the blocks, the ratio has nothing to divide by.
+        ('[[stages]]\ntype = "cycle"\nsteps = 10\n', BASE + "[mechanics]\ngravity = [0, 0, 0]\n"),
+    ],
+)
+def test_the_summary_is_strict_json_when_the_ratio_is_not_finite(tmp_path, capsys, stages, base):
+    simulate(tmp_path, stages, "--json", base=base)
+    printed = strict(capsys.readouterr().out)
+    written = strict((tmp_path / "out" / "summary.json").read_text())
+    assert printed["ratio"] is None
+    assert written["ratio"] is None
+    assert written["stages"][0]["ratio"] is None
