@@ -7,7 +7,10 @@ from pathlib import Path
 
 import pytest
 
+import penedge.model as pm
 from penedge import cli
+from penedge.model.engine import Engine
+from penedge.model.run import Runner
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
 COLUMN = (EXAMPLES / "block_column.toml").read_text()
@@ -47,3 +50,36 @@ def test_the_summary_is_strict_json_when_the_ratio_is_not_finite(tmp_path, capsy
     assert printed["ratio"] is None
     assert written["ratio"] is None
     assert written["stages"][0]["ratio"] is None
+
+
+CYCLE_THEN_SAVE = '[[stages]]\ntype = "cycle"\nsteps = 20\n[[stages]]\ntype = "save"\nfile = "{}"\n'
+
+
+@pytest.mark.parametrize(
+    ("file", "problem"),
+    [("nodir/s.json", "no folder"), ("taken", "is a folder"), ("plain/s.json", "not a folder")],
+)
+def test_a_save_that_cannot_write_is_refused_before_any_step(tmp_path, capsys, file, problem):
+    (tmp_path / "out" / "taken").mkdir(parents=True)
+    (tmp_path / "out" / "plain").write_text("a file, not a folder")
+    assert simulate(tmp_path, CYCLE_THEN_SAVE.format(file)) == 1
+    err = capsys.readouterr().err
+    assert "stages[1].file: cannot write the restart file" in err, err
+    assert problem in err, err
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["plain", "taken"]
+
+
+def test_a_save_that_fails_during_the_run_keeps_the_results_so_far(tmp_path):
+    folder = tmp_path / "results"
+    folder.mkdir()
+    setup = pm.prepare(BASE + CYCLE_THEN_SAVE.format("s.json"))
+    runner = Runner(setup, Engine, folder=folder)
+    folder.rmdir()  # gone after the checks: the save fails during the run
+    outcome = runner.run()
+    assert "s.json" in outcome.error
+    assert [(s.name, s.steps, s.stopped) for s in outcome.stages] == [
+        ("stages[0]", 20, None),
+        ("stages[1]", 0, "error"),
+    ]
+    assert outcome.steps == 20
+    assert outcome.history.stage[-1] == "error"

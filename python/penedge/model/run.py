@@ -199,6 +199,7 @@ class Runner:
         check_excavations(self.model, setup.layout.regions, setup.layout.bodies)
         if restart is not None:
             self.restore(Path(restart))
+        check_saves(self.model, self.folder, self.first)
 
     # --- the run --------------------------------------------------------------------
 
@@ -216,7 +217,7 @@ class Runner:
             try:
                 results.append(self.run_stage(index, stage))
                 self.write_frame()
-            except (KeyboardInterrupt, PenedgeError) as e:
+            except (KeyboardInterrupt, PenedgeError, OSError) as e:  # OSError: a save
                 interrupted = isinstance(e, KeyboardInterrupt)
                 error = None if interrupted else str(e)
                 e_ = self.engine
@@ -385,9 +386,7 @@ class Runner:
         (the next stage, the displacement reference, the boundary masks, the joint
         properties of the model's sets) so that ``--restart`` goes on from here."""
         assert stage.file is not None
-        path = Path(stage.file)
-        if not path.is_absolute():
-            path = self.folder / path
+        path = save_path(stage.file, self.folder)
         e = self.engine
         note = {
             "penedge_simulate": RESTART_NOTE_VERSION,
@@ -558,6 +557,32 @@ def check_excavations(
                 "this stage removes nothing",
             )
         removed |= mask
+
+
+def save_path(file: str, folder: Path) -> Path:
+    """Where a ``save`` stage's `file` goes: a relative path is in `folder`."""
+    path = Path(file)
+    return path if path.is_absolute() else folder / path
+
+
+def check_saves(model: Model, folder: Path, first: int = 0) -> None:
+    """Before any step: each ``save`` stage from stage `first` on can write its file (its
+    folder exists, or is `folder`, the results folder, made before the run; the file is
+    not a folder), so that a run does not stop at a save after hours of steps."""
+    for i, stage in enumerate(model.stages):
+        if i < first or stage.kind != "save" or stage.file is None:
+            continue
+        path = save_path(stage.file, folder)
+        parent = path.parent
+        if path.is_dir():
+            problem = f"{path} is a folder"
+        elif parent.is_dir() or (parent == folder and not parent.exists()):
+            continue
+        elif parent.exists():
+            problem = f"{parent} is not a folder"
+        else:
+            problem = f"no folder {parent} to write {path.name} in"
+        raise ModelError(f"stages[{i}].file", f"cannot write the restart file: {problem}")
 
 
 def merge(props: JointProperties, changes: dict[str, float]) -> JointProperties:
