@@ -83,3 +83,26 @@ def test_a_save_that_fails_during_the_run_keeps_the_results_so_far(tmp_path):
     ]
     assert outcome.steps == 20
     assert outcome.history.stage[-1] == "error"
+
+
+@pytest.mark.parametrize(
+    "file",
+    ["summary.json", "history.csv", "history.png", "displacement.png", "failing.png",
+     "steps.html", "./summary.json", "series", "series/blocks.pvd"],
+)  # fmt: skip
+def test_a_save_named_like_an_output_is_refused(tmp_path, capsys, file):
+    assert simulate(tmp_path, CYCLE_THEN_SAVE.format(file)) == 1
+    err = capsys.readouterr().err
+    assert "stages[1].file" in err, err
+    assert "choose another name" in err, err
+    assert not (tmp_path / "out").exists()
+    # An absolute path to the same file is the same file.
+    absolute = (tmp_path / "out" / file).resolve()
+    assert simulate(tmp_path, CYCLE_THEN_SAVE.format(absolute), "--check") == 1
+    assert "choose another name" in capsys.readouterr().err
+
+
+def test_a_save_beside_the_outputs_runs(tmp_path):
+    assert simulate(tmp_path, CYCLE_THEN_SAVE.format("summary.json.restart")) == 0
+    assert (tmp_path / "out" / "summary.json.restart").exists()
+    assert (tmp_path / "out" / "summary.json").exists()

@@ -132,6 +132,7 @@ def run_simulate(args: argparse.Namespace) -> int:
             raise CommandError("--html needs plotly: pip install 'penedge[html]'") from None
     show = progress.wanted(args.quiet or args.json)
     model = pm.read_model(path)
+    refuse_outputs_as_saves(model, folder)
     bar = ProgressBar(sys.stderr, f"{PROG} simulate: generating", unit="planes") if show else None
     try:
         setup = pm.prepare(model, progress=bar)
@@ -213,6 +214,27 @@ def run_simulate(args: argparse.Namespace) -> int:
         )
         return 1
     return 0
+
+
+def refuse_outputs_as_saves(model: Any, folder: Path) -> None:
+    """A ``save`` stage's file may not be one of the results (``summary.json``, the
+    ``series`` folder and what it holds...): the results, written after the run, would
+    replace it."""
+    import penedge.model as pm
+    from penedge.model.run import save_path
+
+    for i, stage in enumerate(model.stages):
+        if stage.kind != "save" or stage.file is None:
+            continue
+        path = save_path(stage.file, folder).resolve()
+        for name in OUTPUT_NAMES.values():
+            output = (folder / name).resolve()
+            if path == output or (name == OUTPUT_NAMES["series"] and output in path.parents):
+                raise pm.ModelError(
+                    f"stages[{i}].file",
+                    f"{stage.file!r} is where penedge simulate writes its {name}, which would "
+                    "replace the restart file: choose another name",
+                )
 
 
 def progress_text(engine: Any, stage: Any, done: int, total: int | None) -> str:
