@@ -106,3 +106,39 @@ def test_a_save_beside_the_outputs_runs(tmp_path):
     assert simulate(tmp_path, CYCLE_THEN_SAVE.format("summary.json.restart")) == 0
     assert (tmp_path / "out" / "summary.json.restart").exists()
     assert (tmp_path / "out" / "summary.json").exists()
+
+
+NOTHING_FREE = """
+[[stages]]
+type = "solve"
+[[stages]]
+type = "boundary"
+region = {type = "all"}
+condition = "fixed"
+[[stages]]
+type = "factor_of_safety"
+"""
+
+
+@pytest.mark.parametrize("check", [[], ["--check"]])
+def test_a_factor_of_safety_without_a_free_block_is_refused_before_any_step(
+    tmp_path, capsys, check
+):
+    assert simulate(tmp_path, NOTHING_FREE, *check) == 1
+    err = capsys.readouterr().err
+    assert "stages[2]: a factor of safety needs a free block" in err, err
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_factor_of_safety_without_a_free_block_stops_at_its_stage():
+    # Past the checks (the blocks fixed behind the runner's back), the stage itself says so
+    # and the run keeps what the stage before it did.
+    stages = '[[stages]]\ntype = "solve"\n[[stages]]\ntype = "factor_of_safety"\n'
+    runner = Runner(pm.prepare(BASE + stages), Engine)
+    runner.fixed[:] = True
+    outcome = runner.run()
+    assert outcome.error.startswith("stages[1]: a factor of safety needs a free block")
+    assert [(s.kind, s.converged, s.stopped) for s in outcome.stages] == [
+        ("solve", True, None),
+        ("factor_of_safety", None, "error"),
+    ]

@@ -140,6 +140,10 @@ def run_simulate(args: argparse.Namespace) -> int:
         if bar is not None:
             bar.close()
     if args.check:
+        from penedge.model.run import check_safety_stages
+
+        layout = setup.layout
+        check_safety_stages(model, layout, layout.fixed, layout.velocity)
         summary = check_summary(path, setup)
         print_summary(args, summary, format_check(summary))
         return 0

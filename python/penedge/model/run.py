@@ -200,6 +200,9 @@ class Runner:
         if restart is not None:
             self.restore(Path(restart))
         check_saves(self.model, self.folder, self.first)
+        check_safety_stages(
+            self.model, setup.layout, self.fixed, self.velocity, removed_of(self.engine), self.first
+        )
 
     # --- the run --------------------------------------------------------------------
 
@@ -217,7 +220,7 @@ class Runner:
             try:
                 results.append(self.run_stage(index, stage))
                 self.write_frame()
-            except (KeyboardInterrupt, PenedgeError, OSError) as e:  # OSError: a save
+            except (KeyboardInterrupt, PenedgeError, ModelError, OSError) as e:
                 interrupted = isinstance(e, KeyboardInterrupt)
                 error = None if interrupted else str(e)
                 e_ = self.engine
@@ -454,7 +457,9 @@ class Runner:
         reduce_default = not stage.sets
         original = {name: self.engine.properties[name] for name in names}
         default = self.engine.default
-        free = ~(self.fixed | ~np.isnan(self.velocity[:, 0]) | removed_of(self.engine))
+        free = free_of(self.fixed, self.velocity, removed_of(self.engine))
+        if not free.any():
+            raise ModelError(f"stages[{index}]", NO_FREE_BLOCK)
         threshold = self.model.results.moved
         trials: list[Trial] = []
 
@@ -470,7 +475,7 @@ class Runner:
             except PenedgeError:  # blocks driven into each other: the model is failing
                 converged, broke = False, True
             speeds = np.linalg.norm(e.velocities(), axis=1)
-            speed = float(speeds[free].max())
+            speed = float(speeds[free].max(initial=0.0))
             failed = broke or (not converged and speed > stage.velocity)
             shifted = np.linalg.norm(e.positions() - before, axis=1) > threshold
             moved = np.flatnonzero(free & (shifted | (speeds > stage.velocity)))
@@ -525,12 +530,49 @@ class Runner:
 #: The version of the note a ``save`` stage keeps in its restart file.
 RESTART_NOTE_VERSION = 1
 
+#: Why a ``factor_of_safety`` stage without a free block cannot run.
+NO_FREE_BLOCK = (
+    "a factor of safety needs a free block to fail, and every block is fixed, driven or "
+    "excavated by this stage (by [[boundary]], boundary and excavate stages)"
+)
+
+
+def free_of(fixed: np.ndarray, velocity: np.ndarray, removed: np.ndarray) -> np.ndarray:
+    """The free blocks: not fixed, not driven (a velocity prescribed), not excavated."""
+    return ~(fixed | ~np.isnan(velocity[:, 0]) | removed)
+
 
 def removed_of(engine: Any) -> np.ndarray:
     """The blocks `engine` has excavated (none for an engine that cannot excavate)."""
     removed = getattr(engine, "removed", None)
     n = len(engine.positions())
     return np.zeros(n, bool) if removed is None else np.asarray(removed(), dtype=bool)
+
+
+def check_safety_stages(
+    model: Model,
+    layout: Any,
+    fixed: np.ndarray,
+    velocity: np.ndarray,
+    removed: np.ndarray | None = None,
+    first: int = 0,
+) -> None:
+    """Before any step: each ``factor_of_safety`` stage from stage `first` on has a free
+    block to fail, given the `fixed` and driven (`velocity` not NaN) blocks and the
+    `removed` ones at stage `first`, and the boundary and excavate stages before it."""
+    fixed, velocity = fixed.copy(), velocity.copy()
+    removed = np.zeros(len(fixed), bool) if removed is None else removed.copy()
+    for i, stage in enumerate(model.stages):
+        if i < first:
+            continue
+        if stage.kind == "boundary" and stage.boundary is not None:
+            b = stage.boundary
+            mask = layout.regions[b.region]
+            apply_boundary(fixed, velocity, mask, b.condition, b.velocity, layout.bodies)
+        elif stage.kind == "excavate" and stage.region is not None:
+            removed |= layout.regions[stage.region]
+        elif stage.kind == "factor_of_safety" and not free_of(fixed, velocity, removed).any():
+            raise ModelError(f"stages[{i}]", NO_FREE_BLOCK)
 
 
 def check_excavations(
