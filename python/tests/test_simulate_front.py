@@ -142,3 +142,26 @@ def test_a_factor_of_safety_without_a_free_block_stops_at_its_stage():
         ("solve", True, None),
         ("factor_of_safety", None, "error"),
     ]
+
+
+SAVE_AND_GO_ON = CYCLE_THEN_SAVE.format("s.json") + '[[stages]]\ntype = "cycle"\nsteps = 20\n'
+
+
+def test_check_reads_the_restart_file(tmp_path, capsys):
+    missing = str(tmp_path / "nonexistent.json")
+    assert simulate(tmp_path, SAVE_AND_GO_ON, "--check", "--restart", missing) == 1
+    assert "nonexistent.json" in capsys.readouterr().err
+    (tmp_path / "other.json").write_text("{}")
+    other = str(tmp_path / "other.json")
+    assert simulate(tmp_path, SAVE_AND_GO_ON, "--check", "--restart", other) == 1
+    assert "other.json" in capsys.readouterr().err
+    # A restart file of the model: checked, and the stages it would run are named.
+    assert simulate(tmp_path, SAVE_AND_GO_ON) == 0
+    saved = str(tmp_path / "out" / "s.json")
+    capsys.readouterr()
+    assert simulate(tmp_path, SAVE_AND_GO_ON, "--check", "--restart", saved) == 0
+    lines = [" ".join(line.split()) for line in capsys.readouterr().out.splitlines()]
+    assert f"restart from {saved}: runs stages[2] cycle" in lines
+    assert simulate(tmp_path, SAVE_AND_GO_ON, "--check", "--restart", saved, "--json") == 0
+    restart = strict(capsys.readouterr().out)["restart"]
+    assert restart == {"file": saved, "stages": ["stages[2] cycle"]}

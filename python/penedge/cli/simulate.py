@@ -145,6 +145,8 @@ def run_simulate(args: argparse.Namespace) -> int:
         layout = setup.layout
         check_safety_stages(model, layout, layout.fixed, layout.velocity)
         summary = check_summary(path, setup)
+        if args.restart is not None:
+            summary["restart"] = check_restart(setup, folder, args.restart)
         print_summary(args, summary, format_check(summary))
         return 0
     engine_factory = engines.Engine
@@ -218,6 +220,22 @@ def run_simulate(args: argparse.Namespace) -> int:
         )
         return 1
     return 0
+
+
+def check_restart(setup: Any, folder: Path, restart: str) -> dict[str, Any]:
+    """``--check --restart FILE``: the restart file read onto the model's engine, as the
+    run would (so refused as the run would refuse it); the file and the stages it would
+    run."""
+    from penedge.model import engine as engines
+    from penedge.model.run import Runner
+
+    try:
+        engines.simulation_class()
+    except engines.EngineMissingError as e:
+        raise CommandError(f"--restart: cannot read the restart file: {e}") from None
+    runner = Runner(setup, engines.Engine, folder=folder, restart=restart)
+    stages = setup.model.stages[runner.first :]
+    return {"file": restart, "stages": [f"{s.name} {s.kind}" for s in stages]}
 
 
 def refuse_outputs_as_saves(model: Any, folder: Path) -> None:
@@ -300,6 +318,9 @@ def format_check(summary: dict[str, Any]) -> str:
         row("joint sets", ", ".join(summary["sets"]) or "none"),
         row("stages", ", ".join(summary["stages"])),
     ]
+    if "restart" in summary:
+        then = ", ".join(summary["restart"]["stages"]) or "no stage"
+        lines.append(row("restart", f"from {summary['restart']['file']}: runs {then}"))
     if summary["monitors"]:
         monitors = ", ".join(f"{k} (block {v})" for k, v in summary["monitors"].items())
         lines.append(row("monitors", monitors))
