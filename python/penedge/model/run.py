@@ -488,26 +488,27 @@ class Runner:
         stable: Trial | None = None
         failing: Trial | None = None
         t = trial(1.0)
+        # Widen by halving or doubling, the last trial at `low` or `high` itself.
         if t.failed:
             failing = t
-            f = 0.5
-            while f >= stage.low:
+            f = 1.0
+            while f > stage.low:
+                f = max(f / 2, stage.low)
                 t = trial(f)
                 if not t.failed:
                     stable = t
                     break
                 failing = t
-                f /= 2
         else:
             stable = t
-            f = 2.0
-            while f <= stage.high:
+            f = 1.0
+            while f < stage.high:
+                f = min(f * 2, stage.high)
                 t = trial(f)
                 if t.failed:
                     failing = t
                     break
                 stable = t
-                f *= 2
         if stable is not None and failing is not None:
             while failing.factor - stable.factor > stage.tolerance:
                 t = trial(0.5 * (stable.factor + failing.factor))
