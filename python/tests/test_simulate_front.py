@@ -165,3 +165,36 @@ def test_check_reads_the_restart_file(tmp_path, capsys):
     assert simulate(tmp_path, SAVE_AND_GO_ON, "--check", "--restart", saved, "--json") == 0
     restart = strict(capsys.readouterr().out)["restart"]
     assert restart == {"file": saved, "stages": ["stages[2] cycle"]}
+
+
+def test_a_restarted_run_gives_the_verdict_of_the_whole_run(tmp_path, capsys):
+    # The column settles (a solve), is saved, then its middle block is excavated and the
+    # blocks above fall: stable by the definition (every solve reached equilibrium), the
+    # restarted run too, though its own stages have no solve.
+    model = str(EXAMPLES / "column_excavation.toml")
+    flags = [*QUIET, "--json"]
+    assert cli.main(["simulate", model, "-o", str(tmp_path / "a"), *flags]) == 0
+    whole = strict(capsys.readouterr().out)
+    restart = ["--restart", str(tmp_path / "a" / "settled.json")]
+    assert cli.main(["simulate", model, "-o", str(tmp_path / "b"), *restart, *flags]) == 0
+    resumed = strict(capsys.readouterr().out)
+    assert [s["kind"] for s in resumed["stages"]] == ["excavate", "cycle"]
+    assert resumed["max_displacement"] == whole["max_displacement"]
+    assert whole["stable"] is True
+    assert resumed["stable"] is True
+
+
+def test_a_solve_that_failed_before_the_restart_still_counts(tmp_path, capsys):
+    stages = (
+        '[[stages]]\ntype = "solve"\nmax_steps = 5\n'  # far from equilibrium after 5 steps
+        '[[stages]]\ntype = "save"\nfile = "s.json"\n'
+        '[[stages]]\ntype = "solve"\n'  # reaches it
+    )
+    assert simulate(tmp_path, stages, "--json") == 0
+    whole = strict(capsys.readouterr().out)
+    assert [s["converged"] for s in whole["stages"]] == [False, None, True]
+    assert whole["stable"] is False
+    model, saved = str(tmp_path / "column.toml"), str(tmp_path / "out" / "s.json")
+    again = ["simulate", model, "-o", str(tmp_path / "b"), *QUIET, "--json"]
+    assert cli.main([*again, "--restart", saved]) == 0
+    assert strict(capsys.readouterr().out)["stable"] is False

@@ -124,12 +124,15 @@ class Outcome:
     target: float = 1e-5  # the model's equilibrium ratio ([mechanics].ratio)
     error: str | None = None  # the engine's error that stopped the run
     bolts: list[dict[str, Any]] = field(default_factory=list)  # per bolt, at the end
+    earlier: list[bool] = field(default_factory=list)  # solves before a restart: converged?
 
     @property
     def stable(self) -> bool:
-        """Every solve stage reached equilibrium (a run without one: the final ratio is
-        below the model's equilibrium ratio); False if interrupted or stopped by an error."""
-        solves = [s.converged for s in self.stages if s.kind == "solve"]
+        """Every solve stage reached equilibrium, those that ran before a restart included
+        (`earlier`, from the restart file), so that a restarted run says what the run that
+        did not stop says; a run without one: the final ratio is below the model's
+        equilibrium ratio. False if interrupted or stopped by an error."""
+        solves = self.earlier + [bool(s.converged) for s in self.stages if s.kind == "solve"]
         if self.interrupted or self.error is not None:
             return False
         return all(solves) if solves else bool(self.ratio <= self.target)
@@ -196,6 +199,8 @@ class Runner:
         self.chunk = self.model.results.history_every
         self.folder = Path(folder) if folder is not None else Path()
         self.first = 0  # the first stage to run (after a restart, the one after the save)
+        self.earlier: list[bool] = []  # the verdicts of the solve stages before the restart
+        self.solves: list[bool] = []  # ... and of those since: what a save carries on
         check_excavations(self.model, setup.layout.regions, setup.layout.bodies)
         if restart is not None:
             self.restore(Path(restart))
@@ -259,6 +264,7 @@ class Runner:
             ratio=e.ratio,
             target=self.model.mechanics.ratio,
             error=error,
+            earlier=list(self.earlier),
         )
         out.bolts = bolt_results(e)
         return out
@@ -302,6 +308,7 @@ class Runner:
             e.set_elastic(stage.elastic)
             converged = self.solve(stage, stage.ratio, stage.max_steps)
             e.set_elastic(False)
+            self.solves.append(converged)
         elif stage.kind in ("cycle", "time"):
             if stage.kind == "cycle":
                 assert stage.steps is not None
@@ -387,7 +394,8 @@ class Runner:
     def save(self, index: int, stage: Stage) -> None:
         """Writes a restart file: the engine's state, with a note of where the run stands
         (the next stage, the displacement reference, the boundary masks, the joint
-        properties of the model's sets) so that ``--restart`` goes on from here."""
+        properties of the model's sets, whether each solve stage so far reached
+        equilibrium) so that ``--restart`` goes on from here."""
         assert stage.file is not None
         path = save_path(stage.file, self.folder)
         e = self.engine
@@ -401,6 +409,7 @@ class Runner:
             "velocity": [[None if math.isnan(x) else x for x in row] for row in self.velocity],
             "default": e.default.__dict__,
             "properties": {name: p.__dict__ for name, p in e.properties.items()},
+            "solves": self.earlier + self.solves,
         }
         e.save(path, json.dumps(note))
 
@@ -435,6 +444,7 @@ class Runner:
         ).reshape(n, 3)
         e.default = JointProperties(**note["default"])
         e.properties = {k: JointProperties(**v) for k, v in note["properties"].items()}
+        self.earlier = [bool(x) for x in note.get("solves", [])]  # none in older files
 
     # --- factor of safety -----------------------------------------------------------
 
