@@ -183,7 +183,21 @@ def test_factor_of_safety_says_when_it_starts_out_of_equilibrium(tmp_path, stand
 def test_factor_of_safety_outside_the_range():
     stages = FOS.format(1000).rstrip("\n") + "\nhigh = 1.1\n"
     f = Runner(wedge(60.0, stages), InclineEngine).run().safety  # exact 2.47
-    assert (f.bounded, f.failing, f.factor) == (">", None, 1.0)
+    assert (f.bounded, f.failing, f.factor) == (">", None, 1.1)
+
+
+@pytest.mark.parametrize(
+    ("friction", "factors", "bound"),
+    [
+        (89.0, [1, 2, 4, 8, 10], ">"),  # exact 81.8: stable at high = 10 itself
+        (2.0, [1, 0.5, 0.25, 0.125, 0.1], "<"),  # exact 0.050: failing at low = 0.1 itself
+    ],
+)
+def test_factor_of_safety_tries_low_and_high_themselves(friction, factors, bound):
+    assert (exact_factor(friction) > 10) == (bound == ">")
+    f = Runner(wedge(friction, FOS.format(1000)), InclineEngine).run().safety
+    assert [t.factor for t in f.trials] == factors
+    assert (f.bounded, f.factor) == (bound, factors[-1])
 
 
 def test_factor_of_safety_leaves_the_model_as_it_was():

@@ -7,6 +7,7 @@ import argparse
 import csv
 import io
 import json
+import math
 import sys
 import time
 from pathlib import Path
@@ -131,6 +132,7 @@ def run_simulate(args: argparse.Namespace) -> int:
             raise CommandError("--html needs plotly: pip install 'penedge[html]'") from None
     show = progress.wanted(args.quiet or args.json)
     model = pm.read_model(path)
+    refuse_outputs_as_saves(model, folder)
     bar = ProgressBar(sys.stderr, f"{PROG} simulate: generating", unit="planes") if show else None
     try:
         setup = pm.prepare(model, progress=bar)
@@ -138,7 +140,13 @@ def run_simulate(args: argparse.Namespace) -> int:
         if bar is not None:
             bar.close()
     if args.check:
+        from penedge.model.run import check_safety_stages
+
+        layout = setup.layout
+        check_safety_stages(model, layout, layout.fixed, layout.velocity)
         summary = check_summary(path, setup)
+        if args.restart is not None:
+            summary["restart"] = check_restart(setup, folder, args.restart)
         print_summary(args, summary, format_check(summary))
         return 0
     engine_factory = engines.Engine
@@ -214,6 +222,43 @@ def run_simulate(args: argparse.Namespace) -> int:
     return 0
 
 
+def check_restart(setup: Any, folder: Path, restart: str) -> dict[str, Any]:
+    """``--check --restart FILE``: the restart file read onto the model's engine, as the
+    run would (so refused as the run would refuse it); the file and the stages it would
+    run."""
+    from penedge.model import engine as engines
+    from penedge.model.run import Runner
+
+    try:
+        engines.simulation_class()
+    except engines.EngineMissingError as e:
+        raise CommandError(f"--restart: cannot read the restart file: {e}") from None
+    runner = Runner(setup, engines.Engine, folder=folder, restart=restart)
+    stages = setup.model.stages[runner.first :]
+    return {"file": restart, "stages": [f"{s.name} {s.kind}" for s in stages]}
+
+
+def refuse_outputs_as_saves(model: Any, folder: Path) -> None:
+    """A ``save`` stage's file may not be one of the results (``summary.json``, the
+    ``series`` folder and what it holds...): the results, written after the run, would
+    replace it."""
+    import penedge.model as pm
+    from penedge.model.run import save_path
+
+    for i, stage in enumerate(model.stages):
+        if stage.kind != "save" or stage.file is None:
+            continue
+        path = save_path(stage.file, folder).resolve()
+        for name in OUTPUT_NAMES.values():
+            output = (folder / name).resolve()
+            if path == output or (name == OUTPUT_NAMES["series"] and output in path.parents):
+                raise pm.ModelError(
+                    f"stages[{i}].file",
+                    f"{stage.file!r} is where penedge simulate writes its {name}, which would "
+                    "replace the restart file: choose another name",
+                )
+
+
 def progress_text(engine: Any, stage: Any, done: int, total: int | None) -> str:
     """``stages[0] solve: step 1200, t 0.034 s, ratio 3.2e-04, kinetic energy 12 J``."""
     if stage.kind == "factor_of_safety":
@@ -231,7 +276,7 @@ def progress_text(engine: Any, stage: Any, done: int, total: int | None) -> str:
 
 def print_summary(args: argparse.Namespace, summary: dict[str, Any], text: str) -> None:
     if args.json:
-        print(json.dumps(summary, indent=2))
+        print(summary_json(summary))
     elif not args.quiet:
         print(text)
 
@@ -273,6 +318,9 @@ def format_check(summary: dict[str, Any]) -> str:
         row("joint sets", ", ".join(summary["sets"]) or "none"),
         row("stages", ", ".join(summary["stages"])),
     ]
+    if "restart" in summary:
+        then = ", ".join(summary["restart"]["stages"]) or "no stage"
+        lines.append(row("restart", f"from {summary['restart']['file']}: runs {then}"))
     if summary["monitors"]:
         monitors = ", ".join(f"{k} (block {v})" for k, v in summary["monitors"].items())
         lines.append(row("monitors", monitors))
@@ -498,5 +546,23 @@ def without_excavated(engine: Any, system: Any, displacement: Any) -> tuple[Any,
 
 def write_summary_json(folder: Path, summary: dict[str, Any]) -> None:
     """summary.json (replaced atomically)."""
-    text = json.dumps(summary, indent=2)
+    text = summary_json(summary)
     write_via_temp(folder / OUTPUT_NAMES["summary"], True, lambda h: h.write(text.encode()))
+
+
+def summary_json(summary: dict[str, Any]) -> str:
+    """`summary` as strict JSON: a value that is not finite (the unbalanced-force ratio of
+    an engine that has taken no step yet, under no gravity, is infinite) is written null,
+    since JSON has no Infinity or NaN."""
+    return json.dumps(finite(summary), indent=2, allow_nan=False)
+
+
+def finite(value: Any) -> Any:
+    """`value` with every float that is not finite replaced by None, in lists and dicts."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite(v) for v in value]
+    return value

@@ -124,12 +124,15 @@ class Outcome:
     target: float = 1e-5  # the model's equilibrium ratio ([mechanics].ratio)
     error: str | None = None  # the engine's error that stopped the run
     bolts: list[dict[str, Any]] = field(default_factory=list)  # per bolt, at the end
+    earlier: list[bool] = field(default_factory=list)  # solves before a restart: converged?
 
     @property
     def stable(self) -> bool:
-        """Every solve stage reached equilibrium (a run without one: the final ratio is
-        below the model's equilibrium ratio); False if interrupted or stopped by an error."""
-        solves = [s.converged for s in self.stages if s.kind == "solve"]
+        """Every solve stage reached equilibrium, those that ran before a restart included
+        (`earlier`, from the restart file), so that a restarted run says what the run that
+        did not stop says; a run without one: the final ratio is below the model's
+        equilibrium ratio. False if interrupted or stopped by an error."""
+        solves = self.earlier + [bool(s.converged) for s in self.stages if s.kind == "solve"]
         if self.interrupted or self.error is not None:
             return False
         return all(solves) if solves else bool(self.ratio <= self.target)
@@ -196,9 +199,15 @@ class Runner:
         self.chunk = self.model.results.history_every
         self.folder = Path(folder) if folder is not None else Path()
         self.first = 0  # the first stage to run (after a restart, the one after the save)
+        self.earlier: list[bool] = []  # the verdicts of the solve stages before the restart
+        self.solves: list[bool] = []  # ... and of those since: what a save carries on
         check_excavations(self.model, setup.layout.regions, setup.layout.bodies)
         if restart is not None:
             self.restore(Path(restart))
+        check_saves(self.model, self.folder, self.first)
+        check_safety_stages(
+            self.model, setup.layout, self.fixed, self.velocity, removed_of(self.engine), self.first
+        )
 
     # --- the run --------------------------------------------------------------------
 
@@ -216,7 +225,7 @@ class Runner:
             try:
                 results.append(self.run_stage(index, stage))
                 self.write_frame()
-            except (KeyboardInterrupt, PenedgeError) as e:
+            except (KeyboardInterrupt, PenedgeError, ModelError, OSError) as e:
                 interrupted = isinstance(e, KeyboardInterrupt)
                 error = None if interrupted else str(e)
                 e_ = self.engine
@@ -255,6 +264,7 @@ class Runner:
             ratio=e.ratio,
             target=self.model.mechanics.ratio,
             error=error,
+            earlier=list(self.earlier),
         )
         out.bolts = bolt_results(e)
         return out
@@ -298,6 +308,7 @@ class Runner:
             e.set_elastic(stage.elastic)
             converged = self.solve(stage, stage.ratio, stage.max_steps)
             e.set_elastic(False)
+            self.solves.append(converged)
         elif stage.kind in ("cycle", "time"):
             if stage.kind == "cycle":
                 assert stage.steps is not None
@@ -383,11 +394,10 @@ class Runner:
     def save(self, index: int, stage: Stage) -> None:
         """Writes a restart file: the engine's state, with a note of where the run stands
         (the next stage, the displacement reference, the boundary masks, the joint
-        properties of the model's sets) so that ``--restart`` goes on from here."""
+        properties of the model's sets, whether each solve stage so far reached
+        equilibrium) so that ``--restart`` goes on from here."""
         assert stage.file is not None
-        path = Path(stage.file)
-        if not path.is_absolute():
-            path = self.folder / path
+        path = save_path(stage.file, self.folder)
         e = self.engine
         note = {
             "penedge_simulate": RESTART_NOTE_VERSION,
@@ -399,6 +409,7 @@ class Runner:
             "velocity": [[None if math.isnan(x) else x for x in row] for row in self.velocity],
             "default": e.default.__dict__,
             "properties": {name: p.__dict__ for name, p in e.properties.items()},
+            "solves": self.earlier + self.solves,
         }
         e.save(path, json.dumps(note))
 
@@ -433,6 +444,7 @@ class Runner:
         ).reshape(n, 3)
         e.default = JointProperties(**note["default"])
         e.properties = {k: JointProperties(**v) for k, v in note["properties"].items()}
+        self.earlier = [bool(x) for x in note.get("solves", [])]  # none in older files
 
     # --- factor of safety -----------------------------------------------------------
 
@@ -455,7 +467,9 @@ class Runner:
         reduce_default = not stage.sets
         original = {name: self.engine.properties[name] for name in names}
         default = self.engine.default
-        free = ~(self.fixed | ~np.isnan(self.velocity[:, 0]) | removed_of(self.engine))
+        free = free_of(self.fixed, self.velocity, removed_of(self.engine))
+        if not free.any():
+            raise ModelError(f"stages[{index}]", NO_FREE_BLOCK)
         threshold = self.model.results.moved
         trials: list[Trial] = []
 
@@ -471,7 +485,7 @@ class Runner:
             except PenedgeError:  # blocks driven into each other: the model is failing
                 converged, broke = False, True
             speeds = np.linalg.norm(e.velocities(), axis=1)
-            speed = float(speeds[free].max())
+            speed = float(speeds[free].max(initial=0.0))
             failed = broke or (not converged and speed > stage.velocity)
             shifted = np.linalg.norm(e.positions() - before, axis=1) > threshold
             moved = np.flatnonzero(free & (shifted | (speeds > stage.velocity)))
@@ -484,26 +498,27 @@ class Runner:
         stable: Trial | None = None
         failing: Trial | None = None
         t = trial(1.0)
+        # Widen by halving or doubling, the last trial at `low` or `high` itself.
         if t.failed:
             failing = t
-            f = 0.5
-            while f >= stage.low:
+            f = 1.0
+            while f > stage.low:
+                f = max(f / 2, stage.low)
                 t = trial(f)
                 if not t.failed:
                     stable = t
                     break
                 failing = t
-                f /= 2
         else:
             stable = t
-            f = 2.0
-            while f <= stage.high:
+            f = 1.0
+            while f < stage.high:
+                f = min(f * 2, stage.high)
                 t = trial(f)
                 if t.failed:
                     failing = t
                     break
                 stable = t
-                f *= 2
         if stable is not None and failing is not None:
             while failing.factor - stable.factor > stage.tolerance:
                 t = trial(0.5 * (stable.factor + failing.factor))
@@ -526,12 +541,49 @@ class Runner:
 #: The version of the note a ``save`` stage keeps in its restart file.
 RESTART_NOTE_VERSION = 1
 
+#: Why a ``factor_of_safety`` stage without a free block cannot run.
+NO_FREE_BLOCK = (
+    "a factor of safety needs a free block to fail, and every block is fixed, driven or "
+    "excavated by this stage (by [[boundary]], boundary and excavate stages)"
+)
+
+
+def free_of(fixed: np.ndarray, velocity: np.ndarray, removed: np.ndarray) -> np.ndarray:
+    """The free blocks: not fixed, not driven (a velocity prescribed), not excavated."""
+    return ~(fixed | ~np.isnan(velocity[:, 0]) | removed)
+
 
 def removed_of(engine: Any) -> np.ndarray:
     """The blocks `engine` has excavated (none for an engine that cannot excavate)."""
     removed = getattr(engine, "removed", None)
     n = len(engine.positions())
     return np.zeros(n, bool) if removed is None else np.asarray(removed(), dtype=bool)
+
+
+def check_safety_stages(
+    model: Model,
+    layout: Any,
+    fixed: np.ndarray,
+    velocity: np.ndarray,
+    removed: np.ndarray | None = None,
+    first: int = 0,
+) -> None:
+    """Before any step: each ``factor_of_safety`` stage from stage `first` on has a free
+    block to fail, given the `fixed` and driven (`velocity` not NaN) blocks and the
+    `removed` ones at stage `first`, and the boundary and excavate stages before it."""
+    fixed, velocity = fixed.copy(), velocity.copy()
+    removed = np.zeros(len(fixed), bool) if removed is None else removed.copy()
+    for i, stage in enumerate(model.stages):
+        if i < first:
+            continue
+        if stage.kind == "boundary" and stage.boundary is not None:
+            b = stage.boundary
+            mask = layout.regions[b.region]
+            apply_boundary(fixed, velocity, mask, b.condition, b.velocity, layout.bodies)
+        elif stage.kind == "excavate" and stage.region is not None:
+            removed |= layout.regions[stage.region]
+        elif stage.kind == "factor_of_safety" and not free_of(fixed, velocity, removed).any():
+            raise ModelError(f"stages[{i}]", NO_FREE_BLOCK)
 
 
 def check_excavations(
@@ -558,6 +610,32 @@ def check_excavations(
                 "this stage removes nothing",
             )
         removed |= mask
+
+
+def save_path(file: str, folder: Path) -> Path:
+    """Where a ``save`` stage's `file` goes: a relative path is in `folder`."""
+    path = Path(file)
+    return path if path.is_absolute() else folder / path
+
+
+def check_saves(model: Model, folder: Path, first: int = 0) -> None:
+    """Before any step: each ``save`` stage from stage `first` on can write its file (its
+    folder exists, or is `folder`, the results folder, made before the run; the file is
+    not a folder), so that a run does not stop at a save after hours of steps."""
+    for i, stage in enumerate(model.stages):
+        if i < first or stage.kind != "save" or stage.file is None:
+            continue
+        path = save_path(stage.file, folder)
+        parent = path.parent
+        if path.is_dir():
+            problem = f"{path} is a folder"
+        elif parent.is_dir() or (parent == folder and not parent.exists()):
+            continue
+        elif parent.exists():
+            problem = f"{parent} is not a folder"
+        else:
+            problem = f"no folder {parent} to write {path.name} in"
+        raise ModelError(f"stages[{i}].file", f"cannot write the restart file: {problem}")
 
 
 def merge(props: JointProperties, changes: dict[str, float]) -> JointProperties:

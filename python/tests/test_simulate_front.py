@@ -1,0 +1,200 @@
+"""The front end of ``penedge simulate`` (docs/models.md): strict JSON outputs, save files
+checked before any step, stages that cannot run refused up front, the factor-of-safety
+range and the verdict of a restarted run."""
+
+import json
+from pathlib import Path
+
+import pytest
+
+import penedge.model as pm
+from penedge import cli
+from penedge.model.engine import Engine
+from penedge.model.run import Runner
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
+COLUMN = (EXAMPLES / "block_column.toml").read_text()
+BASE = COLUMN[: COLUMN.index("[[stages]]")]
+QUIET = ["--no-pictures", "--no-series"]
+
+
+def strict(text: str) -> dict:
+    """`text` read as strict JSON: Infinity and NaN are refused."""
+
+    def refuse(constant: str) -> None:
+        raise ValueError(f"not JSON: {constant}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+def simulate(tmp_path: Path, stages: str, *flags: str, base: str = BASE) -> int:
+    """Runs ``penedge simulate`` on the block column with these stages into tmp_path/out."""
+    model = tmp_path / "column.toml"
+    model.write_text(base + stages)
+    return cli.main(["simulate", str(model), "-o", str(tmp_path / "out"), *QUIET, *flags])
+
+
+@pytest.mark.parametrize(
+    ("stages", "base"),
+    [
+        ('[[stages]]\ntype = "properties"\nfriction = 20\n', BASE),
+        ('[[stages]]\ntype = "reset"\n', BASE),
+        # No gravity: nothing pushes the blocks, the ratio has nothing to divide by.
+        ('[[stages]]\ntype = "cycle"\nsteps = 10\n', BASE + "[mechanics]\ngravity = [0, 0, 0]\n"),
+    ],
+)
+def test_the_summary_is_strict_json_when_the_ratio_is_not_finite(tmp_path, capsys, stages, base):
+    simulate(tmp_path, stages, "--json", base=base)
+    printed = strict(capsys.readouterr().out)
+    written = strict((tmp_path / "out" / "summary.json").read_text())
+    assert printed["ratio"] is None
+    assert written["ratio"] is None
+    assert written["stages"][0]["ratio"] is None
+
+
+CYCLE_THEN_SAVE = '[[stages]]\ntype = "cycle"\nsteps = 20\n[[stages]]\ntype = "save"\nfile = "{}"\n'
+
+
+@pytest.mark.parametrize(
+    ("file", "problem"),
+    [("nodir/s.json", "no folder"), ("taken", "is a folder"), ("plain/s.json", "not a folder")],
+)
+def test_a_save_that_cannot_write_is_refused_before_any_step(tmp_path, capsys, file, problem):
+    (tmp_path / "out" / "taken").mkdir(parents=True)
+    (tmp_path / "out" / "plain").write_text("a file, not a folder")
+    assert simulate(tmp_path, CYCLE_THEN_SAVE.format(file)) == 1
+    err = capsys.readouterr().err
+    assert "stages[1].file: cannot write the restart file" in err, err
+    assert problem in err, err
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["plain", "taken"]
+
+
+def test_a_save_that_fails_during_the_run_keeps_the_results_so_far(tmp_path):
+    folder = tmp_path / "results"
+    folder.mkdir()
+    setup = pm.prepare(BASE + CYCLE_THEN_SAVE.format("s.json"))
+    runner = Runner(setup, Engine, folder=folder)
+    folder.rmdir()  # gone after the checks: the save fails during the run
+    outcome = runner.run()
+    assert "s.json" in outcome.error
+    assert [(s.name, s.steps, s.stopped) for s in outcome.stages] == [
+        ("stages[0]", 20, None),
+        ("stages[1]", 0, "error"),
+    ]
+    assert outcome.steps == 20
+    assert outcome.history.stage[-1] == "error"
+
+
+@pytest.mark.parametrize(
+    "file",
+    ["summary.json", "history.csv", "history.png", "displacement.png", "failing.png",
+     "steps.html", "./summary.json", "series", "series/blocks.pvd"],
+)  # fmt: skip
+def test_a_save_named_like_an_output_is_refused(tmp_path, capsys, file):
+    assert simulate(tmp_path, CYCLE_THEN_SAVE.format(file)) == 1
+    err = capsys.readouterr().err
+    assert "stages[1].file" in err, err
+    assert "choose another name" in err, err
+    assert not (tmp_path / "out").exists()
+    # An absolute path to the same file is the same file.
+    absolute = (tmp_path / "out" / file).resolve()
+    assert simulate(tmp_path, CYCLE_THEN_SAVE.format(absolute), "--check") == 1
+    assert "choose another name" in capsys.readouterr().err
+
+
+def test_a_save_beside_the_outputs_runs(tmp_path):
+    assert simulate(tmp_path, CYCLE_THEN_SAVE.format("summary.json.restart")) == 0
+    assert (tmp_path / "out" / "summary.json.restart").exists()
+    assert (tmp_path / "out" / "summary.json").exists()
+
+
+NOTHING_FREE = """
+[[stages]]
+type = "solve"
+[[stages]]
+type = "boundary"
+region = {type = "all"}
+condition = "fixed"
+[[stages]]
+type = "factor_of_safety"
+"""
+
+
+@pytest.mark.parametrize("check", [[], ["--check"]])
+def test_a_factor_of_safety_without_a_free_block_is_refused_before_any_step(
+    tmp_path, capsys, check
+):
+    assert simulate(tmp_path, NOTHING_FREE, *check) == 1
+    err = capsys.readouterr().err
+    assert "stages[2]: a factor of safety needs a free block" in err, err
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_factor_of_safety_without_a_free_block_stops_at_its_stage():
+    # Past the checks (the blocks fixed behind the runner's back), the stage itself says so
+    # and the run keeps what the stage before it did.
+    stages = '[[stages]]\ntype = "solve"\n[[stages]]\ntype = "factor_of_safety"\n'
+    runner = Runner(pm.prepare(BASE + stages), Engine)
+    runner.fixed[:] = True
+    outcome = runner.run()
+    assert outcome.error.startswith("stages[1]: a factor of safety needs a free block")
+    assert [(s.kind, s.converged, s.stopped) for s in outcome.stages] == [
+        ("solve", True, None),
+        ("factor_of_safety", None, "error"),
+    ]
+
+
+SAVE_AND_GO_ON = CYCLE_THEN_SAVE.format("s.json") + '[[stages]]\ntype = "cycle"\nsteps = 20\n'
+
+
+def test_check_reads_the_restart_file(tmp_path, capsys):
+    missing = str(tmp_path / "nonexistent.json")
+    assert simulate(tmp_path, SAVE_AND_GO_ON, "--check", "--restart", missing) == 1
+    assert "nonexistent.json" in capsys.readouterr().err
+    (tmp_path / "other.json").write_text("{}")
+    other = str(tmp_path / "other.json")
+    assert simulate(tmp_path, SAVE_AND_GO_ON, "--check", "--restart", other) == 1
+    assert "other.json" in capsys.readouterr().err
+    # A restart file of the model: checked, and the stages it would run are named.
+    assert simulate(tmp_path, SAVE_AND_GO_ON) == 0
+    saved = str(tmp_path / "out" / "s.json")
+    capsys.readouterr()
+    assert simulate(tmp_path, SAVE_AND_GO_ON, "--check", "--restart", saved) == 0
+    lines = [" ".join(line.split()) for line in capsys.readouterr().out.splitlines()]
+    assert f"restart from {saved}: runs stages[2] cycle" in lines
+    assert simulate(tmp_path, SAVE_AND_GO_ON, "--check", "--restart", saved, "--json") == 0
+    restart = strict(capsys.readouterr().out)["restart"]
+    assert restart == {"file": saved, "stages": ["stages[2] cycle"]}
+
+
+def test_a_restarted_run_gives_the_verdict_of_the_whole_run(tmp_path, capsys):
+    # The column settles (a solve), is saved, then its middle block is excavated and the
+    # blocks above fall: stable by the definition (every solve reached equilibrium), the
+    # restarted run too, though its own stages have no solve.
+    model = str(EXAMPLES / "column_excavation.toml")
+    flags = [*QUIET, "--json"]
+    assert cli.main(["simulate", model, "-o", str(tmp_path / "a"), *flags]) == 0
+    whole = strict(capsys.readouterr().out)
+    restart = ["--restart", str(tmp_path / "a" / "settled.json")]
+    assert cli.main(["simulate", model, "-o", str(tmp_path / "b"), *restart, *flags]) == 0
+    resumed = strict(capsys.readouterr().out)
+    assert [s["kind"] for s in resumed["stages"]] == ["excavate", "cycle"]
+    assert resumed["max_displacement"] == whole["max_displacement"]
+    assert whole["stable"] is True
+    assert resumed["stable"] is True
+
+
+def test_a_solve_that_failed_before_the_restart_still_counts(tmp_path, capsys):
+    stages = (
+        '[[stages]]\ntype = "solve"\nmax_steps = 5\n'  # far from equilibrium after 5 steps
+        '[[stages]]\ntype = "save"\nfile = "s.json"\n'
+        '[[stages]]\ntype = "solve"\n'  # reaches it
+    )
+    assert simulate(tmp_path, stages, "--json") == 0
+    whole = strict(capsys.readouterr().out)
+    assert [s["converged"] for s in whole["stages"]] == [False, None, True]
+    assert whole["stable"] is False
+    model, saved = str(tmp_path / "column.toml"), str(tmp_path / "out" / "s.json")
+    again = ["simulate", model, "-o", str(tmp_path / "b"), *QUIET, "--json"]
+    assert cli.main([*again, "--restart", saved]) == 0
+    assert strict(capsys.readouterr().out)["stable"] is False
