@@ -198,3 +198,44 @@ def test_a_solve_that_failed_before_the_restart_still_counts(tmp_path, capsys):
     again = ["simulate", model, "-o", str(tmp_path / "b"), *QUIET, "--json"]
     assert cli.main([*again, "--restart", saved]) == 0
     assert strict(capsys.readouterr().out)["stable"] is False
+
+
+def test_a_run_removes_the_results_of_an_earlier_run_and_nothing_else(tmp_path):
+    out = tmp_path / "out"
+
+    def run(stages: str, *flags: str, base: str = BASE) -> int:
+        (tmp_path / "column.toml").write_text(base + stages)
+        return cli.main(["simulate", str(tmp_path / "column.toml"), "-o", str(out), *flags])
+
+    frames = BASE.replace("history_every = 5", "history_every = 5\nframe_every = 5")
+    many = '[[stages]]\ntype = "cycle"\nsteps = 40\n'
+    assert run(many, "--no-pictures", base=frames) == 0  # with the series
+    series = out / "series"
+    assert len(list(series.glob("blocks_*.vtu"))) > 2
+    # What a run with a factor of safety and --html leaves, and the user's own files.
+    for name in ("failing.png", "steps.html", "history.png", "displacement.png"):
+        (out / name).write_text("from an earlier run")
+    (out / "notes.txt").write_text("mine")
+    (series / "mine.vtu").write_text("mine")
+    (series / "blocks_7.vtu.keep").write_text("mine")
+    (out / "own").mkdir()
+    (out / "own" / "blocks_000001.vtu").write_text("mine, not in series/")
+    # Now one frame per stage: the start and the end.
+    assert run('[[stages]]\ntype = "cycle"\nsteps = 10\n', "--no-pictures") == 0
+    assert sorted(p.name for p in series.glob("blocks_*.vtu")) == [
+        "blocks_000000.vtu",
+        "blocks_000001.vtu",
+    ]
+    for name in ("failing.png", "steps.html", "history.png", "displacement.png"):
+        assert not (out / name).exists(), name
+    assert (out / "notes.txt").read_text() == "mine"
+    assert (series / "mine.vtu").read_text() == "mine"
+    assert (series / "blocks_7.vtu.keep").exists()
+    assert (out / "own" / "blocks_000001.vtu").exists()
+    # Without a series, the earlier one goes (the folder too, once empty).
+    (series / "mine.vtu").unlink()
+    (series / "blocks_7.vtu.keep").unlink()
+    assert run('[[stages]]\ntype = "cycle"\nsteps = 10\n', *QUIET) == 0
+    assert not series.exists()
+    assert (out / "summary.json").exists()
+    assert (out / "history.csv").exists()

@@ -4,10 +4,12 @@ rigid-block engine, and write the results (summary, history, pictures, ParaView 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import csv
 import io
 import json
 import math
+import re
 import sys
 import time
 from pathlib import Path
@@ -61,6 +63,14 @@ OUTPUT_NAMES = {
     "series": "series",
 }
 
+#: The files penedge simulate writes in the ``series`` folder (:class:`Series`): the indexes
+#: and the numbered frames (``blocks_000012.vtu``), and the temporary files of a write that
+#: was stopped (``.blocks_000012.x1y2z3.tmp``).
+SERIES_FILES = re.compile(
+    r"(blocks|subcontacts|bolts)\.pvd|blocks_\d+\.vtu|(subcontacts|bolts)_\d+\.vtp"
+    r"|\.(blocks|subcontacts|bolts)(_\d+)?\..+\.tmp"
+)
+
 
 def add_parser(commands: Any) -> argparse.ArgumentParser:
     """Adds ``simulate`` to the subcommands."""
@@ -79,8 +89,8 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         "-o",
         "--output",
         metavar="FOLDER",
-        help="the folder of the results (made if needed; files in it are replaced); "
-        "default: MODEL's name with _results",
+        help="the folder of the results (made if needed; the results of an earlier run in "
+        "it are removed first, other files are left); default: MODEL's name with _results",
     )
     simulate.add_argument(
         "--restart",
@@ -186,6 +196,7 @@ def run_simulate(args: argparse.Namespace) -> int:
         setup, engine_factory, progress=report, frame=frame, folder=folder, restart=args.restart
     )
     folder.mkdir(parents=True, exist_ok=True)
+    remove_earlier_results(folder)
     if not args.no_series:
         from penedge.model.series import Series
 
@@ -236,6 +247,33 @@ def check_restart(setup: Any, folder: Path, restart: str) -> dict[str, Any]:
     runner = Runner(setup, engines.Engine, folder=folder, restart=restart)
     stages = setup.model.stages[runner.first :]
     return {"file": restart, "stages": [f"{s.name} {s.kind}" for s in stages]}
+
+
+def remove_earlier_results(folder: Path) -> None:
+    """Removes from `folder` what an earlier run of penedge simulate wrote there (the files
+    of :data:`OUTPUT_NAMES`, the series' indexes and frames, then the series folder if that
+    leaves it empty), so that no result of that run (a ``failing.png``, extra frames) passes
+    for one of this run. Nothing else is touched: a restart file, the user's own files."""
+    for name in OUTPUT_NAMES.values():
+        path = folder / name
+        if name == OUTPUT_NAMES["series"]:
+            if path.is_dir() and not path.is_symlink():
+                for item in path.iterdir():
+                    if SERIES_FILES.fullmatch(item.name) and not item.is_dir():
+                        remove_output(item)
+                with contextlib.suppress(OSError):
+                    path.rmdir()  # only when empty: the user's files stay
+        elif not path.is_dir():
+            remove_output(path)
+
+
+def remove_output(path: Path) -> None:
+    """Removes one result of an earlier run (nothing when there is none)."""
+    try:
+        path.unlink(missing_ok=True)
+    except OSError as e:
+        problem = e.strerror or str(e)
+        raise CommandError(f"cannot remove {path}, a result of an earlier run: {problem}") from None
 
 
 def refuse_outputs_as_saves(model: Any, folder: Path) -> None:
