@@ -282,6 +282,18 @@ def test_bolt_resolves_its_blocks():
             "no joint set is named 'joint'",
         ),
         ("[[stages]]\ntype = 'properties'\n", "stages[0]", "changes nothing"),
+        # a misspelt change, alone or with others: named, with the field it is a typo of
+        (
+            "[[stages]]\ntype = 'properties'\nfrction = 20\n",
+            "stages[0].frction",
+            "unknown field ('friction' is a field here: a typo?)",
+        ),
+        (
+            "[[stages]]\ntype = 'properties'\nkn = 1e9\ncohsion = 1e5\n",
+            "stages[0].cohsion",
+            "'cohesion' is a field here: a typo?",
+        ),
+        ("[[stages]]\ntype = 'properties'\ncolour = 3\n", "stages[0].colour", "unknown field;"),
         ("[[stages]]\ntype = 'properties'\nfriction = 95\n", "stages[0].friction", "less than 90"),
         ("[[stages]]\ntype = 'solv'\n", "stages[0].type", "unknown value 'solv'"),
         ("[[stages]]\ntype = 'cycle'\n", "stages[0].steps", "required"),

@@ -8,6 +8,7 @@ region that selects no block, a bolt outside the rock) are in :mod:`penedge.mode
 
 from __future__ import annotations
 
+import difflib
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -836,6 +837,7 @@ def parse_stage(
         stage = Stage(name, kind, time=t.number("time", required=True, above=0))
     elif kind == "properties":
         sets = stage_sets(t, set_names)
+        refuse_unknown(t, ("type", "name", "sets", *PROPERTY_FIELDS))
         changes = {k: t.raw(k) for k in PROPERTY_FIELDS if k in t.data}
         if not changes:
             raise ModelError(t.path, f"changes nothing: give some of {', '.join(PROPERTY_FIELDS)}")
@@ -879,6 +881,19 @@ def parse_stage(
             raise ModelError(t.field("high"), f"must be greater than low ({stage.low:g})")
     t.done()
     return stage
+
+
+def refuse_unknown(t: Table, known: tuple[str, ...]) -> None:
+    """Refuses a key of `t` that is not one of `known`, naming it and the known key it looks
+    like a typo of (``stages[0].frction``: before "changes nothing" of a properties stage
+    whose only change is misspelt)."""
+    for key in map(str, t.data):
+        if key not in known:
+            close = difflib.get_close_matches(key, known, 1)
+            typo = f" ({close[0]!r} is a field here: a typo?)" if close else ""
+            raise ModelError(
+                t.field(key), f"unknown field{typo}; this table takes {', '.join(known)}"
+            )
 
 
 def parse_save_file(t: Table) -> str:
