@@ -239,3 +239,27 @@ def test_a_run_removes_the_results_of_an_earlier_run_and_nothing_else(tmp_path):
     assert not series.exists()
     assert (out / "summary.json").exists()
     assert (out / "history.csv").exists()
+
+
+def test_a_time_step_above_the_critical_one_names_its_field(tmp_path, capsys):
+    # A 1 m cube of 2500 kg on kn = 1e9 Pa/m oscillates with a period of
+    # 2 pi sqrt(m / (kn A)) = 10 ms: a step of 1 s is far above the critical one.
+    base = BASE + "[mechanics]\ntime_step = 1\n"
+    assert simulate(tmp_path, '[[stages]]\ntype = "cycle"\nsteps = 10\n', base=base) == 1
+    err = capsys.readouterr().err
+    assert "error: mechanics.time_step: the time step 1 is not in (0, " in err, err
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_time_step_a_stiffer_joint_makes_too_large_names_its_field():
+    # 0.3 ms is below the critical step with kn = 1e9 (the engine takes it), not with
+    # kn = 1e11: the critical step goes as 1 / sqrt(kn), ten times smaller.
+    stages = (
+        '[mechanics]\ntime_step = 3e-4\n[[stages]]\ntype = "cycle"\nsteps = 10\n'
+        '[[stages]]\ntype = "properties"\nkn = 1e11\n[[stages]]\ntype = "cycle"\nsteps = 10\n'
+    )
+    outcome = Runner(pm.prepare(BASE + stages), Engine).run()
+    assert outcome.error.startswith("mechanics.time_step: the time step 0.0003 is not in"), (
+        outcome.error
+    )
+    assert [(s.steps, s.stopped) for s in outcome.stages] == [(10, None), (0, None), (0, "error")]

@@ -14,8 +14,10 @@ displacement, velocity and excavation state), the simulation's per body
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import re
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -98,6 +100,25 @@ def refuse_unsupported(model: Model) -> None:
         raise ModelError(field, message)
 
 
+@contextlib.contextmanager
+def time_step_field() -> Iterator[None]:
+    """The engine's refusal of the time step (``[mechanics] time_step`` above the critical
+    one, when the engine is built or after a stage that stiffened a joint) as an error
+    naming the field that set it, ``mechanics.time_step``."""
+    import penedge
+
+    try:
+        yield
+    except penedge.MechanicsError as e:
+        if getattr(e, "kind", None) != "time_step":
+            raise
+        raise ModelError(
+            "mechanics.time_step",
+            f"{e}: lower it, or leave it out for the automatic step (a fraction of the "
+            "critical one, which stiffer joints and bolts lower)",
+        ) from e
+
+
 class Engine:
     """A simulation of a checked model: the engine set up with the model's density,
     gravity (with the seismic load), damping, joint properties per set and boundary
@@ -129,14 +150,16 @@ class Engine:
             self.apply_water(model.water)
         layout = setup.layout
         self.apply_boundary(layout.fixed, layout.velocity)
-        if m.time_step is not None:
-            self.sim.set_timestep(dt=m.time_step)  # checked against the critical step
         if layout.support_forces is not None:
             self.apply_support(layout.support_forces, layout.support_moments)
         self.bolt_names = self.apply_bolts(model.bolts)
         stress = initial_stress_of(setup)
         if stress is not None:
             self.sim.set_initial_stress(**stress)
+        if m.time_step is not None:
+            # Last: checked against the critical step, which the bolts' stiffness lowers.
+            with time_step_field():
+                self.sim.set_timestep(dt=m.time_step)
 
     @property
     def concave(self) -> bool:
@@ -388,12 +411,14 @@ class Engine:
 
     def cycle(self, steps: int) -> None:
         """`steps` steps."""
-        self.sim.step(steps)
+        with time_step_field():
+            self.sim.step(steps)
 
     @property
     def timestep(self) -> float:
         """The time step (s)."""
-        return float(self.sim.timestep)
+        with time_step_field():
+            return float(self.sim.timestep)
 
     # --- state ----------------------------------------------------------------------
 
