@@ -427,6 +427,12 @@ def test_generation_errors_are_the_spec_errors():
             "no face 9",
         ),
         (
+            '[[boundary]]\nregion = {type = "face", face = "bottom", part = 7}\n'
+            'condition = "fixed"\n',
+            "boundary[0].region.part",
+            "the domain has 1 part(s) (0 to 0); no part 7",
+        ),
+        (
             '[[boundary]]\nregion = "base"\ncondition = "fixed"\n',
             "boundary[0].region",
             "no region is named 'base'",

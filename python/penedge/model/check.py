@@ -124,11 +124,8 @@ class Blocks:
 
 
 def domain_faces(blocks: Blocks, face: str | int, part: int, path: str) -> set[int]:
-    """The domain faces (indices into part `part`) that `face` names."""
-    if part >= len(blocks.domain_normals):
-        raise ModelError(
-            path, f"the domain has {len(blocks.domain_normals)} part(s); no part {part}"
-        )
+    """The domain faces (indices into part `part`, which exists) that `face` (the field
+    at `path`) names."""
     normals = blocks.domain_normals[part]
     if isinstance(face, int):
         if face >= len(normals):
@@ -173,6 +170,12 @@ def select(region: Region, blocks: Blocks, path: str) -> np.ndarray:
         mask = h < 0 if region.kind == "below" else h > 0
     elif region.kind == "face":
         assert region.face is not None
+        parts = len(blocks.domain_normals)
+        if region.part >= parts:
+            raise ModelError(
+                f"{path}.part",
+                f"the domain has {parts} part(s) (0 to {parts - 1}); no part {region.part}",
+            )
         faces = domain_faces(blocks, region.face, region.part, f"{path}.face")
         on = on_domain_faces(blocks, faces, region.part)
         mask = np.zeros(n, bool)
