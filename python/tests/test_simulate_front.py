@@ -263,3 +263,29 @@ def test_a_time_step_a_stiffer_joint_makes_too_large_names_its_field():
         outcome.error
     )
     assert [(s.steps, s.stopped) for s in outcome.stages] == [(10, None), (0, None), (0, "error")]
+
+
+@pytest.mark.parametrize(
+    ("extra", "stages", "field"),
+    [
+        # a check that needs the blocks (check.resolve)
+        ("[[monitors]]\nname = 'far'\npoint = [9, 9, 9]\n", "", "monitors[1].point"),
+        # one of the stages (a region of no block)
+        ("", '[[stages]]\ntype = "excavate"\nregion = {type = "blocks", ids = [99]}\n',
+         "stages[0].region.ids"),
+        # the generation's
+        ("[options]\nmin_volume = -1\n", "", "options.min_volume"),
+        # the engine's, building it (which --check does not)
+        ("[mechanics]\ntime_step = 1\n", "", "mechanics.time_step"),
+        # before any of them (a save named like a result)
+        ("", '[[stages]]\ntype = "save"\nfile = "summary.json"\n', "stages[0].file"),
+    ],
+)  # fmt: skip
+def test_every_error_of_the_model_names_its_file(tmp_path, capsys, extra, stages, field):
+    runs = [[]] if field == "mechanics.time_step" else [[], ["--check"]]
+    for check in runs:
+        assert simulate(tmp_path, stages, *check, base=BASE + extra) == 1
+        err = capsys.readouterr().err.strip()
+        assert err.startswith(f"penedge: error: {field}: "), err
+        assert err.endswith(f"(in {tmp_path / 'column.toml'})"), err
+        assert err.count("(in ") == 1, err

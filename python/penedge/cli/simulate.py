@@ -12,6 +12,7 @@ import math
 import re
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import IO, Any
 
@@ -118,11 +119,38 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
 
 def run_simulate(args: argparse.Namespace) -> int:
     """``penedge simulate MODEL``."""
+    path = Path(args.model)
+    with in_model_file(path):
+        return simulate_model(args, path)
+
+
+@contextlib.contextmanager
+def in_model_file(path: Path) -> Iterator[None]:
+    """An error of the model found after reading it (the checks that need the blocks, the
+    generation's, the engine's refusals of the model's values) says which file, as the
+    errors of reading it do: ``regions.top: selects no block ... (in model.toml)``. Not an
+    error of the restart file (field ``restart``), which names that file."""
+    import penedge
+    import penedge.model as pm
+
+    try:
+        yield
+    except penedge.SpecError as e:
+        where = f" (in {path})"
+        text = str(e)
+        if text.endswith(where) or getattr(e, "field", None) == "restart":
+            raise
+        if isinstance(e, pm.ModelError):
+            raise pm.ModelError(e.field, text.split(": ", 1)[1] + where) from None
+        raise CommandError(text + where) from None
+
+
+def simulate_model(args: argparse.Namespace, path: Path) -> int:
+    """``penedge simulate MODEL`` once the model's `path` is known."""
     import penedge.model as pm
     from penedge.model import engine as engines
     from penedge.model.run import Runner
 
-    path = Path(args.model)
     if path.suffix.lower() == ".json" or path.is_dir():
         raise UsageError(f"argument MODEL: '{path}' should be a .toml model file")
     folder = Path(args.output) if args.output else Path(f"{path.stem}_results")
