@@ -289,3 +289,42 @@ def test_every_error_of_the_model_names_its_file(tmp_path, capsys, extra, stages
         assert err.startswith(f"penedge: error: {field}: "), err
         assert err.endswith(f"(in {tmp_path / 'column.toml'})"), err
         assert err.count("(in ") == 1, err
+
+
+SOLVE = '[[stages]]\ntype = "solve"\n'
+
+
+def properties(**changes: float) -> str:
+    return '[[stages]]\ntype = "properties"\n' + "".join(f"{k} = {v}\n" for k, v in changes.items())
+
+
+@pytest.mark.parametrize(
+    ("stages", "warned"),
+    [
+        # the column's kn is 1e9 Pa/m
+        (SOLVE + properties(kn=1e10), "stages[1] raises kn from 1e+09 to 1e+10 Pa/m"),
+        # what is in effect counts: an earlier properties stage set 1e8
+        (properties(kn=1e8) + SOLVE + properties(kn=5e8), "from 1e+08 to 5e+08 Pa/m"),
+        (properties(kn=1e10) + SOLVE, None),  # before any step: nothing to push
+        (SOLVE + properties(kn=1e8), None),  # softer
+        (SOLVE + properties(kn=1e9, friction=20), None),  # the same
+        (SOLVE + properties(ks=1e10), None),  # shear is incremental: no push now
+    ],
+)
+def test_a_properties_stage_raising_kn_after_steps_is_warned_of(tmp_path, capsys, stages, warned):
+    assert simulate(tmp_path, stages, "--check", "-q") == 0
+    err = capsys.readouterr().err
+    if warned is None:
+        assert err == ""
+    else:
+        assert err.startswith("penedge: warning: stages["), err
+        assert warned in err, err
+        assert "total overlap" in err
+        assert err.count("warning") == 1
+
+
+def test_the_warning_of_a_stiffer_kn_comes_with_the_run_too(tmp_path, capsys):
+    assert simulate(tmp_path, SOLVE + properties(kn=1e10), "--json") == 0
+    captured = capsys.readouterr()
+    assert "warning: stages[1] raises kn" in captured.err
+    strict(captured.out)  # stdout stays JSON

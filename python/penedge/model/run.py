@@ -548,6 +548,48 @@ NO_FREE_BLOCK = (
 )
 
 
+#: The stages that take steps: after one, the blocks rest on their contacts' overlaps.
+STEPPING_STAGES = ("solve", "cycle", "time", "excavate")
+
+
+def stiffening_warnings(model: Model) -> list[str]:
+    """A warning for each ``properties`` stage that raises ``kn`` (of a set, or the default
+    properties) after a stage that took steps. The normal force comes from the blocks'
+    total overlap (docs/mechanics.md, "Normal force: total"), so the overlap they settled
+    with is pushed harder at once and the blocks move to a new equilibrium: a tenfold kn
+    throws them. ``ks`` is not warned of: the shear force is incremental, a stiffer ks
+    changes the steps after, not the force now."""
+    kn = {name: p.kn for name, p in model.properties.items()}
+    default = model.default_properties.kn
+    stepped: Stage | None = None
+    warnings = []
+    for stage in model.stages:
+        if stepped is None and stage.kind in STEPPING_STAGES:
+            stepped = stage
+        if stage.kind != "properties" or "kn" not in stage.changes:
+            continue
+        new = stage.changes["kn"]
+        names = stage.sets or tuple(model.set_names)
+        before = {name: kn[name] for name in names}
+        if not stage.sets:  # every set, and the contacts of no set (as the run applies it)
+            before["the default properties"] = default
+            default = new
+        kn.update(dict.fromkeys(names, new))
+        raised = [name for name, old in before.items() if new > old]
+        if stepped is None or not raised:
+            continue
+        old = min(before[name] for name in raised)
+        warnings.append(
+            f"{stage.name} raises kn from {old:g} to {new:g} Pa/m ({', '.join(raised)}) "
+            f"after {stepped.name} ({stepped.kind}) took steps: the normal force comes from "
+            f"the blocks' total overlap, so the overlap they settled with is pushed up to "
+            f"{new / old:.3g} times harder at once and the blocks are thrown towards a new "
+            "equilibrium; give kn before the first solve, or expect a new settlement "
+            '(docs/models.md, the "properties" stage)'
+        )
+    return warnings
+
+
 def free_of(fixed: np.ndarray, velocity: np.ndarray, removed: np.ndarray) -> np.ndarray:
     """The free blocks: not fixed, not driven (a velocity prescribed), not excavated."""
     return ~(fixed | ~np.isnan(velocity[:, 0]) | removed)
