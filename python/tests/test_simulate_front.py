@@ -328,3 +328,18 @@ def test_the_warning_of_a_stiffer_kn_comes_with_the_run_too(tmp_path, capsys):
     captured = capsys.readouterr()
     assert "warning: stages[1] raises kn" in captured.err
     strict(captured.out)  # stdout stays JSON
+
+
+def test_a_restart_file_of_another_model_is_refused(tmp_path, capsys):
+    # The same number of blocks (five), other blocks: the bedding shifted by half a metre.
+    assert simulate(tmp_path, SAVE_AND_GO_ON) == 0
+    saved = str(tmp_path / "out" / "s.json")
+    other = BASE.replace("origin = [0, 0, 1]", "origin = [0, 0, 0.5]")
+    assert other != BASE
+    capsys.readouterr()
+    assert simulate(tmp_path, SAVE_AND_GO_ON, "--restart", saved, base=other) == 1
+    err = capsys.readouterr().err
+    assert "restart: " in err
+    assert "another model" in err
+    # The model that wrote it goes on from it.
+    assert simulate(tmp_path, SAVE_AND_GO_ON, "--restart", saved) == 0

@@ -14,6 +14,7 @@ interface of :class:`penedge.model.engine.Engine`.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 from collections.abc import Callable
@@ -410,6 +411,7 @@ class Runner:
             "default": e.default.__dict__,
             "properties": {name: p.__dict__ for name, p in e.properties.items()},
             "solves": self.earlier + self.solves,
+            "blocks": blocks_fingerprint(self.setup.blocks),
         }
         e.save(path, json.dumps(note))
 
@@ -425,6 +427,14 @@ class Runner:
         if not (isinstance(note, dict) and note.get("penedge_simulate") == RESTART_NOTE_VERSION):
             return  # a state saved outside a model run: every stage runs on it
         n = len(self.reference)
+        written = note.get("blocks")  # none in files written before 2026-11-28
+        if written is not None and written != blocks_fingerprint(self.setup.blocks):
+            raise ModelError(
+                "restart",
+                f"{path} was written by a run of another model: its {n} blocks are not this "
+                "model's (other joints, domain or options give other blocks; restart a run "
+                "with the model file that wrote it)",
+            )
         if note["next_stage"] > len(self.model.stages):
             raise ModelError(
                 "restart",
@@ -593,6 +603,21 @@ def stiffening_warnings(model: Model) -> list[str]:
 def free_of(fixed: np.ndarray, velocity: np.ndarray, removed: np.ndarray) -> np.ndarray:
     """The free blocks: not fixed, not driven (a velocity prescribed), not excavated."""
     return ~(fixed | ~np.isnan(velocity[:, 0]) | removed)
+
+
+def blocks_fingerprint(blocks: Any) -> str:
+    """A digest of the model's blocks as generated (their centroids and volumes, relative to
+    the model's size, to 6 and 9 digits: a regeneration's last-bit differences do not
+    change it, another model's blocks do), kept in a restart file so that a run does not go
+    on from another model's state with the same number of blocks."""
+    size = blocks.size if blocks.size > 0 else 1.0
+    # + 0.0: a negative zero after rounding is the positive one.
+    centroids = np.round(np.asarray(blocks.centroids, float) / size, 6) + 0.0
+    volumes = np.round(np.asarray(blocks.volumes, float) / size**3, 9) + 0.0
+    digest = hashlib.sha256(np.int64(len(volumes)).tobytes())
+    digest.update(np.ascontiguousarray(centroids).tobytes())
+    digest.update(np.ascontiguousarray(volumes).tobytes())
+    return digest.hexdigest()[:32]
 
 
 def removed_of(engine: Any) -> np.ndarray:
