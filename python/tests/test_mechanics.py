@@ -99,8 +99,19 @@ def test_a_block_slides_on_a_slope_steeper_than_friction():
     assert moved == pytest.approx(v1 @ down * t + 0.5 * a * t * t, rel=0.01)
 
 
+def sliced_box(planes=5):
+    """A box cut by `planes` vertical planes: a system whose joint sets are 0 .. planes - 1
+    (each plane its own spec entry)."""
+    normals = [[1.0, 0.0, 0.0]] * planes
+    offsets = [(k + 1) / (planes + 1) for k in range(planes)]
+    system = penedge.BlockSystem.from_box_cut([0, 0, 0], [1, 1, 1], normals, offsets)
+    sim = penedge.Simulation(system)
+    sim.set_joint(kn=1e9, ks=1e9, friction=30.0)
+    return sim
+
+
 def test_joint_properties_per_set_and_default():
-    sim = cube_on_base()
+    sim = sliced_box()
     sim.set_joint(kn=2e9, ks=1e9, friction=35.0, cohesion=1e5, tension=5e4, set=3)
     assert sim.joint(set=3) == {
         "kn": 2e9,
@@ -225,12 +236,34 @@ def test_water_below_a_table_lifts_the_cube_by_the_water_force():
     assert contacts["water_forces"] == pytest.approx([9810.0 * (2.0 - contacts["points"][0, 2])])
 
 
+def test_a_set_the_system_does_not_have_is_refused_with_the_sets_it_has():
+    # a typo in a set id must not silently leave the set's contacts at the default properties
+    sim = sliced_box(planes=2)
+    bridge = dict(kn=1e9, ks=1e9, friction=45.0, cohesion=1e6, tension=1e5)
+    for give in [
+        lambda s: sim.set_joint(kn=1e9, ks=1e9, friction=30.0, set=s),
+        lambda s: sim.set_bridge(**bridge, set=s),
+        lambda s: sim.set_water(pressures={s: 1e4}),
+    ]:
+        give(1)  # the system's sets are accepted
+        with pytest.raises(penedge.MechanicsError, match=r"no joint set 2\b.*sets are 0, 1") as e:
+            give(2)
+        assert e.value.kind == "unknown_set"
+    assert sim.joint(set=1)["friction"] == 30.0
+    # blocks of no joint have no set at all; the default properties are still theirs to set
+    sim = cube_on_base()
+    with pytest.raises(penedge.MechanicsError, match=r"no joint set 0: .*no joint sets"):
+        sim.set_joint(kn=1e9, ks=1e9, friction=30.0, set=0)
+    sim.set_joint(kn=2e9, ks=2e9, friction=30.0)
+    assert sim.joint()["kn"] == 2e9
+
+
 def test_bad_water_is_refused_by_name():
     sim = cube_on_base()
     with pytest.raises(penedge.MechanicsError, match="vertical"):
         sim.set_water(point=[0, 0, 0], normal=[1, 0, 0])
     with pytest.raises(penedge.MechanicsError, match="water pressure"):
-        sim.set_water(pressures={0: -1.0})
+        sliced_box(planes=1).set_water(pressures={0: -1.0})
     with pytest.raises(penedge.MechanicsError, match="unit_weight"):
         sim.set_water(level=1.0, unit_weight=0.0)
     with pytest.raises(ValueError, match="level"):

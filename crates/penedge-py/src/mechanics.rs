@@ -151,7 +151,8 @@ impl Simulation {
     /// Raises
     /// ------
     /// MechanicsError
-    ///     A property out of range (the error names it).
+    ///     A property out of range (the error names it), or a set the system does not have
+    ///     (no block face of it and no entry of its generation spec: kind ``unknown_set``).
     #[pyo3(signature = (kn, ks, friction, cohesion = 0.0, tension = 0.0, set = None,
         residual_friction = None, residual_cohesion = 0.0))]
     #[allow(clippy::too_many_arguments)]
@@ -177,7 +178,10 @@ impl Simulation {
         };
         match set {
             None => self.inner.set_default_joint(model),
-            Some(s) => self.inner.set_joint(s, model),
+            Some(s) => self
+                .inner
+                .check_set(s)
+                .and_then(|()| self.inner.set_joint(s, model)),
         }
         .map_err(to_py_err)
     }
@@ -208,7 +212,7 @@ impl Simulation {
     /// Raises
     /// ------
     /// MechanicsError
-    ///     A property out of range (the error names it).
+    ///     A property out of range (the error names it), or a set the system does not have.
     #[pyo3(signature = (kn, ks, friction, cohesion, tension, set = None,
         residual_friction = None, residual_cohesion = 0.0))]
     #[allow(clippy::too_many_arguments)]
@@ -234,7 +238,10 @@ impl Simulation {
         };
         match set {
             None => self.inner.set_default_bridge(model),
-            Some(s) => self.inner.set_bridge(s, model),
+            Some(s) => self
+                .inner
+                .check_set(s)
+                .and_then(|()| self.inner.set_bridge(s, model)),
         }
         .map_err(to_py_err)
     }
@@ -270,7 +277,8 @@ impl Simulation {
     /// Raises
     /// ------
     /// MechanicsError
-    ///     A vertical surface, a negative pressure, a unit weight not > 0.
+    ///     A vertical surface, a negative pressure, a unit weight not > 0, a set the system
+    ///     does not have.
     /// ValueError
     ///     Both `level` and `point`, or `point` without `normal`.
     #[pyo3(signature = (level = None, point = None, normal = None, pressures = None,
@@ -299,6 +307,7 @@ impl Simulation {
             }
         };
         for (set, p) in pressures.unwrap_or_default() {
+            self.inner.check_set(set).map_err(to_py_err)?;
             water = water.with_set_pressure(set, p).map_err(to_py_err)?;
         }
         self.inner.set_water(water);
