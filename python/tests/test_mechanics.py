@@ -3,6 +3,10 @@ analytic solutions is in crates/penedge/tests/mechanics.rs; here the API: arrays
 errors, and two checks against formulas)."""
 
 import math
+import os
+import signal
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -310,3 +314,61 @@ def test_dormant_contacts_keep_the_motion_and_skip_open_contacts():
     assert on.positions.tobytes() == off.positions.tobytes()
     assert on.velocities.tobytes() == off.velocities.tobytes()
     assert on.contacts()["normal_forces"].tobytes() == off.contacts()["normal_forces"].tobytes()
+
+
+# -- Ctrl-C during a long run -----------------------------------------------------------------
+
+
+def falling_cube():
+    """One free cube falling without contacts: steps never converge and cost little."""
+    cube = penedge.Block.cuboid([0, 0, 0], [1, 1, 1])
+    return penedge.Simulation(penedge.BlockSystem([cube]))
+
+
+LONG = 10**7  # steps: far more than the 0.2 s before the signal takes (minutes without a check)
+
+
+@pytest.mark.parametrize(
+    ("run", "steps"),  # the long run; `k` steps of it at once
+    [
+        (lambda sim: sim.step(LONG), lambda sim, k: sim.step(k)),
+        (lambda sim: sim.run_until(LONG * sim.timestep), lambda sim, k: sim.step(k)),
+        (
+            lambda sim: sim.solve(ratio=1e-5, max_steps=LONG),
+            lambda sim, k: sim.solve(ratio=1e-5, max_steps=k),
+        ),
+    ],
+    ids=["step", "run_until", "solve"],
+)
+def test_ctrl_c_stops_a_long_run_after_a_whole_step(run, steps):
+    # The runs release the GIL; they must still look for signals between chunks of steps,
+    # or Ctrl-C waits for the whole run.
+    if not hasattr(signal, "SIGINT") or threading.current_thread() is not threading.main_thread():
+        pytest.skip("SIGINT cannot be delivered to the main thread here")
+    sim = falling_cube()
+
+    def run_then_wait():
+        run(sim)
+        time.sleep(5)  # without the check, the signal would be handled only here
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    timer = threading.Timer(0.2, os.kill, (os.getpid(), signal.SIGINT))
+    try:
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            run_then_wait()
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGINT, previous)
+    taken = sim.steps
+    assert 0 < taken < LONG  # interrupted mid-run
+    assert sim.damping == (0.0, 0.0)  # solve's 0.8 set back
+    # whole steps: the state is that of the same steps taken at once, bit for bit, and the
+    # run goes on from it
+    again = falling_cube()
+    steps(again, taken)
+    assert again.time == sim.time
+    assert np.array_equal(again.positions, sim.positions)
+    assert np.array_equal(again.velocities, sim.velocities)
+    sim.step(2)
+    assert sim.steps == taken + 2

@@ -11,6 +11,7 @@ use penedge::mechanics::{self, Damping, Fixity, JointModel, Water};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
+use std::time::{Duration, Instant};
 
 /// A rigid-block simulation (3DEC-style distinct element method) of a block system.
 ///
@@ -97,6 +98,40 @@ fn motion(
         None => DVec3::ZERO,
     };
     Ok((v, w))
+}
+
+/// The wall time of a run's work between two checks for signals (Ctrl-C).
+const CHUNK: Duration = Duration::from_millis(100);
+
+/// Runs `next` without the GIL until it says the run is over, in chunks of about [`CHUNK`]
+/// of wall time, checking for signals between them: a KeyboardInterrupt (or whatever a
+/// Python signal handler raises) stops the run there, after a whole step. `next` takes the
+/// run's next step if it has one and says whether the run is over; chunks change when the
+/// steps are taken, never what they compute, so the run is the same bit for bit.
+fn in_chunks(
+    py: Python<'_>,
+    sim: &mut mechanics::Simulation,
+    mut next: impl FnMut(&mut mechanics::Simulation) -> Result<bool, mechanics::MechanicsError> + Send,
+) -> PyResult<()> {
+    loop {
+        let over = py
+            .detach(|| -> Result<bool, mechanics::MechanicsError> {
+                let start = Instant::now();
+                loop {
+                    if next(sim)? {
+                        return Ok(true);
+                    }
+                    if start.elapsed() >= CHUNK {
+                        return Ok(false);
+                    }
+                }
+            })
+            .map_err(to_py_err)?;
+        if over {
+            return Ok(());
+        }
+        py.check_signals()?;
+    }
 }
 
 #[pymethods]
@@ -606,23 +641,43 @@ impl Simulation {
 
     // ---- running ----------------------------------------------------------------------
 
-    /// Takes `n` steps (without the GIL).
+    /// Takes `n` steps (without the GIL; Ctrl-C stops them after a whole step).
     ///
     /// Raises
     /// ------
     /// MechanicsError
     ///     No free body, a time step above the critical one, two bodies overlapping deeper
     ///     than the gap, a NaN state. The steps before stay taken.
+    /// KeyboardInterrupt
+    ///     A signal (Ctrl-C) during the run: the steps taken stay taken, the simulation is
+    ///     after a whole step and can go on.
     #[pyo3(signature = (n = 1))]
     fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
-        let inner = &mut self.inner;
-        py.detach(|| inner.cycle(n)).map_err(to_py_err)
+        let mut left = n;
+        in_chunks(py, &mut self.inner, |sim| {
+            if left == 0 {
+                return Ok(true);
+            }
+            sim.step()?;
+            left -= 1;
+            Ok(left == 0)
+        })
     }
 
-    /// Steps until the simulated time reaches `t`.
+    /// Steps until the simulated time reaches `t` (the last step may pass it by less than a
+    /// step; Ctrl-C stops them after a whole step, as for :meth:`step`).
     fn run_until(&mut self, py: Python<'_>, t: f64) -> PyResult<()> {
-        let inner = &mut self.inner;
-        py.detach(|| inner.run_until(t)).map_err(to_py_err)
+        if !t.is_finite() {
+            // The core's refusal, before any step.
+            return self.inner.run_until(t).map_err(to_py_err);
+        }
+        in_chunks(py, &mut self.inner, |sim| {
+            if sim.time() >= t {
+                return Ok(true);
+            }
+            sim.step()?;
+            Ok(sim.time() >= t)
+        })
     }
 
     /// Steps until the unbalanced-force ratio is below `ratio`, at most `max_steps`; local
@@ -632,6 +687,11 @@ impl Simulation {
     /// -------
     /// dict
     ///     ``steps``, ``ratio`` (at the end) and ``converged``.
+    ///
+    /// Raises
+    /// ------
+    /// KeyboardInterrupt
+    ///     A signal (Ctrl-C) during the run, as for :meth:`step` (the damping set back).
     #[pyo3(signature = (ratio = 1e-5, max_steps = 100_000))]
     fn solve<'py>(
         &mut self,
@@ -639,10 +699,19 @@ impl Simulation {
         ratio: f64,
         max_steps: u64,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let inner = &mut self.inner;
-        let report = py
-            .detach(|| inner.solve(ratio, max_steps))
-            .map_err(to_py_err)?;
+        // The core's `solve` one step at a time (it sets the damping for the step and back):
+        // the same steps, tests and report as in one call.
+        let mut report = self.inner.solve(ratio, 0).map_err(to_py_err)?;
+        in_chunks(py, &mut self.inner, |sim| {
+            if report.converged || report.steps >= max_steps {
+                return Ok(true);
+            }
+            let one = sim.solve(ratio, 1)?;
+            report.steps += one.steps;
+            report.ratio = one.ratio;
+            report.converged = one.converged;
+            Ok(report.converged || report.steps >= max_steps)
+        })?;
         let out = PyDict::new(py);
         out.set_item("steps", report.steps)?;
         out.set_item("ratio", report.ratio)?;
