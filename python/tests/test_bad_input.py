@@ -702,3 +702,50 @@ def test_command_line_errors_are_one_line_and_write_nothing(files, args, message
     assert result.stdout == ""
     after = {p.name: p.read_bytes() for p in files.iterdir() if p.is_file()}
     assert after == before  # no output, not even a temporary file
+
+
+# -- mechanics ------------------------------------------------------------------------------
+
+
+def test_a_simulation_of_no_blocks_is_refused_when_made():
+    with pytest.raises(penedge.MechanicsError, match="the block system has no blocks"):
+        penedge.Simulation(penedge.BlockSystem([]))
+
+
+NEGATIVE_ARGUMENTS = {
+    "fix": (lambda sim: sim.fix([-1]), r"ids\[0\] is -1"),
+    "free": (lambda sim: sim.free([1, -2]), r"ids\[1\] is -2"),
+    "set_density": (lambda sim: sim.set_density(2000.0, ids=[-1]), r"ids\[0\] is -1"),
+    "excavate": (lambda sim: sim.excavate([-1]), r"ids\[0\] is -1"),
+    "relax_steps": (lambda sim: sim.excavate([1], relax_steps=-1), "relax_steps .*-1"),
+    "step": (lambda sim: sim.step(-1), "^n must be .*got -1"),
+    "solve": (lambda sim: sim.solve(max_steps=-1), "max_steps .*got -1"),
+    "set_joint": (
+        lambda sim: sim.set_joint(kn=1e9, ks=1e9, friction=30.0, set=-1),
+        "^set must be .*got -1",
+    ),
+    "set_bridge": (
+        lambda sim: sim.set_bridge(kn=1e9, ks=1e9, friction=30.0, cohesion=0, tension=0, set=-1),
+        "^set must be .*got -1",
+    ),
+    "joint": (lambda sim: sim.joint(set=-1), "^set must be .*got -1"),
+    "bridge": (lambda sim: sim.bridge(-1), "^set must be .*got -1"),
+    "set_water": (lambda sim: sim.set_water(pressures={-1: 1.0}), "pressures .*got -1"),
+    "set_velocity": (lambda sim: sim.set_velocity(-1, [0, 0, 0]), "^id must be .*got -1"),
+    "prescribe": (lambda sim: sim.prescribe(-1, [0, 0, 0]), "^id must be .*got -1"),
+    "apply_force": (lambda sim: sim.apply_force(-1, [0, 0, 1]), "^id must be .*got -1"),
+    "apply_moment": (lambda sim: sim.apply_moment(-1, [0, 0, 1]), "^id must be .*got -1"),
+}
+
+
+@pytest.mark.parametrize("name", NEGATIVE_ARGUMENTS)
+def test_a_negative_count_or_id_is_named_not_a_bare_overflow(name):
+    call, message = NEGATIVE_ARGUMENTS[name]
+    base = penedge.Block.cuboid([-2, -2, -1], [2, 2, 0])
+    cube = penedge.Block.cuboid([-0.5, -0.5, 0], [0.5, 0.5, 1])
+    sim = penedge.Simulation(penedge.BlockSystem([base, cube]))
+    with pytest.raises(penedge.InputError, match=message) as e:
+        call(sim)
+    assert e.value.kind == "negative"
+    assert sim.steps == 0
+    assert not sim.fixed.any()

@@ -1,7 +1,7 @@
 //! `Simulation` (core `mechanics`): rigid-block DEM on a block system.
 
 use crate::arrays;
-use crate::errors::to_py_err;
+use crate::errors::{input_error, to_py_err};
 use crate::io::file_error;
 use crate::system::BlockSystem;
 use numpy::ndarray::Array2;
@@ -83,8 +83,47 @@ fn model_dict<'py>(py: Python<'py>, m: &JointModel) -> PyResult<Bound<'py, PyDic
     Ok(out)
 }
 
-fn body_ids(ids: Option<Vec<usize>>, n: usize) -> Vec<usize> {
-    ids.unwrap_or_else(|| (0..n).collect())
+/// The body ids given as `ids` (any array-like of whole numbers >= 0), all `n` when None.
+fn body_ids(ids: Option<&Bound<'_, PyAny>>, n: usize) -> PyResult<Vec<usize>> {
+    match ids {
+        None => Ok((0..n).collect()),
+        Some(ids) => Ok(arrays::indices(ids, "ids")?
+            .into_iter()
+            .map(|i| usize::try_from(i).unwrap_or(usize::MAX))
+            .collect()),
+    }
+}
+
+/// A whole number of 0 or more given as argument `name`: a negative one is an `InputError`
+/// naming it (kind ``negative``), where the conversion would raise a bare `OverflowError`.
+fn natural(value: i64, name: &str) -> PyResult<u64> {
+    u64::try_from(value).map_err(|_| {
+        let message = format!("{name} must be a whole number of 0 or more, got {value}");
+        input_error("negative", message)
+    })
+}
+
+/// A body id given as argument `name` ([`natural`]; one past the bodies is the core's
+/// `MechanicsError`).
+fn body_id(value: i64, name: &str) -> PyResult<usize> {
+    Ok(usize::try_from(natural(value, name)?).unwrap_or(usize::MAX))
+}
+
+/// A joint set id given as argument `name`: a whole number from 0 to `u32::MAX`, else an
+/// `InputError` naming it.
+fn set_id(value: i64, name: &str) -> PyResult<u32> {
+    u32::try_from(value).map_err(|_| {
+        let kind = if value < 0 {
+            "negative"
+        } else {
+            "out_of_range"
+        };
+        let message = format!(
+            "{name} must be a joint set id from 0 to {}, got {value}",
+            u32::MAX
+        );
+        input_error(kind, message)
+    })
 }
 
 /// A velocity and an optional spin (zero when not given) as vectors.
@@ -198,10 +237,11 @@ impl Simulation {
         friction: f64,
         cohesion: f64,
         tension: f64,
-        set: Option<u32>,
+        set: Option<i64>,
         residual_friction: Option<f64>,
         residual_cohesion: f64,
     ) -> PyResult<()> {
+        let set = set.map(|s| set_id(s, "set")).transpose()?;
         let model = JointModel {
             kn,
             ks,
@@ -258,10 +298,11 @@ impl Simulation {
         friction: f64,
         cohesion: f64,
         tension: f64,
-        set: Option<u32>,
+        set: Option<i64>,
         residual_friction: Option<f64>,
         residual_cohesion: f64,
     ) -> PyResult<()> {
+        let set = set.map(|s| set_id(s, "set")).transpose()?;
         let model = JointModel {
             kn,
             ks,
@@ -282,13 +323,15 @@ impl Simulation {
     }
 
     /// The bridge properties of set `set` (its own, else the default), as a dict.
-    fn bridge<'py>(&self, py: Python<'py>, set: u32) -> PyResult<Bound<'py, PyDict>> {
+    fn bridge<'py>(&self, py: Python<'py>, set: i64) -> PyResult<Bound<'py, PyDict>> {
+        let set = set_id(set, "set")?;
         model_dict(py, &self.inner.bridges().of_set(set, self.inner.joints()))
     }
 
     /// The joint properties of set `set` (None: the default), as a dict.
     #[pyo3(signature = (set = None))]
-    fn joint<'py>(&self, py: Python<'py>, set: Option<u32>) -> PyResult<Bound<'py, PyDict>> {
+    fn joint<'py>(&self, py: Python<'py>, set: Option<i64>) -> PyResult<Bound<'py, PyDict>> {
+        let set = set.map(|s| set_id(s, "set")).transpose()?;
         model_dict(py, self.inner.joints().of_set(set))
     }
 
@@ -323,7 +366,7 @@ impl Simulation {
         level: Option<f64>,
         point: Option<&Bound<'_, PyAny>>,
         normal: Option<&Bound<'_, PyAny>>,
-        pressures: Option<std::collections::BTreeMap<u32, f64>>,
+        pressures: Option<std::collections::BTreeMap<i64, f64>>,
         unit_weight: f64,
     ) -> PyResult<()> {
         let mut water = match (level, point, normal) {
@@ -342,6 +385,7 @@ impl Simulation {
             }
         };
         for (set, p) in pressures.unwrap_or_default() {
+            let set = set_id(set, "a set of pressures")?;
             self.inner.check_set(set).map_err(to_py_err)?;
             water = water.with_set_pressure(set, p).map_err(to_py_err)?;
         }
@@ -406,16 +450,16 @@ impl Simulation {
 
     /// Sets the density of the given bodies (all when `ids` is None).
     #[pyo3(signature = (density, ids = None))]
-    fn set_density(&mut self, density: f64, ids: Option<Vec<usize>>) -> PyResult<()> {
-        for i in body_ids(ids, self.inner.bodies().len()) {
+    fn set_density(&mut self, density: f64, ids: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        for i in body_ids(ids, self.inner.bodies().len())? {
             self.inner.set_density(i, density).map_err(to_py_err)?;
         }
         Ok(())
     }
 
     /// Fixes the given bodies: they no longer move.
-    fn fix(&mut self, ids: Vec<usize>) -> PyResult<()> {
-        for i in ids {
+    fn fix(&mut self, ids: &Bound<'_, PyAny>) -> PyResult<()> {
+        for i in body_ids(Some(ids), 0)? {
             self.inner.fix(i).map_err(to_py_err)?;
         }
         Ok(())
@@ -423,8 +467,8 @@ impl Simulation {
 
     /// Frees the given bodies, at rest now (their first step starts with a half kick); a
     /// body already free is left as it is.
-    fn free(&mut self, ids: Vec<usize>) -> PyResult<()> {
-        for i in ids {
+    fn free(&mut self, ids: &Bound<'_, PyAny>) -> PyResult<()> {
+        for i in body_ids(Some(ids), 0)? {
             self.inner.free(i).map_err(to_py_err)?;
         }
         Ok(())
@@ -434,10 +478,11 @@ impl Simulation {
     #[pyo3(signature = (id, velocity, spin = None))]
     fn prescribe(
         &mut self,
-        id: usize,
+        id: i64,
         velocity: &Bound<'_, PyAny>,
         spin: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
+        let id = body_id(id, "id")?;
         let (v, w) = motion(velocity, spin)?;
         self.inner.prescribe(id, v, w).map_err(to_py_err)
     }
@@ -446,10 +491,11 @@ impl Simulation {
     #[pyo3(signature = (id, velocity, spin = None))]
     fn set_velocity(
         &mut self,
-        id: usize,
+        id: i64,
         velocity: &Bound<'_, PyAny>,
         spin: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
+        let id = body_id(id, "id")?;
         let (v, w) = motion(velocity, spin)?;
         self.inner.set_velocity(id, v, w).map_err(to_py_err)
     }
@@ -460,10 +506,11 @@ impl Simulation {
     #[pyo3(signature = (id, force, point = None))]
     fn apply_force(
         &mut self,
-        id: usize,
+        id: i64,
         force: &Bound<'_, PyAny>,
         point: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
+        let id = body_id(id, "id")?;
         let f = DVec3::from_array(arrays::point(force, "force")?);
         match point {
             None => self.inner.apply_force(id, f),
@@ -477,7 +524,8 @@ impl Simulation {
 
     /// Applies a constant moment on body `id` (world frame, about its centroid; replaces the
     /// one set before; zero removes it).
-    fn apply_moment(&mut self, id: usize, moment: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn apply_moment(&mut self, id: i64, moment: &Bound<'_, PyAny>) -> PyResult<()> {
+        let id = body_id(id, "id")?;
         let m = DVec3::from_array(arrays::point(moment, "moment")?);
         self.inner.apply_moment(id, m).map_err(to_py_err)
     }
@@ -652,8 +700,8 @@ impl Simulation {
     ///     A signal (Ctrl-C) during the run: the steps taken stay taken, the simulation is
     ///     after a whole step and can go on.
     #[pyo3(signature = (n = 1))]
-    fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
-        let mut left = n;
+    fn step(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
+        let mut left = natural(n, "n")?;
         in_chunks(py, &mut self.inner, |sim| {
             if left == 0 {
                 return Ok(true);
@@ -697,8 +745,9 @@ impl Simulation {
         &mut self,
         py: Python<'py>,
         ratio: f64,
-        max_steps: u64,
+        max_steps: i64,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let max_steps = natural(max_steps, "max_steps")?;
         // The core's `solve` one step at a time (it sets the damping for the step and back):
         // the same steps, tests and report as in one call.
         let mut report = self.inner.solve(ratio, 0).map_err(to_py_err)?;
@@ -932,9 +981,11 @@ impl Simulation {
     fn excavate<'py>(
         &mut self,
         py: Python<'py>,
-        ids: Vec<usize>,
-        relax_steps: u64,
+        ids: &Bound<'_, PyAny>,
+        relax_steps: i64,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let ids = body_ids(Some(ids), 0)?;
+        let relax_steps = natural(relax_steps, "relax_steps")?;
         let report = self.inner.excavate(&ids, relax_steps).map_err(to_py_err)?;
         let out = PyDict::new(py);
         let removed: Vec<u64> = report.removed.iter().map(|&i| i as u64).collect();

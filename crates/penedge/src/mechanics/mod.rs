@@ -177,6 +177,9 @@ pub enum MechanicsError {
         /// The sets the simulation has, in words.
         known: String,
     },
+    /// A simulation of a block system without blocks.
+    #[error("the block system has no blocks")]
+    NoBlocks,
 }
 
 /// What [`Simulation::solve`] did.
@@ -323,6 +326,9 @@ impl Simulation {
     /// gravity `(0, 0, -9.81)`, no damping, a detection gap of 1e-3 (relative), point
     /// contacts 0.2 of the smaller body's diameter wide and the automatic time step.
     pub fn new(system: &BlockSystem, density: f64) -> Result<Simulation, MechanicsError> {
+        if system.is_empty() {
+            return Err(MechanicsError::NoBlocks);
+        }
         let (bodies, block_bodies) = Bodies::of_system(system, density)?;
         let mut sim = Simulation::from_bodies(bodies);
         sim.block_bodies = block_bodies;
@@ -1841,6 +1847,15 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(message.contains("no joint sets"), "{message}");
+    }
+
+    #[test]
+    fn a_simulation_of_no_blocks_is_refused() {
+        let empty = BlockSystem::new(Vec::new());
+        assert_eq!(
+            Simulation::new(&empty, 2500.0).unwrap_err(),
+            MechanicsError::NoBlocks
+        );
     }
 
     #[test]
