@@ -6,6 +6,7 @@ files, missing folders)."""
 import json
 import math
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -519,6 +520,53 @@ def test_a_binary_spec_file_is_a_syntax_error(tmp_path):
         penedge.generate(path)
     assert info.value.kind == "syntax"
     assert "not UTF-8" in str(info.value)
+
+
+def two_sets():
+    return {
+        "domain": {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]},
+        "joints": [
+            {"type": "set", "dip": 30, "dip_direction": 10, "spacing": 5},
+            {"type": "set", "dip": 60, "dip_direction": 100, "spacing": 5},
+        ],
+        "options": {"gap": 1e-3},
+    }
+
+
+@pytest.mark.parametrize(
+    ("edit", "field", "message"),
+    [
+        (lambda s: s["joints"][1].update(spasing=5), "joints[1]", "unknown field `spasing`"),
+        (lambda s: s["joints"][1].update(dip="steep"), "joints[1].dip", 'got the text "steep"'),
+        (lambda s: s["joints"][0].update(extent={"r": 1}), "joints[0]", "unknown field `extent`"),
+        (lambda s: s["options"].update(gapp=1), "options", "unknown field `gapp`"),
+        (lambda s: s.update(foo=1), "spec", "unknown field `foo`"),
+        (lambda s: s["domain"].update(max="x"), "domain.max", 'got the text "x"'),
+        (lambda s: s["domain"].pop("type"), "domain", "the field `type` is missing"),
+        (lambda s: s.pop("domain"), "spec", "the field `domain` is missing"),
+    ],
+    ids=[
+        "typo in a set",
+        "text for a number",
+        "unknown table",
+        "typo in options",
+        "typo",
+        "max",
+        "no type",
+        "no domain",
+    ],
+)
+def test_an_error_in_a_dict_spec_names_its_field_not_a_line_of_text_never_written(
+    edit, field, message
+):
+    # a dict spec is parsed from TOML text written of it: its line numbers point nowhere
+    spec = two_sets()
+    edit(spec)
+    with pytest.raises(penedge.SpecError) as info:
+        penedge.generate(spec)
+    assert info.value.field == field, str(info.value)
+    assert str(info.value).startswith(f"{field}: {message}")
+    assert not re.search(r"line \d+, column", str(info.value))
 
 
 def box(**domain):
