@@ -569,6 +569,24 @@ def test_an_error_in_a_dict_spec_names_its_field_not_a_line_of_text_never_writte
     assert not re.search(r"line \d+, column", str(info.value))
 
 
+@pytest.mark.parametrize(
+    ("excavation", "field", "message"),
+    [
+        ({"type": "tunnel", "radus": 1}, "excavation", "unknown field `radus`"),
+        ({"type": "tunnel", "radius": "big"}, "excavation.radius", 'got the text "big"'),
+        ({"radius": 1}, "excavation", "the field `type` is missing"),
+    ],
+    ids=["typo", "text for a number", "no type"],
+)
+def test_an_error_in_an_excavation_dict_names_its_field(excavation, field, message):
+    system = penedge.BlockSystem([penedge.Block.cuboid([0, 0, 0], [10, 10, 10])])
+    with pytest.raises(penedge.SpecError) as info:
+        system.excavate(excavation)
+    assert info.value.field == field, str(info.value)
+    assert str(info.value).startswith(f"{field}: {message}")
+    assert not re.search(r"line \d+, column", str(info.value))
+
+
 def box(**domain):
     return {"domain": {"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], **domain}}
 

@@ -123,7 +123,7 @@ fn read(py: Python<'_>, spec: &Bound<'_, PyAny>) -> PyResult<(Spec, Option<PathB
     }
     if spec.is_instance_of::<PyDict>() || spec.is_instance_of::<PyMapping>() {
         let text = toml_text(spec)?;
-        let parsed = parse_toml(&text).map_err(|e| to_py_err(in_dict(&text, e)))?;
+        let parsed = parse_toml(&text).map_err(|e| to_py_err(in_dict(&text, e, "")))?;
         return Ok((parsed, None));
     }
     let path: PathBuf = spec.extract().map_err(|_| {
@@ -201,10 +201,11 @@ fn run(
 
 /// An error of a spec given as a dict, parsed from the TOML text written of it
 /// ([`toml_text`]): the `line L, column C` of a syntax error are of that text, which the
-/// caller never saw, so they become the path of the field they point at
-/// (`joints[1].dip: got the text "steep", expected a number`; an unknown field is named by
-/// its table, `joints[0]: unknown field `spasing` ...`). Any other error is left as it is.
-fn in_dict(text: &str, e: SpecError) -> SpecError {
+/// caller never saw, so they become the path of the field they point at, under `root` (the
+/// dict's own path: empty for a whole spec, `excavation` for one excavation): `joints[1].dip:
+/// got the text "steep", expected a number`; an unknown field, and a missing one, named by
+/// its table (`joints[0]: unknown field `spasing` ...`). Any other error is left as it is.
+pub(crate) fn in_dict(text: &str, e: SpecError, root: &str) -> SpecError {
     let Problem::Syntax(message) = &e.problem else {
         return e;
     };
@@ -215,35 +216,42 @@ fn in_dict(text: &str, e: SpecError) -> SpecError {
     let Some((line, what)) = located else {
         return e;
     };
-    let (table, key) = field_at(text, line);
+    let (table, key, header) = field_at(text, line);
+    let unknown = what.starts_with("unknown field");
+    let missing = what.starts_with("the field `") && what.ends_with("` is missing");
     // A field missing from the whole spec is placed at its start, which is also the first
     // table's header when the spec has no plain key: a top-level field (in no table) is the
     // spec's.
-    let top_level = ["domain", "joints", "excavations", "options", "unit"]
-        .iter()
-        .any(|f| what == format!("the field `{f}` is missing"));
-    if top_level {
-        return SpecError::new("spec", Problem::Syntax(what.to_string()));
-    }
-    let field = match key {
-        Some(key) if !what.starts_with("unknown field") => {
-            if table.is_empty() {
-                key
-            } else {
-                format!("{table}.{key}")
-            }
-        }
-        _ if table.is_empty() => "spec".to_string(),
+    let top_level = root.is_empty()
+        && ["domain", "joints", "excavations", "options", "unit"]
+            .iter()
+            .any(|f| what == format!("the field `{f}` is missing"));
+    let join = |a: &str, b: &str| match (a.is_empty(), b.is_empty()) {
+        (true, _) => b.to_string(),
+        (_, true) => a.to_string(),
+        _ => format!("{a}.{b}"),
+    };
+    let path = match key {
+        _ if top_level => String::new(),
+        // A header's own table, where a field is missing or a value is wrong.
+        Some(key) if header && !unknown => join(&table, &key),
+        // A plain key's value.
+        Some(key) if !unknown && !missing => join(&table, &key),
         _ => table,
+    };
+    let field = match join(root, &path) {
+        f if f.is_empty() => "spec".to_string(),
+        f => f,
     };
     SpecError::new(field, Problem::Syntax(what.to_string()))
 }
 
 /// Where line `line` (from 1) of TOML text written by `toml::to_string` is: the path of the
-/// table it is in (`joints[1]`, `joints[0].extent`; empty for the top level) and the key it
-/// gives there, if any (a header `[a.b]` or `[[a.b]]` gives key `b` in table `a`). The writer
-/// puts every table under a header, arrays of tables as `[[...]]`, one key per line.
-fn field_at(text: &str, line: usize) -> (String, Option<String>) {
+/// table it is in (`joints[1]`, `joints[0].extent`; empty for the top level), the key it
+/// gives there, if any, and whether the line is a header (`[a.b]` or `[[a.b]]` gives key `b`
+/// in table `a`). The writer puts every table under a header, arrays of tables as `[[...]]`,
+/// one key per line.
+fn field_at(text: &str, line: usize) -> (String, Option<String>, bool) {
     // Per array of tables (its dotted header), the entries seen so far.
     let mut entries: std::collections::HashMap<String, usize> = Default::default();
     let mut table = String::new();
@@ -288,15 +296,15 @@ fn field_at(text: &str, line: usize) -> (String, Option<String>) {
                 if let Some(n) = entries.get(&names.join(".")) {
                     key.push_str(&format!("[{}]", n - 1));
                 }
-                return (parent, Some(key));
+                return (parent, Some(key), true);
             }
             table = path(&names, &entries);
         } else if i + 1 == line {
             let key = row.split_once(" = ").map(|(k, _)| unquote(k));
-            return (table, key);
+            return (table, key, false);
         }
     }
-    (table, None)
+    (table, None, false)
 }
 
 /// A spec given as a dict, written as TOML text.
