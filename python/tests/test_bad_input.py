@@ -6,6 +6,7 @@ files, missing folders)."""
 import json
 import math
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -521,6 +522,71 @@ def test_a_binary_spec_file_is_a_syntax_error(tmp_path):
     assert "not UTF-8" in str(info.value)
 
 
+def two_sets():
+    return {
+        "domain": {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]},
+        "joints": [
+            {"type": "set", "dip": 30, "dip_direction": 10, "spacing": 5},
+            {"type": "set", "dip": 60, "dip_direction": 100, "spacing": 5},
+        ],
+        "options": {"gap": 1e-3},
+    }
+
+
+@pytest.mark.parametrize(
+    ("edit", "field", "message"),
+    [
+        (lambda s: s["joints"][1].update(spasing=5), "joints[1]", "unknown field `spasing`"),
+        (lambda s: s["joints"][1].update(dip="steep"), "joints[1].dip", 'got the text "steep"'),
+        (lambda s: s["joints"][0].update(extent={"r": 1}), "joints[0]", "unknown field `extent`"),
+        (lambda s: s["options"].update(gapp=1), "options", "unknown field `gapp`"),
+        (lambda s: s.update(foo=1), "spec", "unknown field `foo`"),
+        (lambda s: s["domain"].update(max="x"), "domain.max", 'got the text "x"'),
+        (lambda s: s["domain"].pop("type"), "domain", "the field `type` is missing"),
+        (lambda s: s.pop("domain"), "spec", "the field `domain` is missing"),
+    ],
+    ids=[
+        "typo in a set",
+        "text for a number",
+        "unknown table",
+        "typo in options",
+        "typo",
+        "max",
+        "no type",
+        "no domain",
+    ],
+)
+def test_an_error_in_a_dict_spec_names_its_field_not_a_line_of_text_never_written(
+    edit, field, message
+):
+    # a dict spec is parsed from TOML text written of it: its line numbers point nowhere
+    spec = two_sets()
+    edit(spec)
+    with pytest.raises(penedge.SpecError) as info:
+        penedge.generate(spec)
+    assert info.value.field == field, str(info.value)
+    assert str(info.value).startswith(f"{field}: {message}")
+    assert not re.search(r"line \d+, column", str(info.value))
+
+
+@pytest.mark.parametrize(
+    ("excavation", "field", "message"),
+    [
+        ({"type": "tunnel", "radus": 1}, "excavation", "unknown field `radus`"),
+        ({"type": "tunnel", "radius": "big"}, "excavation.radius", 'got the text "big"'),
+        ({"radius": 1}, "excavation", "the field `type` is missing"),
+    ],
+    ids=["typo", "text for a number", "no type"],
+)
+def test_an_error_in_an_excavation_dict_names_its_field(excavation, field, message):
+    system = penedge.BlockSystem([penedge.Block.cuboid([0, 0, 0], [10, 10, 10])])
+    with pytest.raises(penedge.SpecError) as info:
+        system.excavate(excavation)
+    assert info.value.field == field, str(info.value)
+    assert str(info.value).startswith(f"{field}: {message}")
+    assert not re.search(r"line \d+, column", str(info.value))
+
+
 def box(**domain):
     return {"domain": {"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], **domain}}
 
@@ -702,3 +768,50 @@ def test_command_line_errors_are_one_line_and_write_nothing(files, args, message
     assert result.stdout == ""
     after = {p.name: p.read_bytes() for p in files.iterdir() if p.is_file()}
     assert after == before  # no output, not even a temporary file
+
+
+# -- mechanics ------------------------------------------------------------------------------
+
+
+def test_a_simulation_of_no_blocks_is_refused_when_made():
+    with pytest.raises(penedge.MechanicsError, match="the block system has no blocks"):
+        penedge.Simulation(penedge.BlockSystem([]))
+
+
+NEGATIVE_ARGUMENTS = {
+    "fix": (lambda sim: sim.fix([-1]), r"ids\[0\] is -1"),
+    "free": (lambda sim: sim.free([1, -2]), r"ids\[1\] is -2"),
+    "set_density": (lambda sim: sim.set_density(2000.0, ids=[-1]), r"ids\[0\] is -1"),
+    "excavate": (lambda sim: sim.excavate([-1]), r"ids\[0\] is -1"),
+    "relax_steps": (lambda sim: sim.excavate([1], relax_steps=-1), "relax_steps .*-1"),
+    "step": (lambda sim: sim.step(-1), "^n must be .*got -1"),
+    "solve": (lambda sim: sim.solve(max_steps=-1), "max_steps .*got -1"),
+    "set_joint": (
+        lambda sim: sim.set_joint(kn=1e9, ks=1e9, friction=30.0, set=-1),
+        "^set must be .*got -1",
+    ),
+    "set_bridge": (
+        lambda sim: sim.set_bridge(kn=1e9, ks=1e9, friction=30.0, cohesion=0, tension=0, set=-1),
+        "^set must be .*got -1",
+    ),
+    "joint": (lambda sim: sim.joint(set=-1), "^set must be .*got -1"),
+    "bridge": (lambda sim: sim.bridge(-1), "^set must be .*got -1"),
+    "set_water": (lambda sim: sim.set_water(pressures={-1: 1.0}), "pressures .*got -1"),
+    "set_velocity": (lambda sim: sim.set_velocity(-1, [0, 0, 0]), "^id must be .*got -1"),
+    "prescribe": (lambda sim: sim.prescribe(-1, [0, 0, 0]), "^id must be .*got -1"),
+    "apply_force": (lambda sim: sim.apply_force(-1, [0, 0, 1]), "^id must be .*got -1"),
+    "apply_moment": (lambda sim: sim.apply_moment(-1, [0, 0, 1]), "^id must be .*got -1"),
+}
+
+
+@pytest.mark.parametrize("name", NEGATIVE_ARGUMENTS)
+def test_a_negative_count_or_id_is_named_not_a_bare_overflow(name):
+    call, message = NEGATIVE_ARGUMENTS[name]
+    base = penedge.Block.cuboid([-2, -2, -1], [2, 2, 0])
+    cube = penedge.Block.cuboid([-0.5, -0.5, 0], [0.5, 0.5, 1])
+    sim = penedge.Simulation(penedge.BlockSystem([base, cube]))
+    with pytest.raises(penedge.InputError, match=message) as e:
+        call(sim)
+    assert e.value.kind == "negative"
+    assert sim.steps == 0
+    assert not sim.fixed.any()

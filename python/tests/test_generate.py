@@ -189,8 +189,9 @@ BAD_SPECS = {
         "unknown_type",
         "unknown type `fault`",
     ),
-    "typo": (one_set(dipp=3), "spec", "syntax", "unknown field `dipp` (a typo?)"),
-    "text for a number": (one_set(spacing="2.5"), "spec", "syntax", "expected a number"),
+    # a dict's syntax errors name the field, not a line of the TOML text written of it
+    "typo": (one_set(dipp=3), "joints[0]", "syntax", "unknown field `dipp` (a typo?)"),
+    "text for a number": (one_set(spacing="2.5"), "joints[0].spacing", "syntax", "a number"),
     "both orientations": (
         one_plane(dip=0, dip_direction=0, normal=[0, 0, 1]),
         "joints[0]",

@@ -3,6 +3,10 @@ analytic solutions is in crates/penedge/tests/mechanics.rs; here the API: arrays
 errors, and two checks against formulas)."""
 
 import math
+import os
+import signal
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -99,8 +103,19 @@ def test_a_block_slides_on_a_slope_steeper_than_friction():
     assert moved == pytest.approx(v1 @ down * t + 0.5 * a * t * t, rel=0.01)
 
 
+def sliced_box(planes=5):
+    """A box cut by `planes` vertical planes: a system whose joint sets are 0 .. planes - 1
+    (each plane its own spec entry)."""
+    normals = [[1.0, 0.0, 0.0]] * planes
+    offsets = [(k + 1) / (planes + 1) for k in range(planes)]
+    system = penedge.BlockSystem.from_box_cut([0, 0, 0], [1, 1, 1], normals, offsets)
+    sim = penedge.Simulation(system)
+    sim.set_joint(kn=1e9, ks=1e9, friction=30.0)
+    return sim
+
+
 def test_joint_properties_per_set_and_default():
-    sim = cube_on_base()
+    sim = sliced_box()
     sim.set_joint(kn=2e9, ks=1e9, friction=35.0, cohesion=1e5, tension=5e4, set=3)
     assert sim.joint(set=3) == {
         "kn": 2e9,
@@ -225,12 +240,34 @@ def test_water_below_a_table_lifts_the_cube_by_the_water_force():
     assert contacts["water_forces"] == pytest.approx([9810.0 * (2.0 - contacts["points"][0, 2])])
 
 
+def test_a_set_the_system_does_not_have_is_refused_with_the_sets_it_has():
+    # a typo in a set id must not silently leave the set's contacts at the default properties
+    sim = sliced_box(planes=2)
+    bridge = dict(kn=1e9, ks=1e9, friction=45.0, cohesion=1e6, tension=1e5)
+    for give in [
+        lambda s: sim.set_joint(kn=1e9, ks=1e9, friction=30.0, set=s),
+        lambda s: sim.set_bridge(**bridge, set=s),
+        lambda s: sim.set_water(pressures={s: 1e4}),
+    ]:
+        give(1)  # the system's sets are accepted
+        with pytest.raises(penedge.MechanicsError, match=r"no joint set 2\b.*sets are 0, 1") as e:
+            give(2)
+        assert e.value.kind == "unknown_set"
+    assert sim.joint(set=1)["friction"] == 30.0
+    # blocks of no joint have no set at all; the default properties are still theirs to set
+    sim = cube_on_base()
+    with pytest.raises(penedge.MechanicsError, match=r"no joint set 0: .*no joint sets"):
+        sim.set_joint(kn=1e9, ks=1e9, friction=30.0, set=0)
+    sim.set_joint(kn=2e9, ks=2e9, friction=30.0)
+    assert sim.joint()["kn"] == 2e9
+
+
 def test_bad_water_is_refused_by_name():
     sim = cube_on_base()
     with pytest.raises(penedge.MechanicsError, match="vertical"):
         sim.set_water(point=[0, 0, 0], normal=[1, 0, 0])
     with pytest.raises(penedge.MechanicsError, match="water pressure"):
-        sim.set_water(pressures={0: -1.0})
+        sliced_box(planes=1).set_water(pressures={0: -1.0})
     with pytest.raises(penedge.MechanicsError, match="unit_weight"):
         sim.set_water(level=1.0, unit_weight=0.0)
     with pytest.raises(ValueError, match="level"):
@@ -277,3 +314,61 @@ def test_dormant_contacts_keep_the_motion_and_skip_open_contacts():
     assert on.positions.tobytes() == off.positions.tobytes()
     assert on.velocities.tobytes() == off.velocities.tobytes()
     assert on.contacts()["normal_forces"].tobytes() == off.contacts()["normal_forces"].tobytes()
+
+
+# -- Ctrl-C during a long run -----------------------------------------------------------------
+
+
+def falling_cube():
+    """One free cube falling without contacts: steps never converge and cost little."""
+    cube = penedge.Block.cuboid([0, 0, 0], [1, 1, 1])
+    return penedge.Simulation(penedge.BlockSystem([cube]))
+
+
+LONG = 10**7  # steps: far more than the 0.2 s before the signal takes (minutes without a check)
+
+
+@pytest.mark.parametrize(
+    ("run", "steps"),  # the long run; `k` steps of it at once
+    [
+        (lambda sim: sim.step(LONG), lambda sim, k: sim.step(k)),
+        (lambda sim: sim.run_until(LONG * sim.timestep), lambda sim, k: sim.step(k)),
+        (
+            lambda sim: sim.solve(ratio=1e-5, max_steps=LONG),
+            lambda sim, k: sim.solve(ratio=1e-5, max_steps=k),
+        ),
+    ],
+    ids=["step", "run_until", "solve"],
+)
+def test_ctrl_c_stops_a_long_run_after_a_whole_step(run, steps):
+    # The runs release the GIL; they must still look for signals between chunks of steps,
+    # or Ctrl-C waits for the whole run.
+    if not hasattr(signal, "SIGINT") or threading.current_thread() is not threading.main_thread():
+        pytest.skip("SIGINT cannot be delivered to the main thread here")
+    sim = falling_cube()
+
+    def run_then_wait():
+        run(sim)
+        time.sleep(5)  # without the check, the signal would be handled only here
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    timer = threading.Timer(0.2, os.kill, (os.getpid(), signal.SIGINT))
+    try:
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            run_then_wait()
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGINT, previous)
+    taken = sim.steps
+    assert 0 < taken < LONG  # interrupted mid-run
+    assert sim.damping == (0.0, 0.0)  # solve's 0.8 set back
+    # whole steps: the state is that of the same steps taken at once, bit for bit, and the
+    # run goes on from it
+    again = falling_cube()
+    steps(again, taken)
+    assert again.time == sim.time
+    assert np.array_equal(again.positions, sim.positions)
+    assert np.array_equal(again.velocities, sim.velocities)
+    sim.step(2)
+    assert sim.steps == taken + 2

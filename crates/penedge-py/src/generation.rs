@@ -4,7 +4,9 @@
 use crate::arrays;
 use crate::errors::{to_py_err, Error};
 use crate::system::BlockSystem;
-use penedge::generation::{generate_with, Generated, GenerationError, Limits, Progress, Spec};
+use penedge::generation::{
+    generate_with, Generated, GenerationError, Limits, Problem, Progress, Spec, SpecError,
+};
 use penedge::io::spec::{parse_toml, read_spec};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyMapping, PyString, PyTuple};
@@ -121,7 +123,8 @@ fn read(py: Python<'_>, spec: &Bound<'_, PyAny>) -> PyResult<(Spec, Option<PathB
     }
     if spec.is_instance_of::<PyDict>() || spec.is_instance_of::<PyMapping>() {
         let text = toml_text(spec)?;
-        return Ok((parse_toml(&text).map_err(to_py_err)?, None));
+        let parsed = parse_toml(&text).map_err(|e| to_py_err(in_dict(&text, e, "")))?;
+        return Ok((parsed, None));
     }
     let path: PathBuf = spec.extract().map_err(|_| {
         let kind = spec.get_type().name().map_or("?".into(), |n| n.to_string());
@@ -194,6 +197,114 @@ fn run(
         (Some(e), _) => Err(Failure::Progress(e)),
         (None, result) => result.map_err(Failure::Generation),
     }
+}
+
+/// An error of a spec given as a dict, parsed from the TOML text written of it
+/// ([`toml_text`]): the `line L, column C` of a syntax error are of that text, which the
+/// caller never saw, so they become the path of the field they point at, under `root` (the
+/// dict's own path: empty for a whole spec, `excavation` for one excavation): `joints[1].dip:
+/// got the text "steep", expected a number`; an unknown field, and a missing one, named by
+/// its table (`joints[0]: unknown field `spasing` ...`). Any other error is left as it is.
+pub(crate) fn in_dict(text: &str, e: SpecError, root: &str) -> SpecError {
+    let Problem::Syntax(message) = &e.problem else {
+        return e;
+    };
+    let located = message
+        .strip_prefix("line ")
+        .and_then(|rest| rest.split_once(", column "))
+        .and_then(|(line, rest)| Some((line.parse::<usize>().ok()?, rest.split_once(": ")?.1)));
+    let Some((line, what)) = located else {
+        return e;
+    };
+    let (table, key, header) = field_at(text, line);
+    let unknown = what.starts_with("unknown field");
+    let missing = what.starts_with("the field `") && what.ends_with("` is missing");
+    // A field missing from the whole spec is placed at its start, which is also the first
+    // table's header when the spec has no plain key: a top-level field (in no table) is the
+    // spec's.
+    let top_level = root.is_empty()
+        && ["domain", "joints", "excavations", "options", "unit"]
+            .iter()
+            .any(|f| what == format!("the field `{f}` is missing"));
+    let join = |a: &str, b: &str| match (a.is_empty(), b.is_empty()) {
+        (true, _) => b.to_string(),
+        (_, true) => a.to_string(),
+        _ => format!("{a}.{b}"),
+    };
+    let path = match key {
+        _ if top_level => String::new(),
+        // A header's own table, where a field is missing or a value is wrong.
+        Some(key) if header && !unknown => join(&table, &key),
+        // A plain key's value.
+        Some(key) if !unknown && !missing => join(&table, &key),
+        _ => table,
+    };
+    let field = match join(root, &path) {
+        f if f.is_empty() => "spec".to_string(),
+        f => f,
+    };
+    SpecError::new(field, Problem::Syntax(what.to_string()))
+}
+
+/// Where line `line` (from 1) of TOML text written by `toml::to_string` is: the path of the
+/// table it is in (`joints[1]`, `joints[0].extent`; empty for the top level), the key it
+/// gives there, if any, and whether the line is a header (`[a.b]` or `[[a.b]]` gives key `b`
+/// in table `a`). The writer puts every table under a header, arrays of tables as `[[...]]`,
+/// one key per line.
+fn field_at(text: &str, line: usize) -> (String, Option<String>, bool) {
+    // Per array of tables (its dotted header), the entries seen so far.
+    let mut entries: std::collections::HashMap<String, usize> = Default::default();
+    let mut table = String::new();
+    let unquote = |k: &str| k.trim().trim_matches('"').to_string();
+    // The path of a header's dotted name: each array of tables with its last entry.
+    let path = |names: &[&str], entries: &std::collections::HashMap<String, usize>| {
+        let mut out = String::new();
+        for k in 0..names.len() {
+            if k > 0 {
+                out.push('.');
+            }
+            out.push_str(&unquote(names[k]));
+            if let Some(n) = entries.get(&names[..=k].join(".")) {
+                out.push_str(&format!("[{}]", n - 1));
+            }
+        }
+        out
+    };
+    for (i, row) in text.lines().enumerate().take(line) {
+        let row = row.trim();
+        let header = row
+            .strip_prefix("[[")
+            .and_then(|r| r.strip_suffix("]]"))
+            .map(|h| (h, true))
+            .or_else(|| {
+                row.strip_prefix('[')
+                    .and_then(|r| r.strip_suffix(']'))
+                    .map(|h| (h, false))
+            });
+        if let Some((name, array)) = header {
+            let names: Vec<&str> = name.split('.').map(str::trim).collect();
+            if array {
+                let dotted = names.join(".");
+                let nested = format!("{dotted}.");
+                entries.retain(|k, _| !k.starts_with(&nested));
+                *entries.entry(dotted).or_insert(0) += 1;
+            }
+            if i + 1 == line {
+                let parent = path(&names[..names.len() - 1], &entries);
+                let last = names.len() - 1;
+                let mut key = unquote(names[last]);
+                if let Some(n) = entries.get(&names.join(".")) {
+                    key.push_str(&format!("[{}]", n - 1));
+                }
+                return (parent, Some(key), true);
+            }
+            table = path(&names, &entries);
+        } else if i + 1 == line {
+            let key = row.split_once(" = ").map(|(k, _)| unquote(k));
+            return (table, key, false);
+        }
+    }
+    (table, None, false)
 }
 
 /// A spec given as a dict, written as TOML text.

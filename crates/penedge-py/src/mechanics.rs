@@ -1,7 +1,7 @@
 //! `Simulation` (core `mechanics`): rigid-block DEM on a block system.
 
 use crate::arrays;
-use crate::errors::to_py_err;
+use crate::errors::{input_error, to_py_err};
 use crate::io::file_error;
 use crate::system::BlockSystem;
 use numpy::ndarray::Array2;
@@ -11,6 +11,7 @@ use penedge::mechanics::{self, Damping, Fixity, JointModel, Water};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
+use std::time::{Duration, Instant};
 
 /// A rigid-block simulation (3DEC-style distinct element method) of a block system.
 ///
@@ -82,8 +83,47 @@ fn model_dict<'py>(py: Python<'py>, m: &JointModel) -> PyResult<Bound<'py, PyDic
     Ok(out)
 }
 
-fn body_ids(ids: Option<Vec<usize>>, n: usize) -> Vec<usize> {
-    ids.unwrap_or_else(|| (0..n).collect())
+/// The body ids given as `ids` (any array-like of whole numbers >= 0), all `n` when None.
+fn body_ids(ids: Option<&Bound<'_, PyAny>>, n: usize) -> PyResult<Vec<usize>> {
+    match ids {
+        None => Ok((0..n).collect()),
+        Some(ids) => Ok(arrays::indices(ids, "ids")?
+            .into_iter()
+            .map(|i| usize::try_from(i).unwrap_or(usize::MAX))
+            .collect()),
+    }
+}
+
+/// A whole number of 0 or more given as argument `name`: a negative one is an `InputError`
+/// naming it (kind ``negative``), where the conversion would raise a bare `OverflowError`.
+fn natural(value: i64, name: &str) -> PyResult<u64> {
+    u64::try_from(value).map_err(|_| {
+        let message = format!("{name} must be a whole number of 0 or more, got {value}");
+        input_error("negative", message)
+    })
+}
+
+/// A body id given as argument `name` ([`natural`]; one past the bodies is the core's
+/// `MechanicsError`).
+fn body_id(value: i64, name: &str) -> PyResult<usize> {
+    Ok(usize::try_from(natural(value, name)?).unwrap_or(usize::MAX))
+}
+
+/// A joint set id given as argument `name`: a whole number from 0 to `u32::MAX`, else an
+/// `InputError` naming it.
+fn set_id(value: i64, name: &str) -> PyResult<u32> {
+    u32::try_from(value).map_err(|_| {
+        let kind = if value < 0 {
+            "negative"
+        } else {
+            "out_of_range"
+        };
+        let message = format!(
+            "{name} must be a joint set id from 0 to {}, got {value}",
+            u32::MAX
+        );
+        input_error(kind, message)
+    })
 }
 
 /// A velocity and an optional spin (zero when not given) as vectors.
@@ -97,6 +137,40 @@ fn motion(
         None => DVec3::ZERO,
     };
     Ok((v, w))
+}
+
+/// The wall time of a run's work between two checks for signals (Ctrl-C).
+const CHUNK: Duration = Duration::from_millis(100);
+
+/// Runs `next` without the GIL until it says the run is over, in chunks of about [`CHUNK`]
+/// of wall time, checking for signals between them: a KeyboardInterrupt (or whatever a
+/// Python signal handler raises) stops the run there, after a whole step. `next` takes the
+/// run's next step if it has one and says whether the run is over; chunks change when the
+/// steps are taken, never what they compute, so the run is the same bit for bit.
+fn in_chunks(
+    py: Python<'_>,
+    sim: &mut mechanics::Simulation,
+    mut next: impl FnMut(&mut mechanics::Simulation) -> Result<bool, mechanics::MechanicsError> + Send,
+) -> PyResult<()> {
+    loop {
+        let over = py
+            .detach(|| -> Result<bool, mechanics::MechanicsError> {
+                let start = Instant::now();
+                loop {
+                    if next(sim)? {
+                        return Ok(true);
+                    }
+                    if start.elapsed() >= CHUNK {
+                        return Ok(false);
+                    }
+                }
+            })
+            .map_err(to_py_err)?;
+        if over {
+            return Ok(());
+        }
+        py.check_signals()?;
+    }
 }
 
 #[pymethods]
@@ -151,7 +225,8 @@ impl Simulation {
     /// Raises
     /// ------
     /// MechanicsError
-    ///     A property out of range (the error names it).
+    ///     A property out of range (the error names it), or a set the system does not have
+    ///     (no block face of it and no entry of its generation spec: kind ``unknown_set``).
     #[pyo3(signature = (kn, ks, friction, cohesion = 0.0, tension = 0.0, set = None,
         residual_friction = None, residual_cohesion = 0.0))]
     #[allow(clippy::too_many_arguments)]
@@ -162,10 +237,11 @@ impl Simulation {
         friction: f64,
         cohesion: f64,
         tension: f64,
-        set: Option<u32>,
+        set: Option<i64>,
         residual_friction: Option<f64>,
         residual_cohesion: f64,
     ) -> PyResult<()> {
+        let set = set.map(|s| set_id(s, "set")).transpose()?;
         let model = JointModel {
             kn,
             ks,
@@ -177,7 +253,10 @@ impl Simulation {
         };
         match set {
             None => self.inner.set_default_joint(model),
-            Some(s) => self.inner.set_joint(s, model),
+            Some(s) => self
+                .inner
+                .check_set(s)
+                .and_then(|()| self.inner.set_joint(s, model)),
         }
         .map_err(to_py_err)
     }
@@ -208,7 +287,7 @@ impl Simulation {
     /// Raises
     /// ------
     /// MechanicsError
-    ///     A property out of range (the error names it).
+    ///     A property out of range (the error names it), or a set the system does not have.
     #[pyo3(signature = (kn, ks, friction, cohesion, tension, set = None,
         residual_friction = None, residual_cohesion = 0.0))]
     #[allow(clippy::too_many_arguments)]
@@ -219,10 +298,11 @@ impl Simulation {
         friction: f64,
         cohesion: f64,
         tension: f64,
-        set: Option<u32>,
+        set: Option<i64>,
         residual_friction: Option<f64>,
         residual_cohesion: f64,
     ) -> PyResult<()> {
+        let set = set.map(|s| set_id(s, "set")).transpose()?;
         let model = JointModel {
             kn,
             ks,
@@ -234,19 +314,24 @@ impl Simulation {
         };
         match set {
             None => self.inner.set_default_bridge(model),
-            Some(s) => self.inner.set_bridge(s, model),
+            Some(s) => self
+                .inner
+                .check_set(s)
+                .and_then(|()| self.inner.set_bridge(s, model)),
         }
         .map_err(to_py_err)
     }
 
     /// The bridge properties of set `set` (its own, else the default), as a dict.
-    fn bridge<'py>(&self, py: Python<'py>, set: u32) -> PyResult<Bound<'py, PyDict>> {
+    fn bridge<'py>(&self, py: Python<'py>, set: i64) -> PyResult<Bound<'py, PyDict>> {
+        let set = set_id(set, "set")?;
         model_dict(py, &self.inner.bridges().of_set(set, self.inner.joints()))
     }
 
     /// The joint properties of set `set` (None: the default), as a dict.
     #[pyo3(signature = (set = None))]
-    fn joint<'py>(&self, py: Python<'py>, set: Option<u32>) -> PyResult<Bound<'py, PyDict>> {
+    fn joint<'py>(&self, py: Python<'py>, set: Option<i64>) -> PyResult<Bound<'py, PyDict>> {
+        let set = set.map(|s| set_id(s, "set")).transpose()?;
         model_dict(py, self.inner.joints().of_set(set))
     }
 
@@ -270,7 +355,8 @@ impl Simulation {
     /// Raises
     /// ------
     /// MechanicsError
-    ///     A vertical surface, a negative pressure, a unit weight not > 0.
+    ///     A vertical surface, a negative pressure, a unit weight not > 0, a set the system
+    ///     does not have.
     /// ValueError
     ///     Both `level` and `point`, or `point` without `normal`.
     #[pyo3(signature = (level = None, point = None, normal = None, pressures = None,
@@ -280,7 +366,7 @@ impl Simulation {
         level: Option<f64>,
         point: Option<&Bound<'_, PyAny>>,
         normal: Option<&Bound<'_, PyAny>>,
-        pressures: Option<std::collections::BTreeMap<u32, f64>>,
+        pressures: Option<std::collections::BTreeMap<i64, f64>>,
         unit_weight: f64,
     ) -> PyResult<()> {
         let mut water = match (level, point, normal) {
@@ -299,6 +385,8 @@ impl Simulation {
             }
         };
         for (set, p) in pressures.unwrap_or_default() {
+            let set = set_id(set, "a set of pressures")?;
+            self.inner.check_set(set).map_err(to_py_err)?;
             water = water.with_set_pressure(set, p).map_err(to_py_err)?;
         }
         self.inner.set_water(water);
@@ -362,16 +450,16 @@ impl Simulation {
 
     /// Sets the density of the given bodies (all when `ids` is None).
     #[pyo3(signature = (density, ids = None))]
-    fn set_density(&mut self, density: f64, ids: Option<Vec<usize>>) -> PyResult<()> {
-        for i in body_ids(ids, self.inner.bodies().len()) {
+    fn set_density(&mut self, density: f64, ids: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        for i in body_ids(ids, self.inner.bodies().len())? {
             self.inner.set_density(i, density).map_err(to_py_err)?;
         }
         Ok(())
     }
 
     /// Fixes the given bodies: they no longer move.
-    fn fix(&mut self, ids: Vec<usize>) -> PyResult<()> {
-        for i in ids {
+    fn fix(&mut self, ids: &Bound<'_, PyAny>) -> PyResult<()> {
+        for i in body_ids(Some(ids), 0)? {
             self.inner.fix(i).map_err(to_py_err)?;
         }
         Ok(())
@@ -379,8 +467,8 @@ impl Simulation {
 
     /// Frees the given bodies, at rest now (their first step starts with a half kick); a
     /// body already free is left as it is.
-    fn free(&mut self, ids: Vec<usize>) -> PyResult<()> {
-        for i in ids {
+    fn free(&mut self, ids: &Bound<'_, PyAny>) -> PyResult<()> {
+        for i in body_ids(Some(ids), 0)? {
             self.inner.free(i).map_err(to_py_err)?;
         }
         Ok(())
@@ -390,10 +478,11 @@ impl Simulation {
     #[pyo3(signature = (id, velocity, spin = None))]
     fn prescribe(
         &mut self,
-        id: usize,
+        id: i64,
         velocity: &Bound<'_, PyAny>,
         spin: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
+        let id = body_id(id, "id")?;
         let (v, w) = motion(velocity, spin)?;
         self.inner.prescribe(id, v, w).map_err(to_py_err)
     }
@@ -402,10 +491,11 @@ impl Simulation {
     #[pyo3(signature = (id, velocity, spin = None))]
     fn set_velocity(
         &mut self,
-        id: usize,
+        id: i64,
         velocity: &Bound<'_, PyAny>,
         spin: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
+        let id = body_id(id, "id")?;
         let (v, w) = motion(velocity, spin)?;
         self.inner.set_velocity(id, v, w).map_err(to_py_err)
     }
@@ -416,10 +506,11 @@ impl Simulation {
     #[pyo3(signature = (id, force, point = None))]
     fn apply_force(
         &mut self,
-        id: usize,
+        id: i64,
         force: &Bound<'_, PyAny>,
         point: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
+        let id = body_id(id, "id")?;
         let f = DVec3::from_array(arrays::point(force, "force")?);
         match point {
             None => self.inner.apply_force(id, f),
@@ -433,7 +524,8 @@ impl Simulation {
 
     /// Applies a constant moment on body `id` (world frame, about its centroid; replaces the
     /// one set before; zero removes it).
-    fn apply_moment(&mut self, id: usize, moment: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn apply_moment(&mut self, id: i64, moment: &Bound<'_, PyAny>) -> PyResult<()> {
+        let id = body_id(id, "id")?;
         let m = DVec3::from_array(arrays::point(moment, "moment")?);
         self.inner.apply_moment(id, m).map_err(to_py_err)
     }
@@ -597,23 +689,43 @@ impl Simulation {
 
     // ---- running ----------------------------------------------------------------------
 
-    /// Takes `n` steps (without the GIL).
+    /// Takes `n` steps (without the GIL; Ctrl-C stops them after a whole step).
     ///
     /// Raises
     /// ------
     /// MechanicsError
     ///     No free body, a time step above the critical one, two bodies overlapping deeper
     ///     than the gap, a NaN state. The steps before stay taken.
+    /// KeyboardInterrupt
+    ///     A signal (Ctrl-C) during the run: the steps taken stay taken, the simulation is
+    ///     after a whole step and can go on.
     #[pyo3(signature = (n = 1))]
-    fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
-        let inner = &mut self.inner;
-        py.detach(|| inner.cycle(n)).map_err(to_py_err)
+    fn step(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
+        let mut left = natural(n, "n")?;
+        in_chunks(py, &mut self.inner, |sim| {
+            if left == 0 {
+                return Ok(true);
+            }
+            sim.step()?;
+            left -= 1;
+            Ok(left == 0)
+        })
     }
 
-    /// Steps until the simulated time reaches `t`.
+    /// Steps until the simulated time reaches `t` (the last step may pass it by less than a
+    /// step; Ctrl-C stops them after a whole step, as for :meth:`step`).
     fn run_until(&mut self, py: Python<'_>, t: f64) -> PyResult<()> {
-        let inner = &mut self.inner;
-        py.detach(|| inner.run_until(t)).map_err(to_py_err)
+        if !t.is_finite() {
+            // The core's refusal, before any step.
+            return self.inner.run_until(t).map_err(to_py_err);
+        }
+        in_chunks(py, &mut self.inner, |sim| {
+            if sim.time() >= t {
+                return Ok(true);
+            }
+            sim.step()?;
+            Ok(sim.time() >= t)
+        })
     }
 
     /// Steps until the unbalanced-force ratio is below `ratio`, at most `max_steps`; local
@@ -623,17 +735,32 @@ impl Simulation {
     /// -------
     /// dict
     ///     ``steps``, ``ratio`` (at the end) and ``converged``.
+    ///
+    /// Raises
+    /// ------
+    /// KeyboardInterrupt
+    ///     A signal (Ctrl-C) during the run, as for :meth:`step` (the damping set back).
     #[pyo3(signature = (ratio = 1e-5, max_steps = 100_000))]
     fn solve<'py>(
         &mut self,
         py: Python<'py>,
         ratio: f64,
-        max_steps: u64,
+        max_steps: i64,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let inner = &mut self.inner;
-        let report = py
-            .detach(|| inner.solve(ratio, max_steps))
-            .map_err(to_py_err)?;
+        let max_steps = natural(max_steps, "max_steps")?;
+        // The core's `solve` one step at a time (it sets the damping for the step and back):
+        // the same steps, tests and report as in one call.
+        let mut report = self.inner.solve(ratio, 0).map_err(to_py_err)?;
+        in_chunks(py, &mut self.inner, |sim| {
+            if report.converged || report.steps >= max_steps {
+                return Ok(true);
+            }
+            let one = sim.solve(ratio, 1)?;
+            report.steps += one.steps;
+            report.ratio = one.ratio;
+            report.converged = one.converged;
+            Ok(report.converged || report.steps >= max_steps)
+        })?;
         let out = PyDict::new(py);
         out.set_item("steps", report.steps)?;
         out.set_item("ratio", report.ratio)?;
@@ -854,9 +981,11 @@ impl Simulation {
     fn excavate<'py>(
         &mut self,
         py: Python<'py>,
-        ids: Vec<usize>,
-        relax_steps: u64,
+        ids: &Bound<'_, PyAny>,
+        relax_steps: i64,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let ids = body_ids(Some(ids), 0)?;
+        let relax_steps = natural(relax_steps, "relax_steps")?;
         let report = self.inner.excavate(&ids, relax_steps).map_err(to_py_err)?;
         let out = PyDict::new(py);
         let removed: Vec<u64> = report.removed.iter().map(|&i| i as u64).collect();

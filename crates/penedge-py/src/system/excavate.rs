@@ -4,7 +4,7 @@
 use super::BlockSystem;
 use crate::arrays;
 use crate::errors::{to_py_err, Error};
-use crate::generation::toml_text;
+use crate::generation::{in_dict, toml_text};
 use crate::tolerance::tolerance;
 use pyo3::prelude::*;
 
@@ -71,7 +71,7 @@ impl BlockSystem {
         let tol = tolerance(gap, length, absolute_gap)?;
         let text = toml_text(excavation)?;
         let excavation = penedge::io::spec::parse_excavation_toml(&text)
-            .map_err(|e| to_py_err(Error::from(e)))?;
+            .map_err(|e| to_py_err(Error::from(in_dict(&text, e, "excavation"))))?;
         let system = self.inner.clone();
         let (out, report) = py
             .detach(|| system.excavate(&excavation, &tol))

@@ -64,6 +64,7 @@ use crate::tolerance::{Tolerance, ToleranceError};
 use contacts::{build_contact, counts_and_previous, Carry, Found, OpenCert, Scratch, StepInput};
 use glam::DQuat;
 use rayon::prelude::*;
+use std::collections::BTreeSet;
 use std::time::Instant;
 use thiserror::Error;
 
@@ -167,6 +168,18 @@ pub enum MechanicsError {
     /// A bad detection tolerance.
     #[error("{0}")]
     Tolerance(#[from] ToleranceError),
+    /// A joint set the simulation has no face of (and that is no entry of its system's
+    /// generation spec): properties given for it would reach no contact.
+    #[error("no joint set {set}: {known}")]
+    UnknownSet {
+        /// The set given.
+        set: u32,
+        /// The sets the simulation has, in words.
+        known: String,
+    },
+    /// A simulation of a block system without blocks.
+    #[error("the block system has no blocks")]
+    NoBlocks,
 }
 
 /// What [`Simulation::solve`] did.
@@ -239,6 +252,10 @@ pub struct Simulation {
     /// coordinates are placed at every step; the rest only when a pair of it is queried
     /// (docs/mechanics.md, "Placing the moved bodies").
     complete: Vec<bool>,
+    /// The joint sets of the simulation: the sets of its bodies' joint and rock-bridge faces
+    /// and, for a simulation of a generated system, every entry of its spec (an entry may
+    /// cut no block). Properties for another set are refused ([`Simulation::check_set`]).
+    sets: BTreeSet<u32>,
     joints: JointTable,
     water: Water,
     bridges: BridgeTable,
@@ -309,9 +326,13 @@ impl Simulation {
     /// gravity `(0, 0, -9.81)`, no damping, a detection gap of 1e-3 (relative), point
     /// contacts 0.2 of the smaller body's diameter wide and the automatic time step.
     pub fn new(system: &BlockSystem, density: f64) -> Result<Simulation, MechanicsError> {
+        if system.is_empty() {
+            return Err(MechanicsError::NoBlocks);
+        }
         let (bodies, block_bodies) = Bodies::of_system(system, density)?;
         let mut sim = Simulation::from_bodies(bodies);
         sim.block_bodies = block_bodies;
+        sim.sets.extend(0..system.sets().len() as u32);
         Ok(sim)
     }
 
@@ -320,8 +341,10 @@ impl Simulation {
         let mut part_body = Vec::new();
         let mut part_index = Vec::new();
         let mut placed = Vec::new();
+        let mut sets = BTreeSet::new();
         for b in 0..bodies.len() {
             for (k, part) in bodies.shape(b).parts().iter().enumerate() {
+                sets.extend(part.face_origins().iter().filter_map(|o| o.set()));
                 part_body.push(b as u32);
                 part_index.push(k as u32);
                 let mut p = part.clone();
@@ -339,6 +362,7 @@ impl Simulation {
             part_index,
             complete: vec![true; placed.len()],
             placed,
+            sets,
             joints: JointTable::default(),
             water: Water::none(),
             bridges: BridgeTable::default(),
@@ -411,6 +435,37 @@ impl Simulation {
     /// Sets the default joint model.
     pub fn set_default_joint(&mut self, model: JointModel) -> Result<(), MechanicsError> {
         self.joints.set_default(model)
+    }
+
+    /// The joint sets the simulation has: those of its bodies' joint and rock-bridge faces,
+    /// every entry of the generation spec of the system it was made of ([`Simulation::new`];
+    /// an entry may cut no block), and the sets given joint, bridge or water properties
+    /// already (a simulation read from a restart file keeps its sets so).
+    pub fn joint_sets(&self) -> BTreeSet<u32> {
+        let mut sets = self.sets.clone();
+        sets.extend(self.joints.sets().map(|(s, _)| s));
+        sets.extend(self.bridges.sets().map(|(s, _)| s));
+        sets.extend(self.water.sets.keys().copied());
+        sets
+    }
+
+    /// Whether `set` is one of the simulation's joint sets ([`Simulation::joint_sets`]):
+    /// else an error naming it and the sets there are. The setters do not ask (a set without
+    /// faces is harmless to the step: its properties reach no contact); the Python bindings
+    /// do, so that a mistyped set id is not silently a set of default properties.
+    pub fn check_set(&self, set: u32) -> Result<(), MechanicsError> {
+        let sets = self.joint_sets();
+        if sets.contains(&set) {
+            return Ok(());
+        }
+        let known = match sets.len() {
+            0 => "the block system has no joint sets (no block face is on a joint)".to_string(),
+            _ => {
+                let ids: Vec<String> = sets.iter().map(u32::to_string).collect();
+                format!("the block system's joint sets are {}", ids.join(", "))
+            }
+        };
+        Err(MechanicsError::UnknownSet { set, known })
     }
 
     /// Sets the joint model of joint set `set`.
@@ -1741,6 +1796,67 @@ pub(super) fn same_bits(p: &Pose, q: &Pose) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The sets a simulation has are its faces' and its system's spec entries; a set
+    /// given properties joins them (a restart file keeps its sets so); another is refused by
+    /// `check_set` with the set given and those there are.
+    #[test]
+    fn a_simulation_knows_its_joint_sets_and_refuses_another() {
+        use crate::block::FaceOrigin;
+        use crate::generation::{SetKind, SetRecord};
+        let tagged = |b: ConvexBlock, origin: FaceOrigin| {
+            let n = b.n_faces();
+            b.with_face_origins(vec![origin; n]).unwrap()
+        };
+        let base = tagged(
+            ConvexBlock::cuboid([-2.0, -2.0, -1.0], [2.0, 2.0, 0.0]).unwrap(),
+            FaceOrigin::Joint { set: 2, joint: 0 },
+        );
+        let cube = tagged(
+            ConvexBlock::cuboid([-0.5, -0.5, 0.0], [0.5, 0.5, 1.0]).unwrap(),
+            FaceOrigin::Bridge { set: 5, joint: 1 },
+        );
+        let blocks = vec![base.clone(), cube.clone()];
+        let mut sim = Simulation::new(&BlockSystem::new(blocks.clone()), 2500.0).unwrap();
+        assert_eq!(sim.joint_sets(), BTreeSet::from([2, 5]));
+        assert!(sim.check_set(2).is_ok() && sim.check_set(5).is_ok());
+        let refused = sim.check_set(3).unwrap_err();
+        assert!(matches!(refused, MechanicsError::UnknownSet { set: 3, .. }));
+        let message = refused.to_string();
+        assert!(
+            message.contains('3') && message.contains("2, 5"),
+            "{message}"
+        );
+        // A set given properties (a restart file's, or a caller's without the check) is one.
+        sim.set_joint(3, JointModel::default()).unwrap();
+        assert!(sim.check_set(3).is_ok());
+        // The spec's entries are sets even when they cut no block.
+        let record = |name: &str| SetRecord {
+            name: name.to_string(),
+            kind: SetKind::Plane,
+        };
+        let records = vec![record("a"), record("b"), record("c"), record("d")];
+        let generated = BlockSystem::with_provenance(blocks, Vec::new(), Vec::new(), records);
+        let sim = Simulation::new(&generated, 2500.0).unwrap();
+        assert_eq!(sim.joint_sets(), BTreeSet::from([0, 1, 2, 3, 5]));
+        // Blocks of no joint: no set at all, said so.
+        let bare = BlockSystem::new(vec![ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap()]);
+        let message = Simulation::new(&bare, 2500.0)
+            .unwrap()
+            .check_set(0)
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("no joint sets"), "{message}");
+    }
+
+    #[test]
+    fn a_simulation_of_no_blocks_is_refused() {
+        let empty = BlockSystem::new(Vec::new());
+        assert_eq!(
+            Simulation::new(&empty, 2500.0).unwrap_err(),
+            MechanicsError::NoBlocks
+        );
+    }
 
     #[test]
     fn the_timings_count_every_step_and_its_parts() {

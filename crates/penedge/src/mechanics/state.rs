@@ -507,6 +507,9 @@ fn file_of(sim: &Simulation) -> StateFile {
         part_index: _,
         placed: _,
         complete: _,
+        // The faces' sets, from the shapes; the spec's entries without faces are not kept
+        // (the sets with properties are: `Simulation::joint_sets`).
+        sets: _,
         joints,
         bridges,
         water,
@@ -1540,6 +1543,8 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             part_index: _,
             placed: _,
             complete: _,
+            // The faces' sets, found by `from_bodies`.
+            sets: _,
             joints: j,
             bridges: br,
             water: w,
