@@ -1166,14 +1166,8 @@ mod tests {
     /// products (`s = ((e0 - p) × d) · (n × d) / |n × d|²`); an edge along `n` at its middle.
     #[test]
     fn heights_are_where_the_line_along_the_direction_meets_the_feature() {
-        let mut seed = 7u64;
-        let mut uniform = move || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
-        let mut vector = || DVec3::new(uniform(), uniform(), uniform());
+        let mut rng = crate::system::test_rng::Rng(7);
+        let mut vector = || DVec3::new(rng.signed(), rng.signed(), rng.signed());
         for _ in 0..200 {
             let n = vector().normalize();
             let (v, e0, e1) = (vector(), vector(), vector());
