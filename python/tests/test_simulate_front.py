@@ -69,12 +69,30 @@ def test_a_save_that_cannot_write_is_refused_before_any_step(tmp_path, capsys, f
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["plain", "taken"]
 
 
+def test_a_save_into_the_results_folder_to_be_made_runs(tmp_path, capsys):
+    # An absolute path into the results folder, not made yet: the run makes it.
+    saved = tmp_path / "out" / "s.json"
+    assert simulate(tmp_path, CYCLE_THEN_SAVE.format(saved.as_posix())) == 0, capsys.readouterr()
+    assert saved.exists()
+    # The Python API with a results folder that does not exist: made for the save.
+    folder = tmp_path / "new" / "results"
+    pm.simulate(pm.prepare(BASE + CYCLE_THEN_SAVE.format("s.json")), folder=folder)
+    assert (folder / "s.json").exists()
+
+
+def test_check_refuses_a_save_that_cannot_write(tmp_path, capsys):
+    assert simulate(tmp_path, CYCLE_THEN_SAVE.format("nodir/s.json"), "--check") == 1
+    assert "stages[1].file: cannot write the restart file" in capsys.readouterr().err
+
+
 def test_a_save_that_fails_during_the_run_keeps_the_results_so_far(tmp_path):
     folder = tmp_path / "results"
     folder.mkdir()
     setup = pm.prepare(BASE + CYCLE_THEN_SAVE.format("s.json"))
     runner = Runner(setup, Engine, folder=folder)
-    folder.rmdir()  # gone after the checks: the save fails during the run
+    # Replaced by a file after the checks: the save fails during the run.
+    folder.rmdir()
+    folder.write_text("not a folder any more")
     outcome = runner.run()
     assert "s.json" in outcome.error
     assert [(s.name, s.steps, s.stopped) for s in outcome.stages] == [

@@ -182,10 +182,11 @@ def simulate_model(args: argparse.Namespace, path: Path) -> int:
         if bar is not None:
             bar.close()
     if args.check:
-        from penedge.model.run import check_safety_stages
+        from penedge.model.run import check_safety_stages, check_saves
 
         layout = setup.layout
         check_safety_stages(model, layout, layout.fixed, layout.velocity)
+        check_saves(model, folder)
         summary = check_summary(path, setup)
         if args.restart is not None:
             summary["restart"] = check_restart(setup, folder, args.restart)

@@ -14,6 +14,7 @@ interface of :class:`penedge.model.engine.Engine`.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import math
@@ -399,6 +400,12 @@ class Runner:
         equilibrium) so that ``--restart`` goes on from here."""
         assert stage.file is not None
         path = save_path(stage.file, self.folder)
+        if path.parent.resolve() == self.folder.resolve():
+            # The results folder (`check_saves` let it be missing): the command line makes
+            # it before the run, a caller of the Python API may not have.
+            # (A file by that name: the save below fails, naming its file.)
+            with contextlib.suppress(FileExistsError):
+                self.folder.mkdir(parents=True, exist_ok=True)
         e = self.engine
         note = {
             "penedge_simulate": RESTART_NOTE_VERSION,
@@ -464,9 +471,10 @@ class Runner:
         try:
             return self.engine.copy()
         except (AttributeError, NotImplementedError):
-            replay = Runner(self.setup, self.factory)
+            replay = Runner(self.setup, self.factory, folder=self.folder)
             for k, stage in enumerate(self.model.stages[:index]):
-                replay.run_stage(k, stage)
+                if stage.kind != "save":  # written once, by the run itself
+                    replay.run_stage(k, stage)
             return replay.engine
 
     def factor_of_safety(self, index: int, stage: Stage) -> SafetyFactor:
@@ -607,9 +615,10 @@ def free_of(fixed: np.ndarray, velocity: np.ndarray, removed: np.ndarray) -> np.
 
 def blocks_fingerprint(blocks: Any) -> str:
     """A digest of the model's blocks as generated (their centroids and volumes, relative to
-    the model's size, to 6 and 9 digits: a regeneration's last-bit differences do not
-    change it, another model's blocks do), kept in a restart file so that a run does not go
-    on from another model's state with the same number of blocks."""
+    the model's size, to 6 and 9 digits: another model's blocks change it; a regeneration
+    that differs in the last bits changes it only where a value lies at a rounding boundary,
+    and the same build regenerates the same bits), kept in a restart file so that a run does
+    not go on from another model's state with the same number of blocks."""
     size = blocks.size if blocks.size > 0 else 1.0
     # + 0.0: a negative zero after rounding is the positive one.
     centroids = np.round(np.asarray(blocks.centroids, float) / size, 6) + 0.0
@@ -687,8 +696,8 @@ def save_path(file: str, folder: Path) -> Path:
 
 def check_saves(model: Model, folder: Path, first: int = 0) -> None:
     """Before any step: each ``save`` stage from stage `first` on can write its file (its
-    folder exists, or is `folder`, the results folder, made before the run; the file is
-    not a folder), so that a run does not stop at a save after hours of steps."""
+    folder exists, or is `folder`, the results folder, made when needed; the file is not a
+    folder), so that a run does not stop at a save after hours of steps."""
     for i, stage in enumerate(model.stages):
         if i < first or stage.kind != "save" or stage.file is None:
             continue
@@ -696,8 +705,8 @@ def check_saves(model: Model, folder: Path, first: int = 0) -> None:
         parent = path.parent
         if path.is_dir():
             problem = f"{path} is a folder"
-        elif parent.is_dir() or (parent == folder and not parent.exists()):
-            continue
+        elif parent.is_dir() or (parent.resolve() == folder.resolve() and not parent.exists()):
+            continue  # the results folder is made when needed (`Runner.save`)
         elif parent.exists():
             problem = f"{parent} is not a folder"
         else:

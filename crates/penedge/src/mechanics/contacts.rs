@@ -1160,6 +1160,34 @@ mod tests {
         );
     }
 
+    /// A feature's height at `p` along `n`, everything computed for this one point.
+    fn afresh(feature: FeatureAt, p: DVec3, n: DVec3) -> f64 {
+        match feature {
+            FeatureAt::Vertex(v) => n.dot(v - p),
+            FeatureAt::Face(plane) => {
+                let cos = plane.normal.dot(n);
+                if cos.abs() > 1e-6 {
+                    plane.normal.dot(plane.point - p) / cos
+                } else {
+                    n.dot(plane.point - p)
+                }
+            }
+            FeatureAt::Edge([e0, e1]) => {
+                let d = e1 - e0;
+                let dp = d - n * d.dot(n);
+                let w = e0 - p;
+                let wp = w - n * w.dot(n);
+                let len2 = dp.length_squared();
+                let t = if len2 > 1e-24 * d.length_squared() {
+                    -wp.dot(dp) / len2
+                } else {
+                    0.5
+                };
+                n.dot(w + d * t)
+            }
+        }
+    }
+
     /// The heights of [`FeatureAt::height`], made ready for a direction ([`Along`]), against
     /// where the line `p + s n` meets the feature, computed otherwise: a vertex's projection;
     /// a plane's intersection; for an edge, the closest points of two lines from the cross
@@ -1199,7 +1227,9 @@ mod tests {
                         2 => (e0 - p).cross(d).dot(n.cross(d)) / n.cross(d).length_squared(),
                         _ => n.dot(e0 + 0.35 * n - p),
                     };
-                    assert_eq!(along, feature.height(p, n));
+                    // The same bits as the heights computed afresh for each point (the
+                    // formulas as they were before `Along`).
+                    assert_eq!(along.to_bits(), afresh(feature, p, n).to_bits());
                     assert!(
                         (along - expected).abs() < 1e-9 * (1.0 + expected.abs()),
                         "feature {k}: {along} vs {expected}"
