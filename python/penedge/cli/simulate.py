@@ -105,7 +105,10 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         help="read and check the model and its blocks, print what would run, run nothing",
     )
     simulate.add_argument(
-        "--no-pictures", action="store_true", help="write no PNG pictures (no matplotlib needed)"
+        "--no-pictures",
+        action="store_true",
+        help="write no PNG pictures (no matplotlib needed; those of an earlier run in the "
+        "results folder are still removed)",
     )
     simulate.add_argument("--no-series", action="store_true", help="write no ParaView time series")
     simulate.add_argument(
