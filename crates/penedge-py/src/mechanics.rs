@@ -83,15 +83,13 @@ fn model_dict<'py>(py: Python<'py>, m: &JointModel) -> PyResult<Bound<'py, PyDic
     Ok(out)
 }
 
-/// The body ids given as `ids` (any array-like of whole numbers >= 0), all `n` when None.
-fn body_ids(ids: Option<&Bound<'_, PyAny>>, n: usize) -> PyResult<Vec<usize>> {
-    match ids {
-        None => Ok((0..n).collect()),
-        Some(ids) => Ok(arrays::indices(ids, "ids")?
-            .into_iter()
-            .map(|i| usize::try_from(i).unwrap_or(usize::MAX))
-            .collect()),
-    }
+/// The body ids given as `ids` (any array-like of whole numbers >= 0; one past the bodies
+/// is the core's `MechanicsError`).
+fn body_ids(ids: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
+    Ok(arrays::indices(ids, "ids")?
+        .into_iter()
+        .map(|i| usize::try_from(i).unwrap_or(usize::MAX))
+        .collect())
 }
 
 /// A whole number of 0 or more given as argument `name`: a negative one is an `InputError`
@@ -451,7 +449,11 @@ impl Simulation {
     /// Sets the density of the given bodies (all when `ids` is None).
     #[pyo3(signature = (density, ids = None))]
     fn set_density(&mut self, density: f64, ids: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
-        for i in body_ids(ids, self.inner.bodies().len())? {
+        let ids = match ids {
+            Some(ids) => body_ids(ids)?,
+            None => (0..self.inner.bodies().len()).collect(),
+        };
+        for i in ids {
             self.inner.set_density(i, density).map_err(to_py_err)?;
         }
         Ok(())
@@ -459,7 +461,7 @@ impl Simulation {
 
     /// Fixes the given bodies: they no longer move.
     fn fix(&mut self, ids: &Bound<'_, PyAny>) -> PyResult<()> {
-        for i in body_ids(Some(ids), 0)? {
+        for i in body_ids(ids)? {
             self.inner.fix(i).map_err(to_py_err)?;
         }
         Ok(())
@@ -468,7 +470,7 @@ impl Simulation {
     /// Frees the given bodies, at rest now (their first step starts with a half kick); a
     /// body already free is left as it is.
     fn free(&mut self, ids: &Bound<'_, PyAny>) -> PyResult<()> {
-        for i in body_ids(Some(ids), 0)? {
+        for i in body_ids(ids)? {
             self.inner.free(i).map_err(to_py_err)?;
         }
         Ok(())
@@ -984,7 +986,7 @@ impl Simulation {
         ids: &Bound<'_, PyAny>,
         relax_steps: i64,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let ids = body_ids(Some(ids), 0)?;
+        let ids = body_ids(ids)?;
         let relax_steps = natural(relax_steps, "relax_steps")?;
         let report = self.inner.excavate(&ids, relax_steps).map_err(to_py_err)?;
         let out = PyDict::new(py);
