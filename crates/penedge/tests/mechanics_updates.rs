@@ -818,3 +818,53 @@ fn carried_gaps_of_bodies_turning_together_are_the_gaps_of_their_poses() {
         println!("{kind:?}: largest gap error {worst:.1e} m; {t:?}");
     }
 }
+
+/// A pair that keeps its answer keeps its sub-contacts' area shares from the last step
+/// (they are the same numbers), but not once the point width has changed: three unit cubes
+/// at rest, corner to corner (vertex-vertex) and edge to edge (an edge superposition of
+/// length 1), their shares the formulas' (docs/mechanics.md, "Areas of sub-contacts": a
+/// point `w² / 2`, each end of a segment `w l / 4`, `w` the point width times the smaller
+/// body's diameter, √3 for a unit cube) before and after `set_point_width`.
+#[test]
+fn kept_answers_take_a_new_point_width() {
+    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
+    let at = |x: f64, y: f64, z: f64| unit.transformed(DQuat::IDENTITY, DVec3::new(x, y, z), 1.0);
+    let system = BlockSystem::new(vec![
+        at(0.0, 0.0, 0.0),
+        at(1.0, 1.0, 0.0),
+        at(-1.0, -1.0, -1.0),
+    ]);
+    let mut sim = Simulation::new(&system, 2500.0).unwrap();
+    sim.set_gravity(DVec3::ZERO).unwrap();
+    sim.set_default_joint(joint(30.0)).unwrap();
+    sim.set_update_fraction(penedge::mechanics::FAST_UPDATE_FRACTION)
+        .unwrap();
+    for (k, width) in [0.2, 0.2, 0.4, 0.4, 0.1].into_iter().enumerate() {
+        sim.set_point_width(width).unwrap();
+        sim.step().unwrap();
+        let w = width * 3f64.sqrt();
+        let contacts = sim.contacts();
+        let mut seen = [false; 2];
+        for (i, c) in contacts.list.iter().enumerate() {
+            let areas: Vec<f64> = contacts.subs_of(i).iter().map(|s| s.area).collect();
+            let expected = match c.kind {
+                ContactType::VertexVertex => vec![0.5 * w * w],
+                ContactType::EdgeEdgeSuperposition => vec![0.25 * w; 2],
+                other => panic!("step {k}: unexpected {other:?}"),
+            };
+            seen[usize::from(c.kind == ContactType::VertexVertex)] = true;
+            assert_eq!(areas.len(), expected.len(), "step {k}: {:?}", c.kind);
+            for (a, e) in areas.iter().zip(&expected) {
+                assert!(
+                    (a - e).abs() <= 1e-12 * e,
+                    "step {k}, {:?}: {a} against {e}",
+                    c.kind
+                );
+            }
+        }
+        assert_eq!(seen, [true; 2], "step {k}: both contacts");
+    }
+    // The answers were kept (carried, or unmoved): the shares were read back.
+    let t = sim.timings();
+    assert!(t.unmoved + t.carried > 0, "no answer was kept: {t:?}");
+}

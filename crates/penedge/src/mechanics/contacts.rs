@@ -416,6 +416,10 @@ pub(super) struct Current<'a> {
     pub parts: [u32; 2],
     pub found: &'a Found,
     pub dormant: bool,
+    /// Whether the last step's contact of the pair (if any) was built from this same answer
+    /// at the same point width: then its sub-contacts' area shares are this step's
+    /// ([`build_contact`]).
+    pub same_answer: bool,
     pub count: u32,
     pub previous: Option<u32>,
 }
@@ -463,6 +467,7 @@ pub(super) fn build_contact(
     input: &StepInput,
     found: &Found,
     previous: Option<u32>,
+    same_answer: bool,
     scratch: &mut Scratch,
     subs: &mut [SubContact],
     prestresses: &mut [f64],
@@ -543,8 +548,6 @@ pub(super) fn build_contact(
         Some(_) => found.carry.magnitude,
     };
     let slack = (1e-9 * diameter).max(crate::tolerance::ROUNDING_FLOOR * magnitude);
-    // The shares of the geometry at the query: a rigid motion keeps them.
-    area_shares(g.shape(), g.normal(), width, areas, floors);
     let pose_a = poses[0];
     let previous = previous.map(|i| {
         let i = i as usize;
@@ -553,6 +556,16 @@ pub(super) fn build_contact(
             input.previous.subs_of(i),
         )
     });
+    // The shares of the geometry at the query: a rigid motion keeps them. The last step's
+    // contact built from this same answer at the same width computed them already, point by
+    // point: they are read back (the same bits), not computed again.
+    areas.clear();
+    match previous {
+        Some((_, old)) if same_answer && old.len() == g.points().len() => {
+            areas.extend(old.iter().map(|o| o.area));
+        }
+        _ => area_shares(g.shape(), g.normal(), width, areas, floors),
+    }
     let moves_with_b = |k: usize| k < 64 && found.carry.with_b & (1 << k) != 0;
     points.clear();
     match carried {

@@ -263,6 +263,10 @@ pub struct Simulation {
     damping: Damping,
     tolerance: Tolerance,
     point_width: f64,
+    /// The point width of the last step's contacts (its bits; `None` before the first step
+    /// and after a restart): while it is unchanged, a contact built from the same answer as
+    /// at the last step keeps its area shares ([`contacts::build_contact`]).
+    shares_width: Option<u64>,
     skin: f64,
     pairs: Vec<[u32; 2]>,
     /// Per candidate pair, its last query's answer (docs/mechanics.md, "Contact updates").
@@ -370,6 +374,7 @@ impl Simulation {
             damping: Damping::default(),
             tolerance: Tolerance::with_gap(1e-3).expect("a valid gap"),
             point_width: 0.2,
+            shares_width: None,
             skin: 0.05 * mean_size,
             pairs: Vec::new(),
             memo: Vec::new(),
@@ -1283,6 +1288,7 @@ impl Simulation {
         // pair list, so that a dormant contact does not read its answer), the answer, and
         // whether it is dormant; then their counts and last step's contacts.
         let pairs = &self.pairs;
+        let same_width = self.shares_width == Some(self.point_width.to_bits());
         let mut found: Vec<contacts::Current> = self
             .memo
             .par_iter()
@@ -1294,6 +1300,7 @@ impl Simulation {
                     parts: pairs[k],
                     found,
                     dormant: outcome == Outcome::Dormant,
+                    same_answer: same_width && outcome != Outcome::Queried,
                     count: 0,
                     previous: None,
                 })
@@ -1386,8 +1393,15 @@ impl Simulation {
                             old.list[i].clone()
                         }
                         previous => {
-                            let (contact, cert) =
-                                build_contact(&input, f.found, previous, scratch, out, out_p);
+                            let (contact, cert) = build_contact(
+                                &input,
+                                f.found,
+                                previous,
+                                f.same_answer,
+                                scratch,
+                                out,
+                                out_p,
+                            );
                             // Not rewritten for a contact without a certificate that had
                             // none (most of them): writing the slot dirtied its cache line
                             // at every step.
@@ -1418,6 +1432,7 @@ impl Simulation {
         );
         self.spare = last;
         self.initial = false;
+        self.shares_width = Some(self.point_width.to_bits());
     }
 
     /// The contact (and bolt) forces and moments per body, summed in contact order on one thread (the

@@ -518,6 +518,8 @@ fn file_of(sim: &Simulation) -> StateFile {
         damping,
         tolerance,
         point_width,
+        // Not saved: a restart's first step computes every contact's shares afresh.
+        shares_width: _,
         skin,
         // Caches of the contact update, rebuilt at the first step after loading: the
         // candidate pairs, their last answers and the bodies' travel since. They decide
@@ -1567,6 +1569,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             damping: _,
             tolerance: t,
             point_width: _,
+            shares_width: sw,
             skin,
             contacts: cs,
             forces: f,
@@ -1600,6 +1603,8 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
         *dormancy = s.dormant_contacts;
         *applied_moments = moments_applied;
         *cs = contacts;
+        // The loaded contacts' shares are not known to come from this run's answers.
+        *sw = None;
         *f = forces;
         *m = moments;
         *dt = s.timestep;
