@@ -269,6 +269,26 @@ def test_a_time_step_above_the_critical_one_names_its_field(tmp_path, capsys):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("flags", [[], ["--json"]])
+def test_check_refuses_a_time_step_above_the_critical_one_as_the_run_does(tmp_path, capsys, flags):
+    # --check builds the engine as the run does before its first step: the engine's
+    # refusal comes now, with the run's message and exit status, and nothing is written.
+    base = BASE + "[mechanics]\ntime_step = 1\n"
+    stages = '[[stages]]\ntype = "cycle"\nsteps = 10\n'
+    assert simulate(tmp_path, stages, base=base) == 1
+    run = capsys.readouterr()
+    assert not (tmp_path / "out").exists()
+    assert simulate(tmp_path, stages, "--check", *flags, base=base) == 1
+    checked = capsys.readouterr()
+    assert checked.out == ""
+    assert checked.err == run.err
+    assert checked.err.startswith("penedge: error: mechanics.time_step: the time step 1 is "), (
+        checked.err
+    )
+    assert not (tmp_path / "out").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["column.toml"]
+
+
 def test_a_time_step_a_stiffer_joint_makes_too_large_names_its_field():
     # 0.3 ms is below the critical step with kn = 1e9 (the engine takes it), not with
     # kn = 1e11: the critical step goes as 1 / sqrt(kn), ten times smaller.
@@ -293,15 +313,14 @@ def test_a_time_step_a_stiffer_joint_makes_too_large_names_its_field():
          "stages[0].region.ids"),
         # the generation's
         ("[options]\nmin_volume = -1\n", "", "options.min_volume"),
-        # the engine's, building it (which --check does not)
+        # the engine's, building it (--check builds it too)
         ("[mechanics]\ntime_step = 1\n", "", "mechanics.time_step"),
         # before any of them (a save named like a result)
         ("", '[[stages]]\ntype = "save"\nfile = "summary.json"\n', "stages[0].file"),
     ],
 )  # fmt: skip
 def test_every_error_of_the_model_names_its_file(tmp_path, capsys, extra, stages, field):
-    runs = [[]] if field == "mechanics.time_step" else [[], ["--check"]]
-    for check in runs:
+    for check in [[], ["--check"]]:
         assert simulate(tmp_path, stages, *check, base=BASE + extra) == 1
         err = capsys.readouterr().err.strip()
         assert err.startswith(f"penedge: error: {field}: "), err
