@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+import penedge
 import penedge.model as pm
 from penedge import cli
 from penedge.model.engine import Engine
@@ -303,22 +304,23 @@ def test_a_time_step_a_stiffer_joint_makes_too_large_names_its_field():
     assert [(s.steps, s.stopped) for s in outcome.stages] == [(10, None), (0, None), (0, "error")]
 
 
-@pytest.mark.parametrize(
-    ("extra", "stages", "field"),
-    [
-        # a check that needs the blocks (check.resolve)
-        ("[[monitors]]\nname = 'far'\npoint = [9, 9, 9]\n", "", "monitors[1].point"),
-        # one of the stages (a region of no block)
-        ("", '[[stages]]\ntype = "excavate"\nregion = {type = "blocks", ids = [99]}\n',
-         "stages[0].region.ids"),
-        # the generation's
-        ("[options]\nmin_volume = -1\n", "", "options.min_volume"),
-        # the engine's, building it (--check builds it too)
-        ("[mechanics]\ntime_step = 1\n", "", "mechanics.time_step"),
-        # before any of them (a save named like a result)
-        ("", '[[stages]]\ntype = "save"\nfile = "summary.json"\n', "stages[0].file"),
-    ],
-)  # fmt: skip
+#: An error of the model of each kind found after reading it: (extra tables, stages, field).
+ERRORS_AFTER_READING = [
+    # a check that needs the blocks (check.resolve)
+    ("[[monitors]]\nname = 'far'\npoint = [9, 9, 9]\n", "", "monitors[1].point"),
+    # one of the stages (a region of no block)
+    ("", '[[stages]]\ntype = "excavate"\nregion = {type = "blocks", ids = [99]}\n',
+     "stages[0].region.ids"),
+    # the generation's
+    ("[options]\nmin_volume = -1\n", "", "options.min_volume"),
+    # the engine's, building it (--check builds it too)
+    ("[mechanics]\ntime_step = 1\n", "", "mechanics.time_step"),
+    # before any of them (a save named like a result; penedge simulate's own check)
+    ("", '[[stages]]\ntype = "save"\nfile = "summary.json"\n', "stages[0].file"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(("extra", "stages", "field"), ERRORS_AFTER_READING)
 def test_every_error_of_the_model_names_its_file(tmp_path, capsys, extra, stages, field):
     for check in [[], ["--check"]]:
         assert simulate(tmp_path, stages, *check, base=BASE + extra) == 1
@@ -326,6 +328,30 @@ def test_every_error_of_the_model_names_its_file(tmp_path, capsys, extra, stages
         assert err.startswith(f"penedge: error: {field}: "), err
         assert err.endswith(f"(in {tmp_path / 'column.toml'})"), err
         assert err.count("(in ") == 1, err
+
+
+@pytest.mark.parametrize(("extra", "stages", "field"), ERRORS_AFTER_READING[:-1])
+def test_the_python_api_names_the_model_file_as_the_command_does(tmp_path, extra, stages, field):
+    model = tmp_path / "column.toml"
+    model.write_text(BASE + extra + stages)
+    # The engine's refusal comes when the simulation is built: pm.simulate.
+    call = pm.simulate if field == "mechanics.time_step" else pm.prepare
+    for source in (model, str(model)):
+        with pytest.raises(penedge.SpecError) as raised:
+            call(source)
+        text = str(raised.value)
+        assert text.startswith(f"{field}: "), text
+        assert text.endswith(f" (in {model})"), text
+        assert text.count("(in ") == 1, text
+        assert raised.value.field == field
+    # the generation's error keeps its class and kind
+    if field == "options.min_volume":
+        assert type(raised.value) is penedge.SpecError
+        assert raised.value.kind == "negative"
+    # TOML text names no file
+    with pytest.raises(penedge.SpecError) as raised:
+        call(BASE + extra + stages)
+    assert "(in " not in str(raised.value)
 
 
 SOLVE = '[[stages]]\ntype = "solve"\n'

@@ -12,7 +12,6 @@ import math
 import re
 import sys
 import time
-from collections.abc import Iterator
 from pathlib import Path
 from typing import IO, Any
 
@@ -129,25 +128,15 @@ def run_simulate(args: argparse.Namespace) -> int:
         return simulate_model(args, path)
 
 
-@contextlib.contextmanager
-def in_model_file(path: Path) -> Iterator[None]:
+def in_model_file(path: Path) -> contextlib.AbstractContextManager[None]:
     """An error of the model found after reading it (the checks that need the blocks, the
     generation's, the engine's refusals of the model's values) says which file, as the
     errors of reading it do: ``regions.top: selects no block ... (in model.toml)``. Not an
-    error of the restart file (field ``restart``), which names that file."""
-    import penedge
+    error of the restart file (field ``restart``), which names that file. The Python API
+    names the file so too (:func:`penedge.model.naming_file`), and the file once."""
     import penedge.model as pm
 
-    try:
-        yield
-    except penedge.SpecError as e:
-        where = f" (in {path})"
-        text = str(e)
-        if text.endswith(where) or getattr(e, "field", None) == "restart":
-            raise
-        if isinstance(e, pm.ModelError):
-            raise pm.ModelError(e.field, text.split(": ", 1)[1] + where) from None
-        raise CommandError(text + where) from None
+    return pm.naming_file(path)
 
 
 def simulate_model(args: argparse.Namespace, path: Path) -> int:
