@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+import penedge
 import penedge.model as pm
 from penedge import cli
 from penedge.model.engine import Engine
@@ -269,6 +270,26 @@ def test_a_time_step_above_the_critical_one_names_its_field(tmp_path, capsys):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("flags", [[], ["--json"]])
+def test_check_refuses_a_time_step_above_the_critical_one_as_the_run_does(tmp_path, capsys, flags):
+    # --check builds the engine as the run does before its first step: the engine's
+    # refusal comes now, with the run's message and exit status, and nothing is written.
+    base = BASE + "[mechanics]\ntime_step = 1\n"
+    stages = '[[stages]]\ntype = "cycle"\nsteps = 10\n'
+    assert simulate(tmp_path, stages, base=base) == 1
+    run = capsys.readouterr()
+    assert not (tmp_path / "out").exists()
+    assert simulate(tmp_path, stages, "--check", *flags, base=base) == 1
+    checked = capsys.readouterr()
+    assert checked.out == ""
+    assert checked.err == run.err
+    assert checked.err.startswith("penedge: error: mechanics.time_step: the time step 1 is "), (
+        checked.err
+    )
+    assert not (tmp_path / "out").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["column.toml"]
+
+
 def test_a_time_step_a_stiffer_joint_makes_too_large_names_its_field():
     # 0.3 ms is below the critical step with kn = 1e9 (the engine takes it), not with
     # kn = 1e11: the critical step goes as 1 / sqrt(kn), ten times smaller.
@@ -283,30 +304,54 @@ def test_a_time_step_a_stiffer_joint_makes_too_large_names_its_field():
     assert [(s.steps, s.stopped) for s in outcome.stages] == [(10, None), (0, None), (0, "error")]
 
 
-@pytest.mark.parametrize(
-    ("extra", "stages", "field"),
-    [
-        # a check that needs the blocks (check.resolve)
-        ("[[monitors]]\nname = 'far'\npoint = [9, 9, 9]\n", "", "monitors[1].point"),
-        # one of the stages (a region of no block)
-        ("", '[[stages]]\ntype = "excavate"\nregion = {type = "blocks", ids = [99]}\n',
-         "stages[0].region.ids"),
-        # the generation's
-        ("[options]\nmin_volume = -1\n", "", "options.min_volume"),
-        # the engine's, building it (which --check does not)
-        ("[mechanics]\ntime_step = 1\n", "", "mechanics.time_step"),
-        # before any of them (a save named like a result)
-        ("", '[[stages]]\ntype = "save"\nfile = "summary.json"\n', "stages[0].file"),
-    ],
-)  # fmt: skip
+#: An error of the model of each kind found after reading it: (extra tables, stages, field).
+ERRORS_AFTER_READING = [
+    # a check that needs the blocks (check.resolve)
+    ("[[monitors]]\nname = 'far'\npoint = [9, 9, 9]\n", "", "monitors[1].point"),
+    # one of the stages (a region of no block)
+    ("", '[[stages]]\ntype = "excavate"\nregion = {type = "blocks", ids = [99]}\n',
+     "stages[0].region.ids"),
+    # the generation's
+    ("[options]\nmin_volume = -1\n", "", "options.min_volume"),
+    # the engine's, building it (--check builds it too)
+    ("[mechanics]\ntime_step = 1\n", "", "mechanics.time_step"),
+    # before any of them (a save named like a result; penedge simulate's own check)
+    ("", '[[stages]]\ntype = "save"\nfile = "summary.json"\n', "stages[0].file"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(("extra", "stages", "field"), ERRORS_AFTER_READING)
 def test_every_error_of_the_model_names_its_file(tmp_path, capsys, extra, stages, field):
-    runs = [[]] if field == "mechanics.time_step" else [[], ["--check"]]
-    for check in runs:
+    for check in [[], ["--check"]]:
         assert simulate(tmp_path, stages, *check, base=BASE + extra) == 1
         err = capsys.readouterr().err.strip()
         assert err.startswith(f"penedge: error: {field}: "), err
         assert err.endswith(f"(in {tmp_path / 'column.toml'})"), err
         assert err.count("(in ") == 1, err
+
+
+@pytest.mark.parametrize(("extra", "stages", "field"), ERRORS_AFTER_READING[:-1])
+def test_the_python_api_names_the_model_file_as_the_command_does(tmp_path, extra, stages, field):
+    model = tmp_path / "column.toml"
+    model.write_text(BASE + extra + stages)
+    # The engine's refusal comes when the simulation is built: pm.simulate.
+    call = pm.simulate if field == "mechanics.time_step" else pm.prepare
+    for source in (model, str(model)):
+        with pytest.raises(penedge.SpecError) as raised:
+            call(source)
+        text = str(raised.value)
+        assert text.startswith(f"{field}: "), text
+        assert text.endswith(f" (in {model})"), text
+        assert text.count("(in ") == 1, text
+        assert raised.value.field == field
+    # the generation's error keeps its class and kind
+    if field == "options.min_volume":
+        assert type(raised.value) is penedge.SpecError
+        assert raised.value.kind == "negative"
+    # TOML text names no file
+    with pytest.raises(penedge.SpecError) as raised:
+        call(BASE + extra + stages)
+    assert "(in " not in str(raised.value)
 
 
 SOLVE = '[[stages]]\ntype = "solve"\n'

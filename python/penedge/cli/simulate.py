@@ -12,7 +12,6 @@ import math
 import re
 import sys
 import time
-from collections.abc import Iterator
 from pathlib import Path
 from typing import IO, Any
 
@@ -36,9 +35,10 @@ worked example:
     stages                stages[0] solve
     monitors              top (block 3)
 
-  --check reads the model, generates its blocks and runs every check (regions, boundary
-  conditions, monitors, bolts), and runs nothing. Without it, the stages run and the
-  results go into a folder:
+  --check reads the model, generates its blocks, runs every check (regions, boundary
+  conditions, monitors, bolts) and builds the engine as the run does (so that a time
+  step above the critical one is refused now), and runs no step. Without it, the stages
+  run and the results go into a folder:
 
 more:
   penedge simulate examples/models/block_column.toml -o column
@@ -102,7 +102,8 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
     simulate.add_argument(
         "--check",
         action="store_true",
-        help="read and check the model and its blocks, print what would run, run nothing",
+        help="read and check the model and its blocks, build the engine as the run would "
+        "(time step, bolts, restart file), print what would run, take no step, write nothing",
     )
     simulate.add_argument(
         "--no-pictures",
@@ -127,25 +128,15 @@ def run_simulate(args: argparse.Namespace) -> int:
         return simulate_model(args, path)
 
 
-@contextlib.contextmanager
-def in_model_file(path: Path) -> Iterator[None]:
+def in_model_file(path: Path) -> contextlib.AbstractContextManager[None]:
     """An error of the model found after reading it (the checks that need the blocks, the
     generation's, the engine's refusals of the model's values) says which file, as the
     errors of reading it do: ``regions.top: selects no block ... (in model.toml)``. Not an
-    error of the restart file (field ``restart``), which names that file."""
-    import penedge
+    error of the restart file (field ``restart``), which names that file. The Python API
+    names the file so too (:func:`penedge.model.naming_file`), and the file once."""
     import penedge.model as pm
 
-    try:
-        yield
-    except penedge.SpecError as e:
-        where = f" (in {path})"
-        text = str(e)
-        if text.endswith(where) or getattr(e, "field", None) == "restart":
-            raise
-        if isinstance(e, pm.ModelError):
-            raise pm.ModelError(e.field, text.split(": ", 1)[1] + where) from None
-        raise CommandError(text + where) from None
+    return pm.naming_file(path)
 
 
 def simulate_model(args: argparse.Namespace, path: Path) -> int:
@@ -185,14 +176,13 @@ def simulate_model(args: argparse.Namespace, path: Path) -> int:
         if bar is not None:
             bar.close()
     if args.check:
-        from penedge.model.run import check_safety_stages, check_saves
-
-        layout = setup.layout
-        check_safety_stages(model, layout, layout.fixed, layout.velocity)
-        check_saves(model, folder)
+        with progress.activity(show, f"{PROG} simulate: building the engine"):
+            runner = check_run(setup, folder, args.restart)
         summary = check_summary(path, setup)
-        if args.restart is not None:
-            summary["restart"] = check_restart(setup, folder, args.restart)
+        if runner is not None and args.restart is not None:
+            stages = model.stages[runner.first :]
+            then = [f"{s.name} {s.kind}" for s in stages]
+            summary["restart"] = {"file": args.restart, "stages": then}
         print_summary(args, summary, format_check(summary))
         return 0
     engine_factory = engines.Engine
@@ -269,20 +259,34 @@ def simulate_model(args: argparse.Namespace, path: Path) -> int:
     return 0
 
 
-def check_restart(setup: Any, folder: Path, restart: str) -> dict[str, Any]:
-    """``--check --restart FILE``: the restart file read onto the model's engine, as the
-    run would (so refused as the run would refuse it); the file and the stages it would
+def check_run(setup: Any, folder: Path, restart: str | None) -> Any:
+    """``--check``: what the run does before its first step, so that what it would refuse
+    is refused now, with the same message and exit status: the engine built from the model
+    (a time step above the critical one, a bolt outside the rock), the restart file read
+    onto it (refused as the run would refuse it), the excavate, save and factor-of-safety
+    stages checked from the stage it would start at. Nothing is written. Returns the
+    :class:`~penedge.model.run.Runner`, or None where no engine can be built: a model that
+    uses a feature the engine does not run yet (the summary lists it, "cannot run yet")
+    or a build of penedge without the engine; then only the checks that need no engine
     run."""
     from penedge.model import engine as engines
-    from penedge.model.run import Runner
+    from penedge.model.run import Runner, check_safety_stages, check_saves
 
+    model = setup.model
     try:
         engines.simulation_class()
     except engines.EngineMissingError as e:
-        raise CommandError(f"--restart: cannot read the restart file: {e}") from None
-    runner = Runner(setup, engines.Engine, folder=folder, restart=restart)
-    stages = setup.model.stages[runner.first :]
-    return {"file": restart, "stages": [f"{s.name} {s.kind}" for s in stages]}
+        if restart is not None:
+            raise CommandError(f"--restart: cannot read the restart file: {e}") from None
+        missing = True
+    else:
+        missing = False
+    if restart is None and (missing or engines.unsupported(model)):
+        layout = setup.layout
+        check_safety_stages(model, layout, layout.fixed, layout.velocity)
+        check_saves(model, folder)
+        return None
+    return Runner(setup, engines.Engine, folder=folder, restart=restart)
 
 
 def remove_earlier_results(folder: Path) -> None:

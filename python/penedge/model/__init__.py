@@ -42,8 +42,10 @@ penedge.model.fields.ModelError: rock.density: must be greater than 0, got -1
 
 from __future__ import annotations
 
+import contextlib
+import os
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -88,6 +90,7 @@ __all__ = [
     "Support",
     "Water",
     "load_model",
+    "naming_file",
     "parse_model",
     "prepare",
     "read_model",
@@ -135,6 +138,43 @@ def load_model(source: str | Path | Mapping[str, Any] | Model) -> Model:
     return read_model(source)
 
 
+def file_of(source: Any) -> Path | None:
+    """The model file `source` names (:func:`load_model`: a path, or a string without a
+    newline), or None for a model given otherwise (TOML text, a dict, a :class:`Model`,
+    a :class:`Setup`)."""
+    if isinstance(source, str):
+        return None if "\n" in source else Path(source)
+    if isinstance(source, os.PathLike):
+        return Path(source)
+    return None
+
+
+@contextlib.contextmanager
+def naming_file(path: str | Path | None) -> Iterator[None]:
+    """An error of the model found after reading the file `path` (the checks that need the
+    blocks, the generation's, the engine's refusals of the model's values, raised as a
+    :exc:`penedge.SpecError`) ends with the file, `` (in model.toml)``, as the errors of
+    reading it do (:func:`read_model`); not twice, and not an error of the restart file
+    (field ``restart``), which names that file. The error keeps its class, ``field`` and
+    ``kind``. Nothing is added where `path` is None."""
+    import penedge
+
+    try:
+        yield
+    except penedge.SpecError as e:
+        where = f" (in {path})"
+        text = str(e)
+        if path is None or text.endswith(where) or getattr(e, "field", None) == "restart":
+            raise
+        if isinstance(e, ModelError):
+            raise ModelError(e.field, text.split(": ", 1)[1] + where) from None
+        named = type(e)(text + where)
+        for attribute in ("kind", "field"):
+            if hasattr(e, attribute):
+                setattr(named, attribute, getattr(e, attribute))
+        raise named from None
+
+
 @dataclass
 class Setup:
     """A model with its blocks generated and checked: ready to build a simulation."""
@@ -148,22 +188,25 @@ class Setup:
 
 def prepare(source: str | Path | Mapping[str, Any] | Model, progress: Any = None) -> Setup:
     """Reads `source` (see :func:`load_model`), generates its blocks and runs every check
-    that needs them. Nothing is simulated yet."""
+    that needs them. Nothing is simulated yet. Given the model's file, every error of the
+    model (:exc:`ModelError`, or the generation's :exc:`penedge.SpecError`) ends with it,
+    ``(in model.toml)`` (:func:`naming_file`)."""
     import penedge
 
-    model = load_model(source)
-    system, report = penedge.generate(model.spec, progress=progress)
-    from penedge.model.run import check_excavations
+    with naming_file(file_of(source)):
+        model = load_model(source)
+        system, report = penedge.generate(model.spec, progress=progress)
+        from penedge.model.run import check_excavations
 
-    if len(system) == 0:
-        # Before the blocks' arrays are built (they assume some).
-        raise ModelError(
-            "domain",
-            "the model has no blocks (every block was dropped as a sliver or excavated)",
-        )
-    blocks = Blocks.of(system)
-    layout = resolve(model, blocks)
-    check_excavations(model, layout.regions, layout.bodies)
+        if len(system) == 0:
+            # Before the blocks' arrays are built (they assume some).
+            raise ModelError(
+                "domain",
+                "the model has no blocks (every block was dropped as a sliver or excavated)",
+            )
+        blocks = Blocks.of(system)
+        layout = resolve(model, blocks)
+        check_excavations(model, layout.regions, layout.bodies)
     return Setup(model, system, report, blocks, layout)
 
 
@@ -178,10 +221,15 @@ def simulate(
     and returns the :class:`~penedge.model.run.Outcome` (displacements and velocities as
     numpy arrays, the history, the factor of safety if a stage asked for it). ``save``
     stages write into `folder` (default: the current folder); `restart` goes on from a
-    restart file one of them wrote (docs/models.md, "Restart")."""
+    restart file one of them wrote (docs/models.md, "Restart"). Given the model's file,
+    an error of the model raised before the first step (the engine's refusal of a time
+    step included) ends with it, ``(in model.toml)``, as in :func:`prepare`."""
     from penedge.model.engine import Engine
     from penedge.model.run import Runner
 
-    setup = source if isinstance(source, Setup) else prepare(source)
-    runner = Runner(setup, Engine, progress=progress, frame=frame, folder=folder, restart=restart)
+    with naming_file(file_of(source)):
+        setup = source if isinstance(source, Setup) else prepare(source)
+        runner = Runner(
+            setup, Engine, progress=progress, frame=frame, folder=folder, restart=restart
+        )
     return runner.run()
