@@ -262,6 +262,23 @@ def test_a_set_the_system_does_not_have_is_refused_with_the_sets_it_has():
     assert sim.joint()["kn"] == 2e9
 
 
+def test_a_restart_file_keeps_a_set_that_cut_no_block(tmp_path):
+    # the second plane lies outside the box: its spec entry is a set without faces
+    system = penedge.BlockSystem.from_box_cut(
+        [0, 0, 0], [1, 1, 1], [[1.0, 0.0, 0.0]] * 2, [0.5, 2.0]
+    )
+    assert len(system) == 2
+    sim = penedge.Simulation(system)
+    sim.set_joint(kn=1e9, ks=1e9, friction=30.0)  # the default only: set 1 has no properties
+    sim.save(tmp_path / "state.json")
+    loaded = penedge.Simulation.load(tmp_path / "state.json")
+    loaded.set_joint(kn=1e9, ks=1e9, friction=25.0, set=1)
+    loaded.set_water(pressures={1: 1e4})
+    assert loaded.joint(set=1)["friction"] == 25.0
+    with pytest.raises(penedge.MechanicsError, match=r"no joint set 2\b.*sets are 0, 1"):
+        loaded.set_joint(kn=1e9, ks=1e9, friction=30.0, set=2)
+
+
 def test_bad_water_is_refused_by_name():
     sim = cube_on_base()
     with pytest.raises(penedge.MechanicsError, match="vertical"):

@@ -1854,6 +1854,11 @@ mod tests {
         let generated = BlockSystem::with_provenance(blocks, Vec::new(), Vec::new(), records);
         let sim = Simulation::new(&generated, 2500.0).unwrap();
         assert_eq!(sim.joint_sets(), BTreeSet::from([0, 1, 2, 3, 5]));
+        // A restart file keeps them, those that cut no block included.
+        let text = sim.to_state_string().unwrap();
+        let loaded = Simulation::from_state_str(&text).unwrap();
+        assert_eq!(loaded.joint_sets(), BTreeSet::from([0, 1, 2, 3, 5]));
+        assert!(loaded.check_set(1).is_ok());
         // Blocks of no joint: no set at all, said so.
         let bare = BlockSystem::new(vec![ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap()]);
         let message = Simulation::new(&bare, 2500.0)

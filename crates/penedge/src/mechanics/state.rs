@@ -60,6 +60,11 @@ struct StateFile {
     /// penedge stored bolts: none).
     #[serde(default)]
     bolts: Vec<BoltFile>,
+    /// The simulation's joint sets ([`Simulation::joint_sets`]: with those of the faces,
+    /// the entries of a generated system's spec that cut no block), increasing (absent in
+    /// files written before penedge stored them: the faces' sets and those with properties).
+    #[serde(default)]
+    sets: Vec<u32>,
     /// Free text for the caller (`penedge simulate` keeps where its run stands there).
     note: Option<String>,
 }
@@ -507,9 +512,9 @@ fn file_of(sim: &Simulation) -> StateFile {
         part_index: _,
         placed: _,
         complete: _,
-        // The faces' sets, from the shapes; the spec's entries without faces are not kept
-        // (the sets with properties are: `Simulation::joint_sets`).
-        sets: _,
+        // Stored whole: the faces' sets come back from the shapes, but not the spec's
+        // entries without faces.
+        sets,
         joints,
         bridges,
         water,
@@ -618,6 +623,7 @@ fn file_of(sim: &Simulation) -> StateFile {
         moments: moments.iter().map(|m| m.to_array()).collect(),
         excavation: excavation_file(excavation),
         bolts: bolts_file(bolts),
+        sets: sets.iter().copied().collect(),
         note: None,
     }
 }
@@ -1545,8 +1551,9 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             part_index: _,
             placed: _,
             complete: _,
-            // The faces' sets, found by `from_bodies`.
-            sets: _,
+            // The faces' sets, found by `from_bodies`, and the file's (the spec's entries
+            // without faces).
+            sets: st,
             joints: j,
             bridges: br,
             water: w,
@@ -1587,6 +1594,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
         if !file.block_bodies.is_empty() {
             *bb = block_bodies_of(&file.block_bodies, n)?;
         }
+        st.extend(file.sets.iter().copied());
         *j = joints;
         *br = bridge_table;
         *g = gravity;
