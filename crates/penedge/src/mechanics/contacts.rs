@@ -114,14 +114,12 @@ pub(super) struct Found {
 }
 
 /// What carries a contact's geometry with its bodies between two queries of the pair: the
-/// bodies' poses and travels at the query, which body each point and the normal move with,
+/// bodies' poses at the query, which body each point and the normal move with,
 /// and the travel sum past which the pair is queried again.
 #[derive(Clone, Debug)]
 pub(super) struct Carry {
     /// The poses of the two bodies (A, B) at the query.
     pub poses: [Pose; 2],
-    /// Their travels (sums of motion bounds) at the query.
-    pub travels: [f64; 2],
     /// Bit `k` set: point `k` moves with B (one of B's vertices, to within the gap, and nearer
     /// to it than to any of A's), else with A.
     pub with_b: u64,
@@ -157,7 +155,6 @@ impl Carry {
         contact: &Contact,
         geometry: &ContactGeometry,
         poses: [Pose; 2],
-        travels: [f64; 2],
         tolerance: f64,
     ) -> Carry {
         let mut with_b = 0u64;
@@ -184,7 +181,6 @@ impl Carry {
         );
         Carry {
             poses,
-            travels,
             with_b,
             normal_with_b,
             tolerance,
@@ -1041,15 +1037,7 @@ mod tests {
         assert_eq!(contact.kind, kind);
         let g = geometry.unwrap();
         let gap = detector.thresholds(&a, &b).gap;
-        let carry = Carry::new(
-            [&a, &b],
-            gap,
-            &contact,
-            &g,
-            [pose_a, pose_b],
-            [0.0; 2],
-            0.1 * gap,
-        );
+        let carry = Carry::new([&a, &b], gap, &contact, &g, [pose_a, pose_b], 0.1 * gap);
         assert!(!carry.normal_with_b);
         let with_b = (0..g.points().len())
             .filter(|k| carry.with_b & (1 << k) != 0)

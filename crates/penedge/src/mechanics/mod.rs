@@ -1127,7 +1127,8 @@ impl Simulation {
             .zip(&mut self.frames)
             .map(|((&[i, j], memo), frame)| {
                 let [bi, bj] = [part_body[i as usize], part_body[j as usize]].map(|b| b as usize);
-                if let (Some(asked), false) = (memo.asked_at, full) {
+                let asked = memo.asked_at;
+                if asked != NEVER_ASKED && !full {
                     if moved_at[bi] <= asked && moved_at[bj] <= asked {
                         return Outcome::Unmoved;
                     }
@@ -1142,14 +1143,16 @@ impl Simulation {
                     {
                         return Outcome::Certified;
                     }
+                    // A contact's tolerance and travels at the query are in its memo.
+                    let tolerance = memo.deadline;
                     match &memo.found {
-                        Some(f) if f.carry.tolerance > 0.0 => {
+                        Some(_) if tolerance > 0.0 => {
                             // The travels' sum, not the net relative motion: it grows with
                             // every motion, so a carried contact is queried again in the end
                             // even when its bodies move back and forth (docs/mechanics.md,
                             // "Carried contacts").
-                            let [ti, tj] = f.carry.travels;
-                            if (travel[bi] - ti) + (travel[bj] - tj) <= f.carry.tolerance {
+                            let [ti, tj] = memo.travels;
+                            if (travel[bi] - ti) + (travel[bj] - tj) <= tolerance {
                                 return match frame {
                                     Frame::Open(cert) if dormancy && cert.holds(now) => {
                                         Outcome::Dormant
@@ -1204,7 +1207,7 @@ impl Simulation {
                     let (a, b) = (&placed[i as usize], &placed[j as usize]);
                     let (result, geometry) = det.detect_with_geometry(a, b);
                     let mut memo = PairMemo {
-                        asked_at: Some(step),
+                        asked_at: step,
                         ..PairMemo::default()
                     };
                     let mut frame = Frame::default();
@@ -1218,9 +1221,9 @@ impl Simulation {
                                 &contact,
                                 &geometry,
                                 [bodies.pose[bi], bodies.pose[bj]],
-                                [travel[bi], travel[bj]],
                                 tolerance,
                             );
+                            (memo.deadline, memo.travels) = (tolerance, [travel[bi], travel[bj]]);
                             memo.found = Some(Box::new(Found {
                                 parts: [i, j],
                                 contact,
@@ -1645,15 +1648,24 @@ impl Summary {
 /// What the last query of a candidate pair found, and when.
 #[derive(Clone, Debug)]
 struct PairMemo {
-    /// The step of the last query (`None`: never queried since the broad phase was built).
-    asked_at: Option<u64>,
+    /// The step of the last query ([`NEVER_ASKED`]: never queried since the broad phase was
+    /// built; a sentinel rather than an `Option`, which would take 16 bytes).
+    asked_at: u64,
     /// The contact found then (`None`: separated); boxed, so that the many separated pairs
-    /// take 32 bytes each.
+    /// take 40 bytes each.
     found: Option<Box<Found>>,
     /// A separated pair's certificate: the travel sum of its two bodies below which it stays
-    /// separated (`-∞`: none).
+    /// separated (`-∞`: none). For a contact, its carry's tolerance (the growth of the
+    /// travels' sum since the query up to which it is carried).
     deadline: f64,
+    /// For a contact, its two bodies' travels at the query (its carry's): with `deadline`,
+    /// what the step's test of every carried contact reads, without the contact's box (a
+    /// cache miss per pair and step: docs/mechanics.md, "Carried contacts").
+    travels: [f64; 2],
 }
+
+/// [`PairMemo::asked_at`] of a pair never queried.
+const NEVER_ASKED: u64 = u64::MAX;
 
 /// What a candidate pair keeps beside its [`PairMemo`], apart (read only for the pairs whose
 /// travels have used up their certificate, and for carried contacts): where a separated
@@ -1684,9 +1696,10 @@ struct Separation {
 impl Default for PairMemo {
     fn default() -> Self {
         PairMemo {
-            asked_at: None,
+            asked_at: NEVER_ASKED,
             found: None,
             deadline: f64::NEG_INFINITY,
+            travels: [0.0; 2],
         }
     }
 }
@@ -1987,12 +2000,12 @@ mod tests {
         assert_eq!(size_of::<SubContact>(), 112);
         // Per candidate pair (docs/mechanics.md, "Memory"): the memo and, apart, the frame
         // of its certificate (a separated pair's or a dormant contact's, and its tag).
-        assert_eq!(size_of::<PairMemo>(), 32);
+        assert_eq!(size_of::<PairMemo>(), 40);
         assert_eq!(size_of::<Frame>(), 120);
         // A face-face contact of two quadrilaterals: within the 512 bytes (an
         // initial stress adds 8 per sub-contact in a side table, in the runs that have one).
         assert_eq!(size_of::<BodyContact>() + 4 * size_of::<SubContact>(), 512);
         // The contact updates: per candidate pair; per body, `moved_at`, `travel`, `last_step`.
-        assert_eq!(size_of::<PairMemo>(), 32);
+        assert_eq!(size_of::<PairMemo>(), 40);
     }
 }
