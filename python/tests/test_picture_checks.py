@@ -114,3 +114,24 @@ def test_the_note_of_a_cut_down_system_goes_under_the_picture_once():
     # plot_system alone keeps the note in its axes
     ax = pictures.plot_system(system, max_blocks=3)
     assert note in [t.get_text() for t in ax.texts]
+
+
+def test_the_simulation_pictures_draw_a_title_with_dollars():
+    from types import SimpleNamespace
+
+    from penedge.pictures.simulation import save_displacement, save_failing, save_history
+
+    history = SimpleNamespace(
+        step=[0, 1, 2],
+        ratio=[1.0, 0.1, 0.01],
+        kinetic=[1.0, 0.5, 0.2],
+        monitors={"$roof^{$": [[0.0] * 6, [0.001] * 6, [0.002] * 6]},
+        stage=["start", "s", "s"],
+    )
+    fig = save_history(history, io.BytesIO(), title=BAD_MATH)
+    assert fig.get_suptitle() == r"\$m^{\$"
+    system = penedge.paper_example(1)
+    fig = save_displacement(system, [[0.0, 0.0, 0.001]] * 8, io.BytesIO(), title=BAD_MATH)
+    assert fig.axes[0].get_title() == r"\$m^{\$"
+    fig = save_failing(system, [0], io.BytesIO(), title=BAD_MATH)
+    assert fig.axes[0].get_title() == r"\$m^{\$"
