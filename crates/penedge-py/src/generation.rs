@@ -122,7 +122,7 @@ fn read(py: Python<'_>, spec: &Bound<'_, PyAny>) -> PyResult<(Spec, Option<PathB
         }
     }
     if spec.is_instance_of::<PyDict>() || spec.is_instance_of::<PyMapping>() {
-        let text = toml_text(spec)?;
+        let text = toml_text(spec, "spec")?;
         let parsed = parse_toml(&text).map_err(|e| to_py_err(in_dict(&text, e, "")))?;
         return Ok((parsed, None));
     }
@@ -307,13 +307,19 @@ fn field_at(text: &str, line: usize) -> (String, Option<String>, bool) {
     (table, None, false)
 }
 
-/// A spec given as a dict, written as TOML text.
-pub(crate) fn toml_text(spec: &Bound<'_, PyAny>) -> PyResult<String> {
-    let value = toml_value(spec, "spec")?.unwrap_or(toml::Value::Table(toml::Table::new()));
-    let toml::Value::Table(table) = value else {
-        unreachable!("a mapping becomes a table")
+/// A spec given as a dict (or a part of one: `field` names it, `spec` for a whole spec,
+/// `excavation` for one excavation), written as TOML text. Anything but a mapping is an
+/// `InputError` (kind `"type"`) naming `field`.
+pub(crate) fn toml_text(spec: &Bound<'_, PyAny>, field: &str) -> PyResult<String> {
+    let Ok(mapping) = spec.cast::<PyMapping>() else {
+        let kind = spec.get_type().name().map_or("?".into(), |n| n.to_string());
+        return Err(crate::errors::input_error(
+            "type",
+            format!("{field} must be a dict (a mapping of its fields), got {kind}"),
+        ));
     };
-    toml::to_string(&table).map_err(|e| spec_error("spec", e.to_string()))
+    let table = toml_table(mapping, field, 0)?;
+    toml::to_string(&table).map_err(|e| spec_error(field, e.to_string()))
 }
 
 fn spec_error(field: &str, message: String) -> PyErr {
@@ -321,15 +327,11 @@ fn spec_error(field: &str, message: String) -> PyErr {
     to_py_err(Error::Spec("invalid".into(), field.into(), message))
 }
 
-/// A Python value as a TOML value (None: left out).
 /// The deepest nesting of lists and tables a spec may have (a spec needs four or five): a
 /// list or dict that contains itself, or absurd nesting, is an error, not a stack overflow.
 const MAX_NESTING: usize = 32;
 
-fn toml_value(obj: &Bound<'_, PyAny>, field: &str) -> PyResult<Option<toml::Value>> {
-    nested_value(obj, field, 0)
-}
-
+/// A Python value as a TOML value (None: left out), `depth` levels down.
 fn nested_value(
     obj: &Bound<'_, PyAny>,
     field: &str,

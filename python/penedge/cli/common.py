@@ -5,8 +5,10 @@ Output files follow one rule: a file the user named on the command line is repla
 atomically (written to a temporary file beside it, then renamed over it); a file the user
 did not name (a default name such as ``example3.png``) is never replaced: the next free
 name ``stem-1``, ``stem-2``, ... is taken, unless ``--force`` is given. Named outputs are
-checked before any work is done: the right suffix, not a directory, an existing folder,
-not an input of the command and not named twice.
+checked before any work is done: the right suffix, not a directory, an existing folder
+where a file can be made, not an input of the command and not named twice. A command with
+several outputs writes them all to temporary files first (:class:`Outputs`) and moves
+them into place only when every one is written: a failed command leaves none of them.
 """
 
 from __future__ import annotations
@@ -42,13 +44,15 @@ def output_file(value: str | None, option: str, suffixes: tuple[str, ...]) -> Pa
     Raises
     ------
     UsageError
-        A suffix not in `suffixes`, or a directory.
+        A suffix not in `suffixes`, no name before the suffix, or a directory.
     CommandError
-        Its folder does not exist.
+        Its folder does not exist, or no file can be made there.
     """
     if value is None:
         return None
     path = Path(value)
+    if path.name.lower() in suffixes:
+        raise UsageError(f"argument {option}: '{value}' has no name before {path.name}")
     if path.suffix.lower() not in suffixes:
         ends = " or ".join(suffixes)
         raise UsageError(f"argument {option}: '{value}' should end in {ends}")
@@ -57,7 +61,25 @@ def output_file(value: str | None, option: str, suffixes: tuple[str, ...]) -> Pa
     folder = path.parent
     if not folder.is_dir():
         raise CommandError(f"cannot write {value}: no directory '{folder}'")
+    check_writable(path)
     return path
+
+
+def check_writable(path: Path) -> None:
+    """A file can be made beside `path` (where its temporary file goes), checked by making
+    one and removing it, before any work.
+
+    Raises
+    ------
+    CommandError
+        Naming `path` and why (``cannot write out.csv: Permission denied``).
+    """
+    try:
+        fd, probe = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".tmp")
+    except OSError as e:
+        raise CommandError(f"cannot write {path}: {e.strerror or e}") from None
+    os.close(fd)
+    Path(probe).unlink(missing_ok=True)
 
 
 def non_negative_float(text: str) -> float:
@@ -68,6 +90,19 @@ def non_negative_float(text: str) -> float:
         raise argparse.ArgumentTypeError(f"invalid number: '{text}'") from None
     if not (value >= 0 and value != float("inf")):
         raise argparse.ArgumentTypeError(f"must be a number >= 0, got {text}")
+    return value
+
+
+def explode_factor(text: str) -> float:
+    """An argparse type: a number from 0 to ``MAX_EXPLODE`` (what the pictures take)."""
+    from penedge.pictures.scene import MAX_EXPLODE
+
+    value = non_negative_float(text)
+    if value > MAX_EXPLODE:
+        raise argparse.ArgumentTypeError(
+            f"must be a number from 0 to {MAX_EXPLODE:g} (beyond, the blocks are specks far "
+            f"apart), got {text}"
+        )
     return value
 
 
@@ -162,11 +197,11 @@ def add_picture_options(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--explode",
-        type=non_negative_float,
+        type=explode_factor,
         default=0.5,
         metavar="F",
         help="move each block outward by F x its distance from the centre, so that inner "
-        "blocks show (default 0.5; 0: as they lie)",
+        "blocks show (default 0.5; 0: as they lie; at most 100)",
     )
     parser.add_argument(
         "--max-blocks",
@@ -227,6 +262,8 @@ def picture_file(value: str | None, option: str) -> Path | None:
             f"argument {option}: '{value}' is an HTML file; use --html-out {value} for the "
             "interactive view"
         )
+    if value is not None and Path(value).name.lower() in PICTURE_FORMATS:
+        raise UsageError(f"argument {option}: '{value}' has no name before {Path(value).name}")
     if value is not None and Path(value).suffix.lower() not in PICTURE_FORMATS:
         known = ", ".join(PICTURE_FORMATS)
         raise UsageError(
@@ -252,10 +289,69 @@ class Target:
 
 def target(named: Path | None, default: Path, force: bool) -> Target:
     """The user's path (replaced if it exists), else the default one (replaced only with
-    `force`)."""
+    `force`; its folder checked as a named output's is)."""
     if named is not None:
         return Target(named, True)
+    check_writable(default)
     return Target(default, force)
+
+
+class Outputs:
+    """The outputs of one command, written to temporary files beside their targets and moved
+    into place together (:meth:`publish`) once every one is written: a command that fails
+    half way leaves none of them. Used as a context manager, it removes what was not
+    published.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> with Outputs() as outputs:
+    ...     a = outputs.staged(Target(folder / "a.txt", True))
+    ...     _ = a.write(lambda handle: handle.write(b"a"))
+    ...     print(sorted(p.name for p in folder.iterdir() if not p.name.startswith(".")))
+    ...     [p.name for p in outputs.publish()]
+    []
+    ['a.txt']
+    """
+
+    def __init__(self) -> None:
+        self._staged: list[tuple[Path, Target]] = []
+
+    def __enter__(self) -> Outputs:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.discard()
+
+    def staged(self, target: Target) -> Target:
+        """A target whose ``write`` writes the temporary file only (and returns the path
+        meant); :meth:`publish` moves it into place."""
+        outputs = self
+
+        class Staged(Target):
+            def write(self, write: Callable[[IO[bytes]], None]) -> Path:
+                outputs._staged.append((write_temp(self.path, write), target))
+                return self.path
+
+        return Staged(target.path, target.replace)
+
+    def publish(self) -> list[Path]:
+        """Moves every file written into place, in the order written; returns the paths
+        written (another name where a default name was taken)."""
+        written = []
+        try:
+            for tmp, where in self._staged:
+                written.append(publish(tmp, where.path, where.replace))
+        finally:
+            self.discard()
+        return written
+
+    def discard(self) -> None:
+        """Removes the temporary files not moved into place."""
+        for tmp, _ in self._staged:
+            tmp.unlink(missing_ok=True)
+        self._staged.clear()
 
 
 def available(module: str) -> bool:
@@ -312,11 +408,29 @@ def write_via_temp(path: Path, replace: bool, write: Callable[[IO[bytes]], None]
     -------
     Path
         The path written.
+
+    Raises
+    ------
+    OSError
+        Naming `path` (not the temporary file).
     """
+    tmp = write_temp(path, write)
+    try:
+        return publish(tmp, path, replace)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def write_temp(path: Path, write: Callable[[IO[bytes]], None]) -> Path:
+    """Writes ``write(handle)`` into a new temporary file beside `path`; returns its path
+    (removed again if the writing fails). An OSError names `path`, not the temporary file."""
     directory = path.parent
     if not directory.is_dir():
         raise CommandError(f"cannot write {path}: no directory '{directory}'")
-    fd, tmp_name = tempfile.mkstemp(dir=directory, prefix=f".{path.stem}.", suffix=".tmp")
+    try:
+        fd, tmp_name = tempfile.mkstemp(dir=directory, prefix=f".{path.stem}.", suffix=".tmp")
+    except OSError as e:
+        raise _naming(e, path) from None
     tmp = Path(tmp_name)
     try:
         with os.fdopen(fd, "wb") as handle:
@@ -324,15 +438,34 @@ def write_via_temp(path: Path, replace: bool, write: Callable[[IO[bytes]], None]
         umask = os.umask(0)
         os.umask(umask)
         tmp.chmod(0o666 & ~umask)  # mkstemp makes it private; an output is an ordinary file
-        return publish(tmp, path, replace)
-    finally:
+    except OSError as e:
         tmp.unlink(missing_ok=True)
+        raise _naming(e, path, tmp) from None
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return tmp
+
+
+def _naming(e: OSError, path: Path, tmp: Path | None = None) -> OSError:
+    """`e` about `path` where it named the temporary file (or no file): the user never saw
+    the temporary file's name."""
+    if e.filename is not None and tmp is not None and Path(e.filename) != tmp:
+        return e  # about another file (one the writer reads, say)
+    try:
+        return type(e)(e.errno, e.strerror or str(e), str(path))
+    except Exception:  # an OSError subclass with another signature
+        return OSError(e.errno, e.strerror or str(e), str(path))
 
 
 def publish(tmp: Path, path: Path, replace: bool) -> Path:
-    """Moves `tmp` to `path`, or to the next free name when `path` must not be replaced."""
+    """Moves `tmp` to `path`, or to the next free name when `path` must not be replaced.
+    An OSError names `path`."""
     if replace:
-        tmp.replace(path)
+        try:
+            tmp.replace(path)
+        except OSError as e:
+            raise _naming(e, path, tmp) from None
         return path
     for k in range(1000):
         candidate = path if k == 0 else path.with_name(f"{path.stem}-{k}{path.suffix}")
@@ -343,7 +476,10 @@ def publish(tmp: Path, path: Path, replace: bool) -> Path:
             continue
         except OSError:  # no hard links here: check, then rename
             if not candidate.exists():
-                tmp.replace(candidate)
+                try:
+                    tmp.replace(candidate)
+                except OSError as e:
+                    raise _naming(e, candidate, tmp) from None
                 return candidate
     raise CommandError(f"no free file name near {path}")
 

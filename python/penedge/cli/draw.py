@@ -41,11 +41,12 @@ def write_picture(
     def write(handle: IO[bytes]) -> None:
         try:
             from penedge import pictures
+            from penedge.pictures.scene import plain_text
 
             pictures.save_picture(
                 system,
                 handle,
-                title=title,
+                title=plain_text(title),  # a file name with $ is no mathtext
                 subtitle=explode_caption(explode),
                 format=fmt,
                 explode=explode,

@@ -14,6 +14,7 @@ import penedge
 from penedge.cli import draw, progress
 from penedge.cli.common import (
     PROG,
+    Outputs,
     UsageError,
     add_gap,
     add_html,
@@ -153,14 +154,21 @@ def run_example(args: argparse.Namespace) -> int:
         "max_blocks": args.max_blocks,
         "contacts": found if args.contacts else None,
     }
-    for key, where, writer in (
-        ("picture", picture, draw.write_picture),
-        ("html", html, draw.write_html),
-    ):
-        if where is None:
-            continue
-        with progress.activity(show, f"{PROG} example {n}: drawing {where.path}"):
-            written = writer(system, where, **options)
+    asked = [
+        (key, where, writer)
+        for key, where, writer in (
+            ("picture", picture, draw.write_picture),
+            ("html", html, draw.write_html),
+        )
+        if where is not None
+    ]
+    # Both outputs are drawn before either is put in place: a failure leaves neither.
+    with Outputs() as outputs:
+        for _, where, writer in asked:
+            with progress.activity(show, f"{PROG} example {n}: drawing {where.path}"):
+                writer(system, outputs.staged(where), **options)
+        written_paths = outputs.publish()
+    for (key, where, _), written in zip(asked, written_paths, strict=True):
         result[key] = str(written)
         if written != where.path:
             notes.append(f"{where.path} exists and was kept; wrote {written} instead")

@@ -15,6 +15,7 @@ from penedge.cli import draw, progress
 from penedge.cli.common import (
     PROG,
     CommandError,
+    Outputs,
     Target,
     UsageError,
     add_gap,
@@ -176,16 +177,20 @@ def run_show(args: argparse.Namespace) -> int:
         "contacts": found,
     }
     notes = []
-    for key, where in targets.items():
-        if where is None:
-            continue
-        with progress.activity(show, f"{PROG} show: drawing {where.path}"):
-            if key == "stats_png":
-                written = draw.write_volumes(system, where)
-            elif key == "html":
-                written = draw.write_html(system, where, **options)
-            else:
-                written = draw.write_picture(system, where, **options)
+    asked = {key: where for key, where in targets.items() if where is not None}
+    # Every output is drawn before any is put in place: a failure leaves none of them.
+    with Outputs() as outputs:
+        for key, where in asked.items():
+            staged = outputs.staged(where)
+            with progress.activity(show, f"{PROG} show: drawing {where.path}"):
+                if key == "stats_png":
+                    draw.write_volumes(system, staged)
+                elif key == "html":
+                    draw.write_html(system, staged, **options)
+                else:
+                    draw.write_picture(system, staged, **options)
+        written_paths = outputs.publish()
+    for (key, where), written in zip(asked.items(), written_paths, strict=True):
         summary[key] = str(written)
         if written != where.path:
             notes.append(f"{where.path} exists and was kept; wrote {written} instead")

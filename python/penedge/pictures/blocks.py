@@ -25,6 +25,9 @@ from penedge.pictures.scene import (
     Scene,
     block_colors,
     build_scene,
+    check_contacts,
+    check_explode,
+    plain_text,
     set_colors,
     shown_note,
     volume_scale,
@@ -60,7 +63,7 @@ def exploded_faces(
     system : BlockSystem or iterable of Block
     explode : float, default 0.5
         Each block moves by ``explode * (its centroid - the system centroid)``; 0 draws the
-        system as it is.
+        system as it is. At most ``MAX_EXPLODE`` (100); a ValueError otherwise.
 
     Returns
     -------
@@ -68,6 +71,7 @@ def exploded_faces(
         Per block: the face polygons (each an (k, 3) array, already moved), the outward
         unit normals (f, 3), and the displacement (3,).
     """
+    explode = check_explode(explode)
     blocks = _blocks(system)
     if not blocks:
         return []
@@ -121,6 +125,12 @@ def resolve_color_by(color_by: str | None, scene: Scene) -> str:
 def length_unit(system: Any, unit: str | None) -> str:
     """`unit`, else the system's (``BlockSystem.unit``), else ``"m"``."""
     return unit or getattr(system, "unit", None) or "m"
+
+
+def _note_gid() -> str:
+    """The id of the text ``showing N of M blocks`` (:func:`save_picture` moves it under the
+    picture, with the subtitle)."""
+    return "penedge-shown-note"
 
 
 def set_name(scene: Scene, index: int) -> str:
@@ -251,7 +261,7 @@ def plot_system(
         Each block moves by ``explode * (its centroid - the system centroid)``. With 0 the
         blocks lie where they are, on axes of their real coordinates; otherwise the axes
         are hidden (they would show the moved positions) and a scale bar and a north arrow
-        (+y) are drawn.
+        (+y) are drawn. From 0 to 100 (``MAX_EXPLODE``): anything else is a ValueError.
     alpha : float, default 0.92
         Face opacity (faces turned away from the viewer are not drawn).
     title : str, optional
@@ -273,7 +283,8 @@ def plot_system(
     contacts : SystemContacts, optional
         Contacts of `system` found with ``detect(geometry=True)``: drawn over faint blocks
         (:func:`penedge.pictures.plot_contacts`): coloured by type, or by the joint set of
-        their faces when the blocks are coloured by set.
+        their faces when the blocks are coloured by set. Contacts of another system (a block
+        number this one does not have) are a ValueError.
     contact_types : iterable of int, optional
         Draw only the contacts of these type codes (1..7).
     max_blocks : int or None, default 20000
@@ -281,7 +292,8 @@ def plot_system(
         the largest (a note under the picture says so). None: every block.
     unit : str, optional
         The model's length unit, for the axes and the scale bar; default the system's
-        (``BlockSystem.unit``, from the spec), else ``"m"``.
+        (``BlockSystem.unit``, from the spec), else ``"m"``. Drawn as written (a ``$`` is no
+        mathtext).
     elev, azim : float
         View angles in degrees.
 
@@ -309,8 +321,10 @@ def plot_system(
 
         ax = Figure(figsize=(7.0, 7.0), layout="constrained").add_subplot(projection="3d")
     scene = build_scene(system, explode, max_blocks)
+    if contacts is not None:
+        check_contacts(contacts, scene.n_blocks)
     color_by = resolve_color_by(color_by, scene)
-    unit = length_unit(system, unit)
+    unit = plain_text(length_unit(system, unit))  # drawn as it is, never as mathtext
     base, norm = _base_colors(scene, color_by, colors)
     if colors is None and color_by == "block":
         base = base[scene.body_first]  # the parts of a concave block in one colour
@@ -372,7 +386,16 @@ def plot_system(
         _volume_colorbar(ax, norm, bool(scene.volumes.min(initial=np.inf) < norm.vmin), unit)
     note = shown_note(scene)
     if note:
-        ax.text2D(0.5, 0.0, note, transform=ax.transAxes, ha="center", va="bottom", fontsize=8)
+        ax.text2D(
+            0.5,
+            0.0,
+            note,
+            transform=ax.transAxes,
+            ha="center",
+            va="bottom",
+            fontsize=8,
+            gid=_note_gid(),
+        )
     ax.set_proj_type("persp", focal_length=2.0)
     ax.view_init(elev=elev, azim=azim)
     if explode == 0 and scene.n_faces:
@@ -433,6 +456,7 @@ def save_picture(
     subtitle : str, optional
         A smaller caption below the picture.
     explode : float, default 0.5
+        From 0 to 100, as in :func:`plot_system`.
     dpi : int, default 150
     format : str, optional
         ``"png"``, ``"svg"``, ``"pdf"``, ... (needed when `path` has no suffix).
@@ -455,6 +479,7 @@ def save_picture(
 
     from penedge import CONTACT_TYPES
 
+    explode = check_explode(explode)
     wide = 1.0 if kwargs.get("color_by") == "volume" else 0.0
     if contacts is None:
         fig = Figure(figsize=(7.0 + wide, 7.0), layout="constrained")
@@ -490,7 +515,18 @@ def save_picture(
             panel.set_title(f"{CONTACT_TYPES[code - 1]} ({count})", fontsize=10, pad=0)
         if title:
             fig.suptitle(title, fontsize=13)
-    if subtitle:
-        fig.text(0.5, 0.015, subtitle, ha="center", va="bottom", fontsize=9, color="0.35")
+    # The note of a cut-down system goes under the picture, after the subtitle, once: at the
+    # bottom of the blocks' axes it would overlap the subtitle, in each small panel the
+    # panels.
+    captions = [subtitle] if subtitle else []
+    for panel in fig.axes:
+        for note in [t for t in panel.texts if t.get_gid() == _note_gid()]:
+            if panel is ax:
+                captions.append(note.get_text())
+            note.remove()
+    if captions:
+        fig.text(
+            0.5, 0.015, "\n".join(captions), ha="center", va="bottom", fontsize=9, color="0.35"
+        )
     fig.savefig(path, dpi=dpi, format=format, facecolor="white")
     return fig

@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from penedge.pictures.scene import check_contacts
+
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
@@ -65,6 +67,8 @@ def contact_shapes(
     """
     if contacts.points is None or contacts.point_offsets is None:
         raise ValueError("the contacts have no geometry: use detect(geometry=True)")
+    if block_offsets is not None:
+        check_contacts(contacts, len(block_offsets))
     offsets = contacts.point_offsets
     sizes = np.diff(offsets)
     points = np.asarray(contacts.points, dtype=float)
@@ -133,6 +137,8 @@ def plot_contacts(
 
     from penedge.pictures.scene import NO_SET_COLOR, SET_COLORS
 
+    if shown_blocks is not None:
+        check_contacts(contacts, len(shown_blocks))
     points, segments, polygons, kinds = contact_shapes(contacts, block_offsets)
     codes = np.asarray(contacts.types)
     drawn = np.ones(len(codes), dtype=bool)
@@ -209,7 +215,7 @@ def set_legend(ax: Any, sets: np.ndarray, names: Sequence[str], title: str, noun
     in set order, with its count of `noun` (``"block"``), then the entry of no set."""
     from matplotlib.patches import Patch
 
-    from penedge.pictures.scene import NO_SET_COLOR, SET_COLORS
+    from penedge.pictures.scene import NO_SET_COLOR, SET_COLORS, plain_text
 
     sets = np.asarray(sets, dtype=np.int64)
     present, counts = np.unique(sets, return_counts=True)
@@ -219,7 +225,7 @@ def set_legend(ax: Any, sets: np.ndarray, names: Sequence[str], title: str, noun
         if s < 0:
             name, color = "no joint face", NO_SET_COLOR
         else:
-            name = names[s] if s < len(names) else f"set {s}"
+            name = plain_text(names[s]) if s < len(names) else f"set {s}"
             color = SET_COLORS[s % len(SET_COLORS)]
         label = f"{name} ({n}{f' {noun}' + ('s' if n != 1 else '') if noun else ''})"
         handles.append(Patch(facecolor=color, edgecolor="0.2", label=label))

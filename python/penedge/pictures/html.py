@@ -22,6 +22,7 @@ from penedge.pictures.scene import (
     Scene,
     block_colors,
     build_scene,
+    check_contacts,
     shown_note,
     volume_scale,
 )
@@ -110,6 +111,8 @@ def html_figure(
     from penedge.pictures.blocks import length_unit, resolve_color_by
 
     scene = build_scene(system, explode, max_blocks)
+    if contacts is not None:
+        check_contacts(contacts, scene.n_blocks)
     color_by = resolve_color_by(color_by, scene)
     unit = length_unit(system, unit)
     if edges is None:
@@ -433,7 +436,7 @@ def write_html(
         Each block moves by ``explode * (its centroid - the system centroid)``. With 0 the
         axes show the real coordinates; an exploded view hides their numbers (they would
         be the moved positions), and hovering a block gives the real position of the
-        vertex nearest the pointer.
+        vertex nearest the pointer. From 0 to 100: anything else is a ValueError.
     contacts : SystemContacts, optional
         Contacts found with ``detect(geometry=True)``: drawn by type (points, segments,
         polygons), one legend entry per type; the blocks are then drawn translucent.

@@ -19,12 +19,16 @@ if TYPE_CHECKING:
 __all__ = [
     "COLOR_BY",
     "DEFAULT_MAX_BLOCKS",
+    "MAX_EXPLODE",
     "NO_SET_COLOR",
     "SET_COLORS",
     "Scene",
     "block_colors",
+    "check_contacts",
+    "check_explode",
     "dominant_sets",
     "face_areas",
+    "plain_text",
     "set_colors",
     "volume_scale",
 ]
@@ -56,9 +60,55 @@ NO_SET_COLOR = "#c8c8c8"
 #: (with a face on the domain's boundary) are drawn first, then the largest.
 DEFAULT_MAX_BLOCKS = 20_000
 
+#: The largest ``explode`` factor a picture takes (each block moved out by at most this many
+#: times its distance from the centre): beyond it the blocks are specks far apart.
+MAX_EXPLODE = 100.0
+
 _GOLDEN_ANGLE = 0.381966  # fraction of a turn between successive block hues
 VOLUME_COLORMAP = "viridis"
 _VOLUME_DECADES = 100.0  # the volume colour scale starts at most this factor below V10
+
+
+def plain_text(text: str) -> str:
+    """`text` as matplotlib draws it letter for letter: every ``$`` escaped, so that a
+    unit, a file name or a set name is never read as mathtext (``$m^{$`` would not
+    parse)."""
+    return text.replace("$", r"\$")
+
+
+def check_explode(explode: float) -> float:
+    """`explode`, checked: a number from 0 to :data:`MAX_EXPLODE`.
+
+    Raises
+    ------
+    ValueError
+        Negative, larger, not a number (nan) or not finite.
+    """
+    try:
+        value = float(explode)
+    except (TypeError, ValueError):
+        raise ValueError(f"explode must be a number, got {explode!r}") from None
+    if not 0 <= value <= MAX_EXPLODE:
+        raise ValueError(f"explode must be a number from 0 to {MAX_EXPLODE:g}, got {explode!r}")
+    return value
+
+
+def check_contacts(contacts: Any, n_blocks: int) -> None:
+    """`contacts` refer only to blocks of a system of `n_blocks` blocks.
+
+    Raises
+    ------
+    ValueError
+        A contact names a block the system does not have (contacts of another system).
+    """
+    pairs = np.asarray(contacts.pairs).reshape(-1, 2)
+    if len(pairs) and (pairs.max() >= n_blocks or pairs.min() < 0):
+        k = int(np.flatnonzero(((pairs >= n_blocks) | (pairs < 0)).any(axis=1))[0])
+        a, b = (int(x) for x in pairs[k])
+        raise ValueError(
+            f"contacts: contact {k} is between blocks {a} and {b}, but the system has "
+            f"{n_blocks} block{'s' if n_blocks != 1 else ''}: contacts of another system?"
+        )
 
 
 def block_colors(n: int) -> np.ndarray:
@@ -342,6 +392,7 @@ def build_scene(
     (by the centroid of the whole body) and its internal faces are left out."""
     if max_blocks is not None and max_blocks < 1:
         raise ValueError(f"max_blocks must be at least 1, got {max_blocks}")
+    explode = check_explode(explode)
     a = _arrays(system)
     volumes = np.asarray(a.volumes, dtype=float)
     centroids = np.asarray(a.centroids, dtype=float).reshape(-1, 3)

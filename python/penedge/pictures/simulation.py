@@ -9,6 +9,8 @@ from typing import Any
 
 import numpy as np
 
+from penedge.pictures.scene import plain_text
+
 DISPLACEMENT_COLORMAP = "plasma"
 
 
@@ -41,7 +43,8 @@ def save_history(history: Any, path: Any, *, title: str | None = None, dpi: int 
     if monitors:
         for name, values in monitors.items():
             v = np.asarray(values, dtype=float).reshape(-1, 6)
-            axes[2].plot(step[: len(v)], np.linalg.norm(v[:, :3], axis=1) * 1e3, label=name)
+            size = np.linalg.norm(v[:, :3], axis=1) * 1e3
+            axes[2].plot(step[: len(v)], size, label=plain_text(str(name)))
         axes[2].set_ylabel("displacement (mm)")
         axes[2].legend(fontsize=8, loc="best")
     _stage_marks(axes, history)
@@ -49,7 +52,7 @@ def save_history(history: Any, path: Any, *, title: str | None = None, dpi: int 
     for ax in axes:
         ax.grid(True, alpha=0.3)
     if title:
-        fig.suptitle(title, fontsize=12)
+        fig.suptitle(plain_text(title), fontsize=12)  # a model's title: no mathtext
     fig.savefig(path, dpi=dpi, format="png", facecolor="white")
     return fig
 
@@ -104,7 +107,7 @@ def save_displacement(
         label += f"\n{moved} of {len(size)} blocks moved more than {threshold * 1e3:g} mm"
     bar.set_label(label)
     if title:
-        ax.set_title(title, fontsize=12)
+        ax.set_title(plain_text(title), fontsize=12)
     fig.savefig(path, dpi=dpi, format="png", facecolor="white")
     return fig
 
@@ -133,7 +136,7 @@ def save_failing(
     plot_system(system, ax=ax, explode=0.0, colors=list(colors), max_blocks=None)
     _axes(ax)
     if title:
-        ax.set_title(title, fontsize=12)
+        ax.set_title(plain_text(title), fontsize=12)
     fig.savefig(path, dpi=dpi, format="png", facecolor="white")
     return fig
 

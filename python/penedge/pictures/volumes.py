@@ -6,6 +6,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from penedge.pictures.scene import plain_text
+
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
@@ -109,7 +111,9 @@ def plot_volume_distribution(
     ax.set_ylim(0, 100)
     ax.set_yticks(range(0, 101, 10))
     unit = getattr(system, "unit", None)
-    ax.set_xlabel(f"block volume v ({unit}³)" if unit else "block volume v (spec unit cubed)")
+    ax.set_xlabel(
+        f"block volume v ({plain_text(unit)}³)" if unit else "block volume v (spec unit cubed)"
+    )
     ax.set_ylabel("cumulative percentage (%)")
     ax.grid(True, which="major", color="0.88")
     ax.grid(True, which="minor", axis="x", color="0.94")

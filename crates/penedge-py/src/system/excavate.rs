@@ -44,6 +44,8 @@ impl BlockSystem {
     ///
     /// Raises
     /// ------
+    /// InputError
+    ///     `excavation` is not a dict (``kind == "type"``).
     /// SpecError
     ///     A bad field (``field`` names it: ``excavation.radius``), a profile that crosses
     ///     itself, or an excavation that removes no rock (outside the blocks); a surface with
@@ -69,7 +71,7 @@ impl BlockSystem {
         absolute_gap: Option<f64>,
     ) -> PyResult<(BlockSystem, Bound<'py, PyAny>)> {
         let tol = tolerance(gap, length, absolute_gap)?;
-        let text = toml_text(excavation)?;
+        let text = toml_text(excavation, "excavation")?;
         let excavation = penedge::io::spec::parse_excavation_toml(&text)
             .map_err(|e| to_py_err(Error::from(in_dict(&text, e, "excavation"))))?;
         let system = self.inner.clone();
