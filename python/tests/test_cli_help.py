@@ -114,7 +114,17 @@ def test_ctrl_c_exits_130_with_a_word_and_no_traceback(monkeypatch, capsys, tmp_
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_signal_before_the_command_runs_exits_130_without_a_traceback(monkeypatch, capsys):
+    def interrupted():
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli, "build_parser", interrupted)
+    assert cli.main(["example", "1"]) == 130
+    assert capsys.readouterr().err == "\npenedge: interrupted\n"
+
+
 def test_a_signal_during_a_run_exits_130_and_leaves_no_temporary_file(tmp_path):
+    import os
     import signal
     import subprocess
     import sys
@@ -136,7 +146,16 @@ def test_a_signal_during_a_run_exits_130_and_leaves_no_temporary_file(tmp_path):
         stderr=subprocess.PIPE,
         text=True,
     )
-    time.sleep(2.5)  # past Python's start and the imports
+    # The signal once the child has run 0.8 s of CPU (its imports take about 0.3): during the
+    # cutting, whatever the load on the machine (a fixed wall-clock wait came, on a loaded
+    # machine, as the run ended, and on a quiet one after it).
+    ticks = os.sysconf("SC_CLK_TCK")
+    started = time.monotonic()
+    while process.poll() is None and time.monotonic() - started < 60:
+        fields = Path(f"/proc/{process.pid}/stat").read_text().rsplit(")", 1)[1].split()
+        if (int(fields[11]) + int(fields[12])) / ticks >= 0.8:
+            break
+        time.sleep(0.01)
     process.send_signal(signal.SIGINT)
     _, err = process.communicate(timeout=120)
     if process.returncode == 0:
