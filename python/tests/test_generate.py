@@ -450,3 +450,20 @@ def test_a_block_pickled_without_its_planes_still_loads():
     again = penedge.Block._restore(block.vertices, block.faces, origins)
     assert np.array_equal(again.vertices, block.vertices)
     assert again.faces == block.faces
+
+
+def test_one_line_toml_text_is_a_spec_not_a_file_name(tmp_path, monkeypatch):
+    # a spec on one line has no newline: it was taken for a file name (FileNotFoundError)
+    monkeypatch.chdir(tmp_path)
+    line = 'domain = { type = "box", min = [0, 0, 0], max = [2, 1, 1] }'
+    cut = 'joints = [ { type = "plane", point = [1, 0.5, 0.5], normal = [1, 0, 0] } ]'
+    whole, _ = penedge.generate(line)
+    halves, _ = penedge.generate(line + "\n" + cut)
+    assert (len(whole), len(halves)) == (1, 2)
+    # a file whose name holds an `=` is still read as a file
+    (tmp_path / "a=b.toml").write_text(line + "\n" + cut)
+    from_file, _ = penedge.generate("a=b.toml")
+    assert len(from_file) == 2
+    # a name without `=` that names no file is still a missing file
+    with pytest.raises(FileNotFoundError):
+        penedge.generate("nothing.toml")

@@ -11,7 +11,7 @@ use penedge::io::spec::{parse_toml, read_spec};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyMapping, PyString, PyTuple};
 use std::ops::ControlFlow;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// The shortest time between two calls of the progress callback.
@@ -26,8 +26,8 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 /// Parameters
 /// ----------
 /// spec : str, os.PathLike or dict
-///     A spec file (TOML, or JSON when the name ends in ``.json``); a str holding a newline
-///     is TOML text; a dict is the spec's structure (``{"domain": {...}, "joints": [...],
+///     A spec file (TOML, or JSON when the name ends in ``.json``); a str holding a newline,
+///     or an ``=`` and naming no file (``"domain = {...}"``), is TOML text; a dict is the spec's structure (``{"domain": {...}, "joints": [...],
 ///     "options": {...}}``; lists, numpy arrays, numbers and strings; a None value counts as
 ///     missing).
 /// progress : callable, optional
@@ -117,7 +117,9 @@ pub fn generate<'py>(
 fn read(py: Python<'_>, spec: &Bound<'_, PyAny>) -> PyResult<(Spec, Option<PathBuf>)> {
     if let Ok(text) = spec.cast::<PyString>() {
         let text = text.to_str()?;
-        if text.contains('\n') {
+        // TOML text: it holds a newline, or (one line: `domain = {...}`) an `=` and names no
+        // file.
+        if text.contains('\n') || text.contains('=') && !Path::new(text).exists() {
             return Ok((parse_toml(text).map_err(to_py_err)?, None));
         }
     }
