@@ -12,6 +12,7 @@ import penedge
 from penedge.cli import progress
 from penedge.cli.common import (
     PROG,
+    CommandError,
     UsageError,
     add_gap,
     add_output_flags,
@@ -23,6 +24,7 @@ from penedge.cli.common import (
     output_file,
     plural,
 )
+from penedge.cli.generate import Staged, blocks_of, count_text
 
 EPILOG = """\
 worked example:
@@ -46,12 +48,26 @@ more:
   penedge detect blocks.json --gap 1e-6 --json     with a relative gap, counts as JSON
   penedge detect blocks.json --absolute-gap 0.001  blocks within 1 mm touch (metres)
 
-contacts.csv has one row per contact: block_a, block_b, type, type_code (1..7),
+contacts.csv has one row per contact (docs/tables.md): block_a, block_b, type,
+type_code (1..7), point_x, point_y, point_z (the centroid of the contact region),
 normal_x, normal_y, normal_z (unit, from block_a to block_b), distance (gap > 0,
-depth < 0), area (face-face), n_points. contacts.vtp (ParaView) holds the contact
-points, segments and polygons with the same data. A file named here is replaced if
-it exists, at once; the input is never overwritten. A progress bar shows on a
-terminal when the detection takes more than a second. Draw the contacts with
+depth < 0; 0 within rounding), area (face-face), n_points, set_a, set_b (the spec
+entries the faces of each block's contact feature come from). contacts.vtp
+(ParaView) holds the contact points, segments and polygons with the same data.
+
+A block cut into convex parts that stay one block (the rock around an excavation or
+under a slope's ground, the pieces held by a finite joint's rock bridges; a `body` id
+per part in the block file) is one block: the summary says `16 blocks (39 convex
+parts)`, and the contacts are those between parts of different blocks, never the
+glue between two parts of one block (block_a, block_b are part ids; as
+`BlockSystem.detect` and `ContactTracker`). `BlockSystem.detect_bodies` groups them
+into the contact regions of the blocks.
+
+A file named here is replaced if it exists, at once; the input is never overwritten;
+both outputs are written, or neither. Pairs of blocks that overlap deeper than the
+gap are not contacts: a warning names them on stderr (not with -q, which prints
+nothing; --json counts them). A progress bar shows on a terminal when the detection
+takes more than a second. Draw the contacts with
 `penedge show blocks.json --contacts --html`."""
 
 
@@ -86,25 +102,60 @@ def run_detect(args: argparse.Namespace) -> int:
     vtp = output_file(args.vtp, "--vtp", (".vtp",))
     check_distinct({"BLOCKS": blocks}, {"-o/--output": csv, "--vtp": vtp})
     show = progress.wanted(args.quiet or args.json)
-    with progress.activity(show, f"{PROG} detect: reading {blocks}"):
-        system = penedge.BlockSystem.read_json(blocks)
-    try:
-        found = progress.detect(system, show, f"{PROG} detect", **gap_options(args), geometry=True)
-    except penedge.ToleranceError as e:
-        raise UsageError(f"argument {gap_flag(args)}: {e}") from None
-    written = []
-    for path, write in ((csv, found.write_csv), (vtp, found.write_vtp)):
-        if path is not None:
-            write(path)
-            written.append(str(path))
+    with Staged({"-o/--output": csv, "--vtp": vtp}) as staged:
+        with progress.activity(show, f"{PROG} detect: reading {blocks}"):
+            system = read_blocks(blocks)
+        try:
+            options = gap_options(args)
+            found = progress.detect(system, show, f"{PROG} detect", **options, geometry=True)
+        except penedge.ToleranceError as e:
+            raise UsageError(f"argument {gap_flag(args)}: {e}") from None
+        writers = {"-o/--output": found.write_csv, "--vtp": found.write_vtp}
+        for option, _ in staged.items():
+            writers[option](staged.temporary(option))
+        written = staged.publish()
     summary = summarize(blocks, system, found, gap_options(args), written)
-    if summary["penetrating"]:
+    if summary["penetrating"] and not args.quiet:
         print(f"{PROG}: warning: {penetration_note(found)}", file=sys.stderr)
     if args.json:
         print(json.dumps(summary, indent=2))
     elif not args.quiet:
         print(format_summary(summary))
     return 0
+
+
+#: The most bytes of a file that failed to read as a block file looked at for a spec.
+SPEC_BYTES = 1 << 20
+
+
+def read_blocks(path: Path) -> Any:
+    """The block file at `path`; a JSON joint spec given instead is named as one (as a
+    TOML spec is)."""
+    try:
+        return penedge.BlockSystem.read_json(path)
+    except penedge.PenedgeError:
+        if looks_like_json_spec(path):
+            raise CommandError(
+                f"{path}: this looks like a joint spec (JSON), not a block file: run "
+                "`penedge generate` on it first, then give the block file it writes "
+                "(-o blocks.json) to this command"
+            ) from None
+        raise
+
+
+def looks_like_json_spec(path: Path) -> bool:
+    """Whether `path` holds a JSON object with a spec's ``domain`` and no block file's
+    ``format`` or ``blocks``, its other keys a spec's (docs/generation.md)."""
+    try:
+        with path.open("rb") as handle:
+            text = handle.read(SPEC_BYTES + 1)
+        if len(text) > SPEC_BYTES:
+            return False
+        value = json.loads(text)
+    except (OSError, ValueError):
+        return False
+    spec_keys = {"domain", "joints", "excavations", "options", "unit"}
+    return isinstance(value, dict) and "domain" in value and set(value) <= spec_keys
 
 
 def summarize(
@@ -114,7 +165,8 @@ def summarize(
     face_face = found.types == penedge.CONTACT_TYPES.index("face-face") + 1
     return {
         "blocks_file": str(blocks),
-        "blocks": len(system),
+        "blocks": blocks_of(system),
+        "parts": len(system),
         **gap_fields(gap),
         "contacts": len(found),
         "counts": found.counts(),
@@ -138,11 +190,12 @@ def penetration_note(found: Any) -> str:
 def format_summary(summary: dict[str, Any]) -> str:
     """The table of counts per contact type."""
     lines = [
-        f"{summary['blocks_file']}: {plural(summary['blocks'], 'block')}, "
+        f"{summary['blocks_file']}: {count_text(summary['blocks'], summary['parts'])}, "
         f"{plural(summary['contacts'], 'contact')} ({gap_text(summary)})",
-        "",
-        *counts_table(summary["counts"]),
     ]
+    if summary["blocks"] != summary["parts"]:
+        lines.append("(contacts between convex parts of different blocks, typed by the parts)")
+    lines += ["", *counts_table(summary["counts"])]
     lines.append("")
     lines.append(f"face-face contact area: {summary['face_face_area']:.6g}")
     if summary["penetrating"]:

@@ -4,11 +4,16 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import re
 import sys
+import tempfile
 import time
 from pathlib import Path
+from types import SimpleNamespace
 from typing import IO, Any
+
+import numpy as np
 
 import penedge
 from penedge.cli import progress
@@ -21,6 +26,7 @@ from penedge.cli.common import (
     output_file,
     plural,
     positive_int,
+    publish,
     require_matplotlib,
     write_via_temp,
 )
@@ -50,12 +56,20 @@ more:
   penedge generate big.toml --max-blocks 50000000
                                                allow more blocks than the memory estimate
 
+A block cut into convex parts that stay one block (the rock around an excavation or
+under a slope's ground, the pieces held by a finite joint's rock bridges) counts once:
+the summary says `16 blocks (39 convex parts)` and the volumes are those of the blocks
+(their parts summed); the block file, the VTU files and the block table (--csv) hold
+the parts, each with its block's body id in the block file and the VTU files.
+
 Before cutting, the blocks are estimated from the arrangement of the planes (1 + planes
 + lines + points where they meet; the product of the plane counts for joint sets that
 fill the domain). A spec estimated to make more than --max-blocks (default: what half
 the memory available holds, at about 4 kB a block) is refused with the estimate, and a
 run that makes more stops. Ctrl-C stops a run within a second (between two planes);
-nothing is written then.
+nothing is written then. Every output is written to a temporary file beside it first
+and all are moved into place at the end: a run that cannot write one of them (a
+folder it may not write to, a full disk) writes none.
 
 The spec (TOML, or JSON when SPEC ends in .json) is described in docs/generation.md;
 examples/ has one spec for each feature. A file named here is replaced if it exists, at
@@ -98,14 +112,25 @@ def add_parser(commands: Any) -> argparse.ArgumentParser:
         generate.add_argument(*flags, dest=dest, metavar="FILE", help=what)
     generate.add_argument(
         "--max-blocks",
-        type=positive_int,
+        type=block_count,
         metavar="N",
-        help="the most blocks the run may make: a spec estimated to make more is refused "
-        "before cutting, and a run that makes more stops (default: what half the memory "
-        "available holds, about 4 kB a block)",
+        help="the most blocks (convex parts) the run may make: a spec estimated to make "
+        "more is refused before cutting, and a run that makes more stops (default: what "
+        "half the memory available holds, about 4 kB a block; any number above 2^63 - 1 "
+        "is taken as 2^63 - 1, no limit in practice)",
     )
     add_output_flags(generate, force=False)
     return generate
+
+
+#: The largest block limit the library takes (a signed 64-bit count).
+MAX_BLOCK_LIMIT = 2**63 - 1
+
+
+def block_count(text: str) -> int:
+    """An argparse type: a whole number >= 1, at most :data:`MAX_BLOCK_LIMIT` (a larger
+    limit is no limit either: no run comes near 2^63 blocks)."""
+    return min(positive_int(text), MAX_BLOCK_LIMIT)
 
 
 def run_generate(args: argparse.Namespace) -> int:
@@ -119,24 +144,27 @@ def run_generate(args: argparse.Namespace) -> int:
     if outputs["--stats-png"] is not None:
         require_matplotlib("--stats-png")
     show = progress.wanted(args.quiet or args.json)
-    bar = ProgressBar(sys.stderr, f"{PROG} generate", unit="planes") if show else None
-    start = time.perf_counter()
-    try:
-        system, report = penedge.generate(spec, progress=bar, max_blocks=args.max_blocks)
-    except KeyboardInterrupt as e:
-        notes = " ".join(getattr(e, "__notes__", []))
-        found = re.search(r"stopped after (\d+ of \d+ joint planes)", notes)
-        where = f" after {found.group(1)}" if found else ""
-        raise Interrupted(f"interrupted{where}; nothing written") from None
-    finally:
-        if bar is not None:
-            bar.close()
-    seconds = time.perf_counter() - start
-    png = outputs["--stats-png"]
-    if png is not None and len(system) == 0:
-        raise CommandError(f"cannot draw {png}: no blocks left (every block was a sliver)")
-    with progress.activity(show, f"{PROG} generate: writing"):
-        written = write_outputs(system, outputs)
+    # Each output's folder is tried before the run (a temporary file made there), so that
+    # a run whose outputs cannot all be written fails at once and writes none.
+    with Staged(outputs) as staged:
+        bar = ProgressBar(sys.stderr, f"{PROG} generate", unit="planes") if show else None
+        start = time.perf_counter()
+        try:
+            system, report = penedge.generate(spec, progress=bar, max_blocks=args.max_blocks)
+        except KeyboardInterrupt as e:
+            notes = " ".join(getattr(e, "__notes__", []))
+            found = re.search(r"stopped after (\d+ of \d+ joint planes)", notes)
+            where = f" after {found.group(1)}" if found else ""
+            raise Interrupted(f"interrupted{where}; nothing written") from None
+        finally:
+            if bar is not None:
+                bar.close()
+        seconds = time.perf_counter() - start
+        png = outputs["--stats-png"]
+        if png is not None and len(system) == 0:
+            raise CommandError(f"cannot draw {png}: no blocks left (every block was a sliver)")
+        with progress.activity(show, f"{PROG} generate: writing"):
+            written = write_outputs(system, staged)
     summary = summarize(spec, system, report, seconds, written)
     if args.json:
         print(json.dumps(summary, indent=2))
@@ -145,8 +173,65 @@ def run_generate(args: argparse.Namespace) -> int:
     return 0
 
 
-def write_outputs(system: Any, outputs: dict[str, Path | None]) -> list[str]:
-    """Writes every output asked for (each replaced atomically); returns their names."""
+class Staged:
+    """The outputs of a command, all or none: on entry, a temporary file is made beside
+    each output (so an output that cannot be written fails before any work); the command
+    writes each output to its temporary file (:meth:`temporary`); :meth:`publish` then
+    moves them all into place. On leaving, the temporary files left are removed: a
+    command that fails or is interrupted before :meth:`publish` writes nothing.
+    """
+
+    def __init__(self, outputs: dict[str, Path | None]) -> None:
+        self.outputs = {option: path for option, path in outputs.items() if path is not None}
+        self.temporaries: dict[str, Path] = {}
+
+    def __enter__(self) -> Staged:
+        try:
+            for option, path in self.outputs.items():
+                self.temporaries[option] = reserve(path)
+        except BaseException:
+            self.remove()
+            raise
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.remove()
+
+    def items(self) -> list[tuple[str, Path]]:
+        """The outputs named, as (option, path), in the order given."""
+        return list(self.outputs.items())
+
+    def temporary(self, option: str) -> Path:
+        """Where to write the output of `option` (moved into place by :meth:`publish`)."""
+        return self.temporaries[option]
+
+    def publish(self) -> list[str]:
+        """Moves every output into place (each replaced atomically); returns their names."""
+        written = []
+        for option, path in self.outputs.items():
+            publish(self.temporaries.pop(option), path, True)
+            written.append(str(path))
+        return written
+
+    def remove(self) -> None:
+        """Removes the temporary files not moved into place."""
+        for tmp in self.temporaries.values():
+            tmp.unlink(missing_ok=True)
+        self.temporaries.clear()
+
+
+def reserve(path: Path) -> Path:
+    """A new empty temporary file beside `path`, with its suffix (for the writers)."""
+    try:
+        fd, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
+    except OSError as e:
+        raise CommandError(f"cannot write {path}: {e.strerror or e}") from None
+    os.close(fd)
+    return Path(name)
+
+
+def write_outputs(system: Any, staged: Staged) -> list[str]:
+    """Writes every output asked for, then moves them all into place; returns their names."""
     writers = {
         "-o/--output": system.write_json,
         "--vtu": system.write_vtu,
@@ -154,22 +239,33 @@ def write_outputs(system: Any, outputs: dict[str, Path | None]) -> list[str]:
         "--csv": system.write_csv,
         "--stats-png": lambda path: write_stats_png(system, path),
     }
-    written = []
-    for option, path in outputs.items():
-        if path is not None:
-            writers[option](path)
-            written.append(str(path))
-    return written
+    for option, _ in staged.items():
+        writers[option](staged.temporary(option))
+    return staged.publish()
 
 
 def write_stats_png(system: Any, path: Path) -> None:
-    """The volume distribution picture, through a temporary file."""
+    """The volume distribution picture (of the blocks: a concave block's parts summed),
+    through a temporary file."""
     from penedge import pictures
 
+    blocks = SimpleNamespace(volumes=block_volumes(system), unit=system.unit)
+
     def write(handle: IO[bytes]) -> None:
-        pictures.save_volume_distribution(system, handle, format="png")
+        pictures.save_volume_distribution(blocks, handle, format="png")
 
     write_via_temp(path, True, write)
+
+
+def block_volumes(system: Any) -> np.ndarray:
+    """The volume of each block: of each body, its parts' volumes summed (by ascending body
+    id); for a system of convex blocks, its blocks' volumes."""
+    ids = np.asarray(system.body_ids)
+    volumes = np.asarray(system.volumes)
+    if len(np.unique(ids)) == len(ids):
+        return volumes
+    _, body = np.unique(ids, return_inverse=True)
+    return np.bincount(body, weights=volumes)
 
 
 def summarize(
@@ -178,7 +274,8 @@ def summarize(
     """The result of a run as plain data (what ``--json`` prints)."""
     return {
         "spec": str(spec),
-        "blocks": len(system),
+        "blocks": blocks_of(system),
+        "parts": len(system),
         "seconds": seconds,
         "statistics": system.statistics(),
         "report": report,
@@ -187,11 +284,23 @@ def summarize(
     }
 
 
+def blocks_of(system: Any) -> int:
+    """The number of blocks: of bodies (a concave block's convex parts are one block)."""
+    return len(np.unique(np.asarray(system.body_ids)))
+
+
+def count_text(blocks: int, parts: int) -> str:
+    """``16 blocks (39 convex parts)``; ``26 blocks`` when each block is one part."""
+    if blocks == parts:
+        return plural(blocks, "block")
+    return f"{plural(blocks, 'block')} ({plural(parts, 'convex part')})"
+
+
 def format_summary(summary: dict[str, Any], system: Any) -> str:
     """The human-readable summary of a run."""
     report, stats = summary["report"], summary["statistics"]
     lines = [
-        f"{PROG} generate {summary['spec']}: {plural(summary['blocks'], 'block')} "
+        f"{PROG} generate {summary['spec']}: {count_text(summary['blocks'], summary['parts'])} "
         f"in {summary['seconds']:.2f} s",
         row("joint planes", f"{report['joint_planes']} ({plural(report['splits'], 'split')})"),
     ]
@@ -208,14 +317,15 @@ def format_summary(summary: dict[str, Any], system: Any) -> str:
         lines.append(row("bridged cuts", f"{report['bridged_cuts']} (cut through, rock bridges)"))
     lines.append(row("slivers", slivers(report["slivers"])))
     if "tiny" in report:
-        lines.append(row("tiny blocks", tiny(report["tiny"])))
+        # Found among the convex parts, as the slivers.
+        label = "tiny blocks" if summary["blocks"] == summary["parts"] else "tiny parts"
+        lines.append(row(label, tiny(report["tiny"])))
     if report["set_planes_outside"]:
         lines.append(row("set planes outside", f"{report['set_planes_outside']} (left out)"))
     if report["retried_cuts"]:
         lines.append(row("cuts retried", f"{report['retried_cuts']} (exact signs)"))
     lines.append(row("volume error", f"{report['volume_error']:.1e} (blocks vs domain)"))
     if report.get("excavated_volume"):
-        # The block count above counts convex parts; an excavation glues them into bodies.
         lines.append(row("excavated", f"{report['excavated_volume']:.4g} (volume removed)"))
     if summary["written"]:
         lines.append(row("written", ", ".join(summary["written"])))

@@ -455,7 +455,10 @@ def bare_faces(blocks: Blocks, excavations: list[dict[str, Any]]) -> BareFaces:
     empty = BareFaces(np.zeros(0, np.int64), np.zeros(0), np.zeros((0, 3)), np.zeros(0, np.int64))
     if blocks.system is None or not joint.any():
         return empty
-    contacts = blocks.system.detect(geometry=True)
+    # Every pair of parts, the parts of one body too (which `detect` leaves out): their
+    # glue covers their faces.
+    parts = blocks.system.with_bodies(list(range(len(blocks.system))))
+    contacts = parts.detect(geometry=True)
     kinds = np.asarray(contacts.feature_kinds).reshape(-1, 2)
     areas = np.asarray(contacts.areas)
     rows = np.flatnonzero((kinds == 2).all(axis=1) & (areas > 0))

@@ -114,6 +114,22 @@ impl BlockArrays {
     }
 }
 
+impl BlockSystem {
+    /// The volume of each block, a concave block's parts summed (by ascending body id); for
+    /// a system of convex blocks, each block's volume.
+    fn block_volumes(&self) -> Vec<f64> {
+        let blocks = self.inner.blocks();
+        if !self.inner.has_concave() {
+            return blocks.iter().map(|b| b.volume()).collect();
+        }
+        self.inner
+            .body_parts()
+            .iter()
+            .map(|(_, parts)| parts.iter().map(|&k| blocks[k as usize].volume()).sum())
+            .collect()
+    }
+}
+
 #[pymethods]
 impl BlockSystem {
     /// Every block as flat arrays: vertices, faces, normals, face origins, volumes,
@@ -158,6 +174,11 @@ impl BlockSystem {
     /// volume such that blocks no larger hold at least X % of the rock volume;
     /// ``count_percentiles`` are the 10th, 50th and 90th percentile volumes by block count.
     ///
+    /// A block is a body: the convex parts of a concave block (the parts that share a body
+    /// id, :attr:`BlockSystem.body_ids`) count as one block, of their volumes summed, so
+    /// ``count`` is the number of bodies (``len(system)`` counts the parts). For a system of
+    /// convex blocks, every block is one.
+    ///
     /// Returns
     /// -------
     /// dict or None
@@ -171,14 +192,15 @@ impl BlockSystem {
     /// >>> s["count"], round(s["v10"], 2), round(s["v50"], 2), s["v90"]
     /// (26, 20.83, 41.67, 125.0)
     fn statistics<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
-        BlockStatistics::of(self.inner.blocks())
+        BlockStatistics::of_volumes(&self.block_volumes())
             .map(|s| arrays::to_python(py, &s))
             .transpose()
     }
 
     /// The cumulative volume curve: block volumes in increasing order, and for each the
     /// fraction of the total volume in blocks no larger (what the volume distribution
-    /// picture plots).
+    /// picture plots). Per block, as :meth:`BlockSystem.statistics`: the parts of a concave
+    /// block count as one block.
     ///
     /// Returns
     /// -------
@@ -189,8 +211,7 @@ impl BlockSystem {
         &self,
         py: Python<'py>,
     ) -> (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>) {
-        let volumes: Vec<f64> = self.inner.blocks().iter().map(|b| b.volume()).collect();
-        let curve = distribution_curve(&volumes);
+        let curve = distribution_curve(&self.block_volumes());
         let (v, p) = curve.iter().map(|c| (c.volume, c.passing)).unzip();
         (arrays::vector(py, v), arrays::vector(py, p))
     }

@@ -222,6 +222,13 @@ impl BlockSystem {
 
     /// Detects and classifies every contact of the system (in parallel, without the GIL).
     ///
+    /// In a system with concave blocks (blocks that share a body id,
+    /// :meth:`BlockSystem.with_bodies`, or generated around excavations, under slopes or
+    /// held by rock bridges), two parts of one body are one block: the glue between them is
+    /// never a contact, as in :class:`ContactTracker`. The contacts are those between parts
+    /// of different bodies, typed by the parts' features; :meth:`BlockSystem.detect_bodies`
+    /// groups them into the contact regions of the bodies.
+    ///
     /// Parameters
     /// ----------
     /// gap : float, default 1e-12

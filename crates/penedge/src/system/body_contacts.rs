@@ -273,10 +273,7 @@ impl BlockSystem {
         tol: &Tolerance,
         progress: &mut dyn FnMut(DetectProgress) -> ControlFlow<()>,
     ) -> Result<BodyContacts, Cancelled> {
-        let mut pairs = self.candidate_pairs(tol);
-        if self.has_concave() {
-            pairs.retain(|&[i, j]| self.body_of(i) != self.body_of(j));
-        }
+        let pairs = self.contact_pairs(tol);
         let mut pieces: Vec<Piece> = Vec::new();
         let mut penetrating: Vec<[u32; 2]> = Vec::new();
         narrow_phase(

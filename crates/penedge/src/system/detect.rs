@@ -2,6 +2,12 @@
 //!
 //! Candidate pairs come from the broad phase ([`super::BroadPhase`]); the narrow phase runs in parallel over blocks with rayon, and the result is
 //! sorted by block pair, so it is the same for any number of threads.
+//!
+//! In a system with concave blocks ([`BlockSystem::with_bodies`]: blocks that are convex
+//! parts of one body), two parts of one body are never a pair: they are glued into one rigid
+//! block, and their glue faces are inside it, not contacts. The detection, its geometry, the
+//! contacts of the bodies and the contact tracker all leave them out
+//! ([`BlockSystem::contact_pairs`]).
 
 use super::{append_in_parallel, BlockSystem, BroadPhase, WideBoxes};
 use crate::block::{ConvexBlock, Prefetch};
@@ -42,6 +48,34 @@ impl BlockSystem {
         self.wide_boxes(tol).pairs(method)
     }
 
+    /// The candidate pairs that the detection queries: [`BlockSystem::candidate_pairs`] less
+    /// the pairs of two parts of one body (a concave or bridged block), which are glued, not
+    /// in contact. Without concave blocks, every candidate pair.
+    ///
+    /// ```
+    /// use penedge::{BlockSystem, ConvexBlock, Tolerance};
+    /// let tol = Tolerance::default();
+    /// // Two boxes glued into one body (an L-block's parts), and a third box beside them.
+    /// let system = BlockSystem::new(vec![
+    ///     ConvexBlock::cuboid([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]).unwrap(),
+    ///     ConvexBlock::cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0]).unwrap(),
+    ///     ConvexBlock::cuboid([0.0, 1.0, 0.0], [1.0, 2.0, 1.0]).unwrap(),
+    /// ]);
+    /// assert_eq!(system.candidate_pairs(&tol), [[0, 1], [0, 2], [1, 2]]);
+    /// let glued = system.with_bodies(vec![0, 0, 1], &tol).unwrap();
+    /// assert_eq!(glued.contact_pairs(&tol), [[0, 2], [1, 2]]);
+    /// // The glue face between parts 0 and 1 is not a contact.
+    /// let pairs: Vec<[u32; 2]> = glued.detect(&tol).contacts.iter().map(|c| c.pair).collect();
+    /// assert_eq!(pairs, [[0, 2], [1, 2]]);
+    /// ```
+    pub fn contact_pairs(&self, tol: &Tolerance) -> Vec<[u32; 2]> {
+        let mut pairs = self.candidate_pairs(tol);
+        if self.has_concave() {
+            pairs.retain(|&[i, j]| self.body_of(i) != self.body_of(j));
+        }
+        pairs
+    }
+
     /// Each block's bounding box widened by its own gap.
     pub fn wide_boxes(&self, tol: &Tolerance) -> WideBoxes {
         let blocks = self.blocks();
@@ -51,7 +85,8 @@ impl BlockSystem {
         })
     }
 
-    /// Detects and classifies every contact of the system.
+    /// Detects and classifies every contact of the system: of every pair of blocks but two
+    /// parts of one body ([`BlockSystem::contact_pairs`]).
     pub fn detect(&self, tol: &Tolerance) -> SystemContacts {
         match self.detect_with_progress(tol, &mut |_| ControlFlow::Continue(())) {
             Ok(found) => found,
@@ -66,7 +101,7 @@ impl BlockSystem {
         tol: &Tolerance,
         progress: &mut dyn FnMut(DetectProgress) -> ControlFlow<()>,
     ) -> Result<SystemContacts, Cancelled> {
-        let pairs = self.candidate_pairs(tol);
+        let pairs = self.contact_pairs(tol);
         let mut out = SystemContacts::default();
         out.contacts.reserve(pairs.len());
         narrow_phase(

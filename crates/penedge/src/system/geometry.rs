@@ -1,7 +1,8 @@
 //! The geometry of every contact of a block system: normal, signed distance, area and
 //! contact points, as flat arrays aligned with [`SystemContacts::contacts`].
 //!
-//! The pairs are the same candidate pairs as [`BlockSystem::detect`]; each pair goes through
+//! The pairs are the same as [`BlockSystem::detect`]'s ([`BlockSystem::contact_pairs`]: two
+//! parts of one body are never a pair); each pair goes through
 //! [`crate::Detector::detect_with_geometry`] in parallel (rayon), and the result keeps the pairs'
 //! sorted order, so it is the same for any number of threads and `contacts` equals what
 //! [`BlockSystem::detect`] returns. Conventions (normal from the smaller block id to the
@@ -100,7 +101,7 @@ impl BlockSystem {
         tol: &Tolerance,
         progress: &mut dyn FnMut(DetectProgress) -> ControlFlow<()>,
     ) -> Result<(SystemContacts, ContactGeometries), Cancelled> {
-        let pairs = self.candidate_pairs(tol);
+        let pairs = self.contact_pairs(tol);
         let mut found = SystemContacts::default();
         let mut geometry = ContactGeometries::with_capacity(0);
         narrow_phase(

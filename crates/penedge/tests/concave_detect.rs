@@ -1,0 +1,120 @@
+//! The detection of a system whose blocks are parts of bodies (concave blocks around
+//! excavations and under slopes, pieces held by rock bridges): two parts of one body are
+//! glued into one rigid block, so the glue between them is never a contact, in
+//! `BlockSystem::detect` as in the contact tracker and `detect_bodies`.
+//!
+//! References: the same blocks as a system without bodies (each block its own body),
+//! detected, with the pairs of parts of one body taken out by their body ids; and a bridged
+//! cube worked out by hand (one block: no contact at all).
+
+use penedge::generation::{generate, Discontinuity, Domain, Spec};
+use penedge::io::spec::read_spec;
+use penedge::system::{ContactTracker, SystemContacts};
+use penedge::{BlockSystem, Tolerance};
+use std::path::PathBuf;
+
+fn example(name: &str) -> BlockSystem {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name);
+    generate(&read_spec(&path).unwrap()).unwrap().system
+}
+
+/// The contacts of `system`'s blocks found as if each were its own body, less the pairs of
+/// two parts of one body of `system` (by its body ids); and how many such pairs there were.
+fn per_part_less_same_body(system: &BlockSystem, tol: &Tolerance) -> (SystemContacts, usize) {
+    let ids = system.body_ids();
+    let mut found = BlockSystem::new(system.blocks().to_vec()).detect(tol);
+    let before = found.contacts.len();
+    found
+        .contacts
+        .retain(|c| ids[c.pair[0] as usize] != ids[c.pair[1] as usize]);
+    let same_body = before - found.contacts.len();
+    found
+        .penetrating
+        .retain(|p| ids[p[0] as usize] != ids[p[1] as usize]);
+    (found, same_body)
+}
+
+#[test]
+fn generated_concave_blocks_report_no_contact_between_parts_of_one_body() {
+    let tol = Tolerance::default();
+    for name in [
+        "tunnel_circular.toml",
+        "cavern.toml",
+        "shaft.toml",
+        "slope_topography.toml",
+    ] {
+        let system = example(name);
+        let bodies = system.body_parts().len();
+        assert!(bodies < system.len(), "{name}: some body has several parts");
+        let found = system.detect(&tol);
+        let (expected, same_body) = per_part_less_same_body(&system, &tol);
+        // The glue inside the blocks was there to be left out.
+        assert!(same_body > 0, "{name}");
+        assert_eq!(found, expected, "{name}");
+        let ids = system.body_ids();
+        assert!(found
+            .contacts
+            .iter()
+            .all(|c| ids[c.pair[0] as usize] != ids[c.pair[1] as usize]));
+        // With the geometry: the same contacts, one geometry row each.
+        let (with_geometry, geometry) = system.detect_with_geometry(&tol);
+        assert_eq!(with_geometry, found, "{name}");
+        assert_eq!(geometry.len(), found.contacts.len(), "{name}");
+        // The tracker reports the same contacts (docs/systems.md, "Time stepping").
+        let tracker = ContactTracker::new(&system, tol, 0.0).unwrap();
+        assert_eq!(tracker.contacts(), &found, "{name}");
+        // The contacts of the bodies are made of exactly these part contacts.
+        let regions = system.detect_bodies(&tol);
+        if regions.penetrating.is_empty() {
+            let mut pieces: Vec<[u32; 2]> = regions
+                .pieces
+                .iter()
+                .map(|p| [p.pair[0].min(p.pair[1]), p.pair[0].max(p.pair[1])])
+                .collect();
+            pieces.sort_unstable();
+            let pairs: Vec<[u32; 2]> = found.contacts.iter().map(|c| c.pair).collect();
+            assert_eq!(pieces, pairs, "{name}");
+        }
+    }
+}
+
+/// A 10 m cube with a horizontal 4 x 4 m square joint with rock bridges inside it at
+/// z = 5: the joint ends inside the cube, so the cube is cut through into pieces held by
+/// the bridges, one body. One block touches no other block: no contact.
+#[test]
+fn a_cube_held_by_rock_bridges_is_one_block_without_contacts() {
+    let tol = Tolerance::default();
+    let square = [
+        [3.0, 3.0, 5.0],
+        [7.0, 3.0, 5.0],
+        [7.0, 7.0, 5.0],
+        [3.0, 7.0, 5.0],
+    ];
+    let spec = Spec::new(Domain::cuboid([0.0; 3], [10.0; 3]).unwrap())
+        .with(Discontinuity::polygon(square.to_vec()).with_bridges());
+    let system = generate(&spec).unwrap().system;
+    assert!(system.len() > 1, "the joint cuts the cube into pieces");
+    assert_eq!(system.body_parts().len(), 1);
+    let found = system.detect(&tol);
+    assert!(found.contacts.is_empty(), "{:?}", found.contacts);
+    assert!(found.penetrating.is_empty());
+    assert!(system.detect_with_geometry(&tol).0.contacts.is_empty());
+    assert!(system.detect_bodies(&tol).contacts.is_empty());
+    // The pieces touch each other: as blocks of their own they would be in contact.
+    let (_, same_body) = per_part_less_same_body(&system, &tol);
+    assert!(same_body > 0);
+}
+
+/// A system without bodies keeps every pair: the detection is the per-part one.
+#[test]
+fn blocks_that_are_their_own_bodies_keep_every_contact() {
+    let tol = Tolerance::default();
+    let system = example("three_joint_sets.toml");
+    assert!(!system.has_concave());
+    assert_eq!(system.contact_pairs(&tol), system.candidate_pairs(&tol));
+    let (expected, same_body) = per_part_less_same_body(&system, &tol);
+    assert_eq!(same_body, 0);
+    assert_eq!(system.detect(&tol), expected);
+}
