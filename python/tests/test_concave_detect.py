@@ -80,7 +80,7 @@ def test_the_detect_command_counts_blocks_and_their_contacts(tmp_path, name):
     result = run("detect", "b.json", "-o", "c.csv", "--json", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     summary = json.loads(result.stdout)
-    assert (summary["blocks"], summary["parts"]) == (bodies, len(system))
+    assert (summary["bodies"], summary["blocks"]) == (bodies, len(system))
     assert summary["contacts"] == len(expected)
     with (tmp_path / "c.csv").open(newline="") as handle:
         rows = [(int(r["block_a"]), int(r["block_b"])) for r in csv.DictReader(handle)]
@@ -99,7 +99,7 @@ def test_a_cube_held_by_rock_bridges_is_one_block_without_contacts(tmp_path):
     summary = json.loads(made.stdout)
     system = penedge.BlockSystem.read_json(tmp_path / "b.json")
     assert len(system) > 1  # cut through into pieces
-    assert (summary["blocks"], summary["parts"]) == (1, len(system))
+    assert (summary["bodies"], summary["blocks"]) == (1, len(system))
     assert summary["statistics"]["count"] == 1
     assert summary["statistics"]["min_volume"] == pytest.approx(1000.0)
     found = run("detect", "b.json", "-o", "c.csv", cwd=tmp_path)
@@ -239,3 +239,38 @@ def test_the_glue_inside_a_bridged_block_is_no_bare_face():
     joint = np.asarray(system.arrays().face_origin_kind) == 2
     assert joint.any()  # the crack's faces, of the square joint
     assert len(bare_faces(Blocks.of(system), []).faces) == 0
+
+
+def test_a_write_failing_after_the_work_leaves_no_output_and_names_the_output(
+    tmp_path, monkeypatch, capsys
+):
+    # the checks before the work pass; the block table's writer then fails: the block file
+    # already written to its temporary file is not published, and the error names the table
+    import errno
+
+    from penedge.cli import main
+
+    def full(self, path):
+        raise OSError(errno.ENOSPC, "No space left on device", str(path))
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(penedge.BlockSystem, "write_csv", full)
+    status = main(["generate", str(EXAMPLES / "plane_dip.toml"), "-o", "ok.json", "--csv", "t.csv"])
+    assert status == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == []  # no output, no temporary file
+    assert capsys.readouterr().err.strip() == "penedge: error: t.csv: No space left on device"
+
+
+def test_show_counts_bodies_and_draws_their_volumes(tmp_path):
+    from penedge.pictures.volumes import _volumes
+
+    system = generated("cavern")
+    bodies = np.unique(system.body_ids, return_inverse=True)[1]
+    expected = np.sort(np.bincount(bodies, weights=system.volumes))
+    assert len(expected) < len(system)  # a concave system
+    assert _volumes(system).tolist() == expected.tolist()
+    system.write_json(tmp_path / "b.json")
+    result = run("show", "b.json", "--json", "--no-picture", "--stats-png", "v.png", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    summary = json.loads(result.stdout)
+    assert (summary["blocks"], summary["bodies"]) == (len(system), len(expected))

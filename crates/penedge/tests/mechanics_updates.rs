@@ -868,3 +868,87 @@ fn kept_answers_take_a_new_point_width() {
     let t = sim.timings();
     assert!(t.unmoved + t.carried > 0, "no answer was kept: {t:?}");
 }
+
+/// The cubes of `open_edge_and_vertex_contacts_wake_when_they_close`, their contacts carried
+/// (fraction 5: the contacts are not queried again before they close) and the point width
+/// doubled while they are open and dormant: with and without dormant contacts the same motion,
+/// bit for bit, and the contacts that close push with the new width's areas (`w² / 2` for the
+/// vertex-vertex one, `w` the width times the cube's diameter √3). A dormant contact kept
+/// across the change, its old shares then read back when it woke, failed it (found by review).
+#[test]
+fn dormant_contacts_take_a_new_point_width_when_they_wake() {
+    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
+    let at = |x: f64, y: f64, z: f64| unit.transformed(DQuat::IDENTITY, DVec3::new(x, y, z), 1.0);
+    let system = BlockSystem::new(vec![
+        at(0.0, 0.0, 0.0),
+        at(1.0008, 1.0008, 0.3),
+        at(-1.0008, -1.0008, -1.0008),
+    ]);
+    let mut updated = Simulation::new(&system, 2500.0).unwrap();
+    updated.fix(0).unwrap();
+    updated.set_gravity(DVec3::ZERO).unwrap();
+    updated.set_default_joint(joint(30.0)).unwrap();
+    updated
+        .set_velocity(1, DVec3::new(-0.01, -0.01, 0.0), DVec3::ZERO)
+        .unwrap();
+    updated
+        .set_velocity(2, DVec3::new(0.01, 0.01, 0.01), DVec3::ZERO)
+        .unwrap();
+    updated.set_update_fraction(5.0).unwrap();
+    let mut dormant = updated.clone();
+    updated.set_dormant_contacts(false);
+    let dt = dormant.timestep().unwrap();
+    let steps = (0.2 / dt) as u64;
+    let change = steps / 10;
+    let w = 0.4 * 3f64.sqrt();
+    let mut pushed = false;
+    for step in 0..steps {
+        if step == change {
+            assert!(dormant.timings().dormant > 0, "no contact was dormant");
+            dormant.set_point_width(0.4).unwrap();
+            updated.set_point_width(0.4).unwrap();
+        }
+        dormant.step().unwrap();
+        updated.step().unwrap();
+        same_motion(step, &dormant, &updated);
+        let contacts = dormant.contacts();
+        for (k, c) in contacts.list.iter().enumerate() {
+            let subs = contacts.subs_of(k);
+            if c.kind == ContactType::VertexVertex && subs[0].normal_force > 0.0 {
+                assert!(step > change);
+                let expected = 0.5 * w * w;
+                assert!(
+                    (subs[0].area - expected).abs() <= 1e-12 * expected,
+                    "step {step}: area {} against {expected}",
+                    subs[0].area
+                );
+                pushed = true;
+            }
+        }
+    }
+    assert!(pushed, "the vertex-vertex contact never closed");
+}
+
+/// Two cubes overlapping by a tenth of their size: the step is a penetration error, and so is
+/// the next one (the failed step had written the pair's memo as queried, and the next step
+/// took it as unmoved and stepped on without the contact; found by review).
+#[test]
+fn a_penetration_stays_an_error_at_the_next_step() {
+    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
+    let at = |x: f64| unit.transformed(DQuat::IDENTITY, DVec3::new(x, 0.0, 0.0), 1.0);
+    let system = BlockSystem::new(vec![at(0.0), at(0.9)]);
+    let mut sim = Simulation::new(&system, 2500.0).unwrap();
+    sim.set_gravity(DVec3::ZERO).unwrap();
+    sim.set_default_joint(joint(30.0)).unwrap();
+    for attempt in 0..3 {
+        let error = sim.step().unwrap_err();
+        assert!(
+            matches!(
+                error,
+                penedge::mechanics::MechanicsError::Penetration { .. }
+            ),
+            "attempt {attempt}: {error}"
+        );
+    }
+    assert_eq!(sim.steps(), 0);
+}

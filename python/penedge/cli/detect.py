@@ -110,10 +110,7 @@ def run_detect(args: argparse.Namespace) -> int:
             found = progress.detect(system, show, f"{PROG} detect", **options, geometry=True)
         except penedge.ToleranceError as e:
             raise UsageError(f"argument {gap_flag(args)}: {e}") from None
-        writers = {"-o/--output": found.write_csv, "--vtp": found.write_vtp}
-        for option, _ in staged.items():
-            writers[option](staged.temporary(option))
-        written = staged.publish()
+        written = staged.write_all({"-o/--output": found.write_csv, "--vtp": found.write_vtp})
     summary = summarize(blocks, system, found, gap_options(args), written)
     if summary["penetrating"] and not args.quiet:
         print(f"{PROG}: warning: {penetration_note(found)}", file=sys.stderr)
@@ -165,8 +162,8 @@ def summarize(
     face_face = found.types == penedge.CONTACT_TYPES.index("face-face") + 1
     return {
         "blocks_file": str(blocks),
-        "blocks": blocks_of(system),
-        "parts": len(system),
+        "blocks": len(system),
+        "bodies": blocks_of(system),
         **gap_fields(gap),
         "contacts": len(found),
         "counts": found.counts(),
@@ -190,10 +187,10 @@ def penetration_note(found: Any) -> str:
 def format_summary(summary: dict[str, Any]) -> str:
     """The table of counts per contact type."""
     lines = [
-        f"{summary['blocks_file']}: {count_text(summary['blocks'], summary['parts'])}, "
+        f"{summary['blocks_file']}: {count_text(summary['bodies'], summary['blocks'])}, "
         f"{plural(summary['contacts'], 'contact')} ({gap_text(summary)})",
     ]
-    if summary["blocks"] != summary["parts"]:
+    if summary["bodies"] != summary["blocks"]:
         lines.append("(contacts between convex parts of different blocks, typed by the parts)")
     lines += ["", *counts_table(summary["counts"])]
     lines.append("")

@@ -21,6 +21,7 @@ from penedge.cli.common import (
     PROG,
     CommandError,
     Interrupted,
+    _naming,
     add_output_flags,
     check_distinct,
     output_file,
@@ -205,6 +206,18 @@ class Staged:
         """Where to write the output of `option` (moved into place by :meth:`publish`)."""
         return self.temporaries[option]
 
+    def write_all(self, writers: dict[str, Any]) -> list[str]:
+        """Writes each output with its writer (``writers[option](path)``) to its temporary
+        file, then moves them all into place (:meth:`publish`); returns their names. A
+        failed write names the output, not its temporary file."""
+        for option, path in self.items():
+            tmp = self.temporary(option)
+            try:
+                writers[option](tmp)
+            except OSError as e:
+                raise _naming(e, path, tmp) from None
+        return self.publish()
+
     def publish(self) -> list[str]:
         """Moves every output into place (each replaced atomically); returns their names."""
         written = []
@@ -239,9 +252,7 @@ def write_outputs(system: Any, staged: Staged) -> list[str]:
         "--csv": system.write_csv,
         "--stats-png": lambda path: write_stats_png(system, path),
     }
-    for option, _ in staged.items():
-        writers[option](staged.temporary(option))
-    return staged.publish()
+    return staged.write_all(writers)
 
 
 def write_stats_png(system: Any, path: Path) -> None:
@@ -274,8 +285,8 @@ def summarize(
     """The result of a run as plain data (what ``--json`` prints)."""
     return {
         "spec": str(spec),
-        "blocks": blocks_of(system),
-        "parts": len(system),
+        "blocks": len(system),
+        "bodies": blocks_of(system),
         "seconds": seconds,
         "statistics": system.statistics(),
         "report": report,
@@ -300,7 +311,7 @@ def format_summary(summary: dict[str, Any], system: Any) -> str:
     """The human-readable summary of a run."""
     report, stats = summary["report"], summary["statistics"]
     lines = [
-        f"{PROG} generate {summary['spec']}: {count_text(summary['blocks'], summary['parts'])} "
+        f"{PROG} generate {summary['spec']}: {count_text(summary['bodies'], summary['blocks'])} "
         f"in {summary['seconds']:.2f} s",
         row("joint planes", f"{report['joint_planes']} ({plural(report['splits'], 'split')})"),
     ]
@@ -318,7 +329,7 @@ def format_summary(summary: dict[str, Any], system: Any) -> str:
     lines.append(row("slivers", slivers(report["slivers"])))
     if "tiny" in report:
         # Found among the convex parts, as the slivers.
-        label = "tiny blocks" if summary["blocks"] == summary["parts"] else "tiny parts"
+        label = "tiny blocks" if summary["bodies"] == summary["blocks"] else "tiny parts"
         lines.append(row(label, tiny(report["tiny"])))
     if report["set_planes_outside"]:
         lines.append(row("set planes outside", f"{report['set_planes_outside']} (left out)"))

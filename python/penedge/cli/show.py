@@ -35,6 +35,7 @@ from penedge.cli.common import (
     target,
 )
 from penedge.cli.detect import counts_table, penetration_note
+from penedge.cli.generate import blocks_of
 
 EPILOG = """\
 worked example:
@@ -218,6 +219,7 @@ def summarize(
     return {
         "blocks_file": str(blocks),
         "blocks": n,
+        "bodies": blocks_of(system),
         "shown_blocks": n if max_blocks is None else min(n, max_blocks),
         **gap_fields(gap if found is not None else None),
         "contacts": None if found is None else len(found),

@@ -22,8 +22,15 @@ _DECADES_BELOW_V10 = 1e3  # the axis starts at most this factor below V10
 
 
 def _volumes(system: BlockSystem | Any) -> np.ndarray:
-    volumes = getattr(system, "volumes", system)
-    return np.sort(np.asarray(volumes, dtype=float).ravel())
+    """The block volumes, ascending: of a system, one per body (a concave block's parts
+    summed, as :meth:`penedge.BlockSystem.statistics`); else the numbers given."""
+    volumes = np.asarray(getattr(system, "volumes", system), dtype=float).ravel()
+    ids = getattr(system, "body_ids", None)
+    if ids is not None:
+        _, body = np.unique(np.asarray(ids), return_inverse=True)
+        if body.max(initial=-1) + 1 < len(volumes):
+            volumes = np.bincount(body, weights=volumes)
+    return np.sort(volumes)
 
 
 def passing_volume(volumes: np.ndarray, percent: float) -> float:
@@ -55,7 +62,8 @@ def plot_volume_distribution(
     Parameters
     ----------
     system : BlockSystem or array_like of float
-        The blocks, or their volumes.
+        The blocks (one volume per body: a concave block's parts summed), or their
+        volumes.
     ax : matplotlib.axes.Axes, optional
         Default: a new figure (not registered with pyplot).
     title : str, optional

@@ -928,6 +928,15 @@ impl Simulation {
         lap(&mut t.placement);
         let detected = self.detect(&asked);
         lap(&mut t.detect);
+        if detected.is_err() {
+            // The step stops before its contacts are built, but the memos of its queries
+            // are written (the penetrating pair's among them): the next step must not take
+            // them for answers (it would skip the penetrating pair as unmoved, and read
+            // another answer's area shares back). It builds the candidate pairs afresh and
+            // queries every one of them, so a penetration stays an error.
+            self.built_at = None;
+            self.shares_width = None;
+        }
         detected?;
         let [queried, unmoved, certified, carried, dormant] = counts;
         self.update_contacts(dt, &outcomes);
@@ -1302,7 +1311,10 @@ impl Simulation {
                     pair: k as u32,
                     parts: pairs[k],
                     found,
-                    dormant: outcome == Outcome::Dormant,
+                    // A dormant contact keeps its last step's sub-contacts, areas
+                    // included: not across a change of the point width, whose step rebuilds
+                    // every contact (so that no later step reads old shares back).
+                    dormant: outcome == Outcome::Dormant && same_width,
                     same_answer: same_width && outcome != Outcome::Queried,
                     count: 0,
                     previous: None,
