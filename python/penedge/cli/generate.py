@@ -175,11 +175,13 @@ def run_generate(args: argparse.Namespace) -> int:
 
 
 class Staged:
-    """The outputs of a command, all or none: on entry, a temporary file is made beside
-    each output (so an output that cannot be written fails before any work); the command
-    writes each output to its temporary file (:meth:`temporary`); :meth:`publish` then
-    moves them all into place. On leaving, the temporary files left are removed: a
-    command that fails or is interrupted before :meth:`publish` writes nothing.
+    """The outputs of a command, all or none: each output is written to a temporary file
+    beside it, made when the output is written (:meth:`temporary`; whether the folder takes
+    a file was checked before any work, by ``output_file``); :meth:`publish` then moves them
+    all into place. On leaving, the temporary files left are removed: a command that fails
+    or is interrupted before :meth:`publish` leaves none of its outputs (a kill that Python
+    cannot catch may leave the temporary files of the outputs being written, hidden: their
+    names start with a dot).
     """
 
     def __init__(self, outputs: dict[str, Path | None]) -> None:
@@ -187,12 +189,6 @@ class Staged:
         self.temporaries: dict[str, Path] = {}
 
     def __enter__(self) -> Staged:
-        try:
-            for option, path in self.outputs.items():
-                self.temporaries[option] = reserve(path)
-        except BaseException:
-            self.remove()
-            raise
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -203,7 +199,10 @@ class Staged:
         return list(self.outputs.items())
 
     def temporary(self, option: str) -> Path:
-        """Where to write the output of `option` (moved into place by :meth:`publish`)."""
+        """Where to write the output of `option` (moved into place by :meth:`publish`): a new
+        empty temporary file beside it."""
+        if option not in self.temporaries:
+            self.temporaries[option] = reserve(self.outputs[option])
         return self.temporaries[option]
 
     def write_all(self, writers: dict[str, Any]) -> list[str]:
