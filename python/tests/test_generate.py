@@ -464,6 +464,7 @@ def test_one_line_toml_text_is_a_spec_not_a_file_name(tmp_path, monkeypatch):
     (tmp_path / "a=b.toml").write_text(line + "\n" + cut)
     from_file, _ = penedge.generate("a=b.toml")
     assert len(from_file) == 2
-    # a name without `=` that names no file is still a missing file
-    with pytest.raises(FileNotFoundError):
-        penedge.generate("nothing.toml")
+    # a name that names no file is still a missing file, an `=` in it or not
+    for missing in ["nothing.toml", "runs/dip=30.tom"]:
+        with pytest.raises(FileNotFoundError):
+            penedge.generate(missing)

@@ -27,7 +27,7 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 /// ----------
 /// spec : str, os.PathLike or dict
 ///     A spec file (TOML, or JSON when the name ends in ``.json``); a str holding a newline,
-///     or an ``=`` and naming no file (``"domain = {...}"``), is TOML text; a dict is the spec's structure (``{"domain": {...}, "joints": [...],
+///     or an ``=`` and a ``{`` and naming no file (``"domain = {...}"``), is TOML text; a dict is the spec's structure (``{"domain": {...}, "joints": [...],
 ///     "options": {...}}``; lists, numpy arrays, numbers and strings; a None value counts as
 ///     missing).
 /// progress : callable, optional
@@ -117,9 +117,11 @@ pub fn generate<'py>(
 fn read(py: Python<'_>, spec: &Bound<'_, PyAny>) -> PyResult<(Spec, Option<PathBuf>)> {
     if let Ok(text) = spec.cast::<PyString>() {
         let text = text.to_str()?;
-        // TOML text: it holds a newline, or (one line: `domain = {...}`) an `=` and names no
-        // file.
-        if text.contains('\n') || text.contains('=') && !Path::new(text).exists() {
+        // TOML text: it holds a newline, or it is one line with an inline table (a spec on
+        // one line has one: `domain = { ... }`) and names no file. A mistyped file name
+        // (`runs/dip=30.tom`) stays a missing file, not a TOML syntax error.
+        let one_line = text.contains('=') && text.contains('{') && !Path::new(text).exists();
+        if text.contains('\n') || one_line {
             return Ok((parse_toml(text).map_err(to_py_err)?, None));
         }
     }
