@@ -131,6 +131,57 @@ fn bad_block_files_are_named() {
     ));
 }
 
+/// A vertex of 4 values is named as such (it was "more text after the end of the data"),
+/// and a block, a joint, a shape or a face origin given as a list of its fields' values
+/// is refused (serde read them as the fields in order).
+#[test]
+fn block_files_need_lists_of_3_values_and_tables_of_fields() {
+    let system = mixed_system();
+    let text = json::to_json_string(&system);
+    let syntax = |value: &serde_json::Value| match json::from_json_str(&value.to_string()) {
+        Err(IoError::Syntax { message, .. }) => message,
+        other => panic!("expected a syntax error, got {other:?}"),
+    };
+    let original: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let mut value = original.clone();
+    value["blocks"][0]["vertices"][0] = serde_json::json!([0.0, 0.0, 0.0, 0.0]);
+    let message = syntax(&value);
+    assert!(
+        message.contains("got a list of 4 values, expected a list of 3 values"),
+        "{message}"
+    );
+    assert!(!message.contains("more text"), "{message}");
+    let mut value = original.clone();
+    value["joints"][0]["normal"] = serde_json::json!([0.0, 0.0, 1.0, 0.0]);
+    assert!(syntax(&value).contains("got a list of 4 values"));
+    let mut value = original.clone();
+    value["blocks"][0]["planes"][0] = serde_json::json!([0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0]);
+    assert!(syntax(&value).contains("got a list of 7 values, expected a list of 6 values"));
+    // Lists of the fields' values in place of tables.
+    let as_list = |v: &serde_json::Value| {
+        serde_json::Value::Array(v.as_object().unwrap().values().cloned().collect())
+    };
+    let mut value = original.clone();
+    let block = value["blocks"][0].clone();
+    value["blocks"][0] = as_list(&block);
+    assert!(syntax(&value).contains("got a list, expected a table of fields"));
+    let mut value = original.clone();
+    value["blocks"][0]["origins"][0] = serde_json::json!(["joint", 0, 0]);
+    assert!(syntax(&value).contains("got a list, expected a table of fields"));
+    let mut value = original.clone();
+    let joint = value["joints"][0].clone();
+    value["joints"][0] = as_list(&joint);
+    assert!(syntax(&value).contains("got a list, expected a table of fields"));
+    let mut value = original.clone();
+    value["sets"][0] = serde_json::json!(["name", "plane"]);
+    assert!(syntax(&value).contains("got a list, expected a table of fields"));
+    // The file as written still reads.
+    assert_eq!(
+        json::from_json_str(&text).unwrap().blocks(),
+        system.blocks()
+    );
+}
+
 /// A system built of blocks taken from a generated one keeps their face origins but has no
 /// domain and no joint table: its file reads back with the origins as written (they used to
 /// be refused as pointing to sets and joints the file does not have).

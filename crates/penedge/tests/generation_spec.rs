@@ -318,3 +318,96 @@ mod no_panic {
         }
     }
 }
+
+/// A list of coordinates with more than 3 values is refused, naming where (the extra values
+/// used to be dropped: `point = [5, 5, 5, 5]` generated as `[5, 5, 5]`), in TOML and JSON.
+#[test]
+fn coordinate_lists_of_the_wrong_length_are_refused() {
+    let cases = [
+        "[[joints]]\ntype = \"plane\"\npoint = [5, 5, 5, 5]\nnormal = [0, 0, 1]\n",
+        "[[joints]]\ntype = \"plane\"\npoint = [5, 5, 5]\nnormal = [0, 0, 1, 0]\n",
+        "[[joints]]\ntype = \"set\"\ndip = 10\ndip_direction = 20\nspacing = 2\norigin = [0, 0, 0, 9]\n",
+        "[[joints]]\ntype = \"disc\"\ncenter = [5, 5, 5, 1]\nnormal = [0, 0, 1]\nradius = 2\n",
+        "[[joints]]\ntype = \"polygon\"\nvertices = [[0, 0, 5], [10, 0, 5], [10, 10, 5, 1]]\n",
+        "[[excavations]]\ntype = \"tunnel\"\nprofile = \"circle\"\nradius = 1\nstart = [0, 5, 5, 5]\ntrend = 90\nlength = 10\n",
+        "[[excavations]]\ntype = \"slope\"\norigin = [0, 0, 5]\ntrend = 0\nvertices = [[0, 0], [5, -5, 1]]\n",
+    ];
+    for joints in cases {
+        let e = parse_toml(&format!("{BOX}{joints}")).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("got a list of 4 values, expected a list of 3 values")
+                || text.contains("got a list of 3 values, expected a list of 2 values"),
+            "{joints}: {text}"
+        );
+        assert!(text.contains("line "), "{text}");
+    }
+    for domain in [
+        "[domain]\ntype = \"box\"\nmin = [0, 0, 0, 0]\nmax = [10, 10, 10]\n",
+        "[domain]\ntype = \"halfspaces\"\nnormals = [[1, 0, 0, 0]]\noffsets = [1]\n",
+        "[domain]\ntype = \"polyhedron\"\nvertices = [[0, 0, 0, 1]]\nfaces = [[0]]\n",
+    ] {
+        let text = parse_toml(domain).unwrap_err().to_string();
+        assert!(text.contains("got a list of 4 values"), "{domain}: {text}");
+    }
+    let json = r#"{"domain": {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10, 10]}}"#;
+    let text = parse_json(json).unwrap_err().to_string();
+    assert!(
+        text.contains("got a list of 4 values, expected a list of 3 values"),
+        "{text}"
+    );
+    // Two values were and are refused the same way.
+    let e = parse_toml(&format!(
+        "{BOX}[[joints]]\ntype = \"plane\"\npoint = [5, 5]\nnormal = [0, 0, 1]\n"
+    ))
+    .unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("got a list of 2 values, expected a list of 3 values"),
+        "{e}"
+    );
+}
+
+/// A table of fields must be a table: serde also reads a struct from a list of its
+/// fields' values in order, which read `options = [1e9, 0.5, "drop"]` as `min_volume = 1e9`
+/// and so on, past the check of unknown fields.
+#[test]
+fn tables_given_as_lists_are_refused() {
+    let cases = [
+        format!("options = [1e9, 0.5, \"drop\", 1e-12, 1e-9]\n{BOX}"),
+        format!("options = [[]]\n{BOX}"),
+        format!("joints = [[\"plane\", \"p\", [5, 5, 5], [0, 0, 1]]]\n{BOX}"),
+        "domain = [\"box\", [0, 0, 0], [10, 10, 10]]\n".to_string(),
+    ];
+    for text in &cases {
+        let e = parse_toml(text).unwrap_err();
+        assert_eq!(e.field, "spec", "{text}: {e}");
+        let message = e.to_string();
+        assert!(
+            message.contains("got a list, expected a table of fields"),
+            "{text}: {message}"
+        );
+        assert!(!message.contains("elements"), "{message}");
+    }
+    let json = r#"{"domain": {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]},
+        "options": [1e9, 0.5, "drop"]}"#;
+    let message = parse_json(json).unwrap_err().to_string();
+    assert!(
+        message.contains("got a list, expected a table of fields"),
+        "{message}"
+    );
+    let whole = r#"[{"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]}]"#;
+    let message = parse_json(whole).unwrap_err().to_string();
+    assert!(
+        message.contains("got a list, expected a table of fields"),
+        "{message}"
+    );
+    // Tables still read, and their unknown fields are still named.
+    let ok = format!("{BOX}[options]\nmin_volume = 1e-3\nslivers = \"drop\"\n");
+    assert!(parse_toml(&ok).is_ok());
+    let typo = parse_toml(&format!("{BOX}[options]\nmin_volum = 1\n")).unwrap_err();
+    assert!(
+        typo.to_string().contains("unknown field `min_volum`"),
+        "{typo}"
+    );
+}

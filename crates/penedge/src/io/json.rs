@@ -7,6 +7,7 @@
 //! fitted and checked as [`ConvexBlock::new`] does, the origins are unknown), and no
 //! `frame`, `domain`, `sets` or `joints`.
 
+use super::strict::{self, Table};
 use super::{messages, read_text, write_atomic, IoError};
 use crate::block::{BlockError, ConvexBlock, FaceOrigin};
 use crate::generation::{Attitude, JointRecord, JointShape, SetRecord};
@@ -36,15 +37,20 @@ struct SystemFile {
     length: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     unit: Option<String>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "strict::read")]
     domain: Vec<BlockFile>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "strict::read")]
     sets: Vec<SetRecord>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "strict::read")]
     joints: Vec<JointFile>,
+    #[serde(deserialize_with = "strict::read")]
     blocks: Vec<BlockFile>,
     /// Derived from the blocks and their body ids (ignored when reading).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "strict::read"
+    )]
     internal_faces: Option<Vec<InternalFace>>,
 }
 
@@ -56,11 +62,15 @@ struct BlockFile {
     /// The body (concave block) the block is a part of; version 2 only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     body: Option<u32>,
+    #[serde(deserialize_with = "strict::read")]
     vertices: Vec<[f64; 3]>,
     faces: Vec<Vec<u32>>,
+    #[serde(default, deserialize_with = "strict::read")]
     planes: Option<Vec<[f64; 6]>>,
+    #[serde(default, deserialize_with = "strict::read")]
     origins: Option<Vec<FaceOrigin>>,
     volume: Option<f64>,
+    #[serde(default, deserialize_with = "strict::read")]
     centroid: Option<[f64; 3]>,
 }
 
@@ -70,10 +80,13 @@ struct JointFile {
     id: u32,
     set: u32,
     member: u32,
+    #[serde(deserialize_with = "strict::read")]
     normal: [f64; 3],
+    #[serde(deserialize_with = "strict::read")]
     point: [f64; 3],
     dip: f64,
     dip_direction: f64,
+    #[serde(deserialize_with = "strict::read")]
     shape: ShapeFile,
 }
 
@@ -81,9 +94,18 @@ struct JointFile {
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 enum ShapeFile {
     Infinite,
-    Disc { center: [f64; 3], radius: f64 },
-    Polygon { vertices: Vec<[f64; 3]> },
+    Disc {
+        #[serde(deserialize_with = "strict::read")]
+        center: [f64; 3],
+        radius: f64,
+    },
+    Polygon {
+        #[serde(deserialize_with = "strict::read")]
+        vertices: Vec<[f64; 3]>,
+    },
 }
+
+strict::tables!(SystemFile, BlockFile, JointFile, ShapeFile, InternalFace);
 
 /// The system as a JSON string.
 pub fn to_json_string(system: &BlockSystem) -> String {
@@ -116,11 +138,12 @@ pub fn read_json(path: &Path) -> Result<BlockSystem, IoError> {
 
 /// Parses a system from a JSON string.
 pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
-    let file: SystemFile = serde_json::from_str(text).map_err(|e| IoError::Syntax {
-        path: "<string>".into(),
-        message: messages::not_a_block_file(text)
-            .unwrap_or_else(|| messages::plain(&e.to_string())),
-    })?;
+    let Table(file) =
+        serde_json::from_str::<Table<SystemFile>>(text).map_err(|e| IoError::Syntax {
+            path: "<string>".into(),
+            message: messages::not_a_block_file(text)
+                .unwrap_or_else(|| messages::plain(&e.to_string())),
+        })?;
     if file.format != FORMAT || !(1..=VERSION).contains(&file.version) {
         return Err(format_error(
             "version",

@@ -19,6 +19,7 @@ pub mod json;
 mod messages;
 pub mod pvd;
 pub mod spec;
+mod strict;
 pub mod surface;
 pub mod vtp;
 pub mod vtu;
