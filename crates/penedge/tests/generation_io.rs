@@ -182,6 +182,50 @@ fn block_files_need_lists_of_3_values_and_tables_of_fields() {
     );
 }
 
+/// A boundary origin names a face its domain part has, a joint origin a joint of its own
+/// set; the message writes the origin as the file does (it printed Rust's `Joint { .. }`).
+#[test]
+fn face_origins_must_match_the_domain_and_the_joint_table() {
+    let system = mixed_system();
+    let text = json::to_json_string(&system);
+    let original: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let joints = original["joints"].as_array().unwrap();
+    let (j, other) = (0..joints.len())
+        .find_map(|j| {
+            let set = joints[j]["set"].as_u64().unwrap();
+            (set > 0).then_some((j, set - 1))
+        })
+        .expect("a joint of a set other than 0");
+    let refused = |origin: serde_json::Value| {
+        let mut value = original.clone();
+        value["blocks"][0]["origins"][0] = origin;
+        match json::from_json_str(&value.to_string()) {
+            Err(IoError::Format { field, message }) => {
+                assert_eq!(field, "blocks[0].origins[0]", "{message}");
+                message
+            }
+            other => panic!("expected a format error, got {other:?}"),
+        }
+    };
+    let m = refused(serde_json::json!({"kind": "boundary", "part": 0, "face": 99}));
+    assert!(
+        m.starts_with("{\"kind\":\"boundary\",\"part\":0,\"face\":99}: face 99 does not exist"),
+        "{m}"
+    );
+    let m = refused(serde_json::json!({"kind": "joint", "set": other, "joint": j}));
+    assert!(m.contains(&format!("joint {j} is of set")), "{m}");
+    let m = refused(serde_json::json!({"kind": "bridge", "set": other, "joint": j}));
+    assert!(m.contains("not of set"), "{m}");
+    let m = refused(serde_json::json!({"kind": "joint", "set": 0, "joint": 99999}));
+    assert!(
+        m.starts_with("{\"kind\":\"joint\",\"set\":0,\"joint\":99999}: joint 99999 does not exist"),
+        "{m}"
+    );
+    assert!(!m.contains("Joint {"), "{m}");
+    let m = refused(serde_json::json!({"kind": "boundary", "part": 7, "face": 0}));
+    assert!(m.contains("domain part 7 does not exist"), "{m}");
+}
+
 /// A system built of blocks taken from a generated one keeps their face origins but has no
 /// domain and no joint table: its file reads back with the origins as written (they used to
 /// be refused as pointing to sets and joints the file does not have).

@@ -168,7 +168,7 @@ pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
         .enumerate()
         .map(|(i, j)| record_of(i, j, file.sets.len()))
         .collect::<Result<Vec<_>, _>>()?;
-    check_origins(&blocks, domain.len(), joints.len(), file.sets.len())?;
+    check_origins(&blocks, &domain, &joints, file.sets.len())?;
     let bodies = body_ids(file.version, &file.blocks)?;
     let system =
         BlockSystem::with_provenance(blocks, domain, joints, file.sets).with_unit(file.unit);
@@ -199,34 +199,73 @@ fn body_ids(version: u32, blocks: &[BlockFile]) -> Result<Vec<u32>, IoError> {
 }
 
 /// Every face origin points into the domain parts, joint table and sets that the file has,
-/// where it has them. A file without a domain or without a joint table (one written from a
-/// system built of blocks, whose faces keep the origins they had in the system they came
-/// from) keeps the origins that would point into them as written: labels of where the faces
-/// came from (the set numbers by which properties are given), which nothing looks up.
+/// where it has them: a boundary face to a face of a domain part, a joint or bridge face to
+/// a joint of the table that belongs to the same set. A file without a domain or without a
+/// joint table (one written from a system built of blocks, whose faces keep the origins they
+/// had in the system they came from) keeps the origins that would point into them as
+/// written: labels of where the faces came from (the set numbers by which properties are
+/// given), which nothing looks up.
 fn check_origins(
     blocks: &[ConvexBlock],
-    parts: usize,
-    joints: usize,
+    domain: &[ConvexBlock],
+    joints: &[JointRecord],
     sets: usize,
 ) -> Result<(), IoError> {
-    let table = joints > 0 || sets > 0;
+    let table = !joints.is_empty() || sets > 0;
     for (i, b) in blocks.iter().enumerate() {
         for (f, origin) in b.face_origins().iter().enumerate() {
-            let ok = match *origin {
-                FaceOrigin::Unknown => true,
-                FaceOrigin::Boundary { part, .. } => parts == 0 || (part as usize) < parts,
-                FaceOrigin::Joint { set, joint } | FaceOrigin::Bridge { set, joint } => {
-                    !table || ((set as usize) < sets && (joint as usize) < joints)
-                }
-            };
-            if !ok {
-                let msg =
-                    format!("{origin:?} refers to a part, set or joint the file does not have");
+            if let Some(why) = bad_origin(*origin, domain, joints, sets, table) {
+                let written = serde_json::to_string(origin).unwrap_or_default();
+                let msg = format!("{written}: {why}");
                 return Err(format_error(format!("blocks[{i}].origins[{f}]"), msg));
             }
         }
     }
     Ok(())
+}
+
+/// What is wrong with a face origin, in the file's words, or `None`.
+fn bad_origin(
+    origin: FaceOrigin,
+    domain: &[ConvexBlock],
+    joints: &[JointRecord],
+    sets: usize,
+    table: bool,
+) -> Option<String> {
+    match origin {
+        FaceOrigin::Unknown => None,
+        FaceOrigin::Boundary { .. } if domain.is_empty() => None,
+        FaceOrigin::Boundary { part, face } => match domain.get(part as usize) {
+            None => Some(format!(
+                "domain part {part} does not exist (the file's domain has {} part(s))",
+                domain.len()
+            )),
+            Some(p) if face as usize >= p.n_faces() => Some(format!(
+                "face {face} does not exist (domain part {part} has {} faces)",
+                p.n_faces()
+            )),
+            Some(_) => None,
+        },
+        FaceOrigin::Joint { .. } | FaceOrigin::Bridge { .. } if !table => None,
+        FaceOrigin::Joint { set, joint } | FaceOrigin::Bridge { set, joint } => {
+            if set as usize >= sets {
+                return Some(format!(
+                    "set {set} does not exist (the file has {sets} set(s))"
+                ));
+            }
+            match joints.get(joint as usize) {
+                None => Some(format!(
+                    "joint {joint} does not exist (the joint table has {} joint(s))",
+                    joints.len()
+                )),
+                Some(record) if record.set != set => Some(format!(
+                    "joint {joint} is of set {} in the joint table, not of set {set}",
+                    record.set
+                )),
+                Some(_) => None,
+            }
+        }
+    }
 }
 
 fn format_error(field: impl Into<String>, message: String) -> IoError {
