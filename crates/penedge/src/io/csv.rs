@@ -38,6 +38,7 @@ pub const HEADER: &str = "id,volume,centroid_x,centroid_y,centroid_z,n_faces,n_f
 
 /// Writes the block table to `out`.
 pub fn write_block_table_to(system: &BlockSystem, out: &mut dyn Write) -> std::io::Result<()> {
+    super::check_finite_io(system)?;
     writeln!(out, "{HEADER}")?;
     for (id, b) in system.blocks().iter().enumerate() {
         let c = b.centroid();
@@ -57,6 +58,7 @@ pub fn write_block_table_to(system: &BlockSystem, out: &mut dyn Write) -> std::i
 
 /// Writes the block table to a file, atomically.
 pub fn write_block_table(system: &BlockSystem, path: &Path) -> Result<(), IoError> {
+    super::check_finite(system)?;
     write_atomic(path, |w| write_block_table_to(system, w))
 }
 

@@ -112,8 +112,17 @@ pub fn to_json_string(system: &BlockSystem) -> String {
     serde_json::to_string(&file_of(system)).expect("plain data always serialises")
 }
 
-/// Writes the system as JSON, atomically.
+/// The system as a JSON string; an error for a block with a NaN or infinite coordinate
+/// (which [`to_json_string`] writes as `null`, and reading refuses).
+pub fn try_to_json_string(system: &BlockSystem) -> Result<String, IoError> {
+    super::check_finite(system)?;
+    Ok(to_json_string(system))
+}
+
+/// Writes the system as JSON, atomically; an error, and nothing written, for a block with a
+/// NaN or infinite coordinate (JSON has no such numbers).
 pub fn write_json(system: &BlockSystem, path: &Path) -> Result<(), IoError> {
+    super::check_finite(system)?;
     let file = file_of(system);
     write_atomic(path, |w: &mut dyn Write| {
         serde_json::to_writer(&mut *w, &file).map_err(std::io::Error::other)?;

@@ -146,3 +146,41 @@ pub(crate) fn read_text(path: &Path) -> Result<String, IoError> {
         ),
     })
 }
+
+/// Refuses a system with a NaN or infinite coordinate (a block moved beyond the range of
+/// double precision by an unchecked [`crate::ConvexBlock::transformed`]): JSON has no such
+/// numbers (they were written as `null`, which the reader refuses) and the other formats
+/// would write `inf` or `NaN`. The error names the block and the vertex.
+pub(crate) fn check_finite(system: &crate::system::BlockSystem) -> Result<(), IoError> {
+    let parts = [("domain", system.domain()), ("blocks", system.blocks())];
+    for (name, blocks) in parts {
+        for (i, b) in blocks.iter().enumerate() {
+            let bad = |what: String| IoError::Format {
+                field: format!("{name}[{i}]"),
+                message: format!(
+                    "{what} is NaN or infinite: a block beyond the range of double precision \
+                     (moved too far?) cannot be written"
+                ),
+            };
+            if let Some(v) = b.vertices().iter().position(|v| !v.is_finite()) {
+                return Err(bad(format!("a coordinate of vertex {v}")));
+            }
+            if let Some(f) = b
+                .planes()
+                .iter()
+                .position(|p| !(p.normal.is_finite() && p.point.is_finite()))
+            {
+                return Err(bad(format!("the plane of face {f}")));
+            }
+            if !(b.volume().is_finite() && b.centroid().is_finite()) {
+                return Err(bad("the volume or centroid".into()));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// [`check_finite`] as an I/O error, for the writers to a stream.
+pub(crate) fn check_finite_io(system: &crate::system::BlockSystem) -> io::Result<()> {
+    check_finite(system).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e.to_string()))
+}

@@ -25,16 +25,19 @@ const POLYGON: u8 = 7;
 
 /// Writes the blocks as polyhedron cells, atomically.
 pub fn write_vtu(system: &BlockSystem, path: &Path) -> Result<(), IoError> {
+    super::check_finite(system)?;
     write_atomic(path, |w| write_blocks_to(system, w))
 }
 
 /// Writes the block faces as polygon cells with their origins, atomically.
 pub fn write_faces_vtu(system: &BlockSystem, path: &Path) -> Result<(), IoError> {
+    super::check_finite(system)?;
     write_atomic(path, |w| write_faces_to(system, w))
 }
 
 /// The polyhedron file, to any writer.
 pub fn write_blocks_to(system: &BlockSystem, w: &mut dyn Write) -> io::Result<()> {
+    super::check_finite_io(system)?;
     let blocks = system.blocks();
     let n_points: usize = blocks.iter().map(|b| b.vertices().len()).sum();
     header(w, n_points, blocks.len())?;
@@ -97,6 +100,7 @@ fn polyhedron_faces(w: &mut dyn Write, blocks: &[ConvexBlock]) -> io::Result<()>
 
 /// The faces file, to any writer.
 pub fn write_faces_to(system: &BlockSystem, w: &mut dyn Write) -> io::Result<()> {
+    super::check_finite_io(system)?;
     let blocks = system.blocks();
     let n_points: usize = blocks.iter().map(|b| b.vertices().len()).sum();
     let n_faces: usize = blocks.iter().map(ConvexBlock::n_faces).sum();
