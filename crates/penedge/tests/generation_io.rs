@@ -226,6 +226,57 @@ fn face_origins_must_match_the_domain_and_the_joint_table() {
     assert!(m.contains("domain part 7 does not exist"), "{m}");
 }
 
+/// The faces an excavation made are free faces (the outside of the rock mass) in the block
+/// table and the ParaView file, as docs/generation.md says (only boundary faces counted).
+#[test]
+fn excavation_faces_are_free_faces() {
+    let text = "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n\
+        [[joints]]\ntype = \"plane\"\npoint = [5, 5, 5]\nnormal = [0, 0, 1]\n\
+        [[excavations]]\ntype = \"tunnel\"\nprofile = \"circle\"\nradius = 2\n\
+        start = [5, -1, 5]\ntrend = 0\nlength = 12\n";
+    let system = generate(&penedge::io::spec::parse_toml(text).unwrap())
+        .unwrap()
+        .system;
+    let excavation = system
+        .sets()
+        .iter()
+        .position(|s| s.kind == SetKind::Excavation)
+        .unwrap() as u32;
+    let expected: Vec<usize> = system
+        .blocks()
+        .iter()
+        .map(|b| {
+            b.face_origins()
+                .iter()
+                .filter(|o| {
+                    o.is_boundary()
+                        || matches!(o, FaceOrigin::Joint { set, .. } if *set == excavation)
+                })
+                .count()
+        })
+        .collect();
+    let boundary: Vec<usize> = system
+        .blocks()
+        .iter()
+        .map(|b| b.face_origins().iter().filter(|o| o.is_boundary()).count())
+        .collect();
+    assert!(expected.iter().zip(&boundary).all(|(e, b)| e > b));
+    let mut table = Vec::new();
+    csv::write_block_table_to(&system, &mut table).unwrap();
+    let column: Vec<usize> = String::from_utf8(table)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(column, expected);
+    let mut vtu_text = Vec::new();
+    vtu::write_blocks_to(&system, &mut vtu_text).unwrap();
+    let free = data_array(&String::from_utf8(vtu_text).unwrap(), "n_free_faces");
+    let free: Vec<usize> = free.iter().map(|&v| v as usize).collect();
+    assert_eq!(free, expected);
+}
+
 /// A system built of blocks taken from a generated one keeps their face origins but has no
 /// domain and no joint table: its file reads back with the origins as written (they used to
 /// be refused as pointing to sets and joints the file does not have).

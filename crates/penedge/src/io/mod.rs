@@ -184,3 +184,26 @@ pub(crate) fn check_finite(system: &crate::system::BlockSystem) -> Result<(), Io
 pub(crate) fn check_finite_io(system: &crate::system::BlockSystem) -> io::Result<()> {
     check_finite(system).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e.to_string()))
 }
+
+/// The free faces of a block of `system`: on the domain's boundary, or made by an
+/// excavation (a joint origin of a spec entry of kind `excavation`), both the outside of the
+/// rock mass. The `n_free_faces` of the block table and the ParaView file.
+pub(crate) fn n_free_faces(
+    system: &crate::system::BlockSystem,
+    block: &crate::block::ConvexBlock,
+) -> usize {
+    use crate::block::FaceOrigin;
+    use crate::generation::SetKind;
+    let sets = system.sets();
+    block
+        .face_origins()
+        .iter()
+        .filter(|o| match **o {
+            FaceOrigin::Boundary { .. } => true,
+            FaceOrigin::Joint { set, .. } => sets
+                .get(set as usize)
+                .is_some_and(|r| r.kind == SetKind::Excavation),
+            _ => false,
+        })
+        .count()
+}

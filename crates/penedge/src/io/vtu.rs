@@ -3,7 +3,7 @@
 //! * [`write_vtu`]: one polyhedron cell (VTK type 42) per block (a convex part), with cell
 //!   data `block_id`, `body_id` (the concave block it is a part of: colour by it to see each
 //!   concave block in one colour), `volume`, `n_faces` and `n_free_faces` (faces on the
-//!   domain boundary);
+//!   domain boundary or made by an excavation: the outside of the rock mass);
 //! * [`write_faces_vtu`]: one polygon cell (VTK type 7) per block face, with cell data
 //!   `block_id`, `body_id`, `face`, `internal` (1 for a face inside its concave block, glued
 //!   to other parts: threshold it away to draw concave blocks without their internal faces),
@@ -60,7 +60,7 @@ pub fn write_blocks_to(system: &BlockSystem, w: &mut dyn Write) -> io::Result<()
         "n_faces",
         blocks.iter().map(ConvexBlock::n_faces),
     )?;
-    let free = |b: &ConvexBlock| b.face_origins().iter().filter(|o| o.is_boundary()).count();
+    let free = |b: &ConvexBlock| super::n_free_faces(system, b);
     array(w, "Int32", "n_free_faces", blocks.iter().map(free))?;
     writeln!(w, "</CellData>")?;
     footer(w)
