@@ -411,3 +411,56 @@ fn tables_given_as_lists_are_refused() {
         "{typo}"
     );
 }
+
+/// An opening's size far from the rock's, or from its other sizes, is named with the range
+/// allowed (a radius of 1e20 or 1e-12, a length of 1e20, a depth of 1e-12 read "the
+/// half-spaces do not bound a solid block" or "half-space 2 has a zero ... normal").
+#[test]
+fn excavation_sizes_out_of_range_are_named() {
+    let tunnel = |radius: &str, length: &str| {
+        format!(
+            "[[excavations]]\ntype = \"tunnel\"\nprofile = \"circle\"\nradius = {radius}\n\
+             start = [5, -1, 5]\ntrend = 0\nlength = {length}\n"
+        )
+    };
+    let shaft = |depth: &str| {
+        format!(
+            "[[excavations]]\ntype = \"shaft\"\nprofile = \"circle\"\nradius = 1\n\
+             top = [5, 5, 10]\ndepth = {depth}\n"
+        )
+    };
+    for (entry, field) in [
+        (tunnel("1e20", "12"), "radius"),
+        (tunnel("1e-12", "12"), "radius"),
+        (tunnel("2", "1e20"), "length"),
+        (shaft("1e-12"), "depth"),
+    ] {
+        let e = error_of(&entry);
+        assert_eq!(e.field, format!("excavations[0].{field}"), "{e}");
+        let text = e.to_string();
+        assert!(
+            text.contains(
+                "must be between 1.732e-5 and 1.732e7 (1e-6 to 1e6 times the size of the rock"
+            ),
+            "{text}"
+        );
+        assert!(!text.contains("half-space"), "{text}");
+    }
+    // Without the rock (an excavation's own regions), the sizes are checked against each
+    // other.
+    let e = penedge::io::spec::parse_excavation_toml(
+        "type = \"tunnel\"\nprofile = \"circle\"\nradius = 1e-12\nstart = [0, 0, 0]\ntrend = 0\nlength = 12\n",
+    )
+    .unwrap()
+    .regions()
+    .unwrap_err();
+    assert_eq!(e.field, "excavation.radius", "{e}");
+    assert!(
+        e.to_string()
+            .contains("must be at least 1e-6 times the opening's length (12), got 1e-12"),
+        "{e}"
+    );
+    // Sizes within range still cut.
+    let ok = format!("{BOX}{}", tunnel("2", "12"));
+    assert!(generate(&parse_toml(&ok).unwrap()).is_ok());
+}
