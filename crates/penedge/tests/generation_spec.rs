@@ -464,3 +464,28 @@ fn excavation_sizes_out_of_range_are_named() {
     let ok = format!("{BOX}{}", tunnel("2", "12"));
     assert!(generate(&parse_toml(&ok).unwrap()).is_ok());
 }
+
+/// A whole number too large for its field says so (it read "got the whole number `...`,
+/// expected a whole number").
+#[test]
+fn whole_numbers_too_large_are_named_as_such() {
+    let toml = format!(
+        "{BOX}[[joints]]\ntype = \"set\"\ndip = 10\ndip_direction = 20\nspacing = 1\n\
+         number = 9223372036854775808\n"
+    );
+    let json = r#"{"domain": {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]},
+        "joints": [{"type": "set", "dip": 10, "dip_direction": 20, "spacing": 1,
+        "number": 9223372036854775808}]}"#;
+    for e in [
+        parse_toml(&toml).unwrap_err(),
+        parse_json(json).unwrap_err(),
+    ] {
+        assert!(
+            e.to_string().contains(
+                "got the whole number `9223372036854775808`, which is too large: expected a \
+                 whole number up to 9223372036854775807"
+            ),
+            "{e}"
+        );
+    }
+}
