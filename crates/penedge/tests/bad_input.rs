@@ -629,3 +629,77 @@ fn specs_that_would_take_forever_fail_fast() {
         );
     }
 }
+
+/// A block moved so far that its coordinates collapse or overflow is refused by the checked
+/// moves, with the rule of construction (the unchecked ones kept the old volume: a unit cube
+/// moved by 1e17 had coincident vertices and volume 1, moved by 1.7e308 twice infinite
+/// vertices); and no writer writes a NaN or infinite coordinate (JSON wrote `null`, which
+/// the reader refuses, the table and ParaView files `inf`).
+#[test]
+fn blocks_moved_beyond_double_range_are_refused_and_never_written() {
+    use penedge::geometry::DVec3;
+    let cube = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    let x = |d: f64| DVec3::new(d, 0.0, 0.0);
+    // Moves within range: the same block as the unchecked move, bit for bit.
+    let q = glam::DQuat::from_rotation_z(0.3);
+    let moved = cube.try_transformed(q, x(1e6), 2.0).unwrap();
+    let unchecked = cube.transformed(q, x(1e6), 2.0);
+    assert_eq!(moved, unchecked);
+    assert_eq!(moved.planes(), unchecked.planes());
+    assert_eq!(moved.volume(), unchecked.volume());
+    assert_eq!(
+        cube.try_translated(x(5.0)).unwrap(),
+        cube.translated(x(5.0))
+    );
+    assert_eq!(
+        cube.try_rotated(q, cube.centroid()).unwrap(),
+        cube.rotated(q, cube.centroid())
+    );
+    // Collapsed by rounding: the vertices x = 1e17 and 1e17 + 1 are one number.
+    assert!(matches!(
+        cube.try_translated(x(1e17)),
+        Err(BlockError::RepeatedVertex { .. })
+    ));
+    // Beyond the largest coordinate, then beyond double precision.
+    assert!(matches!(
+        cube.try_translated(x(1.7e308)),
+        Err(BlockError::OutOfRange { .. })
+    ));
+    let far = cube.translated(x(1.7e308));
+    assert!(matches!(
+        far.try_translated(x(1.7e308)),
+        Err(BlockError::NonFiniteVertex { .. })
+    ));
+    assert!(matches!(
+        cube.try_rotated(q, DVec3::splat(1e60)),
+        Err(BlockError::OutOfRange { .. })
+    ));
+    for scale in [0.0, -1.0, f64::NAN] {
+        assert!(
+            cube.try_transformed(glam::DQuat::IDENTITY, DVec3::ZERO, scale)
+                .is_err(),
+            "scale {scale}"
+        );
+    }
+    // The writers refuse a system holding an infinite block, naming it; nothing written.
+    let broken = far.translated(x(1.7e308));
+    assert!(!broken.vertices()[1].is_finite());
+    let system = BlockSystem::new(vec![cube.clone(), broken]);
+    let dir = scratch("infinite");
+    let refused = |result: Result<(), IoError>| match result {
+        Err(IoError::Format { field, message }) => {
+            assert_eq!(field, "blocks[1]");
+            assert!(message.contains("NaN or infinite"), "{message}");
+        }
+        other => panic!("expected a format error, got {other:?}"),
+    };
+    refused(json::write_json(&system, &dir.join("b.json")));
+    refused(json::try_to_json_string(&system).map(|_| ()));
+    refused(csv::write_block_table(&system, &dir.join("b.csv")));
+    refused(vtu::write_vtu(&system, &dir.join("b.vtu")));
+    refused(vtu::write_faces_vtu(&system, &dir.join("f.vtu")));
+    assert!(names_in(&dir).is_empty(), "{:?}", names_in(&dir));
+    let mut out = Vec::new();
+    assert!(csv::write_block_table_to(&system, &mut out).is_err());
+    assert!(vtu::write_blocks_to(&system, &mut out).is_err());
+}

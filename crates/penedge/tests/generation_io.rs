@@ -131,6 +131,152 @@ fn bad_block_files_are_named() {
     ));
 }
 
+/// A vertex of 4 values is named as such (it was "more text after the end of the data"),
+/// and a block, a joint, a shape or a face origin given as a list of its fields' values
+/// is refused (serde read them as the fields in order).
+#[test]
+fn block_files_need_lists_of_3_values_and_tables_of_fields() {
+    let system = mixed_system();
+    let text = json::to_json_string(&system);
+    let syntax = |value: &serde_json::Value| match json::from_json_str(&value.to_string()) {
+        Err(IoError::Syntax { message, .. }) => message,
+        other => panic!("expected a syntax error, got {other:?}"),
+    };
+    let original: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let mut value = original.clone();
+    value["blocks"][0]["vertices"][0] = serde_json::json!([0.0, 0.0, 0.0, 0.0]);
+    let message = syntax(&value);
+    assert!(
+        message.contains("got a list of 4 values, expected a list of 3 values"),
+        "{message}"
+    );
+    assert!(!message.contains("more text"), "{message}");
+    let mut value = original.clone();
+    value["joints"][0]["normal"] = serde_json::json!([0.0, 0.0, 1.0, 0.0]);
+    assert!(syntax(&value).contains("got a list of 4 values"));
+    let mut value = original.clone();
+    value["blocks"][0]["planes"][0] = serde_json::json!([0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0]);
+    assert!(syntax(&value).contains("got a list of 7 values, expected a list of 6 values"));
+    // Lists of the fields' values in place of tables.
+    let as_list = |v: &serde_json::Value| {
+        serde_json::Value::Array(v.as_object().unwrap().values().cloned().collect())
+    };
+    let mut value = original.clone();
+    let block = value["blocks"][0].clone();
+    value["blocks"][0] = as_list(&block);
+    assert!(syntax(&value).contains("got a list, expected a table of fields"));
+    let mut value = original.clone();
+    value["blocks"][0]["origins"][0] = serde_json::json!(["joint", 0, 0]);
+    assert!(syntax(&value).contains("got a list, expected a table of fields"));
+    let mut value = original.clone();
+    let joint = value["joints"][0].clone();
+    value["joints"][0] = as_list(&joint);
+    assert!(syntax(&value).contains("got a list, expected a table of fields"));
+    let mut value = original.clone();
+    value["sets"][0] = serde_json::json!(["name", "plane"]);
+    assert!(syntax(&value).contains("got a list, expected a table of fields"));
+    // The file as written still reads.
+    assert_eq!(
+        json::from_json_str(&text).unwrap().blocks(),
+        system.blocks()
+    );
+}
+
+/// A boundary origin names a face its domain part has, a joint origin a joint of its own
+/// set; the message writes the origin as the file does (it printed Rust's `Joint { .. }`).
+#[test]
+fn face_origins_must_match_the_domain_and_the_joint_table() {
+    let system = mixed_system();
+    let text = json::to_json_string(&system);
+    let original: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let joints = original["joints"].as_array().unwrap();
+    let (j, other) = (0..joints.len())
+        .find_map(|j| {
+            let set = joints[j]["set"].as_u64().unwrap();
+            (set > 0).then_some((j, set - 1))
+        })
+        .expect("a joint of a set other than 0");
+    let refused = |origin: serde_json::Value| {
+        let mut value = original.clone();
+        value["blocks"][0]["origins"][0] = origin;
+        match json::from_json_str(&value.to_string()) {
+            Err(IoError::Format { field, message }) => {
+                assert_eq!(field, "blocks[0].origins[0]", "{message}");
+                message
+            }
+            other => panic!("expected a format error, got {other:?}"),
+        }
+    };
+    let m = refused(serde_json::json!({"kind": "boundary", "part": 0, "face": 99}));
+    assert!(
+        m.starts_with("{\"kind\":\"boundary\",\"part\":0,\"face\":99}: face 99 does not exist"),
+        "{m}"
+    );
+    let m = refused(serde_json::json!({"kind": "joint", "set": other, "joint": j}));
+    assert!(m.contains(&format!("joint {j} is of set")), "{m}");
+    let m = refused(serde_json::json!({"kind": "bridge", "set": other, "joint": j}));
+    assert!(m.contains("not of set"), "{m}");
+    let m = refused(serde_json::json!({"kind": "joint", "set": 0, "joint": 99999}));
+    assert!(
+        m.starts_with("{\"kind\":\"joint\",\"set\":0,\"joint\":99999}: joint 99999 does not exist"),
+        "{m}"
+    );
+    assert!(!m.contains("Joint {"), "{m}");
+    let m = refused(serde_json::json!({"kind": "boundary", "part": 7, "face": 0}));
+    assert!(m.contains("domain part 7 does not exist"), "{m}");
+}
+
+/// The faces an excavation made are free faces (the outside of the rock mass) in the block
+/// table and the ParaView file, as docs/generation.md says (only boundary faces counted).
+#[test]
+fn excavation_faces_are_free_faces() {
+    let text = "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n\
+        [[joints]]\ntype = \"plane\"\npoint = [5, 5, 5]\nnormal = [0, 0, 1]\n\
+        [[excavations]]\ntype = \"tunnel\"\nprofile = \"circle\"\nradius = 2\n\
+        start = [5, -1, 5]\ntrend = 0\nlength = 12\n";
+    let system = generate(&penedge::io::spec::parse_toml(text).unwrap())
+        .unwrap()
+        .system;
+    let excavation = system
+        .sets()
+        .iter()
+        .position(|s| s.kind == SetKind::Excavation)
+        .unwrap() as u32;
+    let expected: Vec<usize> = system
+        .blocks()
+        .iter()
+        .map(|b| {
+            b.face_origins()
+                .iter()
+                .filter(|o| {
+                    o.is_boundary()
+                        || matches!(o, FaceOrigin::Joint { set, .. } if *set == excavation)
+                })
+                .count()
+        })
+        .collect();
+    let boundary: Vec<usize> = system
+        .blocks()
+        .iter()
+        .map(|b| b.face_origins().iter().filter(|o| o.is_boundary()).count())
+        .collect();
+    assert!(expected.iter().zip(&boundary).all(|(e, b)| e > b));
+    let mut table = Vec::new();
+    csv::write_block_table_to(&system, &mut table).unwrap();
+    let column: Vec<usize> = String::from_utf8(table)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(column, expected);
+    let mut vtu_text = Vec::new();
+    vtu::write_blocks_to(&system, &mut vtu_text).unwrap();
+    let free = data_array(&String::from_utf8(vtu_text).unwrap(), "n_free_faces");
+    let free: Vec<usize> = free.iter().map(|&v| v as usize).collect();
+    assert_eq!(free, expected);
+}
+
 /// A system built of blocks taken from a generated one keeps their face origins but has no
 /// domain and no joint table: its file reads back with the origins as written (they used to
 /// be refused as pointing to sets and joints the file does not have).

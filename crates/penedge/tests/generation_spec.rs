@@ -318,3 +318,174 @@ mod no_panic {
         }
     }
 }
+
+/// A list of coordinates with more than 3 values is refused, naming where (the extra values
+/// used to be dropped: `point = [5, 5, 5, 5]` generated as `[5, 5, 5]`), in TOML and JSON.
+#[test]
+fn coordinate_lists_of_the_wrong_length_are_refused() {
+    let cases = [
+        "[[joints]]\ntype = \"plane\"\npoint = [5, 5, 5, 5]\nnormal = [0, 0, 1]\n",
+        "[[joints]]\ntype = \"plane\"\npoint = [5, 5, 5]\nnormal = [0, 0, 1, 0]\n",
+        "[[joints]]\ntype = \"set\"\ndip = 10\ndip_direction = 20\nspacing = 2\norigin = [0, 0, 0, 9]\n",
+        "[[joints]]\ntype = \"disc\"\ncenter = [5, 5, 5, 1]\nnormal = [0, 0, 1]\nradius = 2\n",
+        "[[joints]]\ntype = \"polygon\"\nvertices = [[0, 0, 5], [10, 0, 5], [10, 10, 5, 1]]\n",
+        "[[excavations]]\ntype = \"tunnel\"\nprofile = \"circle\"\nradius = 1\nstart = [0, 5, 5, 5]\ntrend = 90\nlength = 10\n",
+        "[[excavations]]\ntype = \"slope\"\norigin = [0, 0, 5]\ntrend = 0\nvertices = [[0, 0], [5, -5, 1]]\n",
+    ];
+    for joints in cases {
+        let e = parse_toml(&format!("{BOX}{joints}")).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("got a list of 4 values, expected a list of 3 values")
+                || text.contains("got a list of 3 values, expected a list of 2 values"),
+            "{joints}: {text}"
+        );
+        assert!(text.contains("line "), "{text}");
+    }
+    for domain in [
+        "[domain]\ntype = \"box\"\nmin = [0, 0, 0, 0]\nmax = [10, 10, 10]\n",
+        "[domain]\ntype = \"halfspaces\"\nnormals = [[1, 0, 0, 0]]\noffsets = [1]\n",
+        "[domain]\ntype = \"polyhedron\"\nvertices = [[0, 0, 0, 1]]\nfaces = [[0]]\n",
+    ] {
+        let text = parse_toml(domain).unwrap_err().to_string();
+        assert!(text.contains("got a list of 4 values"), "{domain}: {text}");
+    }
+    let json = r#"{"domain": {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10, 10]}}"#;
+    let text = parse_json(json).unwrap_err().to_string();
+    assert!(
+        text.contains("got a list of 4 values, expected a list of 3 values"),
+        "{text}"
+    );
+    // Two values were and are refused the same way.
+    let e = parse_toml(&format!(
+        "{BOX}[[joints]]\ntype = \"plane\"\npoint = [5, 5]\nnormal = [0, 0, 1]\n"
+    ))
+    .unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("got a list of 2 values, expected a list of 3 values"),
+        "{e}"
+    );
+}
+
+/// A table of fields must be a table: serde also reads a struct from a list of its
+/// fields' values in order, which read `options = [1e9, 0.5, "drop"]` as `min_volume = 1e9`
+/// and so on, past the check of unknown fields.
+#[test]
+fn tables_given_as_lists_are_refused() {
+    let cases = [
+        format!("options = [1e9, 0.5, \"drop\", 1e-12, 1e-9]\n{BOX}"),
+        format!("options = [[]]\n{BOX}"),
+        format!("joints = [[\"plane\", \"p\", [5, 5, 5], [0, 0, 1]]]\n{BOX}"),
+        "domain = [\"box\", [0, 0, 0], [10, 10, 10]]\n".to_string(),
+    ];
+    for text in &cases {
+        let e = parse_toml(text).unwrap_err();
+        assert_eq!(e.field, "spec", "{text}: {e}");
+        let message = e.to_string();
+        assert!(
+            message.contains("got a list, expected a table of fields"),
+            "{text}: {message}"
+        );
+        assert!(!message.contains("elements"), "{message}");
+    }
+    let json = r#"{"domain": {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]},
+        "options": [1e9, 0.5, "drop"]}"#;
+    let message = parse_json(json).unwrap_err().to_string();
+    assert!(
+        message.contains("got a list, expected a table of fields"),
+        "{message}"
+    );
+    let whole = r#"[{"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]}]"#;
+    let message = parse_json(whole).unwrap_err().to_string();
+    assert!(
+        message.contains("got a list, expected a table of fields"),
+        "{message}"
+    );
+    // Tables still read, and their unknown fields are still named.
+    let ok = format!("{BOX}[options]\nmin_volume = 1e-3\nslivers = \"drop\"\n");
+    assert!(parse_toml(&ok).is_ok());
+    let typo = parse_toml(&format!("{BOX}[options]\nmin_volum = 1\n")).unwrap_err();
+    assert!(
+        typo.to_string().contains("unknown field `min_volum`"),
+        "{typo}"
+    );
+}
+
+/// An opening's size far from the rock's, or from its other sizes, is named with the range
+/// allowed (a radius of 1e20 or 1e-12, a length of 1e20, a depth of 1e-12 read "the
+/// half-spaces do not bound a solid block" or "half-space 2 has a zero ... normal").
+#[test]
+fn excavation_sizes_out_of_range_are_named() {
+    let tunnel = |radius: &str, length: &str| {
+        format!(
+            "[[excavations]]\ntype = \"tunnel\"\nprofile = \"circle\"\nradius = {radius}\n\
+             start = [5, -1, 5]\ntrend = 0\nlength = {length}\n"
+        )
+    };
+    let shaft = |depth: &str| {
+        format!(
+            "[[excavations]]\ntype = \"shaft\"\nprofile = \"circle\"\nradius = 1\n\
+             top = [5, 5, 10]\ndepth = {depth}\n"
+        )
+    };
+    for (entry, field) in [
+        (tunnel("1e20", "12"), "radius"),
+        (tunnel("1e-12", "12"), "radius"),
+        (tunnel("2", "1e20"), "length"),
+        (shaft("1e-12"), "depth"),
+    ] {
+        let e = error_of(&entry);
+        assert_eq!(e.field, format!("excavations[0].{field}"), "{e}");
+        let text = e.to_string();
+        assert!(
+            text.contains(
+                "must be between 1.732e-5 and 1.732e7 (1e-6 to 1e6 times the size of the rock"
+            ),
+            "{text}"
+        );
+        assert!(!text.contains("half-space"), "{text}");
+    }
+    // Without the rock (an excavation's own regions), the sizes are checked against each
+    // other.
+    let e = penedge::io::spec::parse_excavation_toml(
+        "type = \"tunnel\"\nprofile = \"circle\"\nradius = 1e-12\nstart = [0, 0, 0]\ntrend = 0\nlength = 12\n",
+    )
+    .unwrap()
+    .regions()
+    .unwrap_err();
+    assert_eq!(e.field, "excavation.radius", "{e}");
+    assert!(
+        e.to_string()
+            .contains("must be at least 1e-6 times the opening's length (12), got 1e-12"),
+        "{e}"
+    );
+    // Sizes within range still cut.
+    let ok = format!("{BOX}{}", tunnel("2", "12"));
+    assert!(generate(&parse_toml(&ok).unwrap()).is_ok());
+}
+
+/// A whole number too large for its field says so (it read "got the whole number `...`,
+/// expected a whole number").
+#[test]
+fn whole_numbers_too_large_are_named_as_such() {
+    let toml = format!(
+        "{BOX}[[joints]]\ntype = \"set\"\ndip = 10\ndip_direction = 20\nspacing = 1\n\
+         number = 9223372036854775808\n"
+    );
+    let json = r#"{"domain": {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]},
+        "joints": [{"type": "set", "dip": 10, "dip_direction": 20, "spacing": 1,
+        "number": 9223372036854775808}]}"#;
+    for e in [
+        parse_toml(&toml).unwrap_err(),
+        parse_json(json).unwrap_err(),
+    ] {
+        assert!(
+            e.to_string().contains(
+                "got the whole number `9223372036854775808`, which is too large: expected a \
+                 whole number up to 9223372036854775807"
+            ),
+            "{e}"
+        );
+    }
+}

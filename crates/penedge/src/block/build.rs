@@ -123,7 +123,7 @@ pub(super) fn check_face_lists(faces: &[Vec<usize>], n_vertices: usize) -> Resul
 }
 
 /// Pairs of vertices closer than `eps`, found by a sweep along x.
-fn check_repeated_vertices(points: &[DVec3], eps: f64) -> Result<(), BlockError> {
+pub(super) fn check_repeated_vertices(points: &[DVec3], eps: f64) -> Result<(), BlockError> {
     let mut order: Vec<usize> = (0..points.len()).collect();
     order.sort_by(|&a, &b| points[a].x.total_cmp(&points[b].x));
     for (k, &i) in order.iter().enumerate() {

@@ -36,6 +36,7 @@ pub const MIN_SIZE: f64 = 1e-50;
 pub const MAX_HALFSPACES: usize = 128;
 
 use crate::geometry::{Aabb, DVec3, Plane};
+use crate::tolerance::Tolerance;
 use glam::DQuat;
 
 /// An edge: its two end vertices and the two faces that meet along it.
@@ -317,6 +318,60 @@ impl ConvexBlock {
             volume: self.volume * scale.powi(3),
             centroid: rigid.point(self.centroid),
         }
+    }
+
+    /// [`ConvexBlock::translated`], checked as a block is when it is built: an error, not a
+    /// block, when the move leaves a coordinate NaN or infinite, beyond
+    /// [`MAX_COORDINATE`], or rounds vertices together (a unit cube moved by 1e17: its
+    /// coordinates are 16 apart there) or off their faces' planes. The checked form for a
+    /// caller that moves blocks by amounts it does not control (the Python bindings);
+    /// [`ConvexBlock::translated`] itself, and the mechanics' placing of blocks, do not check.
+    pub fn try_translated(&self, offset: DVec3) -> Result<ConvexBlock, BlockError> {
+        self.try_transformed(DQuat::IDENTITY, offset, 1.0)
+    }
+
+    /// [`ConvexBlock::rotated`], checked as [`ConvexBlock::try_translated`] is.
+    pub fn try_rotated(&self, rotation: DQuat, about: DVec3) -> Result<ConvexBlock, BlockError> {
+        self.try_transformed(rotation, about - rotation * about, 1.0)
+    }
+
+    /// [`ConvexBlock::transformed`], checked as [`ConvexBlock::try_translated`] is (a scale
+    /// that is zero, negative or not finite fails the same checks). The block returned is
+    /// the unchecked one's, bit for bit.
+    pub fn try_transformed(
+        &self,
+        rotation: DQuat,
+        translation: DVec3,
+        scale: f64,
+    ) -> Result<ConvexBlock, BlockError> {
+        let block = self.transformed(rotation, translation, scale);
+        block.check_moved()?;
+        Ok(block)
+    }
+
+    /// The checks of a block built from vertices and faces that a rigid move (or a scale)
+    /// can break: finite coordinates within range, distinct vertices, every face vertex on
+    /// its plane and every vertex inside every plane, at the default tolerance.
+    fn check_moved(&self) -> Result<(), BlockError> {
+        if let Some(vertex) = self.vertices.iter().position(|v| !v.is_finite()) {
+            return Err(BlockError::NonFiniteVertex { vertex });
+        }
+        build::check_range(&self.vertices)?;
+        let eps = Tolerance::default()
+            .for_box(&Aabb::of_points(&self.vertices))
+            .length;
+        build::check_repeated_vertices(&self.vertices, eps)?;
+        if let Some(face) = self
+            .planes
+            .iter()
+            .position(|p| !(p.normal.is_finite() && p.point.is_finite()))
+        {
+            return Err(BlockError::BadPlane { face });
+        }
+        if !(self.volume.is_finite() && self.volume > 0.0) {
+            return Err(BlockError::ZeroVolume);
+        }
+        stored::check_on_planes(self, eps)
     }
 }
 

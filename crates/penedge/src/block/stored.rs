@@ -135,7 +135,7 @@ fn check_corners(parts: &BlockParts) -> Result<(), BlockError> {
 }
 
 /// Every face vertex on its plane, every vertex inside every plane, within `eps`.
-fn check_on_planes(block: &ConvexBlock, eps: f64) -> Result<(), BlockError> {
+pub(super) fn check_on_planes(block: &ConvexBlock, eps: f64) -> Result<(), BlockError> {
     for (face, plane) in block.planes().iter().enumerate() {
         for &v in block.face(face) {
             let distance = plane.distance(block.vertices()[v as usize]);

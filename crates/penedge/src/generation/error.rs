@@ -218,11 +218,16 @@ fn limit_reason(given: bool) -> &'static str {
 struct Count(f64);
 
 impl std::fmt::Display for Count {
+    /// A count is never below zero: a rounding error of the estimate's sums (`-1e-9`) reads
+    /// `0`, not `-0`; one too large for a number (infinite, NaN) reads as such in words.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        if self.0 < 1e6 {
-            write!(f, "{}", self.0.round())
+        let value = self.0;
+        if value.is_nan() || value == f64::INFINITY {
+            f.write_str("more than can be counted")
+        } else if value < 1e6 {
+            write!(f, "{}", value.max(0.0).round())
         } else {
-            write!(f, "{:.1e}", self.0)
+            write!(f, "{value:.1e}")
         }
     }
 }
@@ -240,5 +245,19 @@ impl std::fmt::Display for Bytes {
             unit += 1;
         }
         write!(f, "{value:.1} {}", units[unit])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Count;
+
+    #[test]
+    fn counts_are_never_negative_zero() {
+        assert_eq!(Count(-1e-9).to_string(), "0");
+        assert_eq!(Count(-0.0).to_string(), "0");
+        assert_eq!(Count(184.4).to_string(), "184");
+        assert_eq!(Count(2.5e7).to_string(), "2.5e7");
+        assert_eq!(Count(f64::NAN).to_string(), "more than can be counted");
     }
 }

@@ -189,8 +189,98 @@ impl Excavation {
             ExcavationShape::Topography { surface } => {
                 topography::regions(prefix, surface, open()?)
             }
-            _ => self.prism(prefix)?.regions(prefix),
+            _ => {
+                let prism = self.prism(prefix)?;
+                self.check_sizes(prefix, extent)?;
+                prism.regions(prefix)
+            }
         }
+    }
+
+    /// The sizes of a tunnel, cavern or shaft, by field (checked finite and positive by
+    /// [`Excavation::prism`] first): the profile's (radius, wall, width, height, or the
+    /// polygon's larger side) and the length (depth).
+    fn sizes(&self) -> Vec<(&'static str, f64)> {
+        let profile = |p: &Profile| match p {
+            Profile::Circle { radius, .. } => vec![("radius", *radius)],
+            Profile::Horseshoe { radius, wall, .. } if *wall > 0.0 => {
+                vec![("radius", *radius), ("wall", *wall)]
+            }
+            Profile::Horseshoe { radius, .. } => vec![("radius", *radius)],
+            Profile::Polygon { vertices } => {
+                let side = |k: usize| {
+                    let (lo, hi) = vertices
+                        .iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                            (lo.min(v[k]), hi.max(v[k]))
+                        });
+                    hi - lo
+                };
+                vec![("vertices", side(0).max(side(1)))]
+            }
+        };
+        match &self.shape {
+            ExcavationShape::Tunnel {
+                profile: p, length, ..
+            } => {
+                let mut sizes = profile(p);
+                sizes.push(("length", *length));
+                sizes
+            }
+            ExcavationShape::Cavern {
+                length,
+                width,
+                height,
+                ..
+            } => {
+                vec![("length", *length), ("width", *width), ("height", *height)]
+            }
+            ExcavationShape::Shaft {
+                profile: p, depth, ..
+            } => {
+                let mut sizes = profile(p);
+                sizes.push(("depth", *depth));
+                sizes
+            }
+            ExcavationShape::Slope { .. } | ExcavationShape::Topography { .. } => Vec::new(),
+        }
+    }
+
+    /// Sizes that double precision can cut with: each within [`SIZE_RANGE`] times the size
+    /// of the rock (the diagonal of its box, when known), and each at least `1 / SIZE_RANGE`
+    /// times the opening's largest (a radius of 1e20 or 1e-12 with a length of 12 made a
+    /// region whose planes the tolerance could not tell apart, reported as "the half-spaces
+    /// do not bound a solid block").
+    fn check_sizes(&self, prefix: &str, extent: Option<&Extent>) -> Result<(), SpecError> {
+        let sizes = self.sizes();
+        let field = |name: &str| format!("{prefix}.{name}");
+        if let Some(extent) = extent {
+            let rock = extent.aabb.diagonal();
+            let (lo, hi) = (rock / SIZE_RANGE, rock * SIZE_RANGE);
+            if let Some(&(name, value)) = sizes.iter().find(|(_, v)| !(lo..=hi).contains(v)) {
+                let msg = format!(
+                    "must be between {} and {} (1e-6 to 1e6 times the size of the rock, whose \
+                     box has a diagonal of {}), got {}",
+                    readable(lo),
+                    readable(hi),
+                    readable(rock),
+                    readable(value)
+                );
+                return Err(SpecError::new(field(name), Problem::Invalid(msg)));
+            }
+        }
+        let Some(&(largest, most)) = sizes.iter().max_by(|a, b| a.1.total_cmp(&b.1)) else {
+            return Ok(());
+        };
+        if let Some(&(name, value)) = sizes.iter().find(|(_, v)| *v * SIZE_RANGE < most) {
+            let msg = format!(
+                "must be at least 1e-6 times the opening's {largest} ({}), got {}",
+                readable(most),
+                readable(value)
+            );
+            return Err(SpecError::new(field(name), Problem::Invalid(msg)));
+        }
+        Ok(())
     }
 
     /// The checked prism: frame, length and convex pieces of the profile.
@@ -259,6 +349,35 @@ impl Excavation {
             }
         }
     }
+}
+
+/// How many times the size of the rock an opening's size may be, at most (and its
+/// inverse, at least); also the largest ratio of an opening's sizes.
+const SIZE_RANGE: f64 = 1e6;
+
+/// A number for a message: plain with up to 4 significant digits for magnitudes from 1e-3
+/// to below 1e6, with an exponent otherwise (`1.7e7`, `2.5e-5`).
+pub(crate) fn readable(x: f64) -> String {
+    let m = x.abs();
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    if (1e-3..1e6).contains(&m) {
+        let digits = (3 - m.log10().floor() as i32).max(0) as usize;
+        let text = format!("{x:.digits$}");
+        if text.contains('.') {
+            return text.trim_end_matches('0').trim_end_matches('.').to_string();
+        }
+        return text;
+    }
+    let text = format!("{x:.3e}");
+    let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
+    let mantissa = if mantissa.contains('.') {
+        mantissa.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        mantissa
+    };
+    format!("{mantissa}e{exponent}")
 }
 
 /// The error of an excavation applied to no rock at all.

@@ -180,6 +180,9 @@ pub(crate) fn estimate(spec: &Spec, plan: &Plan) -> Estimate {
     let typical = if w1 > 0.0 { w2 / w1 } else { 0.0 };
     points += w2 * lines + among_finite * single * typical;
     lines += w1 * single + among_finite;
+    // Sums of products of large weights can cancel to a little below zero.
+    let at_least_zero = |x: f64| if x < 0.0 { 0.0 } else { x };
+    let (lines, points) = (at_least_zero(lines), at_least_zero(points));
     Estimate {
         planes: plan.records.len(),
         lines,

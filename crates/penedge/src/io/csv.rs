@@ -3,7 +3,7 @@
 //! blocks: one row per region, [`write_body_contacts_to`]).
 //!
 //! Block table columns: `id, volume, centroid_x, centroid_y, centroid_z, n_faces,
-//! n_free_faces` (`n_free_faces`: faces on the domain boundary). Numbers are written
+//! n_free_faces` (`n_free_faces`: faces on the domain boundary or made by an excavation). Numbers are written
 //! compactly ([`compact`]): the shortest digits that read back to the same `f64`, with an
 //! exponent for the very small and the very large.
 
@@ -38,10 +38,11 @@ pub const HEADER: &str = "id,volume,centroid_x,centroid_y,centroid_z,n_faces,n_f
 
 /// Writes the block table to `out`.
 pub fn write_block_table_to(system: &BlockSystem, out: &mut dyn Write) -> std::io::Result<()> {
+    super::check_finite_io(system)?;
     writeln!(out, "{HEADER}")?;
     for (id, b) in system.blocks().iter().enumerate() {
         let c = b.centroid();
-        let free = b.face_origins().iter().filter(|o| o.is_boundary()).count();
+        let free = super::n_free_faces(system, b);
         let n = b.n_faces();
         writeln!(
             out,
@@ -57,6 +58,7 @@ pub fn write_block_table_to(system: &BlockSystem, out: &mut dyn Write) -> std::i
 
 /// Writes the block table to a file, atomically.
 pub fn write_block_table(system: &BlockSystem, path: &Path) -> Result<(), IoError> {
+    super::check_finite(system)?;
     write_atomic(path, |w| write_block_table_to(system, w))
 }
 

@@ -7,6 +7,7 @@
 //! fitted and checked as [`ConvexBlock::new`] does, the origins are unknown), and no
 //! `frame`, `domain`, `sets` or `joints`.
 
+use super::strict::{self, Table};
 use super::{messages, read_text, write_atomic, IoError};
 use crate::block::{BlockError, ConvexBlock, FaceOrigin};
 use crate::generation::{Attitude, JointRecord, JointShape, SetRecord};
@@ -36,15 +37,20 @@ struct SystemFile {
     length: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     unit: Option<String>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "strict::read")]
     domain: Vec<BlockFile>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "strict::read")]
     sets: Vec<SetRecord>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "strict::read")]
     joints: Vec<JointFile>,
+    #[serde(deserialize_with = "strict::read")]
     blocks: Vec<BlockFile>,
     /// Derived from the blocks and their body ids (ignored when reading).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "strict::read"
+    )]
     internal_faces: Option<Vec<InternalFace>>,
 }
 
@@ -56,11 +62,15 @@ struct BlockFile {
     /// The body (concave block) the block is a part of; version 2 only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     body: Option<u32>,
+    #[serde(deserialize_with = "strict::read")]
     vertices: Vec<[f64; 3]>,
     faces: Vec<Vec<u32>>,
+    #[serde(default, deserialize_with = "strict::read")]
     planes: Option<Vec<[f64; 6]>>,
+    #[serde(default, deserialize_with = "strict::read")]
     origins: Option<Vec<FaceOrigin>>,
     volume: Option<f64>,
+    #[serde(default, deserialize_with = "strict::read")]
     centroid: Option<[f64; 3]>,
 }
 
@@ -70,10 +80,13 @@ struct JointFile {
     id: u32,
     set: u32,
     member: u32,
+    #[serde(deserialize_with = "strict::read")]
     normal: [f64; 3],
+    #[serde(deserialize_with = "strict::read")]
     point: [f64; 3],
     dip: f64,
     dip_direction: f64,
+    #[serde(deserialize_with = "strict::read")]
     shape: ShapeFile,
 }
 
@@ -81,17 +94,35 @@ struct JointFile {
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 enum ShapeFile {
     Infinite,
-    Disc { center: [f64; 3], radius: f64 },
-    Polygon { vertices: Vec<[f64; 3]> },
+    Disc {
+        #[serde(deserialize_with = "strict::read")]
+        center: [f64; 3],
+        radius: f64,
+    },
+    Polygon {
+        #[serde(deserialize_with = "strict::read")]
+        vertices: Vec<[f64; 3]>,
+    },
 }
+
+strict::tables!(SystemFile, BlockFile, JointFile, ShapeFile, InternalFace);
 
 /// The system as a JSON string.
 pub fn to_json_string(system: &BlockSystem) -> String {
     serde_json::to_string(&file_of(system)).expect("plain data always serialises")
 }
 
-/// Writes the system as JSON, atomically.
+/// The system as a JSON string; an error for a block with a NaN or infinite coordinate
+/// (which [`to_json_string`] writes as `null`, and reading refuses).
+pub fn try_to_json_string(system: &BlockSystem) -> Result<String, IoError> {
+    super::check_finite(system)?;
+    Ok(to_json_string(system))
+}
+
+/// Writes the system as JSON, atomically; an error, and nothing written, for a block with a
+/// NaN or infinite coordinate (JSON has no such numbers).
 pub fn write_json(system: &BlockSystem, path: &Path) -> Result<(), IoError> {
+    super::check_finite(system)?;
     let file = file_of(system);
     write_atomic(path, |w: &mut dyn Write| {
         serde_json::to_writer(&mut *w, &file).map_err(std::io::Error::other)?;
@@ -116,11 +147,12 @@ pub fn read_json(path: &Path) -> Result<BlockSystem, IoError> {
 
 /// Parses a system from a JSON string.
 pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
-    let file: SystemFile = serde_json::from_str(text).map_err(|e| IoError::Syntax {
-        path: "<string>".into(),
-        message: messages::not_a_block_file(text)
-            .unwrap_or_else(|| messages::plain(&e.to_string())),
-    })?;
+    let Table(file) =
+        serde_json::from_str::<Table<SystemFile>>(text).map_err(|e| IoError::Syntax {
+            path: "<string>".into(),
+            message: messages::not_a_block_file(text)
+                .unwrap_or_else(|| messages::plain(&e.to_string())),
+        })?;
     if file.format != FORMAT || !(1..=VERSION).contains(&file.version) {
         return Err(format_error(
             "version",
@@ -145,7 +177,7 @@ pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
         .enumerate()
         .map(|(i, j)| record_of(i, j, file.sets.len()))
         .collect::<Result<Vec<_>, _>>()?;
-    check_origins(&blocks, domain.len(), joints.len(), file.sets.len())?;
+    check_origins(&blocks, &domain, &joints, file.sets.len())?;
     let bodies = body_ids(file.version, &file.blocks)?;
     let system =
         BlockSystem::with_provenance(blocks, domain, joints, file.sets).with_unit(file.unit);
@@ -176,34 +208,73 @@ fn body_ids(version: u32, blocks: &[BlockFile]) -> Result<Vec<u32>, IoError> {
 }
 
 /// Every face origin points into the domain parts, joint table and sets that the file has,
-/// where it has them. A file without a domain or without a joint table (one written from a
-/// system built of blocks, whose faces keep the origins they had in the system they came
-/// from) keeps the origins that would point into them as written: labels of where the faces
-/// came from (the set numbers by which properties are given), which nothing looks up.
+/// where it has them: a boundary face to a face of a domain part, a joint or bridge face to
+/// a joint of the table that belongs to the same set. A file without a domain or without a
+/// joint table (one written from a system built of blocks, whose faces keep the origins they
+/// had in the system they came from) keeps the origins that would point into them as
+/// written: labels of where the faces came from (the set numbers by which properties are
+/// given), which nothing looks up.
 fn check_origins(
     blocks: &[ConvexBlock],
-    parts: usize,
-    joints: usize,
+    domain: &[ConvexBlock],
+    joints: &[JointRecord],
     sets: usize,
 ) -> Result<(), IoError> {
-    let table = joints > 0 || sets > 0;
+    let table = !joints.is_empty() || sets > 0;
     for (i, b) in blocks.iter().enumerate() {
         for (f, origin) in b.face_origins().iter().enumerate() {
-            let ok = match *origin {
-                FaceOrigin::Unknown => true,
-                FaceOrigin::Boundary { part, .. } => parts == 0 || (part as usize) < parts,
-                FaceOrigin::Joint { set, joint } | FaceOrigin::Bridge { set, joint } => {
-                    !table || ((set as usize) < sets && (joint as usize) < joints)
-                }
-            };
-            if !ok {
-                let msg =
-                    format!("{origin:?} refers to a part, set or joint the file does not have");
+            if let Some(why) = bad_origin(*origin, domain, joints, sets, table) {
+                let written = serde_json::to_string(origin).unwrap_or_default();
+                let msg = format!("{written}: {why}");
                 return Err(format_error(format!("blocks[{i}].origins[{f}]"), msg));
             }
         }
     }
     Ok(())
+}
+
+/// What is wrong with a face origin, in the file's words, or `None`.
+fn bad_origin(
+    origin: FaceOrigin,
+    domain: &[ConvexBlock],
+    joints: &[JointRecord],
+    sets: usize,
+    table: bool,
+) -> Option<String> {
+    match origin {
+        FaceOrigin::Unknown => None,
+        FaceOrigin::Boundary { .. } if domain.is_empty() => None,
+        FaceOrigin::Boundary { part, face } => match domain.get(part as usize) {
+            None => Some(format!(
+                "domain part {part} does not exist (the file's domain has {} part(s))",
+                domain.len()
+            )),
+            Some(p) if face as usize >= p.n_faces() => Some(format!(
+                "face {face} does not exist (domain part {part} has {} faces)",
+                p.n_faces()
+            )),
+            Some(_) => None,
+        },
+        FaceOrigin::Joint { .. } | FaceOrigin::Bridge { .. } if !table => None,
+        FaceOrigin::Joint { set, joint } | FaceOrigin::Bridge { set, joint } => {
+            if set as usize >= sets {
+                return Some(format!(
+                    "set {set} does not exist (the file has {sets} set(s))"
+                ));
+            }
+            match joints.get(joint as usize) {
+                None => Some(format!(
+                    "joint {joint} does not exist (the joint table has {} joint(s))",
+                    joints.len()
+                )),
+                Some(record) if record.set != set => Some(format!(
+                    "joint {joint} is of set {} in the joint table, not of set {set}",
+                    record.set
+                )),
+                Some(_) => None,
+            }
+        }
+    }
 }
 
 fn format_error(field: impl Into<String>, message: String) -> IoError {

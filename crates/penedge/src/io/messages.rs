@@ -6,7 +6,7 @@
 /// The serde parser's message in plain words: value types by what a person writes (a
 /// number, a whole number, text, a list, a table), Rust type names left out.
 pub(crate) fn plain(message: &str) -> String {
-    let mut out = message.to_string();
+    let mut out = too_large(message).unwrap_or_else(|| message.to_string());
     // The value found (`invalid type: integer `1``) and its kind.
     for (rust, plain) in [
         ("invalid type: floating point `", "got the number `"),
@@ -67,6 +67,33 @@ pub(crate) fn plain(message: &str) -> String {
         }
     }
     out
+}
+
+/// A whole number above the largest of its type (`9223372036854775808`, expected `i64`),
+/// said so: `got the whole number `N`, which is too large: expected a whole number up to M`
+/// (it read "got the whole number `N`, expected a whole number").
+fn too_large(message: &str) -> Option<String> {
+    let start = message.find("integer `")? + "integer `".len();
+    let (digits, rest) = message[start..].split_once('`')?;
+    let value: i128 = digits.parse().ok()?;
+    let rest = rest.strip_prefix(", expected ")?;
+    let end = rest
+        .find(|c: char| !c.is_ascii_alphanumeric())
+        .unwrap_or(rest.len());
+    let largest: i128 = match &rest[..end] {
+        "i64" => i64::MAX as i128,
+        "i32" => i32::MAX as i128,
+        "u32" => u32::MAX as i128,
+        "u64" | "usize" => u64::MAX as i128,
+        _ => return None,
+    };
+    (value > largest).then(|| {
+        format!(
+            "got the whole number `{digits}`, which is too large: expected a whole number up \
+             to {largest}{}",
+            &rest[end..]
+        )
+    })
 }
 
 /// `expected one of `a`, `b`` or `expected `a`` up to the message's position suffix.
@@ -239,6 +266,11 @@ mod tests {
                 "unknown field `dipp`, expected one of `dip`, `spacing` at line 3 column 1",
                 "unknown field `dipp` (a typo?); the fields here are `dip`, `spacing` at line 3 \
                  column 1",
+            ),
+            (
+                "invalid value: integer `9223372036854775808`, expected i64 at line 1 column 9",
+                "got the whole number `9223372036854775808`, which is too large: expected a \
+                 whole number up to 9223372036854775807 at line 1 column 9",
             ),
             (
                 "invalid value: integer `-1`, expected u32",

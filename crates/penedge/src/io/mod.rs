@@ -19,6 +19,7 @@ pub mod json;
 mod messages;
 pub mod pvd;
 pub mod spec;
+mod strict;
 pub mod surface;
 pub mod vtp;
 pub mod vtu;
@@ -144,4 +145,65 @@ pub(crate) fn read_text(path: &Path) -> Result<String, IoError> {
             e.utf8_error().valid_up_to()
         ),
     })
+}
+
+/// Refuses a system with a NaN or infinite coordinate (a block moved beyond the range of
+/// double precision by an unchecked [`crate::ConvexBlock::transformed`]): JSON has no such
+/// numbers (they were written as `null`, which the reader refuses) and the other formats
+/// would write `inf` or `NaN`. The error names the block and the vertex.
+pub(crate) fn check_finite(system: &crate::system::BlockSystem) -> Result<(), IoError> {
+    let parts = [("domain", system.domain()), ("blocks", system.blocks())];
+    for (name, blocks) in parts {
+        for (i, b) in blocks.iter().enumerate() {
+            let bad = |what: String| IoError::Format {
+                field: format!("{name}[{i}]"),
+                message: format!(
+                    "{what} is NaN or infinite: a block beyond the range of double precision \
+                     (moved too far?) cannot be written"
+                ),
+            };
+            if let Some(v) = b.vertices().iter().position(|v| !v.is_finite()) {
+                return Err(bad(format!("a coordinate of vertex {v}")));
+            }
+            if let Some(f) = b
+                .planes()
+                .iter()
+                .position(|p| !(p.normal.is_finite() && p.point.is_finite()))
+            {
+                return Err(bad(format!("the plane of face {f}")));
+            }
+            if !(b.volume().is_finite() && b.centroid().is_finite()) {
+                return Err(bad("the volume or centroid".into()));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// [`check_finite`] as an I/O error, for the writers to a stream.
+pub(crate) fn check_finite_io(system: &crate::system::BlockSystem) -> io::Result<()> {
+    check_finite(system).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e.to_string()))
+}
+
+/// The free faces of a block of `system`: on the domain's boundary, or made by an
+/// excavation (a joint origin of a spec entry of kind `excavation`), both the outside of the
+/// rock mass. The `n_free_faces` of the block table and the ParaView file.
+pub(crate) fn n_free_faces(
+    system: &crate::system::BlockSystem,
+    block: &crate::block::ConvexBlock,
+) -> usize {
+    use crate::block::FaceOrigin;
+    use crate::generation::SetKind;
+    let sets = system.sets();
+    block
+        .face_origins()
+        .iter()
+        .filter(|o| match **o {
+            FaceOrigin::Boundary { .. } => true,
+            FaceOrigin::Joint { set, .. } => sets
+                .get(set as usize)
+                .is_some_and(|r| r.kind == SetKind::Excavation),
+            _ => false,
+        })
+        .count()
 }

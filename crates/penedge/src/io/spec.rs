@@ -18,6 +18,7 @@
 //! Parsing checks the shape (known keys, value types, the fields each `type` takes);
 //! [`crate::generation::generate`] checks the values. Errors name the field.
 
+use super::strict::{self, Table};
 use super::{messages, read_text, surface, IoError};
 use crate::generation::{Attitude, Deviation, Discontinuity, Domain, JointKind, JointSet};
 use crate::generation::{Excavation, ExcavationShape, Profile};
@@ -29,12 +30,13 @@ use std::path::Path;
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawSpec {
+    #[serde(deserialize_with = "strict::read")]
     domain: RawDomain,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "strict::read")]
     joints: Vec<RawJoint>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "strict::read")]
     excavations: Vec<RawExcavation>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "strict::read")]
     options: RawOptions,
     unit: Option<String>,
 }
@@ -44,10 +46,14 @@ struct RawSpec {
 struct RawDomain {
     #[serde(rename = "type")]
     kind: String,
+    #[serde(default, deserialize_with = "strict::read")]
     min: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "strict::read")]
     max: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "strict::read")]
     vertices: Option<Vec<[f64; 3]>>,
     faces: Option<Vec<Vec<usize>>>,
+    #[serde(default, deserialize_with = "strict::read")]
     normals: Option<Vec<[f64; 3]>>,
     offsets: Option<Vec<f64>>,
 }
@@ -58,10 +64,13 @@ struct RawJoint {
     #[serde(rename = "type")]
     kind: String,
     name: Option<String>,
+    #[serde(default, deserialize_with = "strict::read")]
     point: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "strict::read")]
     normal: Option<[f64; 3]>,
     dip: Option<f64>,
     dip_direction: Option<f64>,
+    #[serde(default, deserialize_with = "strict::read")]
     origin: Option<[f64; 3]>,
     spacing: Option<f64>,
     number: Option<i64>,
@@ -69,8 +78,10 @@ struct RawJoint {
     dip_direction_deviation: Option<f64>,
     spacing_deviation: Option<f64>,
     seed: Option<i64>,
+    #[serde(default, deserialize_with = "strict::read")]
     center: Option<[f64; 3]>,
     radius: Option<f64>,
+    #[serde(default, deserialize_with = "strict::read")]
     vertices: Option<Vec<[f64; 3]>>,
     bridge: Option<bool>,
 }
@@ -85,18 +96,24 @@ struct RawExcavation {
     radius: Option<f64>,
     segments: Option<i64>,
     wall: Option<f64>,
+    #[serde(default, deserialize_with = "strict::read")]
     vertices: Option<Vec<[f64; 2]>>,
+    #[serde(default, deserialize_with = "strict::read")]
     start: Option<[f64; 3]>,
     trend: Option<f64>,
     plunge: Option<f64>,
     length: Option<f64>,
+    #[serde(default, deserialize_with = "strict::read")]
     center: Option<[f64; 3]>,
     width: Option<f64>,
     height: Option<f64>,
+    #[serde(default, deserialize_with = "strict::read")]
     top: Option<[f64; 3]>,
     depth: Option<f64>,
+    #[serde(default, deserialize_with = "strict::read")]
     origin: Option<[f64; 3]>,
     file: Option<String>,
+    #[serde(default, deserialize_with = "strict::read")]
     offset: Option<[f64; 3]>,
 }
 
@@ -110,6 +127,8 @@ struct RawOptions {
     length: Option<f64>,
 }
 
+strict::tables!(RawSpec, RawDomain, RawJoint, RawExcavation, RawOptions);
+
 /// Parses a TOML spec; a surface file it names is read relative to the current folder.
 pub fn parse_toml(text: &str) -> Result<Spec, SpecError> {
     parse_toml_in(text, Path::new(""))
@@ -117,7 +136,7 @@ pub fn parse_toml(text: &str) -> Result<Spec, SpecError> {
 
 /// Parses a TOML spec whose surface files are named relative to `folder` (the spec file's).
 pub fn parse_toml_in(text: &str, folder: &Path) -> Result<Spec, SpecError> {
-    let raw: RawSpec = toml::from_str(text).map_err(|e| {
+    let Table(raw) = toml::from_str::<Table<RawSpec>>(text).map_err(|e| {
         let message = messages::not_a_spec(text).unwrap_or_else(|| toml_message(text, &e));
         syntax(message)
     })?;
@@ -156,7 +175,7 @@ pub fn parse_json(text: &str) -> Result<Spec, SpecError> {
 
 /// Parses a JSON spec whose surface files are named relative to `folder`.
 pub fn parse_json_in(text: &str, folder: &Path) -> Result<Spec, SpecError> {
-    let raw: RawSpec = serde_json::from_str(text).map_err(|e| {
+    let Table(raw) = serde_json::from_str::<Table<RawSpec>>(text).map_err(|e| {
         let message = messages::not_a_spec(text)
             .unwrap_or_else(|| one_line(&messages::plain(&e.to_string())));
         syntax(message)
@@ -464,7 +483,7 @@ fn tolerance_error(field: &'static str) -> impl Fn(crate::tolerance::ToleranceEr
 /// assert_eq!(e.volume().unwrap(), 24.0);
 /// ```
 pub fn parse_excavation_toml(text: &str) -> Result<Excavation, SpecError> {
-    let raw: RawExcavation = toml::from_str(text)
+    let Table(raw) = toml::from_str::<Table<RawExcavation>>(text)
         .map_err(|e| SpecError::new("excavation", Problem::Syntax(toml_message(text, &e))))?;
     excavation("excavation", &raw, Path::new(""))
 }

@@ -3,7 +3,7 @@
 //! * [`write_vtu`]: one polyhedron cell (VTK type 42) per block (a convex part), with cell
 //!   data `block_id`, `body_id` (the concave block it is a part of: colour by it to see each
 //!   concave block in one colour), `volume`, `n_faces` and `n_free_faces` (faces on the
-//!   domain boundary);
+//!   domain boundary or made by an excavation: the outside of the rock mass);
 //! * [`write_faces_vtu`]: one polygon cell (VTK type 7) per block face, with cell data
 //!   `block_id`, `body_id`, `face`, `internal` (1 for a face inside its concave block, glued
 //!   to other parts: threshold it away to draw concave blocks without their internal faces),
@@ -25,16 +25,19 @@ const POLYGON: u8 = 7;
 
 /// Writes the blocks as polyhedron cells, atomically.
 pub fn write_vtu(system: &BlockSystem, path: &Path) -> Result<(), IoError> {
+    super::check_finite(system)?;
     write_atomic(path, |w| write_blocks_to(system, w))
 }
 
 /// Writes the block faces as polygon cells with their origins, atomically.
 pub fn write_faces_vtu(system: &BlockSystem, path: &Path) -> Result<(), IoError> {
+    super::check_finite(system)?;
     write_atomic(path, |w| write_faces_to(system, w))
 }
 
 /// The polyhedron file, to any writer.
 pub fn write_blocks_to(system: &BlockSystem, w: &mut dyn Write) -> io::Result<()> {
+    super::check_finite_io(system)?;
     let blocks = system.blocks();
     let n_points: usize = blocks.iter().map(|b| b.vertices().len()).sum();
     header(w, n_points, blocks.len())?;
@@ -57,7 +60,7 @@ pub fn write_blocks_to(system: &BlockSystem, w: &mut dyn Write) -> io::Result<()
         "n_faces",
         blocks.iter().map(ConvexBlock::n_faces),
     )?;
-    let free = |b: &ConvexBlock| b.face_origins().iter().filter(|o| o.is_boundary()).count();
+    let free = |b: &ConvexBlock| super::n_free_faces(system, b);
     array(w, "Int32", "n_free_faces", blocks.iter().map(free))?;
     writeln!(w, "</CellData>")?;
     footer(w)
@@ -97,6 +100,7 @@ fn polyhedron_faces(w: &mut dyn Write, blocks: &[ConvexBlock]) -> io::Result<()>
 
 /// The faces file, to any writer.
 pub fn write_faces_to(system: &BlockSystem, w: &mut dyn Write) -> io::Result<()> {
+    super::check_finite_io(system)?;
     let blocks = system.blocks();
     let n_points: usize = blocks.iter().map(|b| b.vertices().len()).sum();
     let n_faces: usize = blocks.iter().map(ConvexBlock::n_faces).sum();
