@@ -815,3 +815,16 @@ def test_a_negative_count_or_id_is_named_not_a_bare_overflow(name):
     assert e.value.kind == "negative"
     assert sim.steps == 0
     assert not sim.fixed.any()
+
+
+def test_a_block_moved_out_of_range_is_refused():
+    # the moved copy was not checked: vertices collapsed at 1e17 (volume still 1), inf at 1e308
+    cube = penedge.Block.cuboid([0, 0, 0], [1, 1, 1])
+    for offset in ([1e17, 0, 0], [1.7e308, 0, 0]):
+        with pytest.raises(penedge.BlockError):
+            cube.translated(offset).translated(offset)
+    with pytest.raises(penedge.BlockError):
+        cube.rotated([0, 0, 1, 0], about=[1e300, 0, 0])
+    # in range: the same block as before, bit for bit
+    moved = cube.translated([1e6, 0, 0])
+    assert moved.aabb.tolist() == [[1e6, 0.0, 0.0], [1e6 + 1, 1.0, 1.0]]

@@ -207,6 +207,12 @@ impl Block {
     /// Block
     ///     The same faces and face origins, every vertex moved by `offset`.
     ///
+    /// Raises
+    /// ------
+    /// BlockError
+    ///     The moved block is not one a :class:`Block` can be: coordinates beyond 1e50 or
+    ///     not finite, or vertices rounded together (a unit cube moved by 1e17).
+    ///
     /// Examples
     /// --------
     /// >>> import penedge
@@ -214,7 +220,10 @@ impl Block {
     /// [[2.0, 0.0, 0.0], [3.0, 1.0, 1.0]]
     fn translated(&self, offset: &Bound<'_, PyAny>) -> PyResult<Self> {
         let offset = finite_vector(offset, "offset")?;
-        Ok(Block::wrap(self.inner.translated(offset)))
+        self.inner
+            .try_translated(offset)
+            .map(Block::wrap)
+            .map_err(to_py_err)
     }
 
     /// A copy turned about its centroid, or about the point `about`.
@@ -237,6 +246,9 @@ impl Block {
     /// ------
     /// InputError
     ///     A zero or non-finite quaternion, a matrix that is not a rotation, or a wrong shape.
+    /// BlockError
+    ///     The turned block is not one a :class:`Block` can be (as :meth:`translated`: about
+    ///     a point 1e300 away).
     ///
     /// Examples
     /// --------
@@ -261,7 +273,10 @@ impl Block {
             Some(p) => finite_vector(p, "about")?,
             None => self.inner.centroid(),
         };
-        Ok(Block::wrap(self.inner.rotated(rotation, about)))
+        self.inner
+            .try_rotated(rotation, about)
+            .map(Block::wrap)
+            .map_err(to_py_err)
     }
 
     /// Equality by value: the same vertices (exactly, in the same order) and the same faces
