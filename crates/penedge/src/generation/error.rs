@@ -225,7 +225,10 @@ impl std::fmt::Display for Count {
         if value.is_nan() || value == f64::INFINITY {
             f.write_str("more than can be counted")
         } else if value < 1e6 {
-            write!(f, "{}", value.max(0.0).round())
+            // `max` may keep a zero's sign (`-0.0` against `0.0`): a rounding below zero,
+            // or a negative zero, reads 0.
+            let count = if value > 0.0 { value.round() } else { 0.0 };
+            write!(f, "{count}")
         } else {
             write!(f, "{value:.1e}")
         }
