@@ -470,6 +470,28 @@ fn same_motion(step: u64, a: &Simulation, b: &Simulation) {
     }
 }
 
+/// The cubes of the two tests below, without gravity: one fixed at the origin, one moving
+/// towards it along their diagonal (parallel edges 1.1 mm apart), one towards its corner
+/// (vertices 1.4 mm apart).
+fn closing_cubes() -> Simulation {
+    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
+    let at = |x: f64, y: f64, z: f64| unit.transformed(DQuat::IDENTITY, DVec3::new(x, y, z), 1.0);
+    let system = BlockSystem::new(vec![
+        at(0.0, 0.0, 0.0),
+        at(1.0008, 1.0008, 0.3),
+        at(-1.0008, -1.0008, -1.0008),
+    ]);
+    let mut sim = Simulation::new(&system, 2500.0).unwrap();
+    sim.fix(0).unwrap();
+    sim.set_gravity(DVec3::ZERO).unwrap();
+    sim.set_default_joint(joint(30.0)).unwrap();
+    sim.set_velocity(1, DVec3::new(-0.01, -0.01, 0.0), DVec3::ZERO)
+        .unwrap();
+    sim.set_velocity(2, DVec3::new(0.01, 0.01, 0.01), DVec3::ZERO)
+        .unwrap();
+    sim
+}
+
 /// Open edge-edge and vertex-vertex contacts that close (docs/mechanics.md, "Dormant
 /// contacts"): without gravity, a cube moves towards a fixed one along their diagonal, their
 /// parallel edges 1.1 mm apart (within the 1.7 mm gap), and another towards its corner, the
@@ -478,23 +500,7 @@ fn same_motion(step: u64, a: &Simulation, b: &Simulation) {
 /// the same bits at every step. A certificate that holds whatever the motion fails it.
 #[test]
 fn open_edge_and_vertex_contacts_wake_when_they_close() {
-    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
-    let at = |x: f64, y: f64, z: f64| unit.transformed(DQuat::IDENTITY, DVec3::new(x, y, z), 1.0);
-    let system = BlockSystem::new(vec![
-        at(0.0, 0.0, 0.0),
-        at(1.0008, 1.0008, 0.3),
-        at(-1.0008, -1.0008, -1.0008),
-    ]);
-    let mut updated = Simulation::new(&system, 2500.0).unwrap();
-    updated.fix(0).unwrap();
-    updated.set_gravity(DVec3::ZERO).unwrap();
-    updated.set_default_joint(joint(30.0)).unwrap();
-    updated
-        .set_velocity(1, DVec3::new(-0.01, -0.01, 0.0), DVec3::ZERO)
-        .unwrap();
-    updated
-        .set_velocity(2, DVec3::new(0.01, 0.01, 0.01), DVec3::ZERO)
-        .unwrap();
+    let mut updated = closing_cubes();
     updated
         .set_update_fraction(penedge::mechanics::FAST_UPDATE_FRACTION)
         .unwrap();
@@ -877,23 +883,7 @@ fn kept_answers_take_a_new_point_width() {
 /// across the change, its old shares then read back when it woke, failed it (found by review).
 #[test]
 fn dormant_contacts_take_a_new_point_width_when_they_wake() {
-    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
-    let at = |x: f64, y: f64, z: f64| unit.transformed(DQuat::IDENTITY, DVec3::new(x, y, z), 1.0);
-    let system = BlockSystem::new(vec![
-        at(0.0, 0.0, 0.0),
-        at(1.0008, 1.0008, 0.3),
-        at(-1.0008, -1.0008, -1.0008),
-    ]);
-    let mut updated = Simulation::new(&system, 2500.0).unwrap();
-    updated.fix(0).unwrap();
-    updated.set_gravity(DVec3::ZERO).unwrap();
-    updated.set_default_joint(joint(30.0)).unwrap();
-    updated
-        .set_velocity(1, DVec3::new(-0.01, -0.01, 0.0), DVec3::ZERO)
-        .unwrap();
-    updated
-        .set_velocity(2, DVec3::new(0.01, 0.01, 0.01), DVec3::ZERO)
-        .unwrap();
+    let mut updated = closing_cubes();
     updated.set_update_fraction(5.0).unwrap();
     let mut dormant = updated.clone();
     updated.set_dormant_contacts(false);
