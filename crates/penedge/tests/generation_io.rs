@@ -193,7 +193,7 @@ fn face_origins_must_match_the_domain_and_the_joint_table() {
     let (j, other) = (0..joints.len())
         .find_map(|j| {
             let set = joints[j]["set"].as_u64().unwrap();
-            (set > 0).then_some((j, set - 1))
+            (set > 0).then(|| (j, set - 1))
         })
         .expect("a joint of a set other than 0");
     let refused = |origin: serde_json::Value| {
