@@ -350,7 +350,12 @@ def set_key(path, new):
             None,
             "got the whole number `-1`",
         ),
-        (set_key(["blocks", 0, "id"], 2**40), "syntax", None, "from 0 to 4294967295"),
+        (
+            set_key(["blocks", 0, "id"], 2**40),
+            "syntax",
+            None,
+            "too large: expected a whole number up to 4294967295",
+        ),
         (set_key(["blocks", 0, "extra"], 1), "syntax", None, "unknown field `extra` (a typo?)"),
         (set_key(["version"], 3), "format", "version", "version 3"),
         (set_key(["blocks", 0, "origins"], []), "format", "blocks[0]", "one entry per face"),
