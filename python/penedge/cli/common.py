@@ -336,6 +336,11 @@ class Outputs:
 
         return Staged(target.path, target.replace)
 
+    def write_named(self, path: Path, write: Callable[[Path], None]) -> None:
+        """Writes the output `path` (replaced when published) by ``write(name)``, a writer
+        that takes a file name (the library's), into its temporary file."""
+        self._staged.append((write_temp(path, write, by_name=True), Target(path, True)))
+
     def publish(self) -> list[Path]:
         """Moves every file written into place, in the order written; returns the paths
         written (another name where a default name was taken)."""
@@ -421,20 +426,27 @@ def write_via_temp(path: Path, replace: bool, write: Callable[[IO[bytes]], None]
         tmp.unlink(missing_ok=True)
 
 
-def write_temp(path: Path, write: Callable[[IO[bytes]], None]) -> Path:
+def write_temp(path: Path, write: Callable[[Any], None], *, by_name: bool = False) -> Path:
     """Writes ``write(handle)`` into a new temporary file beside `path`; returns its path
-    (removed again if the writing fails). An OSError names `path`, not the temporary file."""
+    (removed again if the writing fails). With `by_name`, ``write(tmp)`` writes the file by
+    its name instead (the library's writers, which check its suffix: the temporary file
+    keeps `path`'s). An OSError names `path`, not the temporary file."""
     directory = path.parent
     if not directory.is_dir():
         raise CommandError(f"cannot write {path}: no directory '{directory}'")
+    suffix = path.suffix if by_name else ".tmp"
     try:
-        fd, tmp_name = tempfile.mkstemp(dir=directory, prefix=f".{path.stem}.", suffix=".tmp")
+        fd, tmp_name = tempfile.mkstemp(dir=directory, prefix=f".{path.stem}.", suffix=suffix)
     except OSError as e:
         raise _naming(e, path) from None
     tmp = Path(tmp_name)
     try:
-        with os.fdopen(fd, "wb") as handle:
-            write(handle)
+        if by_name:
+            os.close(fd)
+            write(tmp)
+        else:
+            with os.fdopen(fd, "wb") as handle:
+                write(handle)
         umask = os.umask(0)
         os.umask(umask)
         tmp.chmod(0o666 & ~umask)  # mkstemp makes it private; an output is an ordinary file

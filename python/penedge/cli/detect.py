@@ -13,6 +13,7 @@ from penedge.cli import progress
 from penedge.cli.common import (
     PROG,
     CommandError,
+    Outputs,
     UsageError,
     add_gap,
     add_output_flags,
@@ -24,7 +25,7 @@ from penedge.cli.common import (
     output_file,
     plural,
 )
-from penedge.cli.generate import Staged, blocks_of, count_text
+from penedge.cli.generate import blocks_of, count_text
 
 EPILOG = """\
 worked example:
@@ -102,7 +103,7 @@ def run_detect(args: argparse.Namespace) -> int:
     vtp = output_file(args.vtp, "--vtp", (".vtp",))
     check_distinct({"BLOCKS": blocks}, {"-o/--output": csv, "--vtp": vtp})
     show = progress.wanted(args.quiet or args.json)
-    with Staged({"-o/--output": csv, "--vtp": vtp}) as staged:
+    with Outputs() as staged:
         with progress.activity(show, f"{PROG} detect: reading {blocks}"):
             system = read_blocks(blocks)
         try:
@@ -110,7 +111,10 @@ def run_detect(args: argparse.Namespace) -> int:
             found = progress.detect(system, show, f"{PROG} detect", **options, geometry=True)
         except penedge.ToleranceError as e:
             raise UsageError(f"argument {gap_flag(args)}: {e}") from None
-        written = staged.write_all({"-o/--output": found.write_csv, "--vtp": found.write_vtp})
+        for path, write in [(csv, found.write_csv), (vtp, found.write_vtp)]:
+            if path is not None:
+                staged.write_named(path, write)
+        written = [str(path) for path in staged.publish()]
     summary = summarize(blocks, system, found, gap_options(args), written)
     if summary["penetrating"] and not args.quiet:
         print(f"{PROG}: warning: {penetration_note(found)}", file=sys.stderr)

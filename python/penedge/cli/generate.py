@@ -4,14 +4,11 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import re
 import sys
-import tempfile
 import time
 from pathlib import Path
-from types import SimpleNamespace
-from typing import IO, Any
+from typing import Any
 
 import numpy as np
 
@@ -21,15 +18,13 @@ from penedge.cli.common import (
     PROG,
     CommandError,
     Interrupted,
-    _naming,
+    Outputs,
     add_output_flags,
     check_distinct,
     output_file,
     plural,
     positive_int,
-    publish,
     require_matplotlib,
-    write_via_temp,
 )
 from penedge.cli.progress import ProgressBar
 
@@ -145,9 +140,9 @@ def run_generate(args: argparse.Namespace) -> int:
     if outputs["--stats-png"] is not None:
         require_matplotlib("--stats-png")
     show = progress.wanted(args.quiet or args.json)
-    # Each output's folder is tried before the run (a temporary file made there), so that
-    # a run whose outputs cannot all be written fails at once and writes none.
-    with Staged(outputs) as staged:
+    # Each output's folder was tried before the run (`output_file`); the outputs are written
+    # to temporary files and published together: a run that fails writes none.
+    with Outputs() as staged:
         bar = ProgressBar(sys.stderr, f"{PROG} generate", unit="planes") if show else None
         start = time.perf_counter()
         try:
@@ -165,7 +160,7 @@ def run_generate(args: argparse.Namespace) -> int:
         if png is not None and len(system) == 0:
             raise CommandError(f"cannot draw {png}: no blocks left (every block was a sliver)")
         with progress.activity(show, f"{PROG} generate: writing"):
-            written = write_outputs(system, staged)
+            written = write_outputs(system, outputs, staged)
     summary = summarize(spec, system, report, seconds, written)
     if args.json:
         print(json.dumps(summary, indent=2))
@@ -174,76 +169,9 @@ def run_generate(args: argparse.Namespace) -> int:
     return 0
 
 
-class Staged:
-    """The outputs of a command, all or none: each output is written to a temporary file
-    beside it, made when the output is written (:meth:`temporary`; whether the folder takes
-    a file was checked before any work, by ``output_file``); :meth:`publish` then moves them
-    all into place. On leaving, the temporary files left are removed: a command that fails
-    or is interrupted before :meth:`publish` leaves none of its outputs (a kill that Python
-    cannot catch may leave the temporary files of the outputs being written, hidden: their
-    names start with a dot).
-    """
-
-    def __init__(self, outputs: dict[str, Path | None]) -> None:
-        self.outputs = {option: path for option, path in outputs.items() if path is not None}
-        self.temporaries: dict[str, Path] = {}
-
-    def __enter__(self) -> Staged:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.remove()
-
-    def items(self) -> list[tuple[str, Path]]:
-        """The outputs named, as (option, path), in the order given."""
-        return list(self.outputs.items())
-
-    def temporary(self, option: str) -> Path:
-        """Where to write the output of `option` (moved into place by :meth:`publish`): a new
-        empty temporary file beside it."""
-        if option not in self.temporaries:
-            self.temporaries[option] = reserve(self.outputs[option])
-        return self.temporaries[option]
-
-    def write_all(self, writers: dict[str, Any]) -> list[str]:
-        """Writes each output with its writer (``writers[option](path)``) to its temporary
-        file, then moves them all into place (:meth:`publish`); returns their names. A
-        failed write names the output, not its temporary file."""
-        for option, path in self.items():
-            tmp = self.temporary(option)
-            try:
-                writers[option](tmp)
-            except OSError as e:
-                raise _naming(e, path, tmp) from None
-        return self.publish()
-
-    def publish(self) -> list[str]:
-        """Moves every output into place (each replaced atomically); returns their names."""
-        written = []
-        for option, path in self.outputs.items():
-            publish(self.temporaries.pop(option), path, True)
-            written.append(str(path))
-        return written
-
-    def remove(self) -> None:
-        """Removes the temporary files not moved into place."""
-        for tmp in self.temporaries.values():
-            tmp.unlink(missing_ok=True)
-        self.temporaries.clear()
-
-
-def reserve(path: Path) -> Path:
-    """A new empty temporary file beside `path`, with its suffix (for the writers)."""
-    try:
-        fd, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
-    except OSError as e:
-        raise CommandError(f"cannot write {path}: {e.strerror or e}") from None
-    os.close(fd)
-    return Path(name)
-
-
-def write_outputs(system: Any, staged: Staged) -> list[str]:
-    """Writes every output asked for, then moves them all into place; returns their names."""
+def write_outputs(system: Any, outputs: dict[str, Path | None], staged: Outputs) -> list[str]:
+    """Writes every output asked for (`outputs`: per option, its path or None), then moves
+    them all into place; returns their names."""
     writers = {
         "-o/--output": system.write_json,
         "--vtu": system.write_vtu,
@@ -251,31 +179,17 @@ def write_outputs(system: Any, staged: Staged) -> list[str]:
         "--csv": system.write_csv,
         "--stats-png": lambda path: write_stats_png(system, path),
     }
-    return staged.write_all(writers)
+    for option, path in outputs.items():
+        if path is not None:
+            staged.write_named(path, writers[option])
+    return [str(path) for path in staged.publish()]
 
 
 def write_stats_png(system: Any, path: Path) -> None:
-    """The volume distribution picture (of the blocks: a concave block's parts summed),
-    through a temporary file."""
+    """The volume distribution picture (of the blocks: a concave block's parts summed)."""
     from penedge import pictures
 
-    blocks = SimpleNamespace(volumes=block_volumes(system), unit=system.unit)
-
-    def write(handle: IO[bytes]) -> None:
-        pictures.save_volume_distribution(blocks, handle, format="png")
-
-    write_via_temp(path, True, write)
-
-
-def block_volumes(system: Any) -> np.ndarray:
-    """The volume of each block: of each body, its parts' volumes summed (by ascending body
-    id); for a system of convex blocks, its blocks' volumes."""
-    ids = np.asarray(system.body_ids)
-    volumes = np.asarray(system.volumes)
-    if len(np.unique(ids)) == len(ids):
-        return volumes
-    _, body = np.unique(ids, return_inverse=True)
-    return np.bincount(body, weights=volumes)
+    pictures.save_volume_distribution(system, path, format="png")
 
 
 def summarize(
