@@ -932,10 +932,9 @@ impl Simulation {
             // The step stops before its contacts are built, but the memos of its queries
             // are written (the penetrating pair's among them): the next step must not take
             // them for answers (it would skip the penetrating pair as unmoved, and read
-            // another answer's area shares back). It builds the candidate pairs afresh and
-            // queries every one of them, so a penetration stays an error.
+            // another answer's area shares back). It builds the candidate pairs afresh, with
+            // new memos, and queries every one of them, so a penetration stays an error.
             self.built_at = None;
-            self.shares_width = None;
         }
         detected?;
         let [queried, unmoved, certified, carried, dormant] = counts;
