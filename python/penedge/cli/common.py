@@ -94,16 +94,14 @@ def non_negative_float(text: str) -> float:
 
 
 def explode_factor(text: str) -> float:
-    """An argparse type: a number from 0 to ``MAX_EXPLODE`` (what the pictures take)."""
-    from penedge.pictures.scene import MAX_EXPLODE
+    """An argparse type: a number from 0 to ``MAX_EXPLODE`` (what the pictures take:
+    :func:`penedge.pictures.scene.check_explode`)."""
+    from penedge.pictures.scene import check_explode
 
-    value = non_negative_float(text)
-    if value > MAX_EXPLODE:
-        raise argparse.ArgumentTypeError(
-            f"must be a number from 0 to {MAX_EXPLODE:g} (beyond, the blocks are specks far "
-            f"apart), got {text}"
-        )
-    return value
+    try:
+        return check_explode(non_negative_float(text))
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(f"{e} (beyond, the blocks are specks far apart)") from None
 
 
 def whole_number(text: str, least: int, words: str) -> int:

@@ -127,10 +127,9 @@ def length_unit(system: Any, unit: str | None) -> str:
     return unit or getattr(system, "unit", None) or "m"
 
 
-def _note_gid() -> str:
-    """The id of the text ``showing N of M blocks`` (:func:`save_picture` moves it under the
-    picture, with the subtitle)."""
-    return "penedge-shown-note"
+#: The id of the text ``showing N of M blocks`` (:func:`save_picture` moves it under the
+#: picture, with the subtitle).
+_NOTE_GID = "penedge-shown-note"
 
 
 def set_name(scene: Scene, index: int) -> str:
@@ -394,7 +393,7 @@ def plot_system(
             ha="center",
             va="bottom",
             fontsize=8,
-            gid=_note_gid(),
+            gid=_NOTE_GID,
         )
     ax.set_proj_type("persp", focal_length=2.0)
     ax.view_init(elev=elev, azim=azim)
@@ -520,7 +519,7 @@ def save_picture(
     # panels.
     captions = [subtitle] if subtitle else []
     for panel in fig.axes:
-        for note in [t for t in panel.texts if t.get_gid() == _note_gid()]:
+        for note in [t for t in panel.texts if t.get_gid() == _NOTE_GID]:
             if panel is ax:
                 captions.append(note.get_text())
             note.remove()
