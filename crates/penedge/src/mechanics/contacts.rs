@@ -403,14 +403,16 @@ pub(super) fn sub_count(found: &Found) -> usize {
     found.geometry.points().len()
 }
 
-/// A contact of this step, before its sub-contacts: its candidate pair (index and parts),
-/// the detection's answer, and whether it is dormant (its sub-contacts kept from the last
-/// step: docs/mechanics.md, "Dormant contacts"); then, from [`counts_and_previous`], its
-/// sub-contact count and the index of the same pair's contact at the last step.
-pub(super) struct Current<'a> {
+/// A contact of this step, before its sub-contacts: its candidate pair (index and parts; the
+/// detection's answer is the pair's memo's), and whether it is dormant (its sub-contacts kept
+/// from the last step: docs/mechanics.md, "Dormant contacts"); then, from
+/// [`counts_and_previous`], its sub-contact count and the index of the same pair's contact at
+/// the last step. No reference to the answer, so that the step's list of them is a buffer
+/// kept from step to step (docs/mechanics.md, "The sub-contact update").
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Current {
     pub pair: u32,
     pub parts: [u32; 2],
-    pub found: &'a Found,
     pub dormant: bool,
     /// Whether the last step's contact of the pair (if any) was built from this same answer
     /// at the same point width: then its sub-contacts' area shares are this step's
@@ -427,7 +429,12 @@ pub(super) struct Current<'a> {
 /// parallel, by chunks that each search where they start; a pair not met by the merge is
 /// searched, so the answer does not depend on the order). A dormant contact keeps its count
 /// and does not read its answer.
-pub(super) fn counts_and_previous(previous: &Contacts, found: &mut [Current]) {
+/// `answer` gives the answer of a candidate pair that has one (every [`Current`]'s).
+pub(super) fn counts_and_previous<'a>(
+    previous: &Contacts,
+    found: &mut [Current],
+    answer: impl Fn(u32) -> &'a Found + Sync,
+) {
     use rayon::prelude::*;
     let list = &previous.list;
     found.par_chunks_mut(4096).for_each(|chunk| {
@@ -445,7 +452,7 @@ pub(super) fn counts_and_previous(previous: &Contacts, found: &mut [Current]) {
             match at {
                 Some(i) if f.dormant => f.count = list[i].count,
                 _ => {
-                    f.count = sub_count(f.found) as u32;
+                    f.count = sub_count(answer(f.pair)) as u32;
                     f.dormant = false;
                 }
             }

@@ -299,6 +299,9 @@ pub struct Simulation {
     /// fresh allocations would take from the system page by page at every step (no state:
     /// its contents are never read).
     spare: Contacts,
+    /// The list of the step's contacts before they are built ([`gather_contacts`]), kept
+    /// from step to step for the same reason: at 10^5 blocks it takes some 30 MB.
+    current: Vec<contacts::Current>,
     /// Per body, the sum of its contact forces and moments (about the centroid) last step.
     forces: Vec<DVec3>,
     moments: Vec<DVec3>,
@@ -389,6 +392,7 @@ impl Simulation {
             skin_passed: false,
             contacts: Contacts::default(),
             spare: Contacts::default(),
+            current: Vec::new(),
             forces: vec![DVec3::ZERO; n],
             moments: vec![DVec3::ZERO; n],
             bolts: Bolts::default(),
@@ -1296,31 +1300,22 @@ impl Simulation {
             dormancy: self.dormancy && self.water.is_dry(),
         };
         // The contacts of this step, in pair order: the pair's index, its parts (from the
-        // pair list, so that a dormant contact does not read its answer), the answer, and
-        // whether it is dormant; then their counts and last step's contacts.
-        let pairs = &self.pairs;
+        // pair list, so that a dormant contact does not read its answer) and whether it is
+        // dormant (its answer is its pair's memo's); then their counts and last step's
+        // contacts.
         let same_width = self.shares_width == Some(self.point_width.to_bits());
-        let mut found: Vec<contacts::Current> = self
-            .memo
-            .par_iter()
-            .zip(outcomes)
-            .enumerate()
-            .filter_map(|(k, (m, &outcome))| {
-                m.found.as_deref().map(|found| contacts::Current {
-                    pair: k as u32,
-                    parts: pairs[k],
-                    found,
-                    // A dormant contact keeps its last step's sub-contacts, areas
-                    // included: not across a change of the point width, whose step rebuilds
-                    // every contact (so that no later step reads old shares back).
-                    dormant: outcome == Outcome::Dormant && same_width,
-                    same_answer: same_width && outcome != Outcome::Queried,
-                    count: 0,
-                    previous: None,
-                })
-            })
-            .collect();
-        counts_and_previous(&self.contacts, &mut found);
+        let mut current = std::mem::take(&mut self.current);
+        gather_contacts(&self.memo, &self.pairs, outcomes, same_width, &mut current);
+        let found = current.as_mut_slice();
+        let memo = &self.memo;
+        let answer = |pair: u32| {
+            memo[pair as usize]
+                .found
+                .as_deref()
+                .expect("every contact of the step is a pair with an answer")
+        };
+        counts_and_previous(&self.contacts, found, answer);
+        let found = &*found;
         // The contacts are updated by chunks (below): each chunk's sub-contact count.
         const CHUNK: usize = 512;
         let chunk_counts: Vec<u32> = found
@@ -1409,7 +1404,7 @@ impl Simulation {
                         previous => {
                             let (contact, cert) = build_contact(
                                 &input,
-                                f.found,
+                                answer(f.pair),
                                 previous,
                                 f.same_answer,
                                 scratch,
@@ -1445,6 +1440,7 @@ impl Simulation {
             },
         );
         self.spare = last;
+        self.current = current;
         self.initial = false;
         self.shares_width = Some(self.point_width.to_bits());
     }
@@ -1786,6 +1782,65 @@ enum Outcome {
     /// Carried, and its contact certified open: its sub-contacts are kept.
     Dormant,
     Certified,
+}
+
+/// The contacts of a step, in pair order, written to `out` (its old contents dropped, its
+/// memory kept): each candidate pair with an answer, its parts (from the pair list, so that a
+/// dormant contact does not read its answer), and whether it is dormant and built from the
+/// same answer as at the last step (`outcomes`: the step's test of each pair; `same_width`:
+/// whether the point width is the last step's). In two passes over chunks of the pairs, in
+/// parallel: how many contacts each chunk has, then each chunk's written to its own slice.
+/// (Collected afresh at every step, this list took its memory from the system page by page:
+/// docs/mechanics.md, "The sub-contact update".)
+fn gather_contacts(
+    memo: &[PairMemo],
+    pairs: &[[u32; 2]],
+    outcomes: &[Outcome],
+    same_width: bool,
+    out: &mut Vec<contacts::Current>,
+) {
+    const CHUNK: usize = 4096;
+    let counts: Vec<usize> = memo
+        .par_chunks(CHUNK)
+        .map(|chunk| chunk.iter().filter(|m| m.found.is_some()).count())
+        .collect();
+    let total = counts.iter().sum();
+    // Only the slots beyond the old length are filled first; every slot is written below.
+    out.truncate(total);
+    out.resize(total, contacts::Current::default());
+    let mut rest = out.as_mut_slice();
+    let mut slices = Vec::with_capacity(counts.len());
+    for &n in &counts {
+        let (slice, tail) = std::mem::take(&mut rest).split_at_mut(n);
+        slices.push(slice);
+        rest = tail;
+    }
+    slices
+        .into_par_iter()
+        .zip(memo.par_chunks(CHUNK))
+        .zip(outcomes.par_chunks(CHUNK))
+        .enumerate()
+        .for_each(|(c, ((slice, memo), outcomes))| {
+            let mut slots = slice.iter_mut();
+            for (j, (m, &outcome)) in memo.iter().zip(outcomes).enumerate() {
+                if m.found.is_none() {
+                    continue;
+                }
+                let Some(slot) = slots.next() else { break };
+                let k = c * CHUNK + j;
+                *slot = contacts::Current {
+                    pair: k as u32,
+                    parts: pairs[k],
+                    // A dormant contact keeps its last step's sub-contacts, areas
+                    // included: not across a change of the point width, whose step rebuilds
+                    // every contact (so that no later step reads old shares back).
+                    dormant: outcome == Outcome::Dormant && same_width,
+                    same_answer: same_width && outcome != Outcome::Queried,
+                    count: 0,
+                    previous: None,
+                };
+            }
+        });
 }
 
 /// The certificate of a pair of parts found separated (docs/mechanics.md, "Contact
