@@ -206,8 +206,8 @@ def add_picture_options(parser: argparse.ArgumentParser) -> None:
         type=block_limit,
         default=DEFAULT_MAX_BLOCKS,
         metavar="N",
-        help=f"draw at most N blocks, those on the outside of the rock mass first "
-        f"(default {DEFAULT_MAX_BLOCKS}; 0: every block)",
+        help=f"draw at most N blocks (a concave block counts once, drawn whole), those on "
+        f"the outside of the rock mass first (default {DEFAULT_MAX_BLOCKS}; 0: every block)",
     )
 
 
