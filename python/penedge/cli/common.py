@@ -8,13 +8,16 @@ name ``stem-1``, ``stem-2``, ... is taken, unless ``--force`` is given. Named ou
 checked before any work is done: the right suffix, not a directory, an existing folder
 where a file can be made, not an input of the command and not named twice. A command with
 several outputs writes them all to temporary files first (:class:`Outputs`) and moves
-them into place only when every one is written: a failed command leaves none of them.
+them into place only when every one is written, all or none: a failed command leaves none
+of them, and a move that fails puts back the files already replaced.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
+import secrets
 import tempfile
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -206,8 +209,8 @@ def add_picture_options(parser: argparse.ArgumentParser) -> None:
         type=block_limit,
         default=DEFAULT_MAX_BLOCKS,
         metavar="N",
-        help=f"draw at most N blocks, those on the outside of the rock mass first "
-        f"(default {DEFAULT_MAX_BLOCKS}; 0: every block)",
+        help=f"draw at most N blocks (a concave block counts once, drawn whole), those on "
+        f"the outside of the rock mass first (default {DEFAULT_MAX_BLOCKS}; 0: every block)",
     )
 
 
@@ -340,15 +343,26 @@ class Outputs:
         self._staged.append((write_temp(path, write, by_name=True), Target(path, True)))
 
     def publish(self) -> list[Path]:
-        """Moves every file written into place, in the order written; returns the paths
-        written (another name where a default name was taken)."""
-        written = []
+        """Moves every file written into place, in the order written, all or none; returns
+        the paths written (another name where a default name was taken).
+
+        Every file to be replaced is first set aside under a temporary name beside it (a
+        hard link, so that it stays in place until the new file replaces it in one rename;
+        where the file system has no hard links, moved there). If any move fails, the files
+        already moved in are removed and the old ones put back, and the error is raised:
+        no output is changed. Once all are in place, the old files are removed.
+
+        Raises
+        ------
+        OSError
+            Naming the output that could not be moved into place.
+        CommandError
+            An old file could not be put back after a failure: says where it is kept.
+        """
         try:
-            for tmp, where in self._staged:
-                written.append(publish(tmp, where.path, where.replace))
+            return publish_all([(tmp, where.path, where.replace) for tmp, where in self._staged])
         finally:
             self.discard()
-        return written
 
     def discard(self) -> None:
         """Removes the temporary files not moved into place."""
@@ -466,6 +480,92 @@ def _naming(e: OSError, path: Path, tmp: Path | None = None) -> OSError:
         return type(e)(e.errno, e.strerror or str(e), str(path))
     except Exception:  # an OSError subclass with another signature
         return OSError(e.errno, e.strerror or str(e), str(path))
+
+
+def publish_all(staged: list[tuple[Path, Path, bool]]) -> list[Path]:
+    """Moves each temporary file `tmp` of `staged` (``(tmp, path, replace)``) into place
+    as :func:`publish` does, all or none (:meth:`Outputs.publish`); returns the paths
+    written. The temporary files are left to the caller."""
+    kept: dict[Path, tuple[Path, bool]] = {}  # target: (its old file set aside, moved away)
+    written: list[tuple[Path, Path]] = []  # (path written, target)
+    try:
+        for _, path, replace in staged:
+            if replace and path not in kept and os.path.lexists(path):
+                kept[path] = _set_aside(path)
+        for tmp, path, replace in staged:
+            written.append((publish(tmp, path, replace), path))
+    except BaseException as e:
+        lost = _roll_back(kept, written)
+        if lost:
+            where = "; ".join(f"the old {target} is kept as {old}" for target, old in lost)
+            raise CommandError(f"{_describe(e)}; could not put back every file: {where}") from e
+        raise
+    for old, _ in kept.values():
+        # Every output is in place; a hidden old file left beside one would be harmless.
+        with contextlib.suppress(OSError):
+            old.unlink(missing_ok=True)
+    return [path for path, _ in written]
+
+
+def _describe(e: BaseException) -> str:
+    """``out.png: Permission denied`` for an OSError naming a file, else the message."""
+    if isinstance(e, OSError) and e.filename is not None and e.strerror:
+        return f"{e.filename}: {e.strerror}"
+    return str(e) or type(e).__name__
+
+
+def _set_aside(path: Path) -> tuple[Path, bool]:
+    """The file at `path` kept under a new temporary name beside it: a hard link where the
+    file system has them (the file stays at `path` too), else moved there. Returns the
+    name, and whether the file was moved away from `path`. An OSError names `path`."""
+    for _ in range(100):
+        name = path.with_name(f".{path.stem}.{secrets.token_hex(6)}.old")
+        try:
+            os.link(path, name, follow_symlinks=False)
+            return name, False
+        except FileExistsError:
+            continue
+        except (OSError, NotImplementedError):  # no hard links here: move it aside
+            break
+    try:
+        fd, name_text = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".old")
+    except OSError as e:
+        raise _naming(e, path) from None
+    os.close(fd)
+    name = Path(name_text)
+    try:
+        path.replace(name)
+    except OSError as e:
+        name.unlink(missing_ok=True)
+        raise _naming(e, path, name) from None
+    return name, True
+
+
+def _roll_back(
+    kept: dict[Path, tuple[Path, bool]], written: list[tuple[Path, Path]]
+) -> list[tuple[Path, Path]]:
+    """Undoes a :func:`publish_all` that failed: removes the files moved in and puts the
+    old ones back (`kept`: set aside). Returns (target, where its old file is kept) for
+    each old file that could not be put back (left where it was set aside)."""
+    lost = []
+    for path, target in reversed(written):
+        if target in kept:
+            old, _ = kept.pop(target)
+            try:
+                old.replace(target)  # over the new file: the old one is back
+            except OSError:
+                lost.append((target, old))
+        else:
+            Path(path).unlink(missing_ok=True)  # a file made where there was none
+    for target, (old, moved) in kept.items():  # set aside but not replaced
+        try:
+            if moved:
+                old.replace(target)
+            else:
+                old.unlink()  # a second name of the file still at `target`
+        except OSError:
+            lost.append((target, old))
+    return lost
 
 
 def publish(tmp: Path, path: Path, replace: bool) -> Path:

@@ -10,6 +10,8 @@ import textwrap
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 import penedge
 from penedge.cli import draw, progress
 from penedge.cli.common import (
@@ -35,7 +37,7 @@ from penedge.cli.common import (
     target,
 )
 from penedge.cli.detect import counts_table, penetration_note
-from penedge.cli.generate import blocks_of
+from penedge.cli.generate import blocks_of, count_text
 
 EPILOG = """\
 worked example:
@@ -166,7 +168,7 @@ def run_show(args: argparse.Namespace) -> int:
         if len(found.penetrating):
             print(f"{PROG}: warning: {penetration_note(found)}", file=sys.stderr)
     summary = summarize(blocks, system, found, gap_options(args), args.max_blocks)
-    title = f"{blocks.name}: {plural(len(system), 'block')}"
+    title = f"{blocks.name}: {count_text(summary['bodies'], summary['blocks'])}"
     if found is not None:
         title += f", {plural(len(found), 'contact')}"
     options = {
@@ -195,9 +197,9 @@ def run_show(args: argparse.Namespace) -> int:
         summary[key] = str(written)
         if written != where.path:
             notes.append(f"{where.path} exists and was kept; wrote {written} instead")
-    if summary["shown_blocks"] < summary["blocks"]:
+    if summary["shown_bodies"] < summary["bodies"]:
         notes.append(
-            f"drew {summary['shown_blocks']} of {summary['blocks']} blocks, those on the "
+            f"drew {summary['shown_bodies']} of {summary['bodies']} blocks, those on the "
             "outside of the rock mass first (--max-blocks 0 draws every block)"
         )
     if args.json:
@@ -214,13 +216,24 @@ def run_show(args: argparse.Namespace) -> int:
 def summarize(
     blocks: Path, system: Any, found: Any, gap: dict[str, float], max_blocks: int | None
 ) -> dict[str, Any]:
-    """The result as plain data (what ``--json`` prints)."""
+    """The result as plain data (what ``--json`` prints): ``blocks`` and ``shown_blocks``
+    count convex parts, ``bodies`` and ``shown_bodies`` blocks (a concave block once, as
+    ``--max-blocks`` counts them: whole ones are drawn)."""
     n = len(system)
+    bodies = blocks_of(system)
+    shown_parts, shown_bodies = n, bodies
+    if max_blocks is not None and bodies > max_blocks:
+        from penedge.pictures.scene import choose_blocks
+
+        shown = choose_blocks(system.arrays(), max_blocks)
+        shown_parts = int(shown.sum())
+        shown_bodies = len(np.unique(np.asarray(system.body_ids)[shown]))
     return {
         "blocks_file": str(blocks),
         "blocks": n,
-        "bodies": blocks_of(system),
-        "shown_blocks": n if max_blocks is None else min(n, max_blocks),
+        "bodies": bodies,
+        "shown_blocks": shown_parts,
+        "shown_bodies": shown_bodies,
         **gap_fields(gap if found is not None else None),
         "contacts": None if found is None else len(found),
         "counts": None if found is None else found.counts(),
@@ -233,7 +246,7 @@ def summarize(
 
 def format_summary(summary: dict[str, Any]) -> str:
     """What was drawn, with the table of contacts per type when they were found."""
-    head = f"{summary['blocks_file']}: {plural(summary['blocks'], 'block')}"
+    head = f"{summary['blocks_file']}: {count_text(summary['bodies'], summary['blocks'])}"
     lines = []
     if summary["counts"] is None:
         lines.append(head)

@@ -142,24 +142,26 @@ def set_name(scene: Scene, index: int) -> str:
 def _base_colors(
     scene: Scene, color_by: str, colors: Sequence[Any] | None
 ) -> tuple[np.ndarray, Any]:
-    """RGB per block, and the norm of the volume scale (None unless coloured by volume)."""
-    volumes = scene.volumes
+    """RGB per block (convex part), and the norm of the volume scale (None unless coloured
+    by volume). The parts of a concave block get one colour: its body's set, the colour of
+    its first part, or its body's volume; `colors` given are used as they are, per part."""
+    n = scene.n_blocks
     if colors is not None:
         from matplotlib.colors import to_rgb
 
         rgb = np.array([to_rgb(c) for c in colors], dtype=float).reshape(-1, 3)
-        if len(rgb) != len(volumes):
-            raise ValueError(f"colors: {len(rgb)} colours for {len(volumes)} blocks")
+        if len(rgb) != n:
+            raise ValueError(f"colors: {len(rgb)} colours for {n} blocks")
         return rgb, None
     if color_by == "set":
         return set_colors(scene.block_sets), None
     if color_by == "block":
-        return block_colors(len(volumes)), None
+        return block_colors(n)[scene.body_first], None
     import matplotlib
 
-    norm = volume_norm(volumes)
+    norm = volume_norm(scene.body_volumes)
     cmap = matplotlib.colormaps[VOLUME_COLORMAP]
-    clipped = np.clip(volumes, norm.vmin, norm.vmax)
+    clipped = np.clip(scene.block_volumes, norm.vmin, norm.vmax)
     return np.asarray(cmap(norm(clipped)))[:, :3].reshape(-1, 3), norm
 
 
@@ -223,10 +225,12 @@ def _scale_and_north(ax: Any, lo: np.ndarray, hi: np.ndarray, unit: str) -> None
 
 
 def _set_legend(ax: Any, scene: Scene) -> None:
-    """A legend of the joint sets of the blocks drawn, with their block counts."""
+    """A legend of the joint sets of the blocks drawn, with their block counts (a concave
+    block counts once)."""
     from penedge.pictures.contacts import set_legend
 
-    sets = scene.block_sets[scene.shown]
+    first = scene.shown & (scene.body_first == np.arange(scene.n_blocks))
+    sets = scene.block_sets[first]
     set_legend(ax, sets, scene.set_names, "dominant joint set", noun="block")
 
 
@@ -266,15 +270,19 @@ def plot_system(
     title : str, optional
         Axes title.
     labels : bool, default False
-        Write each block's id at its (moved) centroid.
+        Write each block's id at its (moved) centroid: a concave block's body id once, at
+        the centroid of the whole body.
     colors : sequence of colours, optional
-        One matplotlib colour per block (overrides `color_by`).
+        One matplotlib colour per block (per convex part of a concave block, used as
+        given; overrides `color_by`).
     color_by : {"set", "block", "volume"}, optional
         The colour of a block's joint set (the spec entry holding most of its face area,
         with a legend; grey for blocks with no joint face), each block its own colour, or a
         colour for its volume (viridis, logarithmic when the volumes span more than a
         factor of 10) with a colour bar. Default: ``"set"`` for a system generated with
-        joint sets (spec entries of type ``set``), else ``"block"``.
+        joint sets (spec entries of type ``set``), else ``"block"``. A concave block
+        (convex parts sharing a body id) is one block in each: the set of most of the
+        whole body's face area, one colour, the volume of the whole body.
     colorbar : bool, default True
         Draw the colour bar of ``color_by="volume"``.
     legend : bool, default True
@@ -288,7 +296,8 @@ def plot_system(
         Draw only the contacts of these type codes (1..7).
     max_blocks : int or None, default 20000
         Draw at most this many blocks: those on the outside of the rock mass first, then
-        the largest (a note under the picture says so). None: every block.
+        the largest (a note under the picture says so). A concave block counts once and is
+        drawn whole or not at all. None: every block.
     unit : str, optional
         The model's length unit, for the axes and the scale bar; default the system's
         (``BlockSystem.unit``, from the spec), else ``"m"``. Drawn as written (a ``$`` is no
@@ -325,8 +334,6 @@ def plot_system(
     color_by = resolve_color_by(color_by, scene)
     unit = plain_text(length_unit(system, unit))  # drawn as it is, never as mathtext
     base, norm = _base_colors(scene, color_by, colors)
-    if colors is None and color_by == "block":
-        base = base[scene.body_first]  # the parts of a concave block in one colour
     ghost = contacts is not None
     if ghost:
         faces = np.arange(scene.n_faces)
@@ -360,9 +367,10 @@ def plot_system(
     if scene.n_faces:
         _set_equal_limits(ax, *scene.bounds())
     if labels:
-        for i in np.flatnonzero(scene.shown):
-            x, y, z = scene.centroids[i]
-            ax.text(x, y, z, str(i), fontsize=7, ha="center", va="center", color="0.1", zorder=10)
+        for b in np.flatnonzero(scene.shown_bodies):
+            x, y, z = scene.body_centroids[b]
+            label = str(scene.body_ids[b])
+            ax.text(x, y, z, label, fontsize=7, ha="center", va="center", color="0.1", zorder=10)
     if ghost:
         from penedge.pictures.contacts import plot_contacts
 
@@ -382,7 +390,8 @@ def plot_system(
     elif legend and color_by == "set" and colors is None:
         _set_legend(ax, scene)
     if norm is not None and colorbar:
-        _volume_colorbar(ax, norm, bool(scene.volumes.min(initial=np.inf) < norm.vmin), unit)
+        below = bool(scene.body_volumes.min(initial=np.inf) < norm.vmin)
+        _volume_colorbar(ax, norm, below, unit)
     note = shown_note(scene)
     if note:
         ax.text2D(

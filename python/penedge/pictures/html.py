@@ -57,40 +57,55 @@ def _palette_scale(n: int) -> list[list[Any]]:
 
 
 def _block_groups(scene: Scene, color_by: str) -> list[tuple[str, np.ndarray]]:
-    """(legend name, block ids) of each block trace."""
+    """(legend name, block ids) of each block trace. A concave block (convex parts sharing
+    a body id) is one block: its parts are in one group, named and counted once."""
     ids = np.flatnonzero(scene.shown)
+    bodies = np.flatnonzero(scene.shown_bodies)
     if color_by == "set":
         from penedge.pictures.blocks import set_name
 
         groups = []
         for s in np.unique(scene.block_sets[ids]):
             members = ids[scene.block_sets[ids] == s]
-            groups.append((f"{set_name(scene, int(s))} ({len(members)})", members))
+            count = len(np.unique(scene.body_index[members]))
+            groups.append((f"{set_name(scene, int(s))} ({count})", members))
         return groups
-    if len(ids) <= _ONE_TRACE_PER_BLOCK:
-        return [(f"block {i}", np.array([i])) for i in ids]
+    if len(bodies) <= _ONE_TRACE_PER_BLOCK:
+        return [(f"block {scene.body_ids[b]}", _parts(scene, ids, [b])) for b in bodies]
     if color_by == "volume":
-        return _volume_classes(scene, ids)
-    return [(f"blocks {c[0]} to {c[-1]}", c) for c in np.array_split(ids, _GROUPS) if len(c)]
+        return _volume_classes(scene, ids, bodies)
+    return [
+        (f"blocks {scene.body_ids[c[0]]} to {scene.body_ids[c[-1]]}", _parts(scene, ids, c))
+        for c in np.array_split(bodies, _GROUPS)
+        if len(c)
+    ]
 
 
-def _volume_classes(scene: Scene, ids: np.ndarray) -> list[tuple[str, np.ndarray]]:
-    """Blocks in classes of volume, evenly spaced on the colour scale (log or linear);
-    the blocks below the scale (slivers) form a class of their own."""
-    lo, hi, log = volume_scale(scene.volumes)
+def _parts(scene: Scene, ids: np.ndarray, bodies: Any) -> np.ndarray:
+    """The blocks among `ids` that are parts of `bodies`."""
+    return ids[np.isin(scene.body_index[ids], bodies)]
+
+
+def _volume_classes(
+    scene: Scene, ids: np.ndarray, bodies: np.ndarray
+) -> list[tuple[str, np.ndarray]]:
+    """Blocks in classes of volume (of their whole body), evenly spaced on the colour scale
+    (log or linear); the blocks below the scale (slivers) form a class of their own."""
+    lo, hi, log = volume_scale(scene.body_volumes)
     bins = _VOLUME_CLASSES + 1
     edges = np.geomspace(lo, hi, bins) if log else np.linspace(lo, hi, bins)
-    v = scene.volumes[ids]
+    v = scene.body_volumes[bodies]
     which = np.clip(np.searchsorted(edges, v, side="right") - 1, 0, len(edges) - 2)
     which[v < lo] = -1
     groups = []
     if (which == -1).any():
-        groups.append((f"volume below {lo:.3g} ({int((which == -1).sum())})", ids[which == -1]))
+        below = bodies[which == -1]
+        groups.append((f"volume below {lo:.3g} ({len(below)})", _parts(scene, ids, below)))
     for k in range(len(edges) - 1):
-        members = ids[which == k]
+        members = bodies[which == k]
         if len(members):
             name = f"volume {edges[k]:.3g} to {edges[k + 1]:.3g} ({len(members)})"
-            groups.append((name, members))
+            groups.append((name, _parts(scene, ids, members)))
     return groups
 
 
@@ -117,7 +132,7 @@ def html_figure(
     unit = length_unit(system, unit)
     if edges is None:
         edges = scene.n_shown <= _EDGES_UP_TO
-    lo, hi, log = volume_scale(scene.volumes)
+    lo, hi, log = volume_scale(scene.body_volumes)
     groups = _block_groups(scene, color_by)
     group_of = np.full(scene.n_blocks, -1)
     for g, (_, ids) in enumerate(groups):
@@ -247,22 +262,25 @@ def _block_mesh(
     vertex_block = np.empty(len(used), dtype=np.int64)
     vertex_block[local.ravel()] = np.repeat(tri_block, 3)
     real = scene.real(scene.vertices[used], vertex_block)
-    custom = np.column_stack([vertex_block, scene.volumes[vertex_block], real])
+    # A block is named by its body id, with its body's volume (a concave block's parts).
+    body = scene.body_index[vertex_block]
+    custom = np.column_stack([scene.body_ids[body], scene.body_volumes[body], real])
     custom = custom.astype(np.float32)  # 7 digits: enough to read, half the file
+    first = scene.body_first[tri_block]  # a concave block's parts: one colour
     colors: dict[str, Any]
     if color_by == "set":
         s = scene.block_sets[tri_block[0]]
         colors = {"color": NO_SET_COLOR if s < 0 else SET_COLORS[s % len(SET_COLORS)]}
     elif color_by == "volume":
         lo, hi, log = scale
-        v = np.clip(scene.volumes[tri_block], lo, hi)
+        v = np.clip(scene.block_volumes[tri_block], lo, hi)
         value = np.log10(v) if log else v
         colors = {"intensity": value.astype(np.float32), "coloraxis": "coloraxis"}
-    elif len(np.unique(tri_block)) == 1:
-        colors = {"color": _rgb(block_colors(tri_block[0] + 1)[-1])}
+    elif len(np.unique(first)) == 1:
+        colors = {"color": _rgb(block_colors(first[0] + 1)[-1])}
     else:
         colors = {
-            "intensity": (tri_block % _PALETTE).astype(np.float32),
+            "intensity": (first % _PALETTE).astype(np.float32),
             "colorscale": _palette_scale(_PALETTE),
             "cmin": -0.5,
             "cmax": _PALETTE - 0.5,
@@ -443,10 +461,13 @@ def write_html(
     color_by : {"set", "block", "volume"}, optional
         The colour of each block's joint set (one legend entry per set), each block its
         own colour, or its volume on a colour scale (with a colour bar); default ``"set"``
-        for a system generated with joint sets, else ``"block"``.
+        for a system generated with joint sets, else ``"block"``. A concave block (convex
+        parts sharing a body id) is one block in each: one colour (its whole body's set,
+        colour or volume), one legend entry, named by its body id on hover.
     max_blocks : int or None, default 20000
         Draw at most this many blocks: those on the outside of the rock mass first, then
-        the largest (the page says so). None: every block.
+        the largest (the page says so). A concave block counts once and is drawn whole or
+        not at all. None: every block.
     edges : bool, optional
         Draw the block edges; default: up to 5000 blocks.
     include_plotlyjs : bool or str, default True

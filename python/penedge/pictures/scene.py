@@ -162,20 +162,34 @@ def face_areas(
 def dominant_sets(arrays: Any) -> np.ndarray:
     """For each block of :meth:`~penedge.BlockSystem.arrays`, the joint set (spec entry,
     an index into ``BlockSystem.sets``) holding the largest part of its face area; -1 for a
-    block with no joint face. Ties go to the first set."""
+    block with no joint face. Ties go to the first set.
+
+    A concave block (convex parts sharing a body id, ``arrays.body_ids``) is one block: each
+    of its parts gets the set holding the largest part of the face area of the whole body
+    (the faces of all its parts but the internal ones, ``arrays.face_internal``), so that
+    the block is drawn in one colour."""
     n = len(arrays.volumes)
     kind = np.asarray(arrays.face_origin_kind)
-    joint = kind == 2
+    face_block = np.asarray(arrays.face_block)
+    internal = np.asarray(getattr(arrays, "face_internal", np.zeros(len(kind))), dtype=bool)
+    joint = (kind == 2) & ~internal
     if n == 0 or not joint.any():
         return np.full(n, -1, dtype=np.int64)
+    _, body = np.unique(_body_ids(arrays, n), return_inverse=True)
     vertices = np.asarray(arrays.vertices, dtype=float).reshape(-1, 3)
     area = face_areas(vertices, arrays.face_vertices, arrays.loop_offsets)
     sets = np.asarray(arrays.face_origin_set)
     n_sets = int(sets[joint].max()) + 1
-    table = np.zeros((n, n_sets))
-    np.add.at(table, (np.asarray(arrays.face_block)[joint], sets[joint]), area[joint])
+    table = np.zeros((int(body.max()) + 1, n_sets))
+    np.add.at(table, (body[face_block[joint]], sets[joint]), area[joint])
     best = table.argmax(axis=1)
-    return np.where(table.max(axis=1) > 0, best, -1)
+    return np.where(table.max(axis=1) > 0, best, -1)[body]
+
+
+def _body_ids(arrays: Any, n: int) -> np.ndarray:
+    """The body id of each of the `n` blocks (each block its own body when not given)."""
+    ids = getattr(arrays, "body_ids", None)
+    return np.arange(n) if ids is None else np.asarray(ids, dtype=np.int64)
 
 
 def _hsv_to_rgb(h: np.ndarray, s: np.ndarray, v: float) -> np.ndarray:
@@ -251,6 +265,19 @@ class Scene:
     body_first : (n,) int array
         For each block, the first block (smallest id) of its body: the parts of a concave
         block take its colour, so that the block is drawn as one.
+    body_index : (n,) int array
+        For each block, its body: an index into `body_ids`, `body_volumes`,
+        `body_centroids`.
+    body_ids, body_volumes : arrays over every body (ascending body id)
+        A concave block (convex parts sharing a body id) is one body, its volume the sum of
+        its parts'; each block of a system of convex blocks is its own body.
+    body_centroids : (B, 3) float array
+        The centroid of each body, as moved.
+
+    A concave block is one block of the picture: `block_sets` and :attr:`block_volumes`
+    are its body's, `max_blocks` counts bodies and chooses whole ones (:attr:`n_bodies`,
+    :attr:`n_shown_bodies`); the arrays over blocks (`volumes`, `shown`, `face_block`) are
+    over its convex parts, as the system stores them.
     """
 
     vertices: np.ndarray
@@ -268,16 +295,43 @@ class Scene:
     face_offsets: np.ndarray
     face_sets: np.ndarray
     body_first: np.ndarray
+    body_index: np.ndarray
+    body_ids: np.ndarray
+    body_volumes: np.ndarray
+    body_centroids: np.ndarray
 
     @property
     def n_blocks(self) -> int:
-        """Blocks in the system."""
+        """Blocks (convex parts) in the system."""
         return len(self.volumes)
 
     @property
     def n_shown(self) -> int:
-        """Blocks drawn."""
+        """Blocks (convex parts) drawn."""
         return int(self.shown.sum())
+
+    @property
+    def n_bodies(self) -> int:
+        """Bodies in the system: blocks, a concave block counted once."""
+        return len(self.body_ids)
+
+    @property
+    def shown_bodies(self) -> np.ndarray:
+        """Which bodies are drawn (whole: every part, or none)."""
+        out = np.zeros(self.n_bodies, dtype=bool)
+        out[self.body_index[self.shown]] = True
+        return out
+
+    @property
+    def n_shown_bodies(self) -> int:
+        """Bodies drawn."""
+        return int(self.shown_bodies.sum())
+
+    @property
+    def block_volumes(self) -> np.ndarray:
+        """The volume of each block's body (a concave block's parts summed), per block:
+        what its volume colour shows."""
+        return self.body_volumes[self.body_index]
 
     @property
     def n_faces(self) -> int:
@@ -365,19 +419,24 @@ def _arrays(system: BlockSystem | Iterable[Block]) -> Any:
 
 
 def choose_blocks(arrays: Any, max_blocks: int | None) -> np.ndarray:
-    """Which blocks to draw: all, or when there are more than `max_blocks`, those with a
+    """Which blocks to draw: all, or when there are more than `max_blocks` bodies (a
+    concave block, convex parts sharing a body id, counts once), whole bodies: those with a
     face on the domain's boundary (what a viewer of the whole mass sees) first, then the
-    largest."""
-    volumes = np.asarray(arrays.volumes)
+    largest (by the volume of the whole body). Returns a bool per block (convex part)."""
+    volumes = np.asarray(arrays.volumes, dtype=float)
     n = len(volumes)
-    if max_blocks is None or n <= max_blocks:
+    _, body = np.unique(_body_ids(arrays, n), return_inverse=True)
+    n_bodies = int(body.max(initial=-1)) + 1
+    if max_blocks is None or n_bodies <= max_blocks:
         return np.ones(n, dtype=bool)
-    outside = np.zeros(n, dtype=bool)
-    outside[arrays.face_block[arrays.face_origin_kind == 1]] = True
-    order = np.lexsort((-volumes, ~outside))
-    keep = np.zeros(n, dtype=bool)
+    outside = np.zeros(n_bodies, dtype=bool)
+    face_block = np.asarray(arrays.face_block)
+    outside[body[face_block[np.asarray(arrays.face_origin_kind) == 1]]] = True
+    body_volume = np.bincount(body, weights=volumes, minlength=n_bodies)
+    order = np.lexsort((-body_volume, ~outside))
+    keep = np.zeros(n_bodies, dtype=bool)
     keep[order[:max_blocks]] = True
-    return keep
+    return keep[body]
 
 
 def build_scene(
@@ -389,7 +448,8 @@ def build_scene(
     volume-weighted centroid)``) and cut down to at most `max_blocks` blocks.
 
     A concave block (parts sharing a body id) is drawn as one block: its parts move together
-    (by the centroid of the whole body) and its internal faces are left out."""
+    (by the centroid of the whole body), its internal faces are left out, and it counts as
+    one block of `max_blocks` (whole bodies are drawn or left out)."""
     if max_blocks is not None and max_blocks < 1:
         raise ValueError(f"max_blocks must be at least 1, got {max_blocks}")
     explode = check_explode(explode)
@@ -399,7 +459,7 @@ def build_scene(
     n = len(volumes)
     total = volumes.sum()
     centre = volumes @ centroids / total if n and total > 0 else np.zeros(3)
-    body = np.asarray(getattr(a, "body_ids", np.arange(n)), dtype=np.int64)
+    body = _body_ids(a, n)
     ids, body_index = np.unique(body, return_inverse=True)
     body_volume = np.bincount(body_index, weights=volumes, minlength=len(ids))
     body_centroid = (
@@ -447,14 +507,19 @@ def build_scene(
         centroids=centroids + offsets,
         shown=shown,
         body_first=first[body_index],
+        body_index=body_index,
+        body_ids=ids,
+        body_volumes=body_volume,
+        body_centroids=body_centroid + explode * (body_centroid - centre),
     )
 
 
 def shown_note(scene: Scene) -> str | None:
-    """``showing 20000 of 103313 blocks (...)`` when the scene is cut down."""
+    """``showing 20000 of 103313 blocks (...)`` when the scene is cut down; blocks are
+    bodies (a concave block counts once, as `max_blocks` counts it)."""
     if scene.n_shown == scene.n_blocks:
         return None
     return (
-        f"showing {scene.n_shown} of {scene.n_blocks} blocks: those on the outside of the "
-        "rock mass first, then the largest"
+        f"showing {scene.n_shown_bodies} of {scene.n_bodies} blocks: those on the outside of "
+        "the rock mass first, then the largest"
     )
