@@ -542,6 +542,84 @@ fn a_glued_block_breaks_at_the_cohesive_strength_then_slides_on_friction() {
     assert!((a - expected).abs() < 0.01 * expected, "{a} vs {expected}");
 }
 
+/// Verification 7 on a narrow joint: a slab 0.2 m wide and 2 m long, narrower than the
+/// point width (`w` = 0.2 × its diameter ≈ 0.4 m), so that the floor of its corners' area
+/// shares doubles their sum (the stiffness of a strip narrowing to an edge); cohesion and
+/// tension still hold `c A` and `T A` of the joint's own area A = 0.4 m², not of the
+/// shares' (docs/mechanics.md, "Areas of sub-contacts").
+#[test]
+fn a_narrow_glued_joint_holds_its_own_area_not_the_floor_of_its_shares() {
+    let (kn, density, phi, cohesion, tension) = (1e9, 25000.0, 15.0f64, 2e4, 5e4);
+    let (lx, ly, h) = (0.2, 2.0, 0.04);
+    let area = lx * ly;
+    let m = density * lx * ly * h;
+    let build = |sink: f64| {
+        let base = ConvexBlock::cuboid([-3.0, -3.0, -1.0], [3.0, 3.0, 0.0]).unwrap();
+        let slab = ConvexBlock::cuboid(
+            [-lx / 2.0, -ly / 2.0, -sink],
+            [lx / 2.0, ly / 2.0, h - sink],
+        )
+        .unwrap();
+        let mut sim = Simulation::new(&BlockSystem::new(vec![base, slab]), density).unwrap();
+        sim.fix(0).unwrap();
+        sim.set_default_joint(joint(kn, phi, cohesion, tension))
+            .unwrap();
+        sim.set_damping(Damping {
+            local: 0.8,
+            viscous: 0.0,
+        })
+        .unwrap();
+        sim
+    };
+    // Sheared along the strip's length (so that the push tilts its corners' loads little).
+    let mut sim = build(m * G / (kn * area));
+    sim.step().unwrap();
+    let shares: f64 = sim.contacts().subs.iter().map(|s| s.area).sum();
+    assert!(
+        shares > 1.5 * area,
+        "the floor is active here: shares {shares} against the area {area}"
+    );
+    let strength = cohesion * area + m * G * phi.to_radians().tan();
+    let push = DVec3::new(0.0, 1.0, 0.0);
+    let rate = 4e4;
+    let mut broke_at = None;
+    while sim.time() < 2.0 * strength / rate {
+        let load = rate * sim.time();
+        sim.apply_force(1, push * load).unwrap();
+        sim.step().unwrap();
+        if sim.contacts().subs.iter().any(|s| !s.bonded) {
+            broke_at = Some(load);
+            break;
+        }
+    }
+    let broke_at = broke_at.expect("the bond broke");
+    println!("narrow cohesion: first corner at {broke_at} vs {strength}");
+    assert!(
+        (broke_at - strength).abs() < 0.02 * strength,
+        "{broke_at} vs {strength}"
+    );
+    // Pulled off: without gravity, an upward pull at the centroid breaks it at T A.
+    let mut sim = build(0.0);
+    sim.set_gravity(DVec3::ZERO).unwrap();
+    let strength = tension * area;
+    let mut broke_at = None;
+    while sim.time() < 2.0 * strength / rate {
+        let load = rate * sim.time();
+        sim.apply_force(1, DVec3::Z * load).unwrap();
+        sim.step().unwrap();
+        if sim.contacts().subs.iter().any(|s| !s.bonded) {
+            broke_at = Some(load);
+            break;
+        }
+    }
+    let broke_at = broke_at.expect("the bond broke in tension");
+    println!("narrow tension: first corner at {broke_at} vs {strength}");
+    assert!(
+        (broke_at - strength).abs() < 0.02 * strength,
+        "{broke_at} vs {strength}"
+    );
+}
+
 /// Bad input is refused with an error that names it.
 #[test]
 fn bad_input_gets_clear_errors() {

@@ -507,8 +507,7 @@ pub(super) fn build_contact(
         Some(m) => (m[usize::from(found.carry.normal_with_b)].rotation * g.normal()).normalize(),
         None => g.normal(),
     };
-    let (set, bridge, model) = found.carry.faces.model(input.joints, input.bridges);
-    let model = &model;
+    let (set, bridge, mut model) = found.carry.faces.model(input.joints, input.bridges);
     // The smaller body's diameter (twice its radius about the centroid): the same whatever
     // its orientation, unlike a bounding box.
     let diameter = *found.carry.diameter.get_or_init(|| {
@@ -569,6 +568,23 @@ pub(super) fn build_contact(
         }
         _ => area_shares(g.shape(), g.normal(), width, areas, floors),
     }
+    // The strengths act on the polygon's own area (docs/mechanics.md, "Areas of
+    // sub-contacts"): where the corners' floor has raised the shares above it (a polygon
+    // narrower than the point width), the stresses of cohesion and tension are scaled by the
+    // polygon's area over the shares', so that the sub-contacts together hold `c A` and
+    // `T A`; the floor stays a stiffness (for continuity as the polygon narrows to a
+    // segment), not more rock to glue. The model is left as it is (the same bits) elsewhere.
+    if let ContactPoints::Polygon(poly) = g.shape() {
+        let shares: f64 = areas.iter().sum();
+        let own = polygon_area(poly.vertices(), g.normal());
+        if shares > own * (1.0 + 1e-9) {
+            let r = own / shares;
+            model.cohesion *= r;
+            model.tension *= r;
+            model.residual_cohesion *= r;
+        }
+    }
+    let model = &model;
     let moves_with_b = |k: usize| k < 64 && found.carry.with_b & (1 << k) != 0;
     points.clear();
     match carried {
@@ -954,6 +970,16 @@ fn area_shares(
             }
         }
     }
+}
+
+/// The area of the convex polygon `v` (its corners in order) seen along `n`: the sum of
+/// the triangles from its centroid, as [`area_shares`] splits it (the shares before their
+/// floor sum to it).
+fn polygon_area(v: &[DVec3], n: DVec3) -> f64 {
+    let c = v.iter().copied().sum::<DVec3>() / v.len() as f64;
+    (0..v.len())
+        .map(|i| 0.5 * (v[i] - c).cross(v[(i + 1) % v.len()] - c).dot(n).abs())
+        .sum()
 }
 
 /// A contact feature of a placed block, where it is: a vertex, a face's plane, or an edge's
