@@ -547,6 +547,19 @@ def test_a_model_file_not_in_utf8_is_named(tmp_path):
     assert str(path) in str(caught.value)
 
 
+def test_a_model_file_with_a_byte_order_mark_reads(tmp_path):
+    # Notepad's "UTF-8 with BOM": the file starts with EF BB BF, which TOML does not take
+    # but `penedge generate` skips; the model reads as the same file without it.
+    path = tmp_path / "m.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + (BASE + FIX_BASE).encode())
+    assert pm.read_model(path) == model()
+    assert pm.parse_model("\ufeff" + BASE + FIX_BASE) == model()
+    # a bad byte after the mark is still named by its place in the file
+    path.write_bytes(b"\xef\xbb\xbf# \xb0\n" + (BASE + FIX_BASE).encode())
+    with pytest.raises(pm.ModelError, match="byte 5 is not valid UTF-8"):
+        pm.read_model(path)
+
+
 def test_a_model_whose_blocks_are_all_dropped_has_no_blocks():
     text = BASE + FIX_BASE + '[options]\nmin_volume = 10\nslivers = "drop"\n'
     e = error_of(text, prepare=True)
