@@ -337,6 +337,12 @@ def test_bolt_resolves_its_blocks():
             "required",
         ),
         (
+            "[[bolts]]\npoint = [0, 0, 0]\ndirection = [0, 0, 1]\nplunge = 90\nlength = 2\n"
+            "capacity = 1\nstiffness = 1\n",
+            "bolts[0].plunge",
+            "give either direction or trend + plunge",
+        ),
+        (
             "[[bolts]]\npoint = [0, 0, 0]\ndirection = [0, 0, 0]\nlength = 2\n"
             "capacity = 1\nstiffness = 1\n",
             "bolts[0].direction",
@@ -448,6 +454,23 @@ def test_boundary_errors(boundary, field, words):
     e = error_of(BASE + boundary, prepare=True)
     assert e.field == field, str(e)
     assert words in str(e)
+
+
+def test_region_names_with_a_dot_are_listed_and_brackets_refused():
+    # a name with a dot is a name like another: listed when a reference misses it
+    regions = '[regions."zone.1"]\ntype = "all"\n[regions.b]\ntype = "all"\n'
+    support = '[[support]]\nregion = "zone.2"\npressure = 1e5\n'
+    e = error_of(BASE + FIX_BASE + regions + support)
+    assert e.field == "support[0].region"
+    assert "no region is named 'zone.2' (the regions are: zone.1, b)" in str(e)
+    m = model(regions + support.replace("zone.2", "zone.1"))
+    assert m.support[0].region == "zone.1"
+    # the inline regions (named by their place) are neither listed nor names to refer to
+    e = error_of(BASE + FIX_BASE + support.replace("zone.2", "boundary[0].region"))
+    assert "no region is named 'boundary[0].region' (the regions are: none" in str(e)
+    e = error_of(BASE + FIX_BASE + '[regions."boundary[0].region"]\ntype = "all"\n')
+    assert e.field == "regions.boundary[0].region"
+    assert "must not be empty nor hold [ or ]" in str(e)
 
 
 def test_named_region_that_selects_nothing():

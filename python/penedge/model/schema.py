@@ -571,9 +571,25 @@ def parse_region(t: Table, name: str) -> Region:
 
 
 def parse_regions(t: Table) -> dict[str, Region]:
+    """``[regions]``: any name TOML takes (``zone.1`` quoted: ``[regions."zone.1"]``) but an
+    empty one or one with ``[`` or ``]``, which are kept for the inline regions (named by
+    their place in the file: ``boundary[0].region``, see :func:`region_ref`)."""
+    for name in t.data:
+        if not str(name).strip() or "[" in str(name) or "]" in str(name):
+            raise ModelError(
+                t.field(str(name)),
+                "a region name must not be empty nor hold [ or ] (an inline region is named "
+                "by its place in the file, as boundary[0].region)",
+            )
     regions = {str(name): parse_region(t.table(str(name)), str(name)) for name in list(t.data)}
     t.done()
     return regions
+
+
+def named_regions(regions: dict[str, Region]) -> list[str]:
+    """The names from ``[regions]`` in `regions` (which also holds the inline regions read
+    so far, under their paths: ``boundary[0].region``)."""
+    return [name for name in regions if "[" not in name]
 
 
 def region_ref(t: Table, key: str, regions: dict[str, Region], required: bool = True) -> str:
@@ -586,8 +602,8 @@ def region_ref(t: Table, key: str, regions: dict[str, Region], required: bool = 
             raise t.missing(key)
         return ""
     if isinstance(value, str):
-        if value not in regions:
-            named = [n for n in regions if "." not in n and "[" not in n]
+        named = named_regions(regions)
+        if value not in named:
             known = ", ".join(named) if named else "none: the model has no [regions]"
             raise ModelError(field_path, f"no region is named {value!r} (the regions are: {known})")
         return value
@@ -725,6 +741,9 @@ def parse_bolts(tables: list[Table]) -> list[Bolt]:
     for i, t in enumerate(tables):
         point = t.vector("point")
         if t.has("direction"):
+            for key in ("trend", "plunge"):
+                if t.has(key):
+                    raise ModelError(t.field(key), "give either direction or trend + plunge")
             direction = check_direction(t.field("direction"), t.raw("direction"))
         else:
             # trend: azimuth clockwise from North; plunge: degrees below the horizontal
