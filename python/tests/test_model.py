@@ -512,6 +512,32 @@ def test_monitor_outside_the_rock():
     assert "outside the rock" in str(e)
 
 
+def test_a_point_on_a_face_two_blocks_share_is_refused():
+    # z = 1 is the joint between the fixed bottom block and the one above: a point on it is
+    # in both (it went to the first, the fixed one: a monitor recording zeros)
+    on_joint = "blocks 0 (centroid (0.5, 0.5, 0.5)) and 2 (centroid (0.5, 0.5, 1.5))"
+    for extra, field in [
+        ("[[monitors]]\npoint = [0.5, 0.5, 1]\n", "monitors[0].point"),
+        (
+            "[regions.r]\ntype = 'point'\npoint = [0.2, 0.7, 1]\n[[support]]\nregion = 'r'\n"
+            "pressure = 1\n",
+            "regions.r.point",
+        ),
+        (
+            "[[bolts]]\npoint = [0.5, 0.5, 3]\nplunge = 90\ntrend = 0\nlength = 2\n"
+            "capacity = 1e5\nstiffness = 1e7\n",
+            "bolts[0].length",
+        ),
+    ]:
+        e = error_of(BASE + FIX_BASE + extra, prepare=True)
+        assert e.field == field, str(e)
+        assert f"on the boundary between {on_joint}" in str(e)
+        assert "move it inside the block it means" in str(e)
+    # a hair inside the upper block is that block's
+    setup = pm.prepare(model("[[monitors]]\nname = 'm'\npoint = [0.5, 0.5, 1.001]\n"))
+    assert setup.layout.monitors == {"m": 2}
+
+
 def test_support_without_free_face():
     # the middle block's only free faces are its sides: none faces up
     e = error_of(

@@ -112,15 +112,34 @@ class Blocks:
     def __len__(self) -> int:
         return len(self.centroids)
 
-    def containing(self, point: Any) -> int | None:
-        """The block that contains `point` (the first one when it lies on a shared face),
-        or None."""
+    def containing(self, point: Any, path: str = "point", what: str = "the point") -> int | None:
+        """The block that contains `point`, or None.
+
+        A point on a face (edge, corner) that blocks of two or more bodies share, within
+        1e-9 of the model's size, is in each of them: which one it means is a guess (a
+        monitor on a sliding plane following the fixed block below it records zeros), so
+        it is a :exc:`ModelError` naming `path`, the blocks and where they are. Parts of
+        one concave body move as one: a point between two of them is the first part's."""
         p = np.asarray(point, dtype=float)
         outside = np.einsum("ij,ij->i", p - self.face_points, self.face_normals)
         tolerance = 1e-9 * self.size
         bad = np.bincount(self.face_block, outside > tolerance, len(self)).astype(bool)
         inside = np.flatnonzero(~bad)
-        return int(inside[0]) if len(inside) else None
+        if len(inside) == 0:
+            return None
+        bodies = inside if self.bodies is None else self.bodies[inside]
+        if len(np.unique(bodies)) > 1:
+            _, first = np.unique(bodies, return_index=True)
+            shown = inside[np.sort(first)]
+            names = ", ".join(f"{b} (centroid {point_text(self.centroids[b])})" for b in shown[:-1])
+            last = shown[-1]
+            names += f" and {last} (centroid {point_text(self.centroids[last])})"
+            raise ModelError(
+                path,
+                f"{what} {point_text(p)} lies on the boundary between blocks {names}: it is "
+                "in each of them; move it inside the block it means",
+            )
+        return int(inside[0])
 
 
 def domain_faces(blocks: Blocks, face: str | int, part: int, path: str) -> set[int]:
@@ -181,7 +200,7 @@ def select(region: Region, blocks: Blocks, path: str) -> np.ndarray:
         mask = np.zeros(n, bool)
         mask[blocks.face_block[on]] = True
     elif region.kind == "point":
-        block = blocks.containing(region.point)
+        block = blocks.containing(region.point, f"{path}.point")
         if block is None:
             raise ModelError(
                 f"{path}.point", f"no block contains the point {point_text(region.point)}"
@@ -328,7 +347,7 @@ def resolve(model: Model, blocks: Blocks) -> Layout:
                 )
             layout.monitors[monitor.name] = monitor.block
         else:
-            block = blocks.containing(monitor.point)
+            block = blocks.containing(monitor.point, f"monitors[{i}].point")
             if block is None:
                 raise ModelError(
                     f"monitors[{i}].point",
@@ -578,7 +597,7 @@ def bolt_blocks(blocks: Blocks, start: Any, end: Any, path: str) -> tuple[int, i
             f"the bolt from {point_text(start)} to {point_text(end)} is outside the rock "
             "(it meets no block)",
         )
-    anchor = blocks.containing(end)
+    anchor = blocks.containing(end, f"{path}.length", "the bolt's far end")
     if anchor is None:
         raise ModelError(
             f"{path}.length",
