@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from penedge.model.fields import ModelError, point_text
-from penedge.model.schema import FACE_DIRECTIONS, Model, Region
+from penedge.model.schema import FACE_DIRECTIONS, STRESS, Model, Region
 
 #: A named domain face is every domain face whose outward normal is within this angle of
 #: the named direction.
@@ -22,6 +22,11 @@ FACE_ANGLE_DEGREES = 1.0
 
 BOUNDARY_FACE = 1
 JOINT_FACE = 2
+
+#: The largest model (the diagonal of its blocks' bounding box, m) whose masses, weights and
+#: forces the engine computes: the Earth is 12,742 km across. Beyond it a domain in
+#: millimetres, say, would give weights whose squares overflow (docs/models.md, "Ranges").
+MAX_SIZE = 1e7
 
 #: Two areas agree when they differ by less than this fraction of the larger (a glue
 #: region that is a whole part face).
@@ -313,6 +318,7 @@ def resolve(model: Model, blocks: Blocks) -> Layout:
     n = len(blocks)
     if n == 0:
         raise ModelError("domain", "the model has no blocks (every block was a sliver)")
+    check_scale(model, blocks)
     masks = {
         name: select(region, blocks, region_path(model, name))
         for name, region in model.regions.items()
@@ -378,6 +384,31 @@ def resolve(model: Model, blocks: Blocks) -> Layout:
             layout.support_areas.append(area)
         layout.support_forces, layout.support_moments = forces, moments
     return layout
+
+
+def check_scale(model: Model, blocks: Blocks) -> None:
+    """The ranges that need the blocks (docs/models.md, "Ranges"): the model's size, and
+    the overburden's deepest stress (``[initial_stress]``: density × gravity × depth × k0),
+    within :data:`MAX_SIZE` and :data:`penedge.model.schema.STRESS`."""
+    if not blocks.size <= MAX_SIZE:
+        raise ModelError(
+            "domain",
+            f"the blocks span {blocks.size:.3g} m (their bounding box's diagonal): above "
+            f"{MAX_SIZE:g} m, the range a model takes (the Earth is 12,742 km across): "
+            "coordinates in another unit than metres?",
+        )
+    stress = model.initial_stress
+    if stress is None or stress.kind != "overburden":
+        return
+    m = model.mechanics
+    density = m.density if stress.density is None else stress.density
+    z = blocks.face_points[:, 2]  # a vertex of each face: the blocks' extent, near enough
+    surface = float(z.max()) if stress.surface is None else stress.surface
+    depth = max(0.0, surface - float(z.min()))
+    deepest = density * float(np.linalg.norm(m.gravity)) * depth * max(1.0, *stress.k0)
+    field = "initial_stress.surface" if stress.surface is not None else "initial_stress"
+    what = "the overburden's stress at the lowest face (density × gravity × depth × k0), "
+    STRESS.check(field, deepest, what=what)
 
 
 def excavation_entries(blocks: Blocks) -> np.ndarray:
