@@ -468,6 +468,10 @@ def test_region_names_with_a_dot_are_listed_and_brackets_refused():
     # the inline regions (named by their place) are neither listed nor names to refer to
     e = error_of(BASE + FIX_BASE + support.replace("zone.2", "boundary[0].region"))
     assert "no region is named 'boundary[0].region' (the regions are: none" in str(e)
+    # a named region is named by its table, dot or not
+    e = error_of(BASE + FIX_BASE + '[regions."zone.1"]\ntype = "above"\nz = 10\n', prepare=True)
+    assert e.field == "regions.zone.1"
+    assert "selects no block" in str(e)
     e = error_of(BASE + FIX_BASE + '[regions."boundary[0].region"]\ntype = "all"\n')
     assert e.field == "regions.boundary[0].region"
     assert "must not be empty nor hold [ or ]" in str(e)

@@ -246,10 +246,9 @@ class Layout:
 
 
 def region_path(model: Model, name: str) -> str:
-    """Where a region is defined in the file: ``regions.NAME`` or the inline field's path."""
-    return (
-        f"regions.{name}" if name in model.regions and "." not in name and "[" not in name else name
-    )
+    """Where a region is defined in the file: ``regions.NAME`` or the inline field's path
+    (``boundary[0].region``: a name with ``[``, which a named region's cannot hold)."""
+    return f"regions.{name}" if name in model.regions and "[" not in name else name
 
 
 def whole_bodies(mask: np.ndarray, bodies: np.ndarray | None) -> np.ndarray:
