@@ -337,6 +337,12 @@ def test_bolt_resolves_its_blocks():
             "required",
         ),
         (
+            "[[bolts]]\npoint = [0, 0, 0]\ndirection = [0, 0, 1]\nplunge = 90\nlength = 2\n"
+            "capacity = 1\nstiffness = 1\n",
+            "bolts[0].plunge",
+            "give either direction or trend + plunge",
+        ),
+        (
             "[[bolts]]\npoint = [0, 0, 0]\ndirection = [0, 0, 0]\nlength = 2\n"
             "capacity = 1\nstiffness = 1\n",
             "bolts[0].direction",
@@ -450,6 +456,27 @@ def test_boundary_errors(boundary, field, words):
     assert words in str(e)
 
 
+def test_region_names_with_a_dot_are_listed_and_brackets_refused():
+    # a name with a dot is a name like another: listed when a reference misses it
+    regions = '[regions."zone.1"]\ntype = "all"\n[regions.b]\ntype = "all"\n'
+    support = '[[support]]\nregion = "zone.2"\npressure = 1e5\n'
+    e = error_of(BASE + FIX_BASE + regions + support)
+    assert e.field == "support[0].region"
+    assert "no region is named 'zone.2' (the regions are: zone.1, b)" in str(e)
+    m = model(regions + support.replace("zone.2", "zone.1"))
+    assert m.support[0].region == "zone.1"
+    # the inline regions (named by their place) are neither listed nor names to refer to
+    e = error_of(BASE + FIX_BASE + support.replace("zone.2", "boundary[0].region"))
+    assert "no region is named 'boundary[0].region' (the regions are: none" in str(e)
+    # a named region is named by its table, dot or not
+    e = error_of(BASE + FIX_BASE + '[regions."zone.1"]\ntype = "above"\nz = 10\n', prepare=True)
+    assert e.field == "regions.zone.1"
+    assert "selects no block" in str(e)
+    e = error_of(BASE + FIX_BASE + '[regions."boundary[0].region"]\ntype = "all"\n')
+    assert e.field == "regions.boundary[0].region"
+    assert "must not be empty nor hold [ or ]" in str(e)
+
+
 def test_named_region_that_selects_nothing():
     e = error_of(BASE + FIX_BASE + "[regions.sky]\ntype = 'above'\nz = 10\n", prepare=True)
     assert (e.field, "selects no block" in str(e)) == ("regions.sky", True)
@@ -487,6 +514,32 @@ def test_monitor_outside_the_rock():
     e = error_of(BASE + FIX_BASE + "[[monitors]]\npoint = [3, 3, 3]\n", prepare=True)
     assert e.field == "monitors[0].point"
     assert "outside the rock" in str(e)
+
+
+def test_a_point_on_a_face_two_blocks_share_is_refused():
+    # z = 1 is the joint between the fixed bottom block and the one above: a point on it is
+    # in both (it went to the first, the fixed one: a monitor recording zeros)
+    on_joint = "blocks 0 (centroid (0.5, 0.5, 0.5)) and 2 (centroid (0.5, 0.5, 1.5))"
+    for extra, field in [
+        ("[[monitors]]\npoint = [0.5, 0.5, 1]\n", "monitors[0].point"),
+        (
+            "[regions.r]\ntype = 'point'\npoint = [0.2, 0.7, 1]\n[[support]]\nregion = 'r'\n"
+            "pressure = 1\n",
+            "regions.r.point",
+        ),
+        (
+            "[[bolts]]\npoint = [0.5, 0.5, 3]\nplunge = 90\ntrend = 0\nlength = 2\n"
+            "capacity = 1e5\nstiffness = 1e7\n",
+            "bolts[0].length",
+        ),
+    ]:
+        e = error_of(BASE + FIX_BASE + extra, prepare=True)
+        assert e.field == field, str(e)
+        assert f"on the boundary between {on_joint}" in str(e)
+        assert "move it inside the block it means" in str(e)
+    # a hair inside the upper block is that block's
+    setup = pm.prepare(model("[[monitors]]\nname = 'm'\npoint = [0.5, 0.5, 1.001]\n"))
+    assert setup.layout.monitors == {"m": 2}
 
 
 def test_support_without_free_face():
@@ -547,11 +600,164 @@ def test_a_model_file_not_in_utf8_is_named(tmp_path):
     assert str(path) in str(caught.value)
 
 
+def test_a_model_file_with_a_byte_order_mark_reads(tmp_path):
+    # Notepad's "UTF-8 with BOM": the file starts with EF BB BF, which TOML does not take
+    # but `penedge generate` skips; the model reads as the same file without it.
+    path = tmp_path / "m.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + (BASE + FIX_BASE).encode())
+    assert pm.read_model(path) == model()
+    assert pm.parse_model("\ufeff" + BASE + FIX_BASE) == model()
+    # a bad byte after the mark is still named by its place in the file
+    path.write_bytes(b"\xef\xbb\xbf# \xb0\n" + (BASE + FIX_BASE).encode())
+    with pytest.raises(pm.ModelError, match="byte 5 is not valid UTF-8"):
+        pm.read_model(path)
+
+
 def test_a_model_whose_blocks_are_all_dropped_has_no_blocks():
     text = BASE + FIX_BASE + '[options]\nmin_volume = 10\nslivers = "drop"\n'
     e = error_of(text, prepare=True)
     assert e.field == "domain"
     assert "no blocks" in str(e)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "field", "words"),
+    [
+        # density = 1e300 ran to a NaN ratio and infinite displacements, exit status 0
+        ("density = 2000", "density = 1e300", "rock.density", "1e+300 kg/m³ is outside"),
+        ("density = 2000", "density = 1e-300", "rock.density", "1 to 100000 kg/m³"),
+        # kn = 1e300 gave an infinite ratio and ran the whole step budget
+        ("kn = 1e9", "kn = 1e300", "joint_properties.default.kn", "1000 to 1e+15 Pa/m"),
+        ("ks = 1e8", "ks = 1e-300", "joint_properties.default.ks", "1e-300 Pa/m is outside"),
+        (
+            "[rock]",
+            "[mechanics]\ngravity = [0, 1e300, 0]\n[rock]",
+            "mechanics.gravity",
+            "1e+300 m/s² is outside the range a model takes, at most 10000 m/s²",
+        ),
+        (
+            "friction = 30\n",
+            "friction = 30\n[joint_properties.bedding]\nkn = 1e16\n",
+            "joint_properties.bedding.kn",
+            "1e+16 Pa/m",
+        ),
+    ],
+)
+def test_magnitudes_beyond_any_model_are_named_with_their_range(old, new, field, words):
+    e = error_of(BASE.replace(old, new) + FIX_BASE)
+    assert e.field == field, str(e)
+    assert words in str(e)
+    assert "a unit or an exponent typed wrong?" in str(e)
+
+
+@pytest.mark.parametrize(
+    ("extra", "field", "words"),
+    [
+        (
+            "[[support]]\nregion = {type = 'all'}\npressure = 1e300\n",
+            "support[0].pressure",
+            "1e+10",
+        ),
+        ("[water]\npressure = {bedding = 1e11}\n", "water.pressure.bedding", "1e+11 Pa"),
+        ("[water]\ndensity = 1e6\npressure = {bedding = 1}\n", "water.density", "1e+06"),
+        ("[initial_stress]\ntype = 'uniform'\nzz = -1e300\n", "initial_stress.zz", "magnitude"),
+        ("[initial_stress]\ntype = 'overburden'\ndensity = 0.5\n", "initial_stress.density", "0.5"),
+        (
+            "[[bolts]]\npoint = [0.5, 0.5, 3]\nplunge = 90\ntrend = 0\nlength = 2.5\n"
+            "capacity = 1e5\nstiffness = 1e300\n",
+            "bolts[0].stiffness",
+            "at most 1e+12 N/m",
+        ),
+        (
+            "[[bolts]]\npoint = [0.5, 0.5, 3]\nplunge = 90\ntrend = 0\nlength = 2.5\n"
+            "capacity = 1e5\nstiffness = 1e7\nshear_stiffness = 1e13\nshear_capacity = 1\n",
+            "bolts[0].shear_stiffness",
+            "at most 1e+12 N/m",
+        ),
+        (
+            "[[stages]]\ntype = 'boundary'\nregion = {type = 'all'}\ncondition = 'velocity'\n"
+            "velocity = [1e300, 1e300, 0]\n",
+            "stages[0].velocity",
+            "1.41421e+300 m/s",
+        ),
+        ("[[stages]]\ntype = 'properties'\nks = 1e300\n", "stages[0].ks", "Pa/m"),
+    ],
+)
+def test_loads_beyond_any_model_are_named_with_their_range(extra, field, words):
+    e = error_of(BASE + FIX_BASE + extra)
+    assert e.field == field, str(e)
+    assert words in str(e)
+    assert "outside the range a model takes" in str(e)
+
+
+def test_ranges_that_need_the_blocks():
+    # the overburden's stress at the bottom, density x gravity x depth x k0
+    for extra, field in [
+        ("[initial_stress]\ntype = 'overburden'\nsurface = 1e300\n", "initial_stress.surface"),
+        ("[initial_stress]\ntype = 'overburden'\nk0 = 1e7\n", "initial_stress"),
+    ]:
+        e = error_of(BASE + FIX_BASE + extra, prepare=True)
+        assert e.field == field, str(e)
+        assert "the overburden's stress at the lowest face" in str(e)
+    # 2000 x 9.81 x 3 m, k0 1e5: 5.9e9 Pa, in range
+    pm.prepare(model("[initial_stress]\ntype = 'overburden'\nk0 = 1e5\n"))
+    # a domain in millimetres read as metres, a thousand times over
+    huge = BASE.replace("max = [1, 1, 3]", "max = [1e7, 1e7, 3e7]")
+    huge = huge.replace("origin = [0, 0, 1]", "origin = [0, 0, 1e7]").replace(
+        "spacing = 1", "spacing = 1e7"
+    )
+    e = error_of(huge + FIX_BASE, prepare=True)
+    assert e.field == "domain"
+    assert "the blocks span 3.32e+07 m" in str(e)
+
+
+EDGES = {
+    "density": "1e5",
+    "kn": "1e15",
+    "ks": "1e15",
+    "gravity": "-1e4",
+    "water_density": "1e5",
+    "water_pressure": "1e10",
+    "support": "1e10",
+}
+
+EDGE_MODEL = (
+    (BASE + FIX_BASE)
+    .replace("{", "{{")
+    .replace("}", "}}")
+    .replace("density = 2000", "density = {density}")
+    .replace("kn = 1e9", "kn = {kn}")
+    .replace("ks = 1e8", "ks = {ks}")
+    + "[mechanics]\ngravity = [0, 0, {gravity}]\n"
+    + "[water]\ndensity = {water_density}\npressure = {{bedding = {water_pressure}}}\n"
+    + "[[support]]\nregion = {{type = 'all'}}\npressure = {support}\nface = 'top'\n"
+    + "[[stages]]\ntype = 'cycle'\nsteps = 50\n"
+)
+
+
+def test_at_the_ranges_edges_the_engine_runs_and_beyond_them_it_is_refused():
+    from penedge.model.engine import Engine
+    from penedge.model.run import Runner
+
+    # every range at its edge at once: the engine's products stay finite
+    runner = Runner(pm.prepare(EDGE_MODEL.format(**EDGES)), Engine)
+    runner.run()
+    assert np.isfinite(runner.engine.ratio)
+    assert np.isfinite(runner.engine.positions()).all()
+    # ten times beyond each edge is refused, naming the field
+    fields = {
+        "density": "rock.density",
+        "kn": "joint_properties.default.kn",
+        "ks": "joint_properties.default.ks",
+        "gravity": "mechanics.gravity",
+        "water_density": "water.density",
+        "water_pressure": "water.pressure.bedding",
+        "support": "support[0].pressure",
+    }
+    for key, field in fields.items():
+        e = error_of(EDGE_MODEL.format(**{**EDGES, key: repr(float(EDGES[key]) * 10)}))
+        assert e.field == field, str(e)
+        assert "outside the range a model takes" in str(e)
 
 
 def test_numbers_too_large_are_named():

@@ -480,3 +480,20 @@ def test_status_line_waits_then_redraws():
     line.show("step 20")
     line.close()
     assert stream.getvalue() == "\rstep 10, ratio 1e-2\rstep 20            \n"
+
+
+def test_simulate_refuses_a_density_beyond_any_rock(tmp_path, capsys):
+    # density = 1e300 ran to the end with a NaN ratio and infinite displacements, exit 0
+    model = tmp_path / "huge.toml"
+    text = WEDGE.read_text()
+    model.write_text(text.replace("density = 2600", "density = 1e300", 1))
+    assert "density = 1e300" in model.read_text()
+    out = tmp_path / "out"
+    assert cli.main(["simulate", str(model), "-o", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(
+        "penedge: error: rock.density: 1e+300 kg/m³ is outside the range a model takes, "
+        "1 to 100000 kg/m³"
+    )
+    assert err.rstrip().endswith(f"(in {model})")
+    assert not out.exists()

@@ -270,3 +270,29 @@ def test_the_picture_after_an_excavation_keeps_the_concave_blocks_whole():
     kept = ~e.removed()
     assert len(shown) == len(displacement) == kept.sum()
     assert np.asarray(shown.body_ids).tolist() == e.body[kept].tolist()
+
+
+def test_a_point_between_two_parts_of_a_concave_block_is_that_block():
+    # the parts of one body move as one: a point on their glue face is not ambiguous (as a
+    # point on a face between two bodies is: docs/models.md, "[[monitors]]")
+    setup = pm.prepare(TUNNEL)
+    blocks = setup.blocks
+    ids = np.asarray(setup.system.body_ids)
+    glue = blocks.glue_faces[0]
+    a, b = blocks.face_block[glue]
+    assert a != b
+    assert ids[a] == ids[b]
+    assert blocks.containing(blocks.face_centroids[glue[0]]) in (a, b)
+    # a joint face between two bodies is
+    joint = np.flatnonzero(blocks.face_kind == 2)
+    centre = blocks.face_centroids[joint]
+    for point in centre:
+        others = np.flatnonzero(np.all(np.isclose(centre, point), axis=1))
+        owners = blocks.face_block[joint[others]]
+        if len(set(ids[owners].tolist())) > 1:
+            break
+    else:
+        pytest.fail("no joint face between two bodies")
+    with pytest.raises(pm.ModelError, match="lies on the boundary between blocks") as caught:
+        blocks.containing(point)
+    assert all(f" {b} (centroid" in str(caught.value) for b in owners)

@@ -99,9 +99,10 @@ __all__ = [
 
 
 def parse_model(text: str) -> Model:
-    """A model from TOML text."""
+    """A model from TOML text (a leading byte order mark, which some Windows editors write,
+    is skipped, as ``penedge generate`` skips it)."""
     try:
-        data = tomllib.loads(text)
+        data = tomllib.loads(text.removeprefix("\ufeff"))
     except tomllib.TOMLDecodeError as e:
         raise ModelError("model", f"not valid TOML: {e}") from None
     return parse(data)

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from penedge.model.fields import ModelError, point_text
-from penedge.model.schema import FACE_DIRECTIONS, Model, Region
+from penedge.model.schema import FACE_DIRECTIONS, STRESS, Model, Region
 
 #: A named domain face is every domain face whose outward normal is within this angle of
 #: the named direction.
@@ -22,6 +22,11 @@ FACE_ANGLE_DEGREES = 1.0
 
 BOUNDARY_FACE = 1
 JOINT_FACE = 2
+
+#: The largest model (the diagonal of its blocks' bounding box, m) whose masses, weights and
+#: forces the engine computes: the Earth is 12,742 km across. Beyond it a domain in
+#: millimetres, say, would give weights whose squares overflow (docs/models.md, "Ranges").
+MAX_SIZE = 1e7
 
 #: Two areas agree when they differ by less than this fraction of the larger (a glue
 #: region that is a whole part face).
@@ -112,15 +117,34 @@ class Blocks:
     def __len__(self) -> int:
         return len(self.centroids)
 
-    def containing(self, point: Any) -> int | None:
-        """The block that contains `point` (the first one when it lies on a shared face),
-        or None."""
+    def containing(self, point: Any, path: str = "point", what: str = "the point") -> int | None:
+        """The block that contains `point`, or None.
+
+        A point on a face (edge, corner) that blocks of two or more bodies share, within
+        1e-9 of the model's size, is in each of them: which one it means is a guess (a
+        monitor on a sliding plane following the fixed block below it records zeros), so
+        it is a :exc:`ModelError` naming `path`, the blocks and where they are. Parts of
+        one concave body move as one: a point between two of them is the first part's."""
         p = np.asarray(point, dtype=float)
         outside = np.einsum("ij,ij->i", p - self.face_points, self.face_normals)
         tolerance = 1e-9 * self.size
         bad = np.bincount(self.face_block, outside > tolerance, len(self)).astype(bool)
         inside = np.flatnonzero(~bad)
-        return int(inside[0]) if len(inside) else None
+        if len(inside) == 0:
+            return None
+        bodies = inside if self.bodies is None else self.bodies[inside]
+        if len(np.unique(bodies)) > 1:
+            _, first = np.unique(bodies, return_index=True)
+            shown = inside[np.sort(first)]
+            names = ", ".join(f"{b} (centroid {point_text(self.centroids[b])})" for b in shown[:-1])
+            last = shown[-1]
+            names += f" and {last} (centroid {point_text(self.centroids[last])})"
+            raise ModelError(
+                path,
+                f"{what} {point_text(p)} lies on the boundary between blocks {names}: it is "
+                "in each of them; move it inside the block it means",
+            )
+        return int(inside[0])
 
 
 def domain_faces(blocks: Blocks, face: str | int, part: int, path: str) -> set[int]:
@@ -181,7 +205,7 @@ def select(region: Region, blocks: Blocks, path: str) -> np.ndarray:
         mask = np.zeros(n, bool)
         mask[blocks.face_block[on]] = True
     elif region.kind == "point":
-        block = blocks.containing(region.point)
+        block = blocks.containing(region.point, f"{path}.point")
         if block is None:
             raise ModelError(
                 f"{path}.point", f"no block contains the point {point_text(region.point)}"
@@ -222,10 +246,9 @@ class Layout:
 
 
 def region_path(model: Model, name: str) -> str:
-    """Where a region is defined in the file: ``regions.NAME`` or the inline field's path."""
-    return (
-        f"regions.{name}" if name in model.regions and "." not in name and "[" not in name else name
-    )
+    """Where a region is defined in the file: ``regions.NAME`` or the inline field's path
+    (``boundary[0].region``: a name with ``[``, which a named region's cannot hold)."""
+    return f"regions.{name}" if name in model.regions and "[" not in name else name
 
 
 def whole_bodies(mask: np.ndarray, bodies: np.ndarray | None) -> np.ndarray:
@@ -294,6 +317,7 @@ def resolve(model: Model, blocks: Blocks) -> Layout:
     n = len(blocks)
     if n == 0:
         raise ModelError("domain", "the model has no blocks (every block was a sliver)")
+    check_scale(model, blocks)
     masks = {
         name: select(region, blocks, region_path(model, name))
         for name, region in model.regions.items()
@@ -328,7 +352,7 @@ def resolve(model: Model, blocks: Blocks) -> Layout:
                 )
             layout.monitors[monitor.name] = monitor.block
         else:
-            block = blocks.containing(monitor.point)
+            block = blocks.containing(monitor.point, f"monitors[{i}].point")
             if block is None:
                 raise ModelError(
                     f"monitors[{i}].point",
@@ -359,6 +383,31 @@ def resolve(model: Model, blocks: Blocks) -> Layout:
             layout.support_areas.append(area)
         layout.support_forces, layout.support_moments = forces, moments
     return layout
+
+
+def check_scale(model: Model, blocks: Blocks) -> None:
+    """The ranges that need the blocks (docs/models.md, "Ranges"): the model's size, and
+    the overburden's deepest stress (``[initial_stress]``: density × gravity × depth × k0),
+    within :data:`MAX_SIZE` and :data:`penedge.model.schema.STRESS`."""
+    if not blocks.size <= MAX_SIZE:
+        raise ModelError(
+            "domain",
+            f"the blocks span {blocks.size:.3g} m (their bounding box's diagonal): above "
+            f"{MAX_SIZE:g} m, the range a model takes (the Earth is 12,742 km across): "
+            "coordinates in another unit than metres?",
+        )
+    stress = model.initial_stress
+    if stress is None or stress.kind != "overburden":
+        return
+    m = model.mechanics
+    density = m.density if stress.density is None else stress.density
+    z = blocks.face_points[:, 2]  # a vertex of each face: the blocks' extent, near enough
+    surface = float(z.max()) if stress.surface is None else stress.surface
+    depth = max(0.0, surface - float(z.min()))
+    deepest = density * float(np.linalg.norm(m.gravity)) * depth * max(1.0, *stress.k0)
+    field = "initial_stress.surface" if stress.surface is not None else "initial_stress"
+    what = "the overburden's stress at the lowest face (density × gravity × depth × k0), "
+    STRESS.check(field, deepest, what=what)
 
 
 def excavation_entries(blocks: Blocks) -> np.ndarray:
@@ -578,7 +627,7 @@ def bolt_blocks(blocks: Blocks, start: Any, end: Any, path: str) -> tuple[int, i
             f"the bolt from {point_text(start)} to {point_text(end)} is outside the rock "
             "(it meets no block)",
         )
-    anchor = blocks.containing(end)
+    anchor = blocks.containing(end, f"{path}.length", "the bolt's far end")
     if anchor is None:
         raise ModelError(
             f"{path}.length",

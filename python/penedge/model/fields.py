@@ -11,6 +11,7 @@ from __future__ import annotations
 import difflib
 import math
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 from penedge._core import SpecError
@@ -206,6 +207,37 @@ def check_number(
     if at_most is not None and not value <= at_most:
         raise ModelError(field, f"must be at most {at_most:g}, got {value:g}")
     return value
+
+
+@dataclass(frozen=True)
+class Range:
+    """The values a field takes beyond its sign: `low` to `high` `unit` (the magnitude
+    with `magnitude`), for the fields whose products the engine computes (masses, forces,
+    the critical time step; docs/models.md, "Ranges"). `why` says what the bounds are
+    (physically generous: a value outside is a unit or an exponent typed wrong)."""
+
+    low: float
+    high: float
+    unit: str
+    why: str
+
+    def check(self, field: str, value: float, magnitude: bool = False, what: str = "") -> float:
+        """`value` (a finite float), or a :exc:`ModelError` naming `field` and the range;
+        `what` starts the message (the value's name when it is not the field's own)."""
+        size = abs(value) if magnitude else value
+        if not self.low <= size <= self.high:
+            what = what or ("its magnitude " if magnitude else "")
+            span = (
+                f"at most {self.high:g} {self.unit}"
+                if self.low == 0
+                else f"{self.low:g} to {self.high:g} {self.unit}"
+            )
+            raise ModelError(
+                field,
+                f"{what}{size:g} {self.unit} is outside the range a model takes, {span} "
+                f"({self.why}): a unit or an exponent typed wrong?",
+            )
+        return value
 
 
 def check_vector(field: str, value: Any) -> tuple[float, float, float]:

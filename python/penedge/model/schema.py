@@ -13,7 +13,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from penedge.model.fields import ModelError, Table, check_direction, check_vector
+from penedge.model.fields import ModelError, Range, Table, check_direction, check_vector
 
 #: The generation spec's tables, passed unchanged to :func:`penedge.generate` (excavations
 #: make concave blocks: docs/models.md, "Concave blocks").
@@ -42,6 +42,35 @@ FACE_DIRECTIONS = {
 }
 
 STANDARD_GRAVITY = 9.81
+
+# The ranges of the fields whose products the engine computes (masses, weights, contact and
+# bolt forces, pressures times areas, the critical time step): wide enough for any rock,
+# soil or laboratory model, and far inside what double precision holds, so that a unit or
+# an exponent typed wrong (`density = 1e300`, which ran to a NaN ratio and infinite
+# displacements with exit status 0) is an error naming its field. docs/models.md, "Ranges".
+
+#: rock.density, water.density, initial_stress.density.
+DENSITY = Range(1.0, 1e5, "kg/m³", "air is 1.2 kg/m³; osmium, the densest element, 22,590")
+#: kn and ks of joints and rock bridges.
+STIFFNESS = Range(
+    1e3,
+    1e15,
+    "Pa/m",
+    "1e3 is a thousandth of a loose sand's subgrade modulus; 1e15 ten times intact rock "
+    "(E = 100 GPa) over a millimetre",
+)
+#: The magnitude of mechanics.gravity.
+GRAVITY = Range(0.0, 1e4, "m/s²", "1000 g; a geotechnical centrifuge spins at a few hundred g")
+#: Pressures and stresses: support, water per set, uniform initial stress, overburden.
+STRESS = Range(
+    0.0, 1e10, "Pa", "10 GPa: 25 times the strength of the strongest rock, the stress 300 km deep"
+)
+#: A bolt's axial and dowel stiffness.
+BOLT_STIFFNESS = Range(
+    0.0, 1e12, "N/m", "EA / length of a steel bar of 1 m² section and 0.2 m length"
+)
+#: The magnitude of a boundary velocity.
+VELOCITY = Range(0.0, 1e3, "m/s", "ten times a rock avalanche's speed")
 
 
 def attitude_normal(dip: float, dip_direction: float) -> tuple[float, float, float]:
@@ -365,9 +394,10 @@ def joint_names(joints: Any) -> list[str]:
 
 
 def parse_mechanics(rock: Table, t: Table) -> Mechanics:
-    density = rock.number("density", required=True, above=0)
+    density = DENSITY.check(rock.field("density"), rock.number("density", required=True, above=0))
     rock.done()
     gravity = t.vector("gravity", (0.0, 0.0, -STANDARD_GRAVITY))
+    GRAVITY.check(t.field("gravity"), math.hypot(*gravity))
     time_step = t.optional_number("time_step", above=0)
     mechanics = Mechanics(
         density=density,
@@ -399,6 +429,8 @@ def parse_property_values(
         required = base is None and key in ("kn", "ks", "friction")
         if required or t.has(key):
             values[key] = t.number(key, required=True, **bounds)
+            if key in ("kn", "ks"):
+                STIFFNESS.check(t.field(key), values[key])
     t.done(also)
     return values
 
@@ -450,6 +482,8 @@ def parse_bridge_values(t: Table) -> dict[str, float]:
             bounds = {"at_least": 0}
         if key not in OPTIONAL_BRIDGE_FIELDS or t.has(key):
             values[key] = t.number(key, required=True, **bounds)
+            if key in ("kn", "ks"):
+                STIFFNESS.check(t.field(key), values[key])
     if values.get("residual_cohesion", 0.0) > values["cohesion"]:
         raise ModelError(
             t.field("residual_cohesion"),
@@ -571,9 +605,25 @@ def parse_region(t: Table, name: str) -> Region:
 
 
 def parse_regions(t: Table) -> dict[str, Region]:
+    """``[regions]``: any name TOML takes (``zone.1`` quoted: ``[regions."zone.1"]``) but an
+    empty one or one with ``[`` or ``]``, which are kept for the inline regions (named by
+    their place in the file: ``boundary[0].region``, see :func:`region_ref`)."""
+    for name in t.data:
+        if not str(name).strip() or "[" in str(name) or "]" in str(name):
+            raise ModelError(
+                t.field(str(name)),
+                "a region name must not be empty nor hold [ or ] (an inline region is named "
+                "by its place in the file, as boundary[0].region)",
+            )
     regions = {str(name): parse_region(t.table(str(name)), str(name)) for name in list(t.data)}
     t.done()
     return regions
+
+
+def named_regions(regions: dict[str, Region]) -> list[str]:
+    """The names from ``[regions]`` in `regions` (which also holds the inline regions read
+    so far, under their paths: ``boundary[0].region``)."""
+    return [name for name in regions if "[" not in name]
 
 
 def region_ref(t: Table, key: str, regions: dict[str, Region], required: bool = True) -> str:
@@ -586,8 +636,8 @@ def region_ref(t: Table, key: str, regions: dict[str, Region], required: bool = 
             raise t.missing(key)
         return ""
     if isinstance(value, str):
-        if value not in regions:
-            named = [n for n in regions if "." not in n and "[" not in n]
+        named = named_regions(regions)
+        if value not in named:
             known = ", ".join(named) if named else "none: the model has no [regions]"
             raise ModelError(field_path, f"no region is named {value!r} (the regions are: {known})")
         return value
@@ -602,6 +652,7 @@ def parse_boundary(t: Table, regions: dict[str, Region]) -> Boundary:
     velocity = None
     if condition == "velocity":
         v = t.vector("velocity")
+        VELOCITY.check(t.field("velocity"), math.hypot(*v))
         velocity = (v[0], v[1], v[2])
     elif t.has("velocity"):
         raise ModelError(
@@ -653,14 +704,22 @@ def parse_initial_stress(t: Table) -> InitialStress:
         stress = InitialStress(
             kind,
             surface=t.optional_number("surface"),
-            density=t.optional_number("density", above=0),
+            density=optional_density(t),
             k0=(base if kx is None else kx, base if ky is None else ky),
         )
     else:
         keys = ("xx", "yy", "zz", "xy", "yz", "zx")
-        stress = InitialStress(kind, components=tuple(t.number(k, 0.0) for k in keys))
+        components = tuple(STRESS.check(t.field(k), t.number(k, 0.0), True) for k in keys)
+        stress = InitialStress(kind, components=components)
     t.done()
     return stress
+
+
+def optional_density(t: Table) -> float | None:
+    """The table's ``density`` (kg/m³) when given."""
+    if not t.has("density"):
+        return None
+    return DENSITY.check(t.field("density"), t.number("density", required=True, above=0))
 
 
 PHREATIC_FORMS = (
@@ -702,7 +761,7 @@ def parse_phreatic(value: Any, path: str) -> Plane:
 
 
 def parse_water(t: Table, set_names: list[str]) -> Water:
-    density = t.number("density", 1000.0, above=0)
+    density = DENSITY.check(t.field("density"), t.number("density", 1000.0, above=0))
     phreatic = parse_phreatic(t.raw("phreatic"), t.field("phreatic")) if t.has("phreatic") else None
     pressures: dict[str, float] = {}
     if t.has("pressure"):
@@ -710,7 +769,8 @@ def parse_water(t: Table, set_names: list[str]) -> Water:
         for name in list(p.data):
             if name not in set_names:
                 raise ModelError(p.field(str(name)), unknown_set(str(name), set_names))
-            pressures[str(name)] = p.number(str(name), required=True, at_least=0)
+            value = p.number(str(name), required=True, at_least=0)
+            pressures[str(name)] = STRESS.check(p.field(str(name)), value)
     if phreatic is None and not pressures:
         raise ModelError(
             t.path,
@@ -725,6 +785,9 @@ def parse_bolts(tables: list[Table]) -> list[Bolt]:
     for i, t in enumerate(tables):
         point = t.vector("point")
         if t.has("direction"):
+            for key in ("trend", "plunge"):
+                if t.has(key):
+                    raise ModelError(t.field(key), "give either direction or trend + plunge")
             direction = check_direction(t.field("direction"), t.raw("direction"))
         else:
             # trend: azimuth clockwise from North; plunge: degrees below the horizontal
@@ -739,7 +802,9 @@ def parse_bolts(tables: list[Table]) -> list[Bolt]:
                 direction=direction,
                 length=t.number("length", required=True, above=0),
                 capacity=t.number("capacity", required=True, above=0),
-                stiffness=t.number("stiffness", required=True, above=0),
+                stiffness=BOLT_STIFFNESS.check(
+                    t.field("stiffness"), t.number("stiffness", required=True, above=0)
+                ),
                 rupture_strain=t.optional_number("rupture_strain", above=0),
                 **parse_dowel(t),
             )
@@ -751,6 +816,8 @@ def parse_bolts(tables: list[Table]) -> list[Bolt]:
 def parse_dowel(t: Table) -> dict[str, float | None]:
     """A bolt's optional dowel: ``shear_stiffness`` and ``shear_capacity``, both or neither."""
     stiffness = t.optional_number("shear_stiffness", above=0)
+    if stiffness is not None:
+        BOLT_STIFFNESS.check(t.field("shear_stiffness"), stiffness)
     capacity = t.optional_number("shear_capacity", above=0)
     if (stiffness is None) != (capacity is None):
         missing = "shear_capacity" if capacity is None else "shear_stiffness"
@@ -763,7 +830,7 @@ def parse_support(t: Table, regions: dict[str, Region]) -> Support:
     support = Support(
         name=t.text("name", index),
         region=region_ref(t, "region", regions),
-        pressure=t.number("pressure", required=True, above=0),
+        pressure=STRESS.check(t.field("pressure"), t.number("pressure", required=True, above=0)),
         face=parse_support_face(t) if t.has("face") else None,
     )
     t.done()
