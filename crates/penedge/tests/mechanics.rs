@@ -620,6 +620,29 @@ fn a_narrow_glued_joint_holds_its_own_area_not_the_floor_of_its_shares() {
     );
 }
 
+/// Forces too large for their length to be finite (a density of 1e300) stop the run with
+/// an error naming them, rather than giving a NaN unbalanced-force ratio that no solve
+/// takes below its target.
+#[test]
+fn forces_whose_length_overflows_stop_the_run() {
+    let base = ConvexBlock::cuboid([-3.0, -3.0, -1.0], [3.0, 3.0, 0.0]).unwrap();
+    let slab = ConvexBlock::cuboid([-0.5, -0.5, -1e-4], [0.5, 0.5, 1.0]).unwrap();
+    let mut sim = Simulation::new(&BlockSystem::new(vec![base, slab]), 1e300).unwrap();
+    sim.fix(0).unwrap();
+    let mut outcome = Ok(());
+    for _ in 0..10 {
+        outcome = sim.step();
+        if outcome.is_err() {
+            break;
+        }
+        assert!(!sim.unbalanced_ratio().is_nan(), "a NaN ratio");
+    }
+    match outcome {
+        Err(MechanicsError::NotFinite(what)) => assert!(what.contains("force"), "{what}"),
+        other => panic!("expected an error naming the force, got {other:?}"),
+    }
+}
+
 /// Bad input is refused with an error that names it.
 #[test]
 fn bad_input_gets_clear_errors() {

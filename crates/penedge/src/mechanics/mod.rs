@@ -1561,6 +1561,12 @@ impl Simulation {
             return Err(MechanicsError::NotFinite("a body's state after the step"));
         }
         let (largest, reference) = (summary.largest, summary.reference);
+        // Forces beyond about 1e154 newtons have finite components but an infinite length:
+        // their ratio would be infinite over infinite, a NaN that no solve would ever take
+        // below its target (it ran its whole budget). An error, as a state that is not finite.
+        if !(largest.is_finite() && reference.is_finite()) {
+            return Err(MechanicsError::NotFinite("a free body's unbalanced force"));
+        }
         self.ratio = if reference > 0.0 {
             largest / reference
         } else if largest == 0.0 {
