@@ -497,6 +497,7 @@ class Runner:
                 e.default = default.reduced(factor)
             e.apply_properties({n: p.reduced(factor) for n, p in original.items()}, factor)
             before = e.positions()
+            start = e.steps  # the engine's count so far: the trial's own steps are after it
             try:
                 converged = self.solve(stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e)
                 broke = False
@@ -507,7 +508,7 @@ class Runner:
             failed = broke or (not converged and speed > stage.velocity)
             shifted = np.linalg.norm(e.positions() - before, axis=1) > threshold
             moved = np.flatnonzero(free & (shifted | (speeds > stage.velocity)))
-            t = Trial(factor, failed, e.steps, e.ratio, speed, moved.tolist())
+            t = Trial(factor, failed, e.steps - start, e.ratio, speed, moved.tolist())
             trials.append(t)
             if self.progress is not None:
                 self.progress(e, stage, len(trials), None)

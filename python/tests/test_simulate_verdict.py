@@ -1,0 +1,77 @@
+"""The verdict of ``penedge simulate`` says what it is based on and agrees with the run
+(docs/models.md, "penedge simulate"); a factor of safety from a state not in equilibrium
+is marked unreliable; a trial's steps are its own; a stage that steps with no free block
+is refused by ``--check``.
+
+The model: a 100 m³ block (2500 kg/m³) on a plane dipping 30° towards the East, the rock
+below it fixed; limit equilibrium F = tan φ / tan 30° (dry, no cohesion)."""
+
+import json
+import math
+from pathlib import Path
+
+from penedge import cli
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
+INCLINE = """
+[domain]
+type = "box"
+min = [0, 0, 0]
+max = [10, 2, 8]
+[[joints]]
+type = "plane"
+name = "slide"
+point = [5, 1, 3]
+dip = 30
+dip_direction = 90
+[rock]
+density = 2500
+[joint_properties.default]
+kn = 1e9
+ks = 1e8
+friction = {friction}
+[[boundary]]
+region = {{type = "below", point = [5, 1, 3], dip = 30, dip_direction = 90}}
+condition = "fixed"
+"""
+QUIET = ["--no-pictures", "--no-series"]
+FOS = '[[stages]]\ntype = "factor_of_safety"\nmax_steps = 4000\n'
+
+
+def limit(friction: float) -> float:
+    """F of the block on the 30° plane by limit equilibrium (dry, cohesionless)."""
+    return math.tan(math.radians(friction)) / math.tan(math.radians(30))
+
+
+def run(tmp_path: Path, text: str, *flags: str) -> tuple[int, dict, str]:
+    """``penedge simulate`` on `text`: exit status, summary.json, printed text."""
+    model = tmp_path / "model.toml"
+    model.write_text(text)
+    out = tmp_path / "out"
+    import contextlib
+    import io
+
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        rc = cli.main(["simulate", str(model), "-o", str(out), *QUIET, *flags])
+    summary = (
+        json.loads((out / "summary.json").read_text()) if (out / "summary.json").exists() else {}
+    )
+    return rc, summary, printed.getvalue()
+
+
+def result_line(text: str) -> str:
+    return next(line for line in text.splitlines() if line.strip().startswith("result"))
+
+
+def test_a_trial_counts_its_own_steps(tmp_path):
+    # The budget of each trial is 4000 steps: a failing trial takes all of them, and no
+    # trial more (the steps of the solve before are not the trial's).
+    _, summary, _ = run(
+        tmp_path, INCLINE.format(friction=35) + '[[stages]]\ntype = "solve"\n' + FOS
+    )
+    solve_steps = summary["stages"][0]["steps"]
+    assert solve_steps > 0
+    trials = summary["stages"][-1]["factor_of_safety"]["trials"]
+    assert all(0 < t["steps"] <= 4000 for t in trials), trials
+    assert {t["steps"] for t in trials if t["failed"]} == {4000}, trials
