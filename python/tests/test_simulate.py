@@ -259,11 +259,13 @@ def test_boundary_stage_fixes_the_block():
         '[[stages]]\ntype = "properties"\nfriction = 20\n'
         '[[stages]]\ntype = "cycle"\nsteps = 20\n'
         '[[stages]]\ntype = "boundary"\nregion = "wedge"\ncondition = "fixed"\n'
-        '[[stages]]\ntype = "cycle"\nsteps = 20\n'
     )
     runner = Runner(wedge(40.0, stages), InclineEngine)
     runner.run()
     assert runner.engine.fixed.all()
+    # A stage that steps after it has no free block: refused before any step.
+    with pytest.raises(pm.ModelError, match=r"stages\[3\]: stages\[3\] \(cycle\) takes steps"):
+        Runner(wedge(40.0, stages + '[[stages]]\ntype = "cycle"\nsteps = 20\n'), InclineEngine)
 
 
 def test_engine_error_stops_the_run_and_keeps_what_it_did(tmp_path, monkeypatch, capsys):

@@ -10,6 +10,9 @@ import json
 import math
 from pathlib import Path
 
+import pytest
+
+import penedge.model as pm
 from penedge import cli
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
@@ -75,3 +78,31 @@ def test_a_trial_counts_its_own_steps(tmp_path):
     trials = summary["stages"][-1]["factor_of_safety"]["trials"]
     assert all(0 < t["steps"] <= 4000 for t in trials), trials
     assert {t["steps"] for t in trials if t["failed"]} == {4000}, trials
+
+
+@pytest.mark.parametrize(
+    ("stages", "where"),
+    [
+        (
+            '[[stages]]\ntype = "boundary"\nregion = {type = "all"}\ncondition = "fixed"\n'
+            '[[stages]]\ntype = "cycle"\nsteps = 10\n',
+            "stages[2]: stages[2] (cycle) takes steps",
+        ),
+        (
+            '[[stages]]\ntype = "excavate"\nregion = {type = "above", point = [5, 1, 3], '
+            'dip = 30, dip_direction = 90}\n[[stages]]\ntype = "solve"\n',
+            "stages[1]: stages[1] (excavate) takes steps",
+        ),
+    ],
+)
+def test_a_stage_that_steps_with_no_free_block_is_refused_by_check(tmp_path, capsys, stages, where):
+    text = INCLINE.format(friction=35) + '[[stages]]\ntype = "solve"\n' + stages
+    model = tmp_path / "model.toml"
+    model.write_text(text)
+    assert cli.main(["simulate", str(model), "--check"]) == 1
+    err = capsys.readouterr().err
+    assert where in err, err
+    assert "every block is fixed, driven or excavated" in err, err
+    # The run is refused before its first step.
+    with pytest.raises(pm.ModelError, match=r"takes steps"):
+        pm.simulate(text, folder=tmp_path / "out")

@@ -645,9 +645,11 @@ def check_safety_stages(
     removed: np.ndarray | None = None,
     first: int = 0,
 ) -> None:
-    """Before any step: each ``factor_of_safety`` stage from stage `first` on has a free
-    block to fail, given the `fixed` and driven (`velocity` not NaN) blocks and the
-    `removed` ones at stage `first`, and the boundary and excavate stages before it."""
+    """Before any step: each stage that takes steps (``solve``, ``cycle``, ``time``,
+    ``excavate`` with its relaxation steps, ``factor_of_safety``, whose free blocks must
+    fail) from stage `first` on has a free block, given the `fixed` and driven (`velocity`
+    not NaN) blocks and the `removed` ones at stage `first`, and the boundary and excavate
+    stages before it."""
     fixed, velocity = fixed.copy(), velocity.copy()
     removed = np.zeros(len(fixed), bool) if removed is None else removed.copy()
     for i, stage in enumerate(model.stages):
@@ -659,8 +661,17 @@ def check_safety_stages(
             apply_boundary(fixed, velocity, mask, b.condition, b.velocity, layout.bodies)
         elif stage.kind == "excavate" and stage.region is not None:
             removed |= layout.regions[stage.region]
-        elif stage.kind == "factor_of_safety" and not free_of(fixed, velocity, removed).any():
-            raise ModelError(f"stages[{i}]", NO_FREE_BLOCK)
+        if stage.kind not in (*STEPPING_STAGES, "factor_of_safety"):
+            continue
+        if not free_of(fixed, velocity, removed).any():
+            if stage.kind == "factor_of_safety":
+                raise ModelError(f"stages[{i}]", NO_FREE_BLOCK)
+            raise ModelError(
+                f"stages[{i}]",
+                f"{stage.name} ({stage.kind}) takes steps, but every block is fixed, driven or "
+                "excavated by then (by [[boundary]], boundary and excavate stages) and the "
+                "engine steps only free blocks: free some before it, or remove the stage",
+            )
 
 
 def check_excavations(
