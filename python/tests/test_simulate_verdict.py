@@ -67,6 +67,48 @@ def result_line(text: str) -> str:
     return next(line for line in text.splitlines() if line.strip().startswith("result"))
 
 
+def test_a_block_in_equilibrium_with_f_above_one_is_stable(tmp_path):
+    rc, summary, text = run(
+        tmp_path, INCLINE.format(friction=35) + '[[stages]]\ntype = "solve"\n' + FOS
+    )
+    assert rc == 0
+    f = summary["stages"][-1]["factor_of_safety"]
+    assert f["stable"] <= limit(35) <= f["failing"]
+    assert summary["stable"] is True
+    assert summary["not_stable_because"] == []
+    line = result_line(text)
+    assert "stable (in equilibrium at the end: ratio" in line, line
+    assert "every factor of safety >= 1" in line, line
+
+
+def test_a_factor_of_safety_below_one_is_not_stable_and_the_workaround_gives_it(tmp_path):
+    # Settled with friction 45, then the strength to test (25°) and its F: tan 25 / tan 30
+    # = 0.808 < 1, from a state in equilibrium (the workaround of a block that would slide
+    # during its first solve).
+    stages = '[[stages]]\ntype = "solve"\n[[stages]]\ntype = "properties"\nfriction = 25\n'
+    rc, summary, text = run(tmp_path, INCLINE.format(friction=45) + stages + FOS)
+    assert rc == 0
+    f = summary["stages"][-1]["factor_of_safety"]
+    assert f["stable"] <= limit(25) <= f["failing"], f
+    assert summary["stable"] is False
+    line = result_line(text)
+    assert line.split()[1:3] == ["NOT", "stable:"], line
+    assert f"factor of safety {f['factor']:.2f} < 1 (stages[2])" in line, line
+
+
+def test_blocks_falling_at_the_end_are_not_stable(tmp_path):
+    # column_excavation: settled (its solve reaches equilibrium), then its middle block is
+    # excavated and the blocks above fall: the final state is not in equilibrium.
+    example = EXAMPLES / "column_excavation.toml"
+    rc, summary, text = run(tmp_path, example.read_text())
+    assert rc == 0
+    assert summary["stages"][0]["converged"] is True
+    assert summary["stable"] is False
+    line = result_line(text)
+    assert "NOT stable: not in equilibrium at the end" in line, line
+    assert "blocks still moving at the end" in line, line
+
+
 def test_a_trial_counts_its_own_steps(tmp_path):
     # The budget of each trial is 4000 steps: a failing trial takes all of them, and no
     # trial more (the steps of the solve before are not the trial's).

@@ -452,6 +452,8 @@ def run_summary(
         {
             "stages": stages,
             "stable": outcome.stable,
+            "verdict": verdict_text(outcome),
+            "not_stable_because": outcome.problems,
             "interrupted": outcome.interrupted,
             "error": outcome.error,
             "steps": outcome.steps,
@@ -497,12 +499,36 @@ def stage_text(stage: dict[str, Any]) -> str:
 
 
 def result_text(summary: dict[str, Any]) -> str:
-    """``stable``, ``NOT stable``, ``interrupted`` or ``stopped by an error``."""
+    """``interrupted``, ``stopped by an error (below)``, or the verdict: ``stable (...)``
+    or ``NOT stable: ...``, with what it is based on (:func:`verdict_text`)."""
     if summary["interrupted"]:
         return "interrupted"
     if summary["error"] is not None:
         return "stopped by an error (below)"
-    return "stable" if summary["stable"] else "NOT stable"
+    return str(summary["verdict"])
+
+
+def verdict_text(outcome: Any) -> str:
+    """``stable (in equilibrium at the end: ...)`` or ``NOT stable: why; why``: stable
+    means that the final state is in equilibrium (its unbalanced-force ratio at most the
+    last solve's, no free block faster than ``[results].moving``), the last solve reached
+    equilibrium and every factor of safety is at least 1 (``Outcome.problems``)."""
+    problems = outcome.problems
+    if problems:
+        return "NOT stable: " + "; ".join(problems)
+    basis = (
+        f"in equilibrium at the end: ratio {outcome.ratio:.2g} <= {outcome.target:.2g}, "
+        f"no free block faster than {outcome.moving:g} m/s"
+    )
+    if outcome.safety is not None:
+        basis += ", every factor of safety >= 1"
+    if len(outcome.moved):
+        largest, _ = outcome.max_displacement
+        basis += (
+            f"; {plural(len(outcome.moved), 'block')} moved more than "
+            f"{outcome.threshold * 1e3:g} mm on the way (up to {largest:.3g} m)"
+        )
+    return f"stable ({basis})"
 
 
 def format_run(summary: dict[str, Any]) -> str:

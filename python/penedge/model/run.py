@@ -128,16 +128,55 @@ class Outcome:
     bolts: list[dict[str, Any]] = field(default_factory=list)  # per bolt, at the end
     earlier: list[bool] = field(default_factory=list)  # solves before a restart: converged?
 
+    last_solve: str | None = None  # the last solve stage of the model that ran (or before
+    # a restart), whose ratio is the target of the final state
+    moving: float = 1e-4  # m/s: [results].moving, a free block faster than it still moves
+    free: np.ndarray | None = None  # (n,) bool: the free blocks at the end
+
+    @property
+    def problems(self) -> list[str]:
+        """Why the run is not stable (empty when it is): the last ``solve`` stage (those
+        before a restart included: `earlier`) did not reach its ratio, the final state is
+        not in equilibrium (its ratio above the last solve's ratio, or the model's without
+        one; or a free block still faster than ``[results].moving``), a factor of safety
+        below 1; or the run was interrupted or stopped by an error."""
+        found = []
+        if self.interrupted:
+            found.append("interrupted")
+        if self.error is not None:
+            found.append("stopped by an error")
+        solves = self.earlier + [bool(s.converged) for s in self.stages if s.kind == "solve"]
+        if solves and not solves[-1]:
+            name = self.last_solve or "the last solve stage"
+            found.append(f"{name} (the last solve) did not reach equilibrium")
+        if not self.ratio <= self.target:  # NaN too
+            found.append(
+                f"not in equilibrium at the end (unbalanced-force ratio {self.ratio:.2g} > "
+                f"{self.target:.2g})"
+            )
+        speed = self.speed
+        if speed > self.moving:
+            found.append(
+                f"blocks still moving at the end (up to {speed:.2g} m/s > {self.moving:g})"
+            )
+        for s in self.stages:
+            if s.safety is not None and s.safety.factor < 1:
+                found.append(f"factor of safety {s.safety.factor:.2f} < 1 ({s.name})")
+        return found
+
     @property
     def stable(self) -> bool:
-        """Every solve stage reached equilibrium, those that ran before a restart included
-        (`earlier`, from the restart file), so that a restarted run says what the run that
-        did not stop says; a run without one: the final ratio is below the model's
-        equilibrium ratio. False if interrupted or stopped by an error."""
-        solves = self.earlier + [bool(s.converged) for s in self.stages if s.kind == "solve"]
-        if self.interrupted or self.error is not None:
-            return False
-        return all(solves) if solves else bool(self.ratio <= self.target)
+        """In equilibrium at the end and every factor of safety at least 1 (`problems`
+        says what is not)."""
+        return not self.problems
+
+    @property
+    def speed(self) -> float:
+        """The largest speed of a free block at the end (m/s)."""
+        speeds = np.linalg.norm(self.velocity, axis=1) if len(self.velocity) else np.zeros(0)
+        if self.free is not None:
+            speeds = speeds[self.free]
+        return float(speeds.max(initial=0.0))
 
     @property
     def max_displacement(self) -> tuple[float, int]:
@@ -264,12 +303,33 @@ class Runner:
             steps=e.steps,
             time=e.time,
             ratio=e.ratio,
-            target=self.model.mechanics.ratio,
+            target=self.target(results),
             error=error,
             earlier=list(self.earlier),
+            last_solve=self.last_solve(results),
+            moving=self.model.results.moving,
+            free=free_of(self.fixed, self.velocity, removed_of(e)),
         )
         out.bolts = bolt_results(e)
         return out
+
+    def last_solve(self, results: list[StageResult]) -> str | None:
+        """The name of the last solve stage that ran (in this run, or before its restart)."""
+        ran = {r.name for r in results}
+        solves = [
+            s.name
+            for i, s in enumerate(self.model.stages)
+            if s.kind == "solve" and (i < self.first or s.name in ran)
+        ]
+        return solves[-1] if solves else None
+
+    def target(self, results: list[StageResult]) -> float:
+        """The ratio of equilibrium of the final state: the last solve's, or the model's."""
+        name = self.last_solve(results)
+        for s in self.model.stages:
+            if s.kind == "solve" and s.name == name and s.ratio is not None:
+                return s.ratio
+        return self.model.mechanics.ratio
 
     def record(self, stage: str) -> None:
         """One history point."""
