@@ -177,7 +177,8 @@ def test_factor_of_safety_says_when_it_starts_out_of_equilibrium(tmp_path, stand
     text = WEDGE.read_text()
     model.write_text(text[: text.index("[[stages]]")] + stages)
     assert cli.main(["simulate", str(model), "-o", str(tmp_path / "out"), "--no-pictures"]) == 0
-    assert "from a state NOT in equilibrium: solve first" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "UNRELIABLE: the trials started from a state NOT in equilibrium" in printed
 
 
 def test_factor_of_safety_outside_the_range():

@@ -90,10 +90,30 @@ def test_a_factor_of_safety_below_one_is_not_stable_and_the_workaround_gives_it(
     assert rc == 0
     f = summary["stages"][-1]["factor_of_safety"]
     assert f["stable"] <= limit(25) <= f["failing"], f
+    assert f["reliable"] is True
+    assert summary["factor_of_safety_reliable"] is True
     assert summary["stable"] is False
     line = result_line(text)
     assert line.split()[1:3] == ["NOT", "stable:"], line
     assert f"factor of safety {f['factor']:.2f} < 1 (stages[2])" in line, line
+    assert "UNRELIABLE" not in text
+
+
+def test_a_factor_of_safety_from_a_sliding_block_is_marked_unreliable(tmp_path):
+    # Friction 25 < 30: the block slides during the solve, which cannot reach equilibrium;
+    # the trials then start from a moving block and fail too soon.
+    stages = '[[stages]]\ntype = "solve"\nmax_steps = 2000\n'
+    rc, summary, text = run(tmp_path, INCLINE.format(friction=25) + stages + FOS)
+    assert rc == 0
+    f = summary["stages"][-1]["factor_of_safety"]
+    assert f["reliable"] is False
+    assert f["start_ratio"] > 1e-5
+    assert summary["factor_of_safety_reliable"] is False
+    line = next(ln for ln in text.splitlines() if ln.startswith("  factor of safety"))
+    assert "UNRELIABLE" in line, text
+    assert "then a properties stage with the strength to test" in text
+    assert summary["stable"] is False
+    assert "stages[0] (the last solve) did not reach equilibrium" in result_line(text)
 
 
 def test_blocks_falling_at_the_end_are_not_stable(tmp_path):

@@ -444,6 +444,8 @@ def run_summary(
                 "failing": f.failing,
                 "failing_blocks": f.failing_blocks,
                 "from_equilibrium": f.in_equilibrium,
+                "reliable": f.in_equilibrium,
+                "start_ratio": f.start_ratio,
                 "trials": [t.__dict__ for t in f.trials],
             }
         stages.append(entry)
@@ -464,6 +466,7 @@ def run_summary(
             "max_displacement": largest,
             "max_displacement_block": block,
             "factor_of_safety": None if safety is None else safety.factor,
+            "factor_of_safety_reliable": None if safety is None else safety.in_equilibrium,
             "seconds": seconds,
             "written": written,
             "bolts": outcome.bolts,
@@ -492,7 +495,10 @@ def stage_text(stage: dict[str, Any]) -> str:
         return f"{text}: NOT in equilibrium after {steps:,} steps (ratio {ratio:.1e})"
     if "factor_of_safety" in stage:
         f = stage["factor_of_safety"]
-        return f"{text}: F {f['bound']} {f['factor']:.2f} ({plural(len(f['trials']), 'trial')})"
+        trials = plural(len(f["trials"]), "trial")
+        if not f["reliable"]:
+            trials = f"UNRELIABLE, not from equilibrium; {trials}"
+        return f"{text}: F {f['bound']} {f['factor']:.2f} ({trials})"
     if stage["steps"]:
         return f"{text}: {stage['steps']:,} steps"
     return text
@@ -562,12 +568,22 @@ def format_run(summary: dict[str, Any]) -> str:
             blocks = ", ".join(map(str, f["failing_blocks"][:12])) or "none"
             lines.append(
                 row(
-                    "factor of safety", f"{f['bound']} {f['factor']:.2f} (failing blocks: {blocks})"
+                    "factor of safety",
+                    f"{f['bound']} {f['factor']:.2f}"
+                    + ("" if f["reliable"] else " UNRELIABLE")
+                    + f" (failing blocks: {blocks})",
                 )
             )
-            if not f["from_equilibrium"]:
+            if not f["reliable"]:
                 lines.append(
-                    row("", "from a state NOT in equilibrium: solve first (docs/models.md)")
+                    row(
+                        "",
+                        f"UNRELIABLE: the trials started from a state NOT in equilibrium "
+                        f"(ratio {f['start_ratio']:.2g}: the blocks already moving), which "
+                        "fails them too soon; solve with a higher strength, then a properties "
+                        "stage with the strength to test, then factor_of_safety "
+                        "(docs/models.md, Factor of safety)",
+                    )
                 )
     if summary["written"]:
         lines.append(row("written", ", ".join(summary["written"])))
