@@ -513,6 +513,7 @@ class Runner:
             raise ModelError(
                 "restart", f"{path} has joint sets the model has not: {', '.join(sorted(unknown))}"
             )
+        check_save_stage(self.model, path, note)
         self.first = note["next_stage"]
         self.reference = np.array(note["reference"], dtype=float).reshape(n, 3)
         self.fixed = np.array(note["fixed"], dtype=bool)
@@ -667,6 +668,25 @@ def stiffening_warnings(model: Model) -> list[str]:
             '(docs/models.md, the "properties" stage)'
         )
     return warnings
+
+
+def check_save_stage(model: Model, path: Path, note: dict[str, Any]) -> None:
+    """The stage a restart file was saved by is, at its place, a ``save`` stage of the
+    model of that name: otherwise the run would go on after another stage (the stages
+    before the save were edited: one inserted, removed, or the save itself removed)."""
+    k = note["next_stage"] - 1
+    there = model.stages[k]
+    if there.kind == "save" and there.name == note["stage"]:
+        return
+    saves = [s.name for s in model.stages if s.kind == "save"]
+    has = f"its save stages are {', '.join(saves)}" if saves else "it has no save stage"
+    raise ModelError(
+        "restart",
+        f"--restart: {path} was written by the save stage {note['stage']} (stage {k}; the "
+        f"run would go on at stage {k + 1}), but this model's stage {k} is {there.name}, a "
+        f"{there.kind} stage ({has}): the stages up to the save must be those of the run "
+        "that wrote the file; only the stages after it may change",
+    )
 
 
 def free_of(fixed: np.ndarray, velocity: np.ndarray, removed: np.ndarray) -> np.ndarray:
