@@ -177,7 +177,8 @@ def test_factor_of_safety_says_when_it_starts_out_of_equilibrium(tmp_path, stand
     text = WEDGE.read_text()
     model.write_text(text[: text.index("[[stages]]")] + stages)
     assert cli.main(["simulate", str(model), "-o", str(tmp_path / "out"), "--no-pictures"]) == 0
-    assert "from a state NOT in equilibrium: solve first" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "UNRELIABLE: the trials started from a state NOT in equilibrium" in printed
 
 
 def test_factor_of_safety_outside_the_range():
@@ -223,7 +224,10 @@ def test_stages_and_history():
     assert kinds[0][0] == "solve"
     assert outcome.stages[0].converged
     assert kinds[1:] == [("properties", 0), ("cycle", 100), ("reset", 0), ("time", 50)]
-    assert outcome.stable  # the only solve stage converged
+    # The only solve converged, but friction 20 lets the wedge slide: still sliding at the
+    # end, so not stable.
+    assert not outcome.stable
+    assert any("still moving at the end" in p for p in outcome.problems), outcome.problems
     # after the reset, the displacement is the slide of the last 50 steps only:
     # s(t) = a t^2 / 2 from the speed at the reset
     free = np.flatnonzero(~setup.layout.fixed)[0]
@@ -259,11 +263,13 @@ def test_boundary_stage_fixes_the_block():
         '[[stages]]\ntype = "properties"\nfriction = 20\n'
         '[[stages]]\ntype = "cycle"\nsteps = 20\n'
         '[[stages]]\ntype = "boundary"\nregion = "wedge"\ncondition = "fixed"\n'
-        '[[stages]]\ntype = "cycle"\nsteps = 20\n'
     )
     runner = Runner(wedge(40.0, stages), InclineEngine)
     runner.run()
     assert runner.engine.fixed.all()
+    # A stage that steps after it has no free block: refused before any step.
+    with pytest.raises(pm.ModelError, match=r"stages\[3\]: stages\[3\] \(cycle\) takes steps"):
+        Runner(wedge(40.0, stages + '[[stages]]\ntype = "cycle"\nsteps = 20\n'), InclineEngine)
 
 
 def test_engine_error_stops_the_run_and_keeps_what_it_did(tmp_path, monkeypatch, capsys):

@@ -188,8 +188,8 @@ def test_check_reads_the_restart_file(tmp_path, capsys):
 
 def test_a_restarted_run_gives_the_verdict_of_the_whole_run(tmp_path, capsys):
     # The column settles (a solve), is saved, then its middle block is excavated and the
-    # blocks above fall: stable by the definition (every solve reached equilibrium), the
-    # restarted run too, though its own stages have no solve.
+    # blocks above fall: NOT stable (still moving at the end, though the solve reached
+    # equilibrium), the restarted run too, for the same reasons.
     model = str(EXAMPLES / "column_excavation.toml")
     flags = [*QUIET, "--json"]
     assert cli.main(["simulate", model, "-o", str(tmp_path / "a"), *flags]) == 0
@@ -199,24 +199,30 @@ def test_a_restarted_run_gives_the_verdict_of_the_whole_run(tmp_path, capsys):
     resumed = strict(capsys.readouterr().out)
     assert [s["kind"] for s in resumed["stages"]] == ["excavate", "cycle"]
     assert resumed["max_displacement"] == whole["max_displacement"]
-    assert whole["stable"] is True
-    assert resumed["stable"] is True
+    assert whole["stable"] is False
+    assert resumed["stable"] is False
+    assert resumed["not_stable_because"] == whole["not_stable_because"]
+    assert any("still moving" in why for why in whole["not_stable_because"])
 
 
 def test_a_solve_that_failed_before_the_restart_still_counts(tmp_path, capsys):
     stages = (
         '[[stages]]\ntype = "solve"\nmax_steps = 5\n'  # far from equilibrium after 5 steps
         '[[stages]]\ntype = "save"\nfile = "s.json"\n'
-        '[[stages]]\ntype = "solve"\n'  # reaches it
+        '[[stages]]\ntype = "cycle"\nsteps = 5\n'  # no solve after the restart
     )
     assert simulate(tmp_path, stages, "--json") == 0
     whole = strict(capsys.readouterr().out)
-    assert [s["converged"] for s in whole["stages"]] == [False, None, True]
+    assert [s["converged"] for s in whole["stages"]] == [False, None, None]
     assert whole["stable"] is False
+    failed = "stages[0] (the last solve) did not reach equilibrium"
+    assert failed in whole["not_stable_because"]
     model, saved = str(tmp_path / "column.toml"), str(tmp_path / "out" / "s.json")
     again = ["simulate", model, "-o", str(tmp_path / "b"), *QUIET, "--json"]
     assert cli.main([*again, "--restart", saved]) == 0
-    assert strict(capsys.readouterr().out)["stable"] is False
+    resumed = strict(capsys.readouterr().out)
+    assert resumed["stable"] is False
+    assert failed in resumed["not_stable_because"]  # the restart file kept it
 
 
 def test_a_run_removes_the_results_of_an_earlier_run_and_nothing_else(tmp_path):

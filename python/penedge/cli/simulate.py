@@ -444,6 +444,8 @@ def run_summary(
                 "failing": f.failing,
                 "failing_blocks": f.failing_blocks,
                 "from_equilibrium": f.in_equilibrium,
+                "reliable": f.in_equilibrium,
+                "start_ratio": f.start_ratio,
                 "trials": [t.__dict__ for t in f.trials],
             }
         stages.append(entry)
@@ -452,6 +454,8 @@ def run_summary(
         {
             "stages": stages,
             "stable": outcome.stable,
+            "verdict": verdict_text(outcome),
+            "not_stable_because": outcome.problems,
             "interrupted": outcome.interrupted,
             "error": outcome.error,
             "steps": outcome.steps,
@@ -462,6 +466,7 @@ def run_summary(
             "max_displacement": largest,
             "max_displacement_block": block,
             "factor_of_safety": None if safety is None else safety.factor,
+            "factor_of_safety_reliable": None if safety is None else safety.in_equilibrium,
             "seconds": seconds,
             "written": written,
             "bolts": outcome.bolts,
@@ -490,19 +495,46 @@ def stage_text(stage: dict[str, Any]) -> str:
         return f"{text}: NOT in equilibrium after {steps:,} steps (ratio {ratio:.1e})"
     if "factor_of_safety" in stage:
         f = stage["factor_of_safety"]
-        return f"{text}: F {f['bound']} {f['factor']:.2f} ({plural(len(f['trials']), 'trial')})"
+        trials = plural(len(f["trials"]), "trial")
+        if not f["reliable"]:
+            trials = f"UNRELIABLE, not from equilibrium; {trials}"
+        return f"{text}: F {f['bound']} {f['factor']:.2f} ({trials})"
     if stage["steps"]:
         return f"{text}: {stage['steps']:,} steps"
     return text
 
 
 def result_text(summary: dict[str, Any]) -> str:
-    """``stable``, ``NOT stable``, ``interrupted`` or ``stopped by an error``."""
+    """``interrupted``, ``stopped by an error (below)``, or the verdict: ``stable (...)``
+    or ``NOT stable: ...``, with what it is based on (:func:`verdict_text`)."""
     if summary["interrupted"]:
         return "interrupted"
     if summary["error"] is not None:
         return "stopped by an error (below)"
-    return "stable" if summary["stable"] else "NOT stable"
+    return str(summary["verdict"])
+
+
+def verdict_text(outcome: Any) -> str:
+    """``stable (in equilibrium at the end: ...)`` or ``NOT stable: why; why``: stable
+    means that the final state is in equilibrium (its unbalanced-force ratio at most the
+    last solve's, no free block faster than ``[results].moving``), the last solve reached
+    equilibrium and every factor of safety is at least 1 (``Outcome.problems``)."""
+    problems = outcome.problems
+    if problems:
+        return "NOT stable: " + "; ".join(problems)
+    basis = (
+        f"in equilibrium at the end: ratio {outcome.ratio:.2g} <= {outcome.target:.2g}, "
+        f"no free block faster than {outcome.moving:g} m/s"
+    )
+    if outcome.safety is not None:
+        basis += ", every factor of safety >= 1"
+    if len(outcome.moved):
+        largest, _ = outcome.max_displacement
+        basis += (
+            f"; {plural(len(outcome.moved), 'block')} moved more than "
+            f"{outcome.threshold * 1e3:g} mm on the way (up to {largest:.3g} m)"
+        )
+    return f"stable ({basis})"
 
 
 def format_run(summary: dict[str, Any]) -> str:
@@ -536,12 +568,22 @@ def format_run(summary: dict[str, Any]) -> str:
             blocks = ", ".join(map(str, f["failing_blocks"][:12])) or "none"
             lines.append(
                 row(
-                    "factor of safety", f"{f['bound']} {f['factor']:.2f} (failing blocks: {blocks})"
+                    "factor of safety",
+                    f"{f['bound']} {f['factor']:.2f}"
+                    + ("" if f["reliable"] else " UNRELIABLE")
+                    + f" (failing blocks: {blocks})",
                 )
             )
-            if not f["from_equilibrium"]:
+            if not f["reliable"]:
                 lines.append(
-                    row("", "from a state NOT in equilibrium: solve first (docs/models.md)")
+                    row(
+                        "",
+                        f"UNRELIABLE: the trials started from a state NOT in equilibrium "
+                        f"(ratio {f['start_ratio']:.2g}: the blocks already moving), which "
+                        "fails them too soon; solve with a higher strength, then a properties "
+                        "stage with the strength to test, then factor_of_safety "
+                        "(docs/models.md, Factor of safety)",
+                    )
                 )
     if summary["written"]:
         lines.append(row("written", ", ".join(summary["written"])))

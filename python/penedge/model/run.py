@@ -15,6 +15,7 @@ interface of :class:`penedge.model.engine.Engine`.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import hashlib
 import json
 import math
@@ -26,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from penedge._core import PenedgeError
-from penedge.model.check import apply_boundary, partial_body
+from penedge.model.check import apply_boundary, block_list, partial_body
 from penedge.model.fields import ModelError
 from penedge.model.schema import JointProperties, Model, Stage
 
@@ -128,16 +129,55 @@ class Outcome:
     bolts: list[dict[str, Any]] = field(default_factory=list)  # per bolt, at the end
     earlier: list[bool] = field(default_factory=list)  # solves before a restart: converged?
 
+    last_solve: str | None = None  # the last solve stage of the model that ran (or before
+    # a restart), whose ratio is the target of the final state
+    moving: float = 1e-4  # m/s: [results].moving, a free block faster than it still moves
+    free: np.ndarray | None = None  # (n,) bool: the free blocks at the end
+
+    @property
+    def problems(self) -> list[str]:
+        """Why the run is not stable (empty when it is): the last ``solve`` stage (those
+        before a restart included: `earlier`) did not reach its ratio, the final state is
+        not in equilibrium (its ratio above the last solve's ratio, or the model's without
+        one; or a free block still faster than ``[results].moving``), a factor of safety
+        below 1; or the run was interrupted or stopped by an error."""
+        found = []
+        if self.interrupted:
+            found.append("interrupted")
+        if self.error is not None:
+            found.append("stopped by an error")
+        solves = self.earlier + [bool(s.converged) for s in self.stages if s.kind == "solve"]
+        if solves and not solves[-1]:
+            name = self.last_solve or "the last solve stage"
+            found.append(f"{name} (the last solve) did not reach equilibrium")
+        if not self.ratio <= self.target:  # NaN too
+            found.append(
+                f"not in equilibrium at the end (unbalanced-force ratio {self.ratio:.2g} > "
+                f"{self.target:.2g})"
+            )
+        speed = self.speed
+        if speed > self.moving:
+            found.append(
+                f"blocks still moving at the end (up to {speed:.2g} m/s > {self.moving:g})"
+            )
+        for s in self.stages:
+            if s.safety is not None and s.safety.factor < 1:
+                found.append(f"factor of safety {s.safety.factor:.2f} < 1 ({s.name})")
+        return found
+
     @property
     def stable(self) -> bool:
-        """Every solve stage reached equilibrium, those that ran before a restart included
-        (`earlier`, from the restart file), so that a restarted run says what the run that
-        did not stop says; a run without one: the final ratio is below the model's
-        equilibrium ratio. False if interrupted or stopped by an error."""
-        solves = self.earlier + [bool(s.converged) for s in self.stages if s.kind == "solve"]
-        if self.interrupted or self.error is not None:
-            return False
-        return all(solves) if solves else bool(self.ratio <= self.target)
+        """In equilibrium at the end and every factor of safety at least 1 (`problems`
+        says what is not)."""
+        return not self.problems
+
+    @property
+    def speed(self) -> float:
+        """The largest speed of a free block at the end (m/s)."""
+        speeds = np.linalg.norm(self.velocity, axis=1) if len(self.velocity) else np.zeros(0)
+        if self.free is not None:
+            speeds = speeds[self.free]
+        return float(speeds.max(initial=0.0))
 
     @property
     def max_displacement(self) -> tuple[float, int]:
@@ -264,12 +304,33 @@ class Runner:
             steps=e.steps,
             time=e.time,
             ratio=e.ratio,
-            target=self.model.mechanics.ratio,
+            target=self.target(results),
             error=error,
             earlier=list(self.earlier),
+            last_solve=self.last_solve(results),
+            moving=self.model.results.moving,
+            free=free_of(self.fixed, self.velocity, removed_of(e)),
         )
         out.bolts = bolt_results(e)
         return out
+
+    def last_solve(self, results: list[StageResult]) -> str | None:
+        """The name of the last solve stage that ran (in this run, or before its restart)."""
+        ran = {r.name for r in results}
+        solves = [
+            s.name
+            for i, s in enumerate(self.model.stages)
+            if s.kind == "solve" and (i < self.first or s.name in ran)
+        ]
+        return solves[-1] if solves else None
+
+    def target(self, results: list[StageResult]) -> float:
+        """The ratio of equilibrium of the final state: the last solve's, or the model's."""
+        name = self.last_solve(results)
+        for s in self.model.stages:
+            if s.kind == "solve" and s.name == name and s.ratio is not None:
+                return s.ratio
+        return self.model.mechanics.ratio
 
     def record(self, stage: str) -> None:
         """One history point."""
@@ -419,12 +480,15 @@ class Runner:
             "properties": {name: p.__dict__ for name, p in e.properties.items()},
             "solves": self.earlier + self.solves,
             "blocks": blocks_fingerprint(self.setup.blocks),
+            "stages_run": [stage_record(s) for s in self.model.stages[: index + 1]],
+            "settings": model_settings(self.model, self.setup.layout),
         }
         e.save(path, json.dumps(note))
 
     def restore(self, path: Path) -> None:
         """Goes on from the restart file `path` (see :meth:`save`)."""
         e = self.engine
+        fresh = getattr(e, "sim", None)  # the model's own simulation, before the file's
         text = e.restore(path)
         self.reference = e.positions()
         try:
@@ -452,6 +516,19 @@ class Runner:
         if unknown:
             raise ModelError(
                 "restart", f"{path} has joint sets the model has not: {', '.join(sorted(unknown))}"
+            )
+        check_save_stage(self.model, path, note)
+        differences = restart_differences(self.setup, note, fresh, getattr(e, "sim", None))
+        differences += excavation_differences(self.setup, note["next_stage"], removed_of(e))
+        if differences:
+            raise ModelError(
+                "restart",
+                f"--restart: {path} was saved by a run with other settings than this model's "
+                f"up to its save stage {note['stage']}: "
+                + "; ".join(differences)
+                + ". The settings and the stages up to the save must be those of the run "
+                "that wrote the file (only the stages after it may change): run the model "
+                "afresh without --restart, or restore the settings",
             )
         self.first = note["next_stage"]
         self.reference = np.array(note["reference"], dtype=float).reshape(n, 3)
@@ -497,6 +574,7 @@ class Runner:
                 e.default = default.reduced(factor)
             e.apply_properties({n: p.reduced(factor) for n, p in original.items()}, factor)
             before = e.positions()
+            start = e.steps  # the engine's count so far: the trial's own steps are after it
             try:
                 converged = self.solve(stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e)
                 broke = False
@@ -507,7 +585,7 @@ class Runner:
             failed = broke or (not converged and speed > stage.velocity)
             shifted = np.linalg.norm(e.positions() - before, axis=1) > threshold
             moved = np.flatnonzero(free & (shifted | (speeds > stage.velocity)))
-            t = Trial(factor, failed, e.steps, e.ratio, speed, moved.tolist())
+            t = Trial(factor, failed, e.steps - start, e.ratio, speed, moved.tolist())
             trials.append(t)
             if self.progress is not None:
                 self.progress(e, stage, len(trials), None)
@@ -608,6 +686,209 @@ def stiffening_warnings(model: Model) -> list[str]:
     return warnings
 
 
+# --- what a restart file must share with the model (docs/models.md, "Restart") --------
+
+
+def plain(value: Any) -> Any:
+    """`value` (dataclasses, tuples, numpy numbers) as the JSON data a restart note keeps,
+    so that a value of the model compares equal to the one read back from a note."""
+
+    def data(item: Any) -> Any:
+        if dataclasses.is_dataclass(item) and not isinstance(item, type):
+            return dataclasses.asdict(item)
+        return float(item)
+
+    return json.loads(json.dumps(value, default=data))
+
+
+def stage_record(stage: Stage) -> dict[str, Any]:
+    """A stage's fields as a note keeps them (every stage up to a ``save``)."""
+    record: dict[str, Any] = plain(stage)
+    return record
+
+
+def model_settings(model: Model, layout: Any) -> dict[str, Any]:
+    """The settings of `model` that act from its first step on, by the field that sets
+    them: what a restart file must have been written with (its note keeps them)."""
+    m = model.mechanics
+    support = []
+    for i, s in enumerate(model.support):
+        mask = layout.regions.get(s.region)
+        blocks = [] if mask is None else np.flatnonzero(mask).tolist()
+        area = layout.support_areas[i] if i < len(layout.support_areas) else None
+        support.append({**plain(s), "blocks": blocks, "area": area})
+    settings: dict[str, Any] = plain(
+        {
+            "rock.density": m.density,
+            "mechanics.gravity": m.gravity,
+            "mechanics.damping": m.damping,
+            "mechanics.time_step": m.time_step,
+            "mechanics.gap": m.gap,
+            "mechanics.point_width": m.point_width,
+            "seismic": model.seismic,
+            "water": model.water,
+            "bolts": [plain(b) for b in model.bolts],
+            "support": support,
+            "initial_stress": model.initial_stress,
+            "joint_properties (rock bridges)": {k: plain(v) for k, v in model.bridges.items()},
+        }
+    )
+    return settings
+
+
+def shown(value: Any) -> str:
+    """A setting's value in a message: ``none``, ``35``, ``(0, 0, -9.81)``,
+    ``{coefficient 0.05, azimuth 90}``."""
+    if value is None or value == [] or value == {}:
+        return "none"
+    if isinstance(value, bool):
+        return str(value).lower()
+    if isinstance(value, float | int):
+        return f"{value:g}"
+    if isinstance(value, list):
+        if all(isinstance(v, float | int) and not isinstance(v, bool) for v in value):
+            return "(" + ", ".join(f"{v:g}" for v in value) + ")"
+        return "[" + ", ".join(shown(v) for v in value) + "]"
+    if isinstance(value, dict):
+        items = [f"{k} {shown(v)}" for k, v in value.items() if v not in (None, [], {})]
+        return "{" + ", ".join(items) + "}"
+    return str(value)
+
+
+def resolved_at(setup: Any, upto: int) -> tuple[Any, dict[str, Any], np.ndarray, np.ndarray]:
+    """The default joint properties, those of each set and the boundary masks (fixed,
+    velocity) of the model as its stages before stage `upto` leave them (as the run
+    applies them: `Runner.run_stage`)."""
+    model, layout = setup.model, setup.layout
+    default = model.default_properties
+    properties = dict(model.properties)
+    fixed, velocity = layout.fixed.copy(), layout.velocity.copy()
+    for stage in model.stages[:upto]:
+        if stage.kind == "properties":
+            names = stage.sets or tuple(model.set_names)
+            if not stage.sets:
+                default = merge(default, stage.changes)
+            properties.update({name: merge(properties[name], stage.changes) for name in names})
+        elif stage.kind == "boundary" and stage.boundary is not None:
+            b = stage.boundary
+            mask = layout.regions[b.region]
+            apply_boundary(fixed, velocity, mask, b.condition, b.velocity, layout.bodies)
+    return default, properties, fixed, velocity
+
+
+def check_save_stage(model: Model, path: Path, note: dict[str, Any]) -> None:
+    """The stage a restart file was saved by is, at its place, a ``save`` stage of the
+    model of that name: otherwise the run would go on after another stage (the stages
+    before the save were edited: one inserted, removed, or the save itself removed)."""
+    k = note["next_stage"] - 1
+    there = model.stages[k]
+    if there.kind == "save" and there.name == note["stage"]:
+        return
+    saves = [s.name for s in model.stages if s.kind == "save"]
+    has = f"its save stages are {', '.join(saves)}" if saves else "it has no save stage"
+    raise ModelError(
+        "restart",
+        f"--restart: {path} was written by the save stage {note['stage']} (stage {k}; the "
+        f"run would go on at stage {k + 1}), but this model's stage {k} is {there.name}, a "
+        f"{there.kind} stage ({has}): the stages up to the save must be those of the run "
+        "that wrote the file; only the stages after it may change",
+    )
+
+
+def restart_differences(setup: Any, note: dict[str, Any], fresh: Any, loaded: Any) -> list[str]:
+    """What differs between the model, as its stages before the save leave it, and the
+    run that wrote a restart file's `note`: each as ``field: the model says X, the file
+    Y``. The settings of the note (files written since 2026-11-28 night); for an older
+    file, the gravity, damping and masses of the `fresh` simulation (the model's) and the
+    `loaded` one (the file's) instead."""
+    model, layout = setup.model, setup.layout
+    upto = note["next_stage"]
+    found: list[str] = []
+
+    def differ(name: str, mine: Any, theirs: Any) -> None:
+        if mine != theirs:
+            found.append(f"{name}: the model says {shown(mine)}, the file {shown(theirs)}")
+
+    records = note.get("stages_run")
+    if records is not None:
+        for stage, record in zip(model.stages[:upto], records, strict=False):
+            mine = stage_record(stage)
+            if mine["kind"] != record.get("kind"):
+                found.append(
+                    f"{stage.name}: a {stage.kind} stage in the model, a {record.get('kind')} "
+                    "stage in the file"
+                )
+                continue
+            for key, value in mine.items():
+                if key != "file" and key in record:  # a save's file may move
+                    differ(f"{stage.name}.{key}", value, record[key])
+    settings = note.get("settings")
+    if settings is not None:
+        for key, value in model_settings(model, layout).items():
+            if key in settings:
+                differ(key, value, settings[key])
+    elif fresh is not None and loaded is not None:
+        mine_g = [round(float(x), 12) + 0.0 for x in np.asarray(fresh.gravity)]
+        their_g = [round(float(x), 12) + 0.0 for x in np.asarray(loaded.gravity)]
+        differ("mechanics.gravity (with [seismic])", mine_g, their_g)
+        differ("mechanics.damping", list(fresh.damping), list(loaded.damping))
+        mine_m, their_m = float(np.sum(fresh.masses)), float(np.sum(loaded.masses))
+        if not math.isclose(mine_m, their_m, rel_tol=1e-12):
+            density = model.mechanics.density
+            found.append(
+                f"rock.density: the model says {density:g}, the file "
+                f"{density * their_m / mine_m:.6g} (its blocks weigh {their_m:.6g} kg, the "
+                f"model's {mine_m:.6g} kg)"
+            )
+    default, properties, fixed, velocity = resolved_at(setup, upto)
+    differ_props = [("default", default, note["default"])]
+    differ_props += [(name, properties[name], note["properties"].get(name)) for name in properties]
+    for name, props, theirs in differ_props:
+        if theirs is None:
+            continue
+        for key, value in plain(props).items():
+            if key in theirs:
+                differ(f"joint_properties.{name}.{key}", value, theirs[key])
+    n = len(fixed)
+    their_fixed = np.array(note["fixed"], dtype=bool)
+    their_velocity = np.array(
+        [[math.nan if x is None else x for x in row] for row in note["velocity"]], dtype=float
+    ).reshape(n, 3)
+    same_velocity = (velocity == their_velocity) | (np.isnan(velocity) & np.isnan(their_velocity))
+    wrong = np.flatnonzero((fixed != their_fixed) | ~same_velocity.all(axis=1))
+    if len(wrong):
+
+        def condition(f: np.ndarray, v: np.ndarray, i: int) -> str:
+            if f[i]:
+                return "fixed"
+            if np.isnan(v[i, 0]):
+                return "free"
+            return "driven at ({:g}, {:g}, {:g}) m/s".format(*v[i])
+
+        some = ", ".join(
+            f"block {i} {condition(fixed, velocity, i)} in the model, "
+            f"{condition(their_fixed, their_velocity, i)} in the file"
+            for i in wrong[:5]
+        )
+        more = f" and {len(wrong) - 5} more" if len(wrong) > 5 else ""
+        found.append(f"the boundary conditions ([[boundary]] and boundary stages): {some}{more}")
+    return found
+
+
+def excavation_differences(setup: Any, upto: int, removed: np.ndarray) -> list[str]:
+    """The blocks the model's excavate stages before stage `upto` remove, against those the
+    restart file has removed (`removed`), if they differ (an edited region)."""
+    expected = np.zeros(len(removed), bool)
+    for stage in setup.model.stages[:upto]:
+        if stage.kind == "excavate" and stage.region is not None:
+            expected |= setup.layout.regions[stage.region]
+    if np.array_equal(expected, removed):
+        return []
+    mine = block_list(np.flatnonzero(expected)) or "none"
+    theirs = block_list(np.flatnonzero(removed)) or "none"
+    return [f"the excavated blocks: the model's excavate stages remove {mine}, the file {theirs}"]
+
+
 def free_of(fixed: np.ndarray, velocity: np.ndarray, removed: np.ndarray) -> np.ndarray:
     """The free blocks: not fixed, not driven (a velocity prescribed), not excavated."""
     return ~(fixed | ~np.isnan(velocity[:, 0]) | removed)
@@ -644,9 +925,11 @@ def check_safety_stages(
     removed: np.ndarray | None = None,
     first: int = 0,
 ) -> None:
-    """Before any step: each ``factor_of_safety`` stage from stage `first` on has a free
-    block to fail, given the `fixed` and driven (`velocity` not NaN) blocks and the
-    `removed` ones at stage `first`, and the boundary and excavate stages before it."""
+    """Before any step: each stage that takes steps (``solve``, ``cycle``, ``time``,
+    ``excavate`` with its relaxation steps, ``factor_of_safety``, whose free blocks must
+    fail) from stage `first` on has a free block, given the `fixed` and driven (`velocity`
+    not NaN) blocks and the `removed` ones at stage `first`, and the boundary and excavate
+    stages before it."""
     fixed, velocity = fixed.copy(), velocity.copy()
     removed = np.zeros(len(fixed), bool) if removed is None else removed.copy()
     for i, stage in enumerate(model.stages):
@@ -658,8 +941,17 @@ def check_safety_stages(
             apply_boundary(fixed, velocity, mask, b.condition, b.velocity, layout.bodies)
         elif stage.kind == "excavate" and stage.region is not None:
             removed |= layout.regions[stage.region]
-        elif stage.kind == "factor_of_safety" and not free_of(fixed, velocity, removed).any():
-            raise ModelError(f"stages[{i}]", NO_FREE_BLOCK)
+        if stage.kind not in (*STEPPING_STAGES, "factor_of_safety"):
+            continue
+        if not free_of(fixed, velocity, removed).any():
+            if stage.kind == "factor_of_safety":
+                raise ModelError(f"stages[{i}]", NO_FREE_BLOCK)
+            raise ModelError(
+                f"stages[{i}]",
+                f"{stage.name} ({stage.kind}) takes steps, but every block is fixed, driven or "
+                "excavated by then (by [[boundary]], boundary and excavate stages) and the "
+                "engine steps only free blocks: free some before it, or remove the stage",
+            )
 
 
 def check_excavations(

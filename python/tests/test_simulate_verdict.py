@@ -1,0 +1,170 @@
+"""The verdict of ``penedge simulate`` says what it is based on and agrees with the run
+(docs/models.md, "penedge simulate"); a factor of safety from a state not in equilibrium
+is marked unreliable; a trial's steps are its own; a stage that steps with no free block
+is refused by ``--check``.
+
+The model: a 100 m³ block (2500 kg/m³) on a plane dipping 30° towards the East, the rock
+below it fixed; limit equilibrium F = tan φ / tan 30° (dry, no cohesion)."""
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+import penedge.model as pm
+from penedge import cli
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
+INCLINE = """
+[domain]
+type = "box"
+min = [0, 0, 0]
+max = [10, 2, 8]
+[[joints]]
+type = "plane"
+name = "slide"
+point = [5, 1, 3]
+dip = 30
+dip_direction = 90
+[rock]
+density = 2500
+[joint_properties.default]
+kn = 1e9
+ks = 1e8
+friction = {friction}
+[[boundary]]
+region = {{type = "below", point = [5, 1, 3], dip = 30, dip_direction = 90}}
+condition = "fixed"
+"""
+QUIET = ["--no-pictures", "--no-series"]
+FOS = '[[stages]]\ntype = "factor_of_safety"\nmax_steps = 4000\n'
+
+
+def limit(friction: float) -> float:
+    """F of the block on the 30° plane by limit equilibrium (dry, cohesionless)."""
+    return math.tan(math.radians(friction)) / math.tan(math.radians(30))
+
+
+def run(tmp_path: Path, text: str, *flags: str) -> tuple[int, dict, str]:
+    """``penedge simulate`` on `text`: exit status, summary.json, printed text."""
+    model = tmp_path / "model.toml"
+    model.write_text(text)
+    out = tmp_path / "out"
+    import contextlib
+    import io
+
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        rc = cli.main(["simulate", str(model), "-o", str(out), *QUIET, *flags])
+    summary = (
+        json.loads((out / "summary.json").read_text()) if (out / "summary.json").exists() else {}
+    )
+    return rc, summary, printed.getvalue()
+
+
+def result_line(text: str) -> str:
+    return next(line for line in text.splitlines() if line.strip().startswith("result"))
+
+
+def test_a_block_in_equilibrium_with_f_above_one_is_stable(tmp_path):
+    rc, summary, text = run(
+        tmp_path, INCLINE.format(friction=35) + '[[stages]]\ntype = "solve"\n' + FOS
+    )
+    assert rc == 0
+    f = summary["stages"][-1]["factor_of_safety"]
+    assert f["stable"] <= limit(35) <= f["failing"]
+    assert summary["stable"] is True
+    assert summary["not_stable_because"] == []
+    line = result_line(text)
+    assert "stable (in equilibrium at the end: ratio" in line, line
+    assert "every factor of safety >= 1" in line, line
+
+
+def test_a_factor_of_safety_below_one_is_not_stable_and_the_workaround_gives_it(tmp_path):
+    # Settled with friction 45, then the strength to test (25°) and its F: tan 25 / tan 30
+    # = 0.808 < 1, from a state in equilibrium (the workaround of a block that would slide
+    # during its first solve).
+    stages = '[[stages]]\ntype = "solve"\n[[stages]]\ntype = "properties"\nfriction = 25\n'
+    rc, summary, text = run(tmp_path, INCLINE.format(friction=45) + stages + FOS)
+    assert rc == 0
+    f = summary["stages"][-1]["factor_of_safety"]
+    assert f["stable"] <= limit(25) <= f["failing"], f
+    assert f["reliable"] is True
+    assert summary["factor_of_safety_reliable"] is True
+    assert summary["stable"] is False
+    line = result_line(text)
+    assert line.split()[1:3] == ["NOT", "stable:"], line
+    assert f"factor of safety {f['factor']:.2f} < 1 (stages[2])" in line, line
+    assert "UNRELIABLE" not in text
+
+
+def test_a_factor_of_safety_from_a_sliding_block_is_marked_unreliable(tmp_path):
+    # Friction 25 < 30: the block slides during the solve, which cannot reach equilibrium;
+    # the trials then start from a moving block and fail too soon.
+    stages = '[[stages]]\ntype = "solve"\nmax_steps = 2000\n'
+    rc, summary, text = run(tmp_path, INCLINE.format(friction=25) + stages + FOS)
+    assert rc == 0
+    f = summary["stages"][-1]["factor_of_safety"]
+    assert f["reliable"] is False
+    assert f["start_ratio"] > 1e-5
+    assert summary["factor_of_safety_reliable"] is False
+    line = next(ln for ln in text.splitlines() if ln.startswith("  factor of safety"))
+    assert "UNRELIABLE" in line, text
+    assert "then a properties stage with the strength to test" in text
+    assert summary["stable"] is False
+    assert "stages[0] (the last solve) did not reach equilibrium" in result_line(text)
+
+
+def test_blocks_falling_at_the_end_are_not_stable(tmp_path):
+    # column_excavation: settled (its solve reaches equilibrium), then its middle block is
+    # excavated and the blocks above fall: the final state is not in equilibrium.
+    example = EXAMPLES / "column_excavation.toml"
+    rc, summary, text = run(tmp_path, example.read_text())
+    assert rc == 0
+    assert summary["stages"][0]["converged"] is True
+    assert summary["stable"] is False
+    line = result_line(text)
+    assert "NOT stable: not in equilibrium at the end" in line, line
+    assert "blocks still moving at the end" in line, line
+
+
+def test_a_trial_counts_its_own_steps(tmp_path):
+    # The budget of each trial is 4000 steps: a failing trial takes all of them, and no
+    # trial more (the steps of the solve before are not the trial's).
+    _, summary, _ = run(
+        tmp_path, INCLINE.format(friction=35) + '[[stages]]\ntype = "solve"\n' + FOS
+    )
+    solve_steps = summary["stages"][0]["steps"]
+    assert solve_steps > 0
+    trials = summary["stages"][-1]["factor_of_safety"]["trials"]
+    assert all(0 < t["steps"] <= 4000 for t in trials), trials
+    assert {t["steps"] for t in trials if t["failed"]} == {4000}, trials
+
+
+@pytest.mark.parametrize(
+    ("stages", "where"),
+    [
+        (
+            '[[stages]]\ntype = "boundary"\nregion = {type = "all"}\ncondition = "fixed"\n'
+            '[[stages]]\ntype = "cycle"\nsteps = 10\n',
+            "stages[2]: stages[2] (cycle) takes steps",
+        ),
+        (
+            '[[stages]]\ntype = "excavate"\nregion = {type = "above", point = [5, 1, 3], '
+            'dip = 30, dip_direction = 90}\n[[stages]]\ntype = "solve"\n',
+            "stages[1]: stages[1] (excavate) takes steps",
+        ),
+    ],
+)
+def test_a_stage_that_steps_with_no_free_block_is_refused_by_check(tmp_path, capsys, stages, where):
+    text = INCLINE.format(friction=35) + '[[stages]]\ntype = "solve"\n' + stages
+    model = tmp_path / "model.toml"
+    model.write_text(text)
+    assert cli.main(["simulate", str(model), "--check"]) == 1
+    err = capsys.readouterr().err
+    assert where in err, err
+    assert "every block is fixed, driven or excavated" in err, err
+    # The run is refused before its first step.
+    with pytest.raises(pm.ModelError, match=r"takes steps"):
+        pm.simulate(text, folder=tmp_path / "out")
