@@ -19,6 +19,8 @@ pub(crate) use clearance::Clearance;
 pub(crate) use hull::hull_volume_and_area;
 
 pub use error::BlockError;
+#[cfg(test)]
+pub(crate) use error::Readable;
 pub use origin::FaceOrigin;
 #[cfg(test)]
 pub(crate) use pose::assert_same_placed;

@@ -1,0 +1,52 @@
+"""Input that the bindings and files took without a clear error: a tracker pose moving a
+block out of double precision's range, blocks far from the origin, joint names that the
+contact table cannot tell apart, a unit's name of any length, whole numbers beyond 64 bits;
+and the contact table's body columns for concave blocks.
+
+References: the core's checked move (``Block.translated``) for the tracker's range, the
+system's ``body_ids`` for the body columns, the limits named in the messages."""
+
+import re
+
+import numpy as np
+import pytest
+
+import penedge
+
+def test_vertices_rounded_together_far_away_say_the_coordinates_are_too_large():
+    with pytest.raises(penedge.BlockError) as info:
+        penedge.Block.cuboid([1e15] * 3, [1e15 + 1] * 3)
+    assert info.value.kind == "repeated_vertex"
+    message = str(info.value)
+    for part in ("up to 1e15 in magnitude", "too large for double precision", "1.73e0 across"):
+        assert part in message, message
+    # Near the origin a vertex given twice is only that.
+    vertices = np.array(
+        [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [1, 1, 1]]
+    )
+    faces = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+    with pytest.raises(penedge.BlockError, match=r"^vertices 6 and 7 are at the same position$"):
+        penedge.Block(vertices, faces)
+
+
+def test_distances_in_block_messages_have_three_digits():
+    vertices = np.array(
+        [
+            [0, 0, 0],
+            [1, 0, 0],
+            [1, 1, 0],
+            [0, 1, 0],
+            [0, 0, 1],
+            [1, 0, 1],
+            [1, 1, 1 + 1e-3 / 3],
+            [0, 1, 1],
+        ]
+    )
+    faces = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+    with pytest.raises(penedge.BlockError) as info:
+        penedge.Block(vertices, faces)
+    numbers = re.findall(r"\d\.\d+e-?\d+", str(info.value))
+    assert numbers, str(info.value)
+    assert all(len(n.split("e")[0]) <= 4 for n in numbers), str(info.value)
+
+
