@@ -13,6 +13,36 @@ import pytest
 
 import penedge
 
+IDENTITY = [0.0, 0.0, 0.0, 1.0]
+
+
+def cube_grid():
+    """Four unit cubes in a row along x, touching."""
+    return penedge.BlockSystem([penedge.Block.cuboid([i, 0, 0], [i + 1, 1, 1]) for i in range(4)])
+
+
+@pytest.mark.parametrize("far", [1e300, -1e300, 1e14])
+def test_a_tracker_pose_out_of_range_is_an_input_error_naming_the_block(far):
+    system = cube_grid()
+    tracker = penedge.ContactTracker(system, skin=0.1)
+    before = tracker.contacts.pairs.tolist()
+    rotations = np.tile(IDENTITY, (4, 1))
+    translations = np.zeros((4, 3))
+    translations[2, 1] = far
+    with pytest.raises(penedge.InputError, match=r"^pose 2 moves block 2 too far") as info:
+        tracker.update(rotations, translations)
+    assert "1e50" in str(info.value)
+    # The checked move of the block refuses it too, and the tracker is unchanged.
+    with pytest.raises(penedge.BlockError):
+        system[2].translated([0, far, 0])
+    assert tracker.contacts.pairs.tolist() == before
+    # Nearer, the block is placed: it has left its neighbours.
+    translations[2, 1] = 1e13
+    tracker.update(rotations, translations)
+    system[2].translated([0, 1e13, 0])
+    assert tracker.contacts.pairs.tolist() == [[0, 1]]
+
+
 def test_vertices_rounded_together_far_away_say_the_coordinates_are_too_large():
     with pytest.raises(penedge.BlockError) as info:
         penedge.Block.cuboid([1e15] * 3, [1e15 + 1] * 3)
