@@ -6,6 +6,7 @@ and the contact table's body columns for concave blocks.
 References: the core's checked move (``Block.translated``) for the tracker's range, the
 system's ``body_ids`` for the body columns, the limits named in the messages."""
 
+import json
 import re
 
 import numpy as np
@@ -78,5 +79,62 @@ def test_distances_in_block_messages_have_three_digits():
     numbers = re.findall(r"\d\.\d+e-?\d+", str(info.value))
     assert numbers, str(info.value)
     assert all(len(n.split("e")[0]) <= 4 for n in numbers), str(info.value)
+
+
+def two_planes(names):
+    joints = []
+    for name, z in zip(names, (3, 6), strict=True):
+        joint = {"type": "plane", "point": [0, 0, z], "dip": 0, "dip_direction": 0}
+        if name is not None:
+            joint["name"] = name
+        joints.append(joint)
+    return {"domain": {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]}, "joints": joints}
+
+
+@pytest.mark.parametrize(
+    ("names", "words"),
+    [
+        (["J1", "J1"], '"J1" is already that of joints[0]'),
+        (["J1", "J2|J3"], '"J2|J3" holds `|`'),
+        (["joints[1]", None], "already that of joints[0]"),
+    ],
+)
+def test_a_spec_refuses_a_name_twice_or_with_the_separator(names, words):
+    with pytest.raises(penedge.SpecError) as info:
+        penedge.generate(two_planes(names))
+    assert info.value.field == "joints[1].name"
+    assert words in str(info.value)
+
+
+def written_file(tmp_path, change):
+    system, _ = penedge.generate(two_planes(["A", "B"]))
+    path = tmp_path / "b.json"
+    system.write_json(path)
+    data = json.loads(path.read_text())
+    change(data)
+    path.write_text(json.dumps(data))
+    return path
+
+
+@pytest.mark.parametrize(
+    ("change", "field"),
+    [
+        (lambda d: d["sets"][1].update(name="A"), "sets[1].name"),
+        (lambda d: d["sets"][0].update(name="A|B"), "sets[0].name"),
+        (lambda d: d.update(unit="f" * 17), "unit"),
+        (lambda d: d.update(unit="x" * 1_000_000), "unit"),
+        (lambda d: d.update(unit="m\n"), None),
+        (lambda d: d.update(unit="m\x07"), "unit"),
+    ],
+)
+def test_a_block_file_refuses_bad_set_names_and_unit_names(tmp_path, change, field):
+    path = written_file(tmp_path, change)
+    if field is None:  # trimmed, as the spec's unit
+        assert penedge.BlockSystem.read_json(path).unit == "m"
+        return
+    with pytest.raises(penedge.FileFormatError) as info:
+        penedge.BlockSystem.read_json(path)
+    assert info.value.field == field
+    assert len(str(info.value)) < 300 + len(str(path))
 
 
