@@ -6,6 +6,7 @@ and the contact table's body columns for concave blocks.
 References: the core's checked move (``Block.translated``) for the tracker's range, the
 system's ``body_ids`` for the body columns, the limits named in the messages."""
 
+import csv
 import json
 import re
 
@@ -136,5 +137,27 @@ def test_a_block_file_refuses_bad_set_names_and_unit_names(tmp_path, change, fie
         penedge.BlockSystem.read_json(path)
     assert info.value.field == field
     assert len(str(info.value)) < 300 + len(str(path))
+
+
+def test_the_contact_table_has_the_bodies_of_the_blocks(tmp_path):
+    c = penedge.Block.cuboid
+    u = [c([0, 0, 0], [3, 1, 1]), c([0, 0, 1], [1, 1, 2]), c([2, 0, 1], [3, 1, 2])]
+    blocks = [*u, c([1, 0, 1], [2, 1, 2])]
+    for system, glued in (
+        (penedge.BlockSystem(blocks).with_bodies([0, 0, 0, 1]), True),
+        (penedge.BlockSystem(blocks), False),
+    ):
+        path = tmp_path / "c.csv"
+        system.detect(geometry=True).write_csv(path)
+        with path.open(newline="", encoding="utf-8") as f:
+            rows = list(csv.DictReader(f))
+        assert list(rows[0])[-4:] == ["set_a", "set_b", "body_a", "body_b"]
+        ids = system.body_ids
+        for row in rows:
+            for block, body in (("block_a", "body_a"), ("block_b", "body_b")):
+                assert int(row[body]) == ids[int(row[block])]
+        # The U-block's parts name their body, not themselves; convex blocks themselves.
+        differ = any(row[f"body_{s}"] != row[f"block_{s}"] for row in rows for s in "ab")
+        assert differ == glued
 
 
