@@ -161,3 +161,56 @@ def test_the_contact_table_has_the_bodies_of_the_blocks(tmp_path):
         assert differ == glued
 
 
+SPEC = {"domain": {"type": "box", "min": [0, 0, 0], "max": [1, 1, 1]}, "joints": []}
+
+
+@pytest.mark.parametrize(
+    "big",
+    [2**63, 2**64 + 5, -(2**63) - 1, 10**5000],
+    ids=["2**63", "2**64+5", "-2**63-1", "10**5000"],
+)
+def test_max_blocks_beyond_64_bits_is_an_input_error_naming_it(big):
+    with pytest.raises(
+        penedge.InputError, match=r"^max_blocks must be .*9223372036854775807"
+    ) as info:
+        penedge.generate(SPEC, max_blocks=big)
+    assert info.value.kind == "out_of_range"
+    assert len(str(info.value)) < 200
+    assert len(penedge.generate(SPEC, max_blocks=2**63 - 1)[0]) == 1
+
+
+def simulation():
+    base = penedge.Block.cuboid([-2, -2, -1], [2, 2, 0])
+    cube = penedge.Block.cuboid([-0.5, -0.5, 0], [0.5, 0.5, 1])
+    return penedge.Simulation(penedge.BlockSystem([base, cube]))
+
+
+BIG = 2**64
+WHOLE_ARGUMENTS = {
+    "step": (lambda big: simulation().step(big), "^n must be"),
+    "solve": (lambda big: simulation().solve(max_steps=big), "^max_steps must be"),
+    "excavate": (lambda big: simulation().excavate([1], relax_steps=big), "^relax_steps must be"),
+    "set_joint": (
+        lambda big: simulation().set_joint(kn=1e9, ks=1e9, friction=30.0, set=big),
+        "^set must be",
+    ),
+    "bridge": (lambda big: simulation().bridge(big), "^set must be"),
+    "joint": (lambda big: simulation().joint(set=big), "^set must be"),
+    "set_water": (
+        lambda big: simulation().set_water(pressures={big: 1.0}),
+        "^a set of pressures must be",
+    ),
+    "set_velocity": (lambda big: simulation().set_velocity(big, [0, 0, 0]), "^id must be"),
+    "apply_force": (lambda big: simulation().apply_force(big, [0, 0, 1]), "^id must be"),
+    "paper_example": (lambda big: penedge.paper_example(big), "examples are 1, 2 and 3"),
+    "threads": (lambda big: penedge.paper_example(1).detect(threads=big), "^threads must be"),
+}
+
+
+@pytest.mark.parametrize("name", WHOLE_ARGUMENTS)
+@pytest.mark.parametrize("sign", [1, -1])
+def test_a_whole_number_beyond_64_bits_is_named_not_a_bare_overflow(name, sign):
+    call, message = WHOLE_ARGUMENTS[name]
+    with pytest.raises(penedge.InputError, match=message) as info:
+        call(sign * BIG)
+    assert str(sign * BIG) in str(info.value)

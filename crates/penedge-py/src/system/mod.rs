@@ -15,7 +15,7 @@ pub use contacts::SystemContacts;
 pub use examples::{paper_example, paper_example_planes, paper_table3};
 pub use tracker::ContactTracker;
 
-use crate::arrays;
+use crate::arrays::{self, Whole};
 use crate::block::{cuboid, Block};
 use crate::errors::{input_error, to_py_err};
 use crate::tolerance::tolerance;
@@ -283,7 +283,7 @@ impl BlockSystem {
         length: Option<f64>,
         geometry: bool,
         progress: Option<Py<PyAny>>,
-        threads: Option<i64>,
+        threads: Option<Whole>,
         absolute_gap: Option<f64>,
     ) -> PyResult<SystemContacts> {
         let tol = tolerance(gap, length, absolute_gap)?;
@@ -393,12 +393,14 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 const MAX_THREADS: i64 = 1024;
 
 /// A pool of `threads` threads, or none for rayon's global pool.
-fn thread_pool(threads: Option<i64>) -> PyResult<Option<rayon::ThreadPool>> {
-    let Some(n) = threads else { return Ok(None) };
-    if !(1..=MAX_THREADS).contains(&n) {
-        let msg = format!("threads must be from 1 to {MAX_THREADS}, got {n}");
+fn thread_pool(threads: Option<Whole>) -> PyResult<Option<rayon::ThreadPool>> {
+    let Some(given) = threads else {
+        return Ok(None);
+    };
+    let Some(n) = given.value().filter(|n| (1..=MAX_THREADS).contains(n)) else {
+        let msg = format!("threads must be from 1 to {MAX_THREADS}, got {given}");
         return Err(input_error("threads", msg));
-    }
+    };
     rayon::ThreadPoolBuilder::new()
         .num_threads(n as usize)
         .build()
