@@ -214,3 +214,14 @@ def test_a_whole_number_beyond_64_bits_is_named_not_a_bare_overflow(name, sign):
     with pytest.raises(penedge.InputError, match=message) as info:
         call(sign * BIG)
     assert str(sign * BIG) in str(info.value)
+
+
+@pytest.mark.parametrize("big", [2**63, -(2**64)])
+def test_an_index_beyond_64_bits_is_an_index_error_as_a_lists(big):
+    system = penedge.paper_example(1)
+    with pytest.raises(IndexError, match=f"block index {big} out of range for 8 blocks"):
+        system[big]
+    found = system.detect(geometry=True)
+    with pytest.raises(IndexError, match=f"contact index {big} out of range"):
+        found.points_of(big)
+    assert np.array_equal(system[-1].vertices, system[7].vertices)

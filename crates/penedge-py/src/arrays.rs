@@ -262,6 +262,15 @@ impl std::fmt::Display for Whole {
     }
 }
 
+/// A sequence index into `n` items, Python's way (negative from the end): `None` when out
+/// of range, beyond 64 bits included (the caller's `IndexError`, as a list's).
+pub fn index_in(index: &Whole, n: usize) -> Option<usize> {
+    let i = index.value()?;
+    let n = i64::try_from(n).ok()?;
+    let i = if i < 0 { i + n } else { i };
+    (0..n).contains(&i).then_some(i as usize)
+}
+
 /// An int's decimal text for a message: in full up to 40 digits, else its start and the
 /// count of its digits (Python refuses to write an int of over 4300 digits: then its bits).
 fn int_text(obj: &Bound<'_, PyAny>) -> String {

@@ -319,14 +319,13 @@ impl BlockSystem {
         self.inner.len()
     }
 
-    fn __getitem__(&self, index: isize) -> PyResult<Block> {
-        let n = self.inner.len() as isize;
-        let i = if index < 0 { index + n } else { index };
-        if !(0..n).contains(&i) {
+    fn __getitem__(&self, index: Whole) -> PyResult<Block> {
+        let n = self.inner.len();
+        let Some(i) = arrays::index_in(&index, n) else {
             let msg = format!("block index {index} out of range for {n} blocks");
             return Err(PyIndexError::new_err(msg));
-        }
-        Ok(Block::wrap(self.inner.blocks()[i as usize].clone()))
+        };
+        Ok(Block::wrap(self.inner.blocks()[i].clone()))
     }
 
     fn __repr__(&self) -> String {
