@@ -66,8 +66,8 @@ pub enum TrackerError {
     #[error("pose {0} has a NaN or infinite component or a zero rotation")]
     Pose(usize),
     /// A pose that would move its block where double precision no longer holds it: the
-    /// rule of [`ConvexBlock::try_translated`], checked on the translation (see
-    /// [`ContactTracker::update`]).
+    /// rule of [`ConvexBlock::try_translated`], checked on a bound of the placed block's
+    /// coordinates (see [`ContactTracker::update`]).
     #[error(
         "pose {block} moves block {block} too far: its coordinates could reach {} in \
          magnitude, beyond {}, the most at which double precision keeps its closest \
@@ -410,9 +410,9 @@ impl ContactTracker {
     /// is not finite or its rotation zero, when two parts of one body differ, or when a
     /// pose translates its block so far that its coordinates could pass the largest
     /// magnitude at which double precision keeps the block's closest vertices distinct (or
-    /// 1e50): [`ConvexBlock::try_translated`]'s rule, checked per pose in one comparison of
-    /// the translation's largest component with the block's reach, as a bound (a pose
-    /// without translation always passes).
+    /// 1e50): [`ConvexBlock::try_translated`]'s rule, checked per pose on a bound of the
+    /// placed block's coordinates (its placed centroid's plus its radius; a pose without
+    /// translation always passes), without a pass over its vertices.
     pub fn update(&mut self, poses: &[Pose]) -> Result<UpdateReport, TrackerError> {
         if poses.len() != self.reference.len() {
             return Err(TrackerError::PoseCount {
@@ -426,15 +426,16 @@ impl ContactTracker {
         {
             return Err(TrackerError::Pose(i));
         }
+        let normalised = |p: &Pose| Pose::new(p.rotation, p.translation).unwrap_or(*p);
         if let Some(block) = poses
             .par_iter()
             .zip(&self.reach)
-            .position_first(|(p, r)| !r.admits(p))
+            .position_first(|(p, r)| !r.admits(&normalised(p)))
         {
             let r = &self.reach[block];
             return Err(TrackerError::OutOfRange {
                 block,
-                magnitude: r.magnitude_at(&poses[block]),
+                magnitude: r.magnitude_at(&normalised(&poses[block])),
                 limit: r.limit,
                 spacing: r.spacing,
             });
