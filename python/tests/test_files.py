@@ -359,6 +359,8 @@ def test_contacts_csv(example3, tmp_path):
         "n_points",
         "set_a",
         "set_b",
+        "body_a",
+        "body_b",
     ]
     assert len(rows) == len(found) == 325
     column = lambda name, kind=float: np.array([kind(r[name]) for r in rows])  # noqa: E731

@@ -206,3 +206,82 @@ pub fn to_python<'py>(
         .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
     py.import("json")?.getattr("loads")?.call1((text,))
 }
+
+/// A whole-number argument (a Python `int`, or anything with `__index__`): its value when
+/// it fits an `i64`, else the number as given. pyo3's own conversion of an int beyond 64
+/// bits raises a bare `OverflowError` that names no argument; with this the function that
+/// takes it says which argument is out of range and what it takes. Another type (a float)
+/// is the `TypeError` it was.
+#[derive(Clone, Debug)]
+pub enum Whole {
+    /// Within an `i64`.
+    Fits(i64),
+    /// Beyond: whether it is negative, and its text (cut short when long).
+    Beyond(bool, String),
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Whole {
+    type Error = PyErr;
+
+    fn extract(obj: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        match obj.extract::<i64>() {
+            Ok(n) => Ok(Whole::Fits(n)),
+            Err(e) if e.is_instance_of::<pyo3::exceptions::PyOverflowError>(obj.py()) => {
+                let negative = obj.lt(0)?;
+                Ok(Whole::Beyond(negative, int_text(&obj)))
+            }
+            Err(e) => Err(e),
+        }
+    }
+}
+
+impl Whole {
+    /// The value, when it fits an `i64`.
+    pub fn value(&self) -> Option<i64> {
+        match self {
+            Whole::Fits(n) => Some(*n),
+            Whole::Beyond(..) => None,
+        }
+    }
+
+    /// Whether the number is below zero.
+    pub fn is_negative(&self) -> bool {
+        match self {
+            Whole::Fits(n) => *n < 0,
+            Whole::Beyond(negative, _) => *negative,
+        }
+    }
+}
+
+impl std::fmt::Display for Whole {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Whole::Fits(n) => write!(f, "{n}"),
+            Whole::Beyond(_, text) => f.write_str(text),
+        }
+    }
+}
+
+/// A sequence index into `n` items, Python's way (negative from the end): `None` when out
+/// of range, beyond 64 bits included (the caller's `IndexError`, as a list's).
+pub fn index_in(index: &Whole, n: usize) -> Option<usize> {
+    let i = index.value()?;
+    let n = i64::try_from(n).ok()?;
+    let i = if i < 0 { i + n } else { i };
+    (0..n).contains(&i).then_some(i as usize)
+}
+
+/// An int's decimal text for a message: in full up to 40 digits, else its start and the
+/// count of its digits (Python refuses to write an int of over 4300 digits: then its bits).
+fn int_text(obj: &Bound<'_, PyAny>) -> String {
+    let Ok(text) = obj.str().map(|s| s.to_string()) else {
+        let bits = obj.call_method0("bit_length").map(|b| b.to_string());
+        return format!("an int of {} bits", bits.unwrap_or_else(|_| "many".into()));
+    };
+    let digits = text.trim_start_matches('-').len();
+    if digits <= 40 {
+        return text;
+    }
+    let start: String = text.chars().take(20).collect();
+    format!("{start}... ({digits} digits)")
+}

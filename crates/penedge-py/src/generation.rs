@@ -41,7 +41,7 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 ///     product of the plane counts for joint sets that fill the domain); a spec estimated to
 ///     make more is refused, and a run that makes more stops. Default: what half the memory
 ///     available holds (about 4 kB a block); give a larger number where the estimate is
-///     too high.
+///     too high. At most 2**63 - 1 (the command line's cap for no limit).
 ///
 /// Returns
 /// -------
@@ -59,6 +59,8 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 ///
 /// Raises
 /// ------
+/// InputError
+///     ``max_blocks`` below 1 or above 2**63 - 1 (kind ``out_of_range``).
 /// SpecError
 ///     A bad field: ``field`` names it (``joints[0].dip``), ``kind`` says what is wrong;
 ///     ``kind == "too_many_blocks"`` (``field == "joints"``): more blocks than
@@ -91,15 +93,11 @@ pub fn generate<'py>(
     py: Python<'py>,
     spec: &Bound<'py, PyAny>,
     progress: Option<Py<PyAny>>,
-    max_blocks: Option<i64>,
+    max_blocks: Option<arrays::Whole>,
 ) -> PyResult<(BlockSystem, Bound<'py, PyAny>)> {
     let limits = match max_blocks {
-        Some(n) if n < 1 => {
-            let message = format!("max_blocks must be a whole number of 1 or more, got {n}");
-            return Err(crate::errors::input_error("out_of_range", message));
-        }
-        Some(n) => Limits::blocks(n as u64),
         None => Limits::from_memory(),
+        Some(n) => Limits::blocks(block_limit(&n)?),
     };
     let (spec, file) = read(py, spec)?;
     let in_file = |e: Error| match &file {
@@ -111,6 +109,25 @@ pub fn generate<'py>(
         Failure::Progress(e) => e,
     })?;
     Ok((BlockSystem::wrap(system), arrays::to_python(py, &report)?))
+}
+
+/// The largest `max_blocks`: the command line's cap (`--max-blocks`), where a larger limit
+/// is no limit.
+const MAX_BLOCK_LIMIT: i64 = i64::MAX;
+
+/// `max_blocks` checked: a whole number from 1 to [`MAX_BLOCK_LIMIT`], else an `InputError`
+/// naming it and the range.
+fn block_limit(n: &arrays::Whole) -> PyResult<u64> {
+    match n.value() {
+        Some(n) if n >= 1 => Ok(n as u64),
+        _ => {
+            let message = format!(
+                "max_blocks must be a whole number from 1 to 2**63 - 1 ({MAX_BLOCK_LIMIT}), \
+                 got {n}"
+            );
+            Err(crate::errors::input_error("out_of_range", message))
+        }
+    }
 }
 
 /// The spec, parsed (its values are checked by the core as it runs), and its file.

@@ -164,7 +164,9 @@ impl SystemContacts {
     /// distance`` (0 within the pair's rounding tolerance), ``area, n_points`` and ``set_a,
     /// set_b``: where the faces of each block's contact feature come from (the spec entry's
     /// name of a joint, ``boundary`` for the domain's surface; the names of an edge's or a
-    /// vertex's faces joined by ``|``; empty when unknown). Numbers in the shortest form
+    /// vertex's faces joined by ``|``; empty when unknown), then ``body_a, body_b``: the
+    /// bodies of the two blocks (:attr:`BlockSystem.body_ids`; a concave block's convex
+    /// parts share one, a convex block's is its id). Numbers in the shortest form
     /// that reads back exactly, with an exponent below 1e-4 and from 1e16. See
     /// ``docs/tables.md``.
     ///

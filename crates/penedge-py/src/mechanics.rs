@@ -1,6 +1,6 @@
 //! `Simulation` (core `mechanics`): rigid-block DEM on a block system.
 
-use crate::arrays;
+use crate::arrays::{self, Whole};
 use crate::errors::{input_error, to_py_err};
 use crate::io::file_error;
 use crate::system::BlockSystem;
@@ -92,36 +92,89 @@ fn body_ids(ids: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
         .collect())
 }
 
-/// A whole number of 0 or more given as argument `name`: a negative one is an `InputError`
-/// naming it (kind ``negative``), where the conversion would raise a bare `OverflowError`.
-fn natural(value: i64, name: &str) -> PyResult<u64> {
-    u64::try_from(value).map_err(|_| {
-        let message = format!("{name} must be a whole number of 0 or more, got {value}");
-        input_error("negative", message)
-    })
+/// A whole number of 0 or more given as argument `name`: a negative one, or one beyond
+/// 2**63 - 1, is an `InputError` naming it (kind ``negative`` or ``out_of_range``), where
+/// the conversion would raise a bare `OverflowError`.
+fn natural(value: Whole, name: &str) -> PyResult<u64> {
+    match value.value().map(u64::try_from) {
+        Some(Ok(n)) => Ok(n),
+        _ if value.is_negative() => {
+            let message = format!("{name} must be a whole number of 0 or more, got {value}");
+            Err(input_error("negative", message))
+        }
+        _ => {
+            let message = format!("{name} must be a whole number up to 2**63 - 1, got {value}");
+            Err(input_error("out_of_range", message))
+        }
+    }
 }
 
 /// A body id given as argument `name` ([`natural`]; one past the bodies is the core's
 /// `MechanicsError`).
-fn body_id(value: i64, name: &str) -> PyResult<usize> {
+fn body_id(value: Whole, name: &str) -> PyResult<usize> {
     Ok(usize::try_from(natural(value, name)?).unwrap_or(usize::MAX))
 }
 
 /// A joint set id given as argument `name`: a whole number from 0 to `u32::MAX`, else an
 /// `InputError` naming it.
-fn set_id(value: i64, name: &str) -> PyResult<u32> {
-    u32::try_from(value).map_err(|_| {
-        let kind = if value < 0 {
-            "negative"
-        } else {
-            "out_of_range"
-        };
-        let message = format!(
-            "{name} must be a joint set id from 0 to {}, got {value}",
-            u32::MAX
-        );
-        input_error(kind, message)
-    })
+fn set_id(value: Whole, name: &str) -> PyResult<u32> {
+    match value.value().map(u32::try_from) {
+        Some(Ok(set)) => Ok(set),
+        _ => {
+            let kind = if value.is_negative() {
+                "negative"
+            } else {
+                "out_of_range"
+            };
+            let message = format!(
+                "{name} must be a joint set id from 0 to {}, got {value}",
+                u32::MAX
+            );
+            Err(input_error(kind, message))
+        }
+    }
+}
+
+/// A [`Whole`] as a key of a dict argument, in the order of the keys' values (those beyond
+/// 64 bits after the others, by their text: any error names one of them).
+#[derive(Clone, Debug)]
+struct WholeKey(Whole);
+
+impl WholeKey {
+    fn rank(&self) -> (bool, i64, &str) {
+        match &self.0 {
+            Whole::Fits(n) => (false, *n, ""),
+            Whole::Beyond(_, text) => (true, 0, text),
+        }
+    }
+}
+
+impl PartialEq for WholeKey {
+    fn eq(&self, other: &Self) -> bool {
+        self.rank() == other.rank()
+    }
+}
+
+impl Eq for WholeKey {}
+
+impl PartialOrd for WholeKey {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for WholeKey {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.rank().cmp(&other.rank())
+    }
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for WholeKey {
+    type Error = PyErr;
+
+    fn extract(obj: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        obj.extract().map(WholeKey)
+    }
 }
 
 /// A velocity and an optional spin (zero when not given) as vectors.
@@ -235,7 +288,7 @@ impl Simulation {
         friction: f64,
         cohesion: f64,
         tension: f64,
-        set: Option<i64>,
+        set: Option<Whole>,
         residual_friction: Option<f64>,
         residual_cohesion: f64,
     ) -> PyResult<()> {
@@ -296,7 +349,7 @@ impl Simulation {
         friction: f64,
         cohesion: f64,
         tension: f64,
-        set: Option<i64>,
+        set: Option<Whole>,
         residual_friction: Option<f64>,
         residual_cohesion: f64,
     ) -> PyResult<()> {
@@ -321,14 +374,14 @@ impl Simulation {
     }
 
     /// The bridge properties of set `set` (its own, else the default), as a dict.
-    fn bridge<'py>(&self, py: Python<'py>, set: i64) -> PyResult<Bound<'py, PyDict>> {
+    fn bridge<'py>(&self, py: Python<'py>, set: Whole) -> PyResult<Bound<'py, PyDict>> {
         let set = set_id(set, "set")?;
         model_dict(py, &self.inner.bridges().of_set(set, self.inner.joints()))
     }
 
     /// The joint properties of set `set` (None: the default), as a dict.
     #[pyo3(signature = (set = None))]
-    fn joint<'py>(&self, py: Python<'py>, set: Option<i64>) -> PyResult<Bound<'py, PyDict>> {
+    fn joint<'py>(&self, py: Python<'py>, set: Option<Whole>) -> PyResult<Bound<'py, PyDict>> {
         let set = set.map(|s| set_id(s, "set")).transpose()?;
         model_dict(py, self.inner.joints().of_set(set))
     }
@@ -364,7 +417,7 @@ impl Simulation {
         level: Option<f64>,
         point: Option<&Bound<'_, PyAny>>,
         normal: Option<&Bound<'_, PyAny>>,
-        pressures: Option<std::collections::BTreeMap<i64, f64>>,
+        pressures: Option<std::collections::BTreeMap<WholeKey, f64>>,
         unit_weight: f64,
     ) -> PyResult<()> {
         let mut water = match (level, point, normal) {
@@ -382,7 +435,7 @@ impl Simulation {
                 ))
             }
         };
-        for (set, p) in pressures.unwrap_or_default() {
+        for (WholeKey(set), p) in pressures.unwrap_or_default() {
             let set = set_id(set, "a set of pressures")?;
             self.inner.check_set(set).map_err(to_py_err)?;
             water = water.with_set_pressure(set, p).map_err(to_py_err)?;
@@ -480,7 +533,7 @@ impl Simulation {
     #[pyo3(signature = (id, velocity, spin = None))]
     fn prescribe(
         &mut self,
-        id: i64,
+        id: Whole,
         velocity: &Bound<'_, PyAny>,
         spin: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
@@ -493,7 +546,7 @@ impl Simulation {
     #[pyo3(signature = (id, velocity, spin = None))]
     fn set_velocity(
         &mut self,
-        id: i64,
+        id: Whole,
         velocity: &Bound<'_, PyAny>,
         spin: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
@@ -508,7 +561,7 @@ impl Simulation {
     #[pyo3(signature = (id, force, point = None))]
     fn apply_force(
         &mut self,
-        id: i64,
+        id: Whole,
         force: &Bound<'_, PyAny>,
         point: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
@@ -526,7 +579,7 @@ impl Simulation {
 
     /// Applies a constant moment on body `id` (world frame, about its centroid; replaces the
     /// one set before; zero removes it).
-    fn apply_moment(&mut self, id: i64, moment: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn apply_moment(&mut self, id: Whole, moment: &Bound<'_, PyAny>) -> PyResult<()> {
         let id = body_id(id, "id")?;
         let m = DVec3::from_array(arrays::point(moment, "moment")?);
         self.inner.apply_moment(id, m).map_err(to_py_err)
@@ -701,8 +754,8 @@ impl Simulation {
     /// KeyboardInterrupt
     ///     A signal (Ctrl-C) during the run: the steps taken stay taken, the simulation is
     ///     after a whole step and can go on.
-    #[pyo3(signature = (n = 1))]
-    fn step(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
+    #[pyo3(signature = (n = Whole::Fits(1)), text_signature = "($self, n=1)")]
+    fn step(&mut self, py: Python<'_>, n: Whole) -> PyResult<()> {
         let mut left = natural(n, "n")?;
         in_chunks(py, &mut self.inner, |sim| {
             if left == 0 {
@@ -742,12 +795,13 @@ impl Simulation {
     /// ------
     /// KeyboardInterrupt
     ///     A signal (Ctrl-C) during the run, as for :meth:`step` (the damping set back).
-    #[pyo3(signature = (ratio = 1e-5, max_steps = 100_000))]
+    #[pyo3(signature = (ratio = 1e-5, max_steps = Whole::Fits(100_000)),
+        text_signature = "($self, ratio=1e-5, max_steps=100000)")]
     fn solve<'py>(
         &mut self,
         py: Python<'py>,
         ratio: f64,
-        max_steps: i64,
+        max_steps: Whole,
     ) -> PyResult<Bound<'py, PyDict>> {
         let max_steps = natural(max_steps, "max_steps")?;
         // The core's `solve` one step at a time (it sets the damping for the step and back):
@@ -979,12 +1033,13 @@ impl Simulation {
     /// ------
     /// MechanicsError
     ///     An unknown body, or one removed already.
-    #[pyo3(signature = (ids, relax_steps = 0))]
+    #[pyo3(signature = (ids, relax_steps = Whole::Fits(0)),
+        text_signature = "($self, ids, relax_steps=0)")]
     fn excavate<'py>(
         &mut self,
         py: Python<'py>,
         ids: &Bound<'_, PyAny>,
-        relax_steps: i64,
+        relax_steps: Whole,
     ) -> PyResult<Bound<'py, PyDict>> {
         let ids = body_ids(ids)?;
         let relax_steps = natural(relax_steps, "relax_steps")?;

@@ -174,7 +174,7 @@ impl BlockSystem {
         gap: f64,
         length: Option<f64>,
         progress: Option<Py<PyAny>>,
-        threads: Option<i64>,
+        threads: Option<crate::arrays::Whole>,
         absolute_gap: Option<f64>,
     ) -> PyResult<BodyContacts> {
         let tol = tolerance(gap, length, absolute_gap)?;

@@ -160,15 +160,18 @@ impl SystemContacts {
     ///     The contacts were found without geometry.
     /// IndexError
     ///     `i` out of range.
-    fn points_of<'py>(&self, py: Python<'py>, i: isize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn points_of<'py>(
+        &self,
+        py: Python<'py>,
+        i: arrays::Whole,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let g = self.geometry()?;
-        let n = g.len() as isize;
-        let k = if i < 0 { i + n } else { i };
-        if !(0..n).contains(&k) {
+        let n = g.len();
+        let Some(k) = arrays::index_in(&i, n) else {
             let msg = format!("contact index {i} out of range for {n} contacts");
             return Err(PyIndexError::new_err(msg));
-        }
-        Ok(arrays::rows3(py, g.points_of(k as usize)))
+        };
+        Ok(arrays::rows3(py, g.points_of(k)))
     }
 
     fn __len__(&self) -> usize {

@@ -15,7 +15,7 @@ pub use contacts::SystemContacts;
 pub use examples::{paper_example, paper_example_planes, paper_table3};
 pub use tracker::ContactTracker;
 
-use crate::arrays;
+use crate::arrays::{self, Whole};
 use crate::block::{cuboid, Block};
 use crate::errors::{input_error, to_py_err};
 use crate::tolerance::tolerance;
@@ -283,7 +283,7 @@ impl BlockSystem {
         length: Option<f64>,
         geometry: bool,
         progress: Option<Py<PyAny>>,
-        threads: Option<i64>,
+        threads: Option<Whole>,
         absolute_gap: Option<f64>,
     ) -> PyResult<SystemContacts> {
         let tol = tolerance(gap, length, absolute_gap)?;
@@ -319,14 +319,13 @@ impl BlockSystem {
         self.inner.len()
     }
 
-    fn __getitem__(&self, index: isize) -> PyResult<Block> {
-        let n = self.inner.len() as isize;
-        let i = if index < 0 { index + n } else { index };
-        if !(0..n).contains(&i) {
+    fn __getitem__(&self, index: Whole) -> PyResult<Block> {
+        let n = self.inner.len();
+        let Some(i) = arrays::index_in(&index, n) else {
             let msg = format!("block index {index} out of range for {n} blocks");
             return Err(PyIndexError::new_err(msg));
-        }
-        Ok(Block::wrap(self.inner.blocks()[i as usize].clone()))
+        };
+        Ok(Block::wrap(self.inner.blocks()[i].clone()))
     }
 
     fn __repr__(&self) -> String {
@@ -393,12 +392,14 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 const MAX_THREADS: i64 = 1024;
 
 /// A pool of `threads` threads, or none for rayon's global pool.
-fn thread_pool(threads: Option<i64>) -> PyResult<Option<rayon::ThreadPool>> {
-    let Some(n) = threads else { return Ok(None) };
-    if !(1..=MAX_THREADS).contains(&n) {
-        let msg = format!("threads must be from 1 to {MAX_THREADS}, got {n}");
+fn thread_pool(threads: Option<Whole>) -> PyResult<Option<rayon::ThreadPool>> {
+    let Some(given) = threads else {
+        return Ok(None);
+    };
+    let Some(n) = given.value().filter(|n| (1..=MAX_THREADS).contains(n)) else {
+        let msg = format!("threads must be from 1 to {MAX_THREADS}, got {given}");
         return Err(input_error("threads", msg));
-    }
+    };
     rayon::ThreadPoolBuilder::new()
         .num_threads(n as usize)
         .build()

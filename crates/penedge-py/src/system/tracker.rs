@@ -174,8 +174,10 @@ impl ContactTracker {
     /// ------
     /// InputError
     ///     Wrong shapes or dtypes, not one pose per block, NaN or infinite values, a zero
-    ///     quaternion, two parts of one body with different poses. The tracker is
-    ///     unchanged.
+    ///     quaternion, two parts of one body with different poses, a translation that
+    ///     could carry a block's coordinates beyond what double precision holds for it
+    ///     (the rule of :meth:`Block.translated`: its closest vertices rounded together,
+    ///     or past 1e50; the message names the block). The tracker is unchanged.
     fn update<'py>(
         &mut self,
         py: Python<'py>,

@@ -133,7 +133,14 @@ pub(super) fn check_repeated_vertices(points: &[DVec3], eps: f64) -> Result<(), 
             }
             if points[i].distance(points[j]) <= eps {
                 let (first, second) = (i.min(j), i.max(j));
-                return Err(BlockError::RepeatedVertex { first, second });
+                let aabb = Aabb::of_points(points);
+                return Err(BlockError::RepeatedVertex {
+                    first,
+                    second,
+                    within: eps,
+                    magnitude: aabb.magnitude(),
+                    size: aabb.diagonal(),
+                });
             }
         }
     }

@@ -1,6 +1,50 @@
 //! Errors raised when a block cannot be built.
 
+use crate::tolerance::ROUNDING_FLOOR;
+use std::fmt;
 use thiserror::Error;
+
+/// A length or magnitude as people read it in a message: three significant digits in
+/// scientific notation, trailing zeros dropped (`5.55e-17`, `1e300`, `3.6e0`), not the 17
+/// digits that reproduce an `f64`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Readable(pub(crate) f64);
+
+impl fmt::Display for Readable {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let text = format!("{:.2e}", self.0);
+        match text.split_once('e') {
+            Some((mantissa, exponent)) if mantissa.contains('.') => {
+                let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+                write!(f, "{mantissa}e{exponent}")
+            }
+            _ => f.write_str(&text), // NaN, inf
+        }
+    }
+}
+
+/// [`Readable`] of a field (thiserror passes fields by reference).
+pub(crate) fn readable(x: &f64) -> Readable {
+    Readable(*x)
+}
+
+/// The end of [`BlockError::RepeatedVertex`]'s message: nothing when the block's own size set
+/// the distance within which vertices coincide; otherwise the rounding of its coordinates
+/// set it (ten times [`ROUNDING_FLOOR`] times their magnitude), and the message says that the
+/// coordinates are too large for the block's size.
+fn rounding_note(within: f64, magnitude: f64, size: f64) -> String {
+    if within > 10.0 * (ROUNDING_FLOOR * magnitude) {
+        return String::new();
+    }
+    format!(
+        " (within {}): its coordinates, up to {} in magnitude, are too large for double \
+         precision at the block's size ({} across), which rounds them too coarsely to keep \
+         its vertices apart there; move the block nearer the origin",
+        Readable(within),
+        Readable(magnitude),
+        Readable(size)
+    )
+}
 
 /// Why a set of vertices and faces (or half-spaces) is not a valid convex block.
 ///
@@ -26,7 +70,7 @@ pub enum BlockError {
     /// A coordinate too large, or a block too small, for double precision to compute its
     /// volume, centroid and planes (see [`crate::block::MAX_COORDINATE`] and
     /// [`crate::block::MIN_SIZE`]).
-    #[error("the block's {what} is {value:e}, outside what double precision handles (coordinates up to 1e50 in magnitude, blocks at least 1e-50 across)")]
+    #[error("the block's {what} is {}, outside what double precision handles (coordinates up to 1e50 in magnitude, blocks at least 1e-50 across)", readable(.value))]
     OutOfRange {
         /// `"largest coordinate"` or `"size"`.
         what: &'static str,
@@ -57,13 +101,21 @@ pub enum BlockError {
         /// Face index.
         face: usize,
     },
-    /// Two vertices at the same position.
-    #[error("vertices {first} and {second} are at the same position")]
+    /// Two vertices at the same position: within `within` of each other, the distance
+    /// below which vertices coincide (set by the block's size, or by the rounding of its
+    /// coordinates when they are large for it, which the message then says).
+    #[error("vertices {first} and {second} are at the same position{}", rounding_note(*.within, *.magnitude, *.size))]
     RepeatedVertex {
         /// First vertex.
         first: usize,
         /// Second vertex.
         second: usize,
+        /// The distance within which vertices coincide.
+        within: f64,
+        /// The largest coordinate magnitude of the vertices.
+        magnitude: f64,
+        /// The vertices' size (bounding-box diagonal).
+        size: f64,
     },
     /// A vertex that no face uses.
     #[error("vertex {vertex} belongs to no face")]
@@ -120,7 +172,7 @@ pub enum BlockError {
         face: usize,
     },
     /// A face whose vertices are not in one plane.
-    #[error("face {face} is not planar: vertex {vertex} is {distance:e} off its plane")]
+    #[error("face {face} is not planar: vertex {vertex} is {} off its plane", readable(.distance))]
     NonPlanarFace {
         /// Face index.
         face: usize,
@@ -139,7 +191,8 @@ pub enum BlockError {
     },
     /// The block is not convex: a vertex lies outside a face plane.
     #[error(
-        "the block is not convex: vertex {vertex} is {distance:e} outside the plane of face {face}"
+        "the block is not convex: vertex {vertex} is {} outside the plane of face {face}",
+        readable(.distance)
     )]
     NotConvex {
         /// Face index.

@@ -13,17 +13,22 @@ mod halfspace;
 mod hull;
 mod origin;
 mod pose;
+mod reach;
 mod stored;
 pub(crate) use assemble::BlockParts;
 pub(crate) use clearance::Clearance;
 pub(crate) use hull::hull_volume_and_area;
 
+pub(crate) use error::readable;
 pub use error::BlockError;
+#[cfg(test)]
+pub(crate) use error::Readable;
 pub use origin::FaceOrigin;
 #[cfg(test)]
 pub(crate) use pose::assert_same_placed;
 pub use pose::Pose;
 pub(crate) use pose::Prefetch;
+pub(crate) use reach::Reach;
 
 /// The largest coordinate magnitude of a block: beyond it, products of four lengths (the
 /// volume's moments) would overflow `f64`.

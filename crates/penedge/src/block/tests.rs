@@ -215,13 +215,14 @@ fn bad_input_is_named() {
     ));
     let mut dup = v.clone();
     dup[7] = dup[6];
-    assert_eq!(
+    assert!(matches!(
         build(&dup, &f).unwrap_err(),
         BlockError::RepeatedVertex {
             first: 6,
-            second: 7
+            second: 7,
+            ..
         }
-    );
+    ));
 
     let mut short = f.clone();
     short[0] = vec![0, 3];
@@ -410,4 +411,75 @@ fn cuboid_needs_lower_below_upper_corner() {
         BlockError::EmptyBox { axis: 2 }
     );
     assert!(ConvexBlock::cuboid([0.0; 3], [1.0, 1.0, 0.0]).is_err());
+}
+
+/// Distances in messages read as three significant digits, not the 17 of an `f64`.
+#[test]
+fn messages_print_distances_readably() {
+    assert_eq!(Readable(5.551_115_123_125_783e-17).to_string(), "5.55e-17");
+    assert_eq!(Readable(1e300).to_string(), "1e300");
+    assert_eq!(Readable(35.527_136_788_005_01).to_string(), "3.55e1");
+    assert_eq!(Readable(f64::INFINITY).to_string(), "inf");
+    let far = build(&[[1.234_567_890_123e60; 3]; 4], &cube_faces()[..4]).unwrap_err();
+    assert!(
+        far.to_string()
+            .starts_with("the block's largest coordinate is 1.23e60, outside"),
+        "{far}"
+    );
+    // A corner lifted by a third of a millimetre: off its face by a distance with no
+    // exact decimal form.
+    let mut warped = cube_vertices();
+    warped[6][2] += 1e-3 / 3.0;
+    let err = build(&warped, &cube_faces()).unwrap_err();
+    let message = err.to_string();
+    let distance = match err {
+        BlockError::NonPlanarFace { distance, .. } | BlockError::NotConvex { distance, .. } => {
+            distance
+        }
+        other => panic!("{other:?}"),
+    };
+    assert!(
+        message.contains(&format!(" {} ", Readable(distance))),
+        "{message}"
+    );
+    assert!(!message.contains(&format!("{distance:e}")), "{message}");
+}
+
+/// A unit cube at 1e15, where a vertex counts as repeated within the rounding of its
+/// coordinates (35.5 there), says that the coordinates are too large for its size and names
+/// both; a vertex given twice near the origin says only that.
+#[test]
+fn vertices_rounded_together_far_away_are_named_as_such() {
+    let far = ConvexBlock::cuboid([1e15; 3], [1e15 + 1.0; 3]).unwrap_err();
+    let BlockError::RepeatedVertex {
+        within,
+        magnitude,
+        size,
+        ..
+    } = far
+    else {
+        panic!("{far:?}");
+    };
+    assert_eq!(magnitude, 1e15 + 1.0);
+    assert_eq!(size, 3f64.sqrt());
+    assert_eq!(
+        within,
+        10.0 * (crate::tolerance::ROUNDING_FLOOR * magnitude)
+    );
+    let message = far.to_string();
+    for part in [
+        format!("(within {})", Readable(within)),
+        format!("up to {} in magnitude", Readable(magnitude)),
+        format!("at the block's size ({} across)", Readable(size)),
+        "too large for double precision".to_string(),
+    ] {
+        assert!(message.contains(&part), "{part}: {message}");
+    }
+    let mut dup = cube_vertices();
+    dup[7] = dup[6];
+    let near = build(&dup, &cube_faces()).unwrap_err();
+    assert_eq!(
+        near.to_string(),
+        "vertices 6 and 7 are at the same position"
+    );
 }

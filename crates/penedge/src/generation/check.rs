@@ -174,3 +174,68 @@ fn turns_left_once(pts: &[DVec3], normal: DVec3, eps: f64) -> bool {
     }
     (total - std::f64::consts::TAU).abs() < 1e-6
 }
+
+/// The separator of the names of a feature's faces in the contact table's `set_a` and
+/// `set_b` columns (`J1|J2`): no entry's name may hold it.
+pub const NAME_SEPARATOR: char = '|';
+
+/// The names of a spec's entries (`label[i]` each, in order), checked: none holds
+/// [`NAME_SEPARATOR`] and none repeats an earlier one, since the contact table names faces by
+/// them. The first that fails, as its index and why.
+pub(crate) fn entry_names<'a>(
+    label: &str,
+    names: impl IntoIterator<Item = &'a str>,
+) -> Result<(), (usize, String)> {
+    let mut seen = std::collections::HashMap::new();
+    for (i, name) in names.into_iter().enumerate() {
+        if name.contains(NAME_SEPARATOR) {
+            let why = format!(
+                "the name {} holds `{NAME_SEPARATOR}`, which separates the names of a \
+                 feature's faces in the contact table (set_a, set_b): choose another",
+                shown(name)
+            );
+            return Err((i, why));
+        }
+        if let Some(first) = seen.insert(name, i) {
+            let why = format!(
+                "the name {} is already that of {label}[{first}]: each entry needs its own \
+                 name (the contact table names faces by it)",
+                shown(name)
+            );
+            return Err((i, why));
+        }
+    }
+    Ok(())
+}
+
+/// The most characters of a length unit's name.
+pub const MAX_UNIT_CHARS: usize = 16;
+
+/// A length unit's name: a short label (1 to [`MAX_UNIT_CHARS`] characters once trimmed)
+/// without control characters, trimmed; or why not.
+pub(crate) fn unit_name(text: &str) -> Result<String, String> {
+    let trimmed = text.trim();
+    let bad = trimmed.is_empty()
+        || trimmed.chars().count() > MAX_UNIT_CHARS
+        || trimmed.chars().any(char::is_control);
+    if bad {
+        return Err(format!(
+            "must be a short name of a length unit (1 to {MAX_UNIT_CHARS} printable \
+             characters, such as \"m\" or \"ft\"), got {}",
+            shown(text)
+        ));
+    }
+    Ok(trimmed.to_string())
+}
+
+/// A name as a message shows it: quoted with escapes, and cut after 40 characters (with
+/// the count) so that a megabyte of text makes no megabyte of message.
+fn shown(text: &str) -> String {
+    const SHOWN: usize = 40;
+    let count = text.chars().count();
+    if count <= SHOWN {
+        return format!("{text:?}");
+    }
+    let start: String = text.chars().take(SHOWN).collect();
+    format!("{start:?}... ({count} characters)")
+}

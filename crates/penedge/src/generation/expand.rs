@@ -28,6 +28,9 @@ pub(crate) struct Plan {
 /// Checks and expands the spec.
 pub(crate) fn plan(spec: &Spec) -> Result<Plan, SpecError> {
     check::options(&spec.options)?;
+    let names: Vec<String> = spec.joints.iter().enumerate().map(entry_name).collect();
+    check::entry_names("joints", names.iter().map(String::as_str))
+        .map_err(|(i, why)| SpecError::new(format!("joints[{i}].name"), Problem::Invalid(why)))?;
     let eps = spec.options.tolerance.for_box(&spec.domain.aabb()).length;
     let mut plan = Plan {
         eps,
@@ -48,6 +51,11 @@ pub(crate) fn plan(spec: &Spec) -> Result<Plan, SpecError> {
     Ok(plan)
 }
 
+/// The name of entry `i`: the one given, or `joints[i]`.
+fn entry_name((i, entry): (usize, &Discontinuity)) -> String {
+    entry.name.clone().unwrap_or_else(|| format!("joints[{i}]"))
+}
+
 fn expand(
     i: usize,
     entry: &Discontinuity,
@@ -55,7 +63,7 @@ fn expand(
     plan: &mut Plan,
 ) -> Result<(), SpecError> {
     let prefix = format!("joints[{i}]");
-    let name = entry.name.clone().unwrap_or_else(|| prefix.clone());
+    let name = entry_name((i, entry));
     let (kind, what) = match &entry.kind {
         JointKind::Plane { .. } => (SetKind::Plane, "plane"),
         JointKind::Set(_) => (SetKind::Set, "joint set"),

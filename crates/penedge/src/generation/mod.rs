@@ -32,7 +32,7 @@
 //! assert!(out.report.volume_error < 1e-12);
 //! ```
 
-mod check;
+pub(crate) mod check;
 mod domain;
 mod duplicates;
 mod error;
@@ -51,6 +51,7 @@ mod tree;
 mod work;
 
 pub use crate::block::FaceOrigin;
+pub use check::{MAX_UNIT_CHARS, NAME_SEPARATOR};
 pub use domain::Domain;
 pub use error::{GenerationError, Problem, SpecError};
 pub use excavation::{Excavation, ExcavationShape, Profile, MAX_SEGMENTS};

@@ -87,7 +87,7 @@ pub fn write_body_contacts_to(found: &BodyContacts, out: &mut dyn Write) -> std:
 
 /// The header of the contact table.
 pub const CONTACT_HEADER: &str = "block_a,block_b,type,type_code,point_x,point_y,point_z,\
-normal_x,normal_y,normal_z,distance,area,n_points,set_a,set_b";
+normal_x,normal_y,normal_z,distance,area,n_points,set_a,set_b,body_a,body_b";
 
 /// Writes the contact table of `found` (with its `geometry`, found in `system` with `tol`)
 /// to `out`: one row per contact, in the order of the contacts. `point_*` is the centroid of
@@ -95,7 +95,11 @@ normal_x,normal_y,normal_z,distance,area,n_points,set_a,set_b";
 /// a distance within the pair's rounding tolerance is written as 0 (the gap of the default
 /// [`Tolerance`] for the two blocks, or the detection's gap when smaller: a larger gap asked
 /// for to find near contacts leaves their true distances as they are);
-/// `set_a`, `set_b` name where the faces of each block's contact feature come from.
+/// `set_a`, `set_b` name where the faces of each block's contact feature come from;
+/// `body_a`, `body_b` are the bodies of the two blocks ([`BlockSystem::body_of`]: a concave
+/// block's convex parts share one; a convex block is its own, its block id). The body
+/// columns come last, after the columns of older versions, so that a reader of those
+/// still reads the table.
 pub fn write_contact_table_to(
     system: &BlockSystem,
     found: &SystemContacts,
@@ -121,7 +125,7 @@ pub fn write_contact_table_to(
         let distance = if distance.abs() <= gap { 0.0 } else { distance };
         writeln!(
             out,
-            "{a},{b},{},{},{px},{py},{pz},{nx},{ny},{nz},{},{},{},{},{}",
+            "{a},{b},{},{},{px},{py},{pz},{nx},{ny},{nz},{},{},{},{},{},{},{}",
             kind.name(),
             kind.code(),
             compact(distance),
@@ -129,6 +133,8 @@ pub fn write_contact_table_to(
             points.len(),
             csv_field(&feature_sets(system, block_a, pc.contact.feature_a)),
             csv_field(&feature_sets(system, block_b, pc.contact.feature_b)),
+            system.body_of(a),
+            system.body_of(b),
         )?;
     }
     Ok(())
@@ -263,6 +269,59 @@ mod tests {
         let c = region_centroid(&trapezium, up);
         assert!((c[0] - 14.0 / 9.0).abs() < 1e-15 && (c[1] - 8.0 / 9.0).abs() < 1e-15);
         assert_eq!(c[2], 5.0);
+    }
+
+    /// The contact table of `system`, as rows of fields by column name.
+    fn contact_rows(system: &BlockSystem) -> Vec<std::collections::HashMap<String, String>> {
+        let tol = Tolerance::default();
+        let (found, geometry) = system.detect_with_geometry(&tol);
+        let mut out = Vec::new();
+        write_contact_table_to(system, &found, &geometry, &tol, &mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        // The columns of older versions first, in their order: the bodies come last.
+        let older = "block_a,block_b,type,type_code,point_x,point_y,point_z,normal_x,normal_y,\
+                     normal_z,distance,area,n_points,set_a,set_b";
+        assert_eq!(header[..15].join(","), older);
+        assert_eq!(header[15..], ["body_a", "body_b"]);
+        let rows: Vec<_> = lines
+            .map(|line| {
+                let fields = line.split(',').map(str::to_string);
+                header.iter().map(|h| h.to_string()).zip(fields).collect()
+            })
+            .collect();
+        assert_eq!(rows.len(), found.contacts.len());
+        rows
+    }
+
+    /// Each row's bodies are its blocks' bodies: for a U-block of three parts (body 0) with
+    /// a block in its notch (body 1) the parts' rows give body 0, and in a system of convex
+    /// blocks each block is its own body.
+    #[test]
+    fn the_contact_table_names_the_bodies_of_the_blocks() {
+        let c = |lo, hi| ConvexBlock::cuboid(lo, hi).unwrap();
+        let blocks = vec![
+            c([0.0, 0.0, 0.0], [3.0, 1.0, 1.0]),
+            c([0.0, 0.0, 1.0], [1.0, 1.0, 2.0]),
+            c([2.0, 0.0, 1.0], [3.0, 1.0, 2.0]),
+            c([1.0, 0.0, 1.0], [2.0, 1.0, 2.0]),
+        ];
+        let convex = BlockSystem::new(blocks.clone());
+        let concave = convex
+            .clone()
+            .with_bodies(vec![0, 0, 0, 1], &Tolerance::default())
+            .unwrap();
+        for (system, touching) in [(convex, 5), (concave, 3)] {
+            let rows = contact_rows(&system);
+            assert_eq!(rows.len(), touching);
+            for row in rows {
+                for (block, body) in [("block_a", "body_a"), ("block_b", "body_b")] {
+                    let block: u32 = row[block].parse().unwrap();
+                    assert_eq!(row[body], system.body_of(block).to_string(), "{row:?}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -10,6 +10,7 @@
 use super::strict::{self, Table};
 use super::{messages, read_text, write_atomic, IoError};
 use crate::block::{BlockError, ConvexBlock, FaceOrigin};
+use crate::generation::check;
 use crate::generation::{Attitude, JointRecord, JointShape, SetRecord};
 use crate::geometry::{Aabb, DVec3, Plane};
 use crate::system::{BlockSystem, InternalFace};
@@ -168,6 +169,14 @@ pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
         Some(length) => Tolerance::new(default.gap(), length)
             .map_err(|e| format_error("length", e.to_string()))?,
     };
+    let unit = file
+        .unit
+        .as_deref()
+        .map(check::unit_name)
+        .transpose()
+        .map_err(|why| format_error("unit", why))?;
+    check::entry_names("sets", file.sets.iter().map(|s| s.name.as_str()))
+        .map_err(|(i, why)| format_error(format!("sets[{i}].name"), why))?;
     let system = system_box(file.domain.iter().chain(&file.blocks));
     let domain = blocks_of("domain", &file.domain, system.as_ref(), &tol)?;
     let blocks = blocks_of("blocks", &file.blocks, system.as_ref(), &tol)?;
@@ -179,8 +188,7 @@ pub fn from_json_str(text: &str) -> Result<BlockSystem, IoError> {
         .collect::<Result<Vec<_>, _>>()?;
     check_origins(&blocks, &domain, &joints, file.sets.len())?;
     let bodies = body_ids(file.version, &file.blocks)?;
-    let system =
-        BlockSystem::with_provenance(blocks, domain, joints, file.sets).with_unit(file.unit);
+    let system = BlockSystem::with_provenance(blocks, domain, joints, file.sets).with_unit(unit);
     system
         .with_bodies(bodies, &tol)
         .map_err(|e| format_error("blocks[..].body", e.to_string()))

@@ -24,6 +24,9 @@ pub mod surface;
 pub mod vtp;
 pub mod vtu;
 
+#[cfg(test)]
+mod names_tests;
+
 use crate::generation::SpecError;
 use std::fs::{self, File};
 use std::io::{self, BufWriter, Write};

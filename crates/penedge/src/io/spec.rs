@@ -229,23 +229,10 @@ fn convert(raw: RawSpec, folder: &Path) -> Result<Spec, SpecError> {
     })
 }
 
-/// The most characters of a length unit's name.
-const MAX_UNIT_CHARS: usize = 16;
-
-/// A length unit's name: a short label without control characters, trimmed.
+/// A length unit's name ([`crate::generation`]'s rule, shared with the block file).
 fn unit(text: String) -> Result<String, SpecError> {
-    let trimmed = text.trim();
-    let bad = trimmed.is_empty()
-        || trimmed.chars().count() > MAX_UNIT_CHARS
-        || trimmed.chars().any(char::is_control);
-    if bad {
-        let why = format!(
-            "must be a short name of a length unit (1 to {MAX_UNIT_CHARS} characters, such as \
-             \"m\" or \"ft\"), got {text:?}"
-        );
-        return Err(SpecError::new("unit", Problem::Invalid(why)));
-    }
-    Ok(trimmed.to_string())
+    crate::generation::check::unit_name(&text)
+        .map_err(|why| SpecError::new("unit", Problem::Invalid(why)))
 }
 
 fn need<T: Clone>(field: String, value: &Option<T>) -> Result<T, SpecError> {

@@ -38,7 +38,7 @@
 use super::body_contacts::{BodyContacts, FaceMarks, Piece};
 use super::detect::{ask_ahead, SystemContacts, SLICE};
 use super::{BlockSystem, BroadPhase, WideBoxes};
-use crate::block::{ConvexBlock, Pose, Prefetch};
+use crate::block::{readable, ConvexBlock, Pose, Prefetch, Reach};
 use crate::classify::PairResult;
 use crate::contact::Detector;
 use crate::geometry::DVec3;
@@ -65,6 +65,25 @@ pub enum TrackerError {
     /// A pose with a NaN or infinite component or a zero rotation.
     #[error("pose {0} has a NaN or infinite component or a zero rotation")]
     Pose(usize),
+    /// A pose that would move its block where double precision no longer holds it: the
+    /// rule of [`ConvexBlock::try_translated`], checked on a bound of the placed block's
+    /// coordinates (see [`ContactTracker::update`]).
+    #[error(
+        "pose {block} moves block {block} too far: its coordinates could reach {} in \
+         magnitude, beyond {}, the most at which double precision keeps its closest \
+         vertices ({} apart) distinct (and at most 1e50)",
+        readable(.magnitude), readable(.limit), readable(.spacing)
+    )]
+    OutOfRange {
+        /// The block (and its pose).
+        block: usize,
+        /// The largest coordinate magnitude the block could have at the pose.
+        magnitude: f64,
+        /// The largest the block may have.
+        limit: f64,
+        /// The distance of its closest two vertices.
+        spacing: f64,
+    },
     /// Two parts of one body (a concave block) given different poses.
     #[error(
         "blocks {first} and {part} are parts of body {body} but were given different poses; \
@@ -153,6 +172,8 @@ pub struct ContactTracker {
     current: BlockSystem,
     centre: Vec<DVec3>,
     radius: Vec<f64>,
+    /// Per block, how far a pose may translate it ([`Reach`]).
+    reach: Vec<Reach>,
     poses: Vec<Pose>,
     built_at: Vec<Pose>,
     travel: Vec<f64>,
@@ -272,6 +293,7 @@ impl ContactTracker {
                     .fold(0.0, f64::max)
             })
             .collect();
+        let reach = reference.par_iter().map(Reach::of).collect();
         let n = reference.len();
         let bodies = bodies.then(|| {
             let mut first_part: Vec<u32> = (0..n as u32).collect();
@@ -295,6 +317,7 @@ impl ContactTracker {
             reference,
             centre,
             radius,
+            reach,
             poses: vec![Pose::IDENTITY; n],
             built_at: vec![Pose::IDENTITY; n],
             travel: vec![0.0; n],
@@ -382,6 +405,14 @@ impl ContactTracker {
 
     /// Moves every block to its new pose (relative to the blocks given to
     /// [`ContactTracker::new`]) and updates the contacts.
+    ///
+    /// An error, and the tracker unchanged, when the poses are not one per block, when one
+    /// is not finite or its rotation zero, when two parts of one body differ, or when a
+    /// pose translates its block so far that its coordinates could pass the largest
+    /// magnitude at which double precision keeps the block's closest vertices distinct (or
+    /// 1e50): [`ConvexBlock::try_translated`]'s rule, checked per pose on a bound of the
+    /// placed block's coordinates (its placed centroid's plus its radius; a pose without
+    /// translation always passes), without a pass over its vertices.
     pub fn update(&mut self, poses: &[Pose]) -> Result<UpdateReport, TrackerError> {
         if poses.len() != self.reference.len() {
             return Err(TrackerError::PoseCount {
@@ -394,6 +425,20 @@ impl ContactTracker {
             .position_first(|p| Pose::new(p.rotation, p.translation).is_none())
         {
             return Err(TrackerError::Pose(i));
+        }
+        let normalised = |p: &Pose| Pose::new(p.rotation, p.translation).unwrap_or(*p);
+        if let Some(block) = poses
+            .par_iter()
+            .zip(&self.reach)
+            .position_first(|(p, r)| !r.admits(&normalised(p)))
+        {
+            let r = &self.reach[block];
+            return Err(TrackerError::OutOfRange {
+                block,
+                magnitude: r.magnitude_at(&normalised(&poses[block])),
+                limit: r.limit,
+                spacing: r.spacing,
+            });
         }
         if let Some(tracking) = self.bodies.as_ref().filter(|_| self.current.has_concave()) {
             let first = &tracking.first_part;
@@ -1229,6 +1274,40 @@ mod tests {
         assert_eq!(tracker.update(&poses), Err(TrackerError::Pose(5)));
         // A failed update changes nothing.
         assert_eq!(tracker.contacts(), &system.detect(&tol));
+    }
+
+    /// A translation that would carry a block where double precision no longer holds it
+    /// (1e300; 1e14 for a unit cube, whose corners round together there) is an error naming
+    /// the block, as `try_translated` refuses the moved block; 1e13 is placed as before.
+    #[test]
+    fn a_pose_beyond_the_blocks_reach_is_an_error() {
+        let system = grid(2);
+        let tol = Tolerance::default();
+        let mut tracker = ContactTracker::new(&system, tol, 0.1).unwrap();
+        let mut poses = vec![Pose::IDENTITY; 8];
+        for far in [1e300, -1e300, 1e14] {
+            poses[3].translation.y = far;
+            let err = tracker.update(&poses).unwrap_err();
+            assert!(
+                matches!(err, TrackerError::OutOfRange { block: 3, .. }),
+                "{err:?}"
+            );
+            let message = err.to_string();
+            assert!(
+                message.starts_with("pose 3 moves block 3 too far"),
+                "{message}"
+            );
+            assert!(system.blocks()[3].try_translated(DVec3::Y * far).is_err());
+            // A failed update changes nothing.
+            assert_eq!(tracker.contacts(), &system.detect(&tol));
+        }
+        poses[3].translation.y = 1e13;
+        tracker.update(&poses).unwrap();
+        assert!(system.blocks()[3].try_translated(DVec3::Y * 1e13).is_ok());
+        assert_eq!(
+            tracker.contacts(),
+            &moved_system(&system, &poses).detect(&tol)
+        );
     }
 
     #[test]
