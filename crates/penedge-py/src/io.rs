@@ -166,7 +166,8 @@ impl SystemContacts {
     /// name of a joint, ``boundary`` for the domain's surface; the names of an edge's or a
     /// vertex's faces joined by ``|``; empty when unknown), then ``body_a, body_b``: the
     /// bodies of the two blocks (:attr:`BlockSystem.body_ids`; a concave block's convex
-    /// parts share one, a convex block's is its id). Numbers in the shortest form
+    /// parts share one; a convex block is a body of its own, whose id equals its block id only
+    /// in a system without concave blocks). Numbers in the shortest form
     /// that reads back exactly, with an exponent below 1e-4 and from 1e16. See
     /// ``docs/tables.md``.
     ///

@@ -54,7 +54,8 @@ type_code (1..7), point_x, point_y, point_z (the centroid of the contact region)
 normal_x, normal_y, normal_z (unit, from block_a to block_b), distance (gap > 0,
 depth < 0; 0 within rounding), area (face-face), n_points, set_a, set_b (the spec
 entries the faces of each block's contact feature come from), body_a, body_b (the
-blocks the two convex parts belong to; a part's own id when not glued). contacts.vtp
+blocks the two convex parts belong to; a convex block is a body of its own, numbered in
+the order of the bodies' first parts). contacts.vtp
 (ParaView) holds the contact points, segments and polygons with the same data.
 
 A block cut into convex parts that stay one block (the rock around an excavation or

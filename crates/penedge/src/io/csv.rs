@@ -97,7 +97,8 @@ normal_x,normal_y,normal_z,distance,area,n_points,set_a,set_b,body_a,body_b";
 /// for to find near contacts leaves their true distances as they are);
 /// `set_a`, `set_b` name where the faces of each block's contact feature come from;
 /// `body_a`, `body_b` are the bodies of the two blocks ([`BlockSystem::body_of`]: a concave
-/// block's convex parts share one; a convex block is its own, its block id). The body
+/// block's convex parts share one; a convex block is a body of its own, whose id equals its
+/// block id only in a system without concave or bridged blocks). The body
 /// columns come last, after the columns of older versions, so that a reader of those
 /// still reads the table.
 pub fn write_contact_table_to(

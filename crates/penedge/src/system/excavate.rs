@@ -90,12 +90,10 @@ impl BlockSystem {
                 ));
             }
         }
+        let name = self.excavation_name(excavation, prefix)?;
         let mut sets = self.sets.clone();
         sets.push(SetRecord {
-            name: excavation
-                .name
-                .clone()
-                .unwrap_or_else(|| prefix.to_string()),
+            name,
             kind: SetKind::Excavation,
         });
         let Some(world) = self.blocks.iter().map(ConvexBlock::aabb).reduce(union) else {
@@ -162,6 +160,41 @@ impl BlockSystem {
             .with_bodies(ids, tol)
             .map_err(|e| SpecError::new(prefix, Problem::Invalid(e.to_string())))?;
         Ok((out, report))
+    }
+}
+
+impl BlockSystem {
+    /// The set name of `excavation`: its own, refused (at `{prefix}.name`) when it holds the
+    /// contact table's separator or is already a joint set's or an earlier excavation's (a
+    /// block file written with it would not read back: `io::json`); without one, `prefix`,
+    /// or `prefix 2`, `prefix 3`, ... when that is taken (two unnamed excavations through
+    /// the API).
+    fn excavation_name(
+        &self,
+        excavation: &Excavation,
+        prefix: &str,
+    ) -> Result<String, GenerationError> {
+        let taken = |name: &str| self.sets.iter().any(|s| s.name == name);
+        match &excavation.name {
+            Some(name) => {
+                let names = self.sets.iter().map(|s| s.name.as_str());
+                crate::generation::check::entry_names("sets", names.chain([name.as_str()]))
+                    .map_err(|(_, why)| {
+                        SpecError::new(format!("{prefix}.name"), Problem::Invalid(why))
+                    })?;
+                Ok(name.clone())
+            }
+            None => Ok((1..)
+                .map(|k| {
+                    if k == 1 {
+                        prefix.to_string()
+                    } else {
+                        format!("{prefix} {k}")
+                    }
+                })
+                .find(|name| !taken(name))
+                .unwrap_or_else(|| prefix.to_string())),
+        }
     }
 }
 
