@@ -201,3 +201,35 @@ fn the_overburden_stress_grows_with_depth() {
     assert_eq!(at.y_axis.y, -2.6e4 * 60.0 * 0.8);
     assert_eq!(f.at(DVec3::new(0.0, 0.0, 120.0)), DMat3::ZERO);
 }
+
+/// On a joint narrower than the point width (a slab 0.2 m by 2 m, `w` = 0.2 × its 2 m
+/// diameter), the floor of the corners' area shares doubles their sum; the installed
+/// stress still gives the joint's own area's force, σ A, not σ times the shares' sum
+/// (docs/mechanics.md, "Areas of sub-contacts").
+#[test]
+fn a_narrow_joint_carries_its_own_area_of_an_initial_stress() {
+    let s = 1e6;
+    let (lx, ly, h) = (0.2, 2.0, 0.04);
+    let base = ConvexBlock::cuboid([-3.0, -3.0, -1.0], [3.0, 3.0, 0.0]).unwrap();
+    let slab = ConvexBlock::cuboid([-lx / 2.0, -ly / 2.0, 0.0], [lx / 2.0, ly / 2.0, h]).unwrap();
+    let mut sim = Simulation::new(&BlockSystem::new(vec![base, slab]), 2500.0).unwrap();
+    sim.fix(0).unwrap();
+    sim.set_default_joint(joint()).unwrap();
+    sim.set_gravity(DVec3::ZERO).unwrap();
+    sim.set_initial_stress(Some(InitialStress::uniform([0.0, 0.0, -s, 0.0, 0.0, 0.0])))
+        .unwrap();
+    sim.step().unwrap();
+    let subs = &sim.contacts().subs;
+    let shares: f64 = subs.iter().map(|c| c.area).sum();
+    let area = lx * ly;
+    assert!(
+        shares > 1.5 * area,
+        "the floor is active: {shares} against {area}"
+    );
+    let force: f64 = subs.iter().map(|c| c.normal_force).sum();
+    assert!(
+        (force - s * area).abs() < 1e-9 * s * area,
+        "{force} against σ A = {}",
+        s * area
+    );
+}

@@ -427,8 +427,9 @@ pub(super) struct Current {
 /// dormant contact without one in `previous` is not: it is updated), written to it: a merge
 /// of the two lists, both sorted by pair, rather than a binary search per contact (in
 /// parallel, by chunks that each search where they start; a pair not met by the merge is
-/// searched, so the answer does not depend on the order). A dormant contact keeps its count
-/// and does not read its answer.
+/// searched, so the answer does not depend on the order). A contact built from the same
+/// answer as at the last step (a dormant one among them) takes its count from the last
+/// step's contact, and does not read its answer.
 /// `answer` gives the answer of a candidate pair that has one (every [`Current`]'s).
 pub(super) fn counts_and_previous<'a>(
     previous: &Contacts,
@@ -450,7 +451,12 @@ pub(super) fn counts_and_previous<'a>(
             };
             f.previous = at.map(|i| i as u32);
             match at {
-                Some(i) if f.dormant => f.count = list[i].count,
+                // Built from the same answer at the last step (a dormant contact is): as
+                // many sub-contacts as then, one per point of that answer. Read from the
+                // last step's contact rather than from the answer's box, a cache miss per
+                // contact (the build reads the box later anyway, but that miss was a
+                // twentieth of the step: docs/benchmarks.md, "Thirteenth run").
+                Some(i) if f.dormant || f.same_answer => f.count = list[i].count,
                 _ => {
                     f.count = sub_count(answer(f.pair)) as u32;
                     f.dormant = false;
@@ -574,15 +580,19 @@ pub(super) fn build_contact(
     // polygon's area over the shares', so that the sub-contacts together hold `c A` and
     // `T A`; the floor stays a stiffness (for continuity as the polygon narrows to a
     // segment), not more rock to glue. The model is left as it is (the same bits) elsewhere.
-    if let ContactPoints::Polygon(poly) = g.shape() {
-        let shares: f64 = areas.iter().sum();
-        let own = polygon_area(poly.vertices(), g.normal());
-        if shares > own * (1.0 + 1e-9) {
-            let r = own / shares;
-            model.cohesion *= r;
-            model.tension *= r;
-            model.residual_cohesion *= r;
+    // So is an initial stress installed on it (its tractions, below).
+    let own_share = match g.shape() {
+        ContactPoints::Polygon(poly) => {
+            let shares: f64 = areas.iter().sum();
+            let own = polygon_area(poly.vertices(), g.normal());
+            (shares > own * (1.0 + 1e-9)).then(|| own / shares)
         }
+        _ => None,
+    };
+    if let Some(r) = own_share {
+        model.cohesion *= r;
+        model.tension *= r;
+        model.residual_cohesion *= r;
     }
     let model = &model;
     let moves_with_b = |k: usize| k < 64 && found.carry.with_b & (1 << k) != 0;
@@ -712,7 +722,11 @@ pub(super) fn build_contact(
                 let touching = input.initial && gap <= slack;
                 let (normal, shear) = match input.initial_stress {
                     Some(field) if touching && found.contact.kind == ContactType::FaceFace => {
-                        field.traction(p, n)
+                        let (normal, shear) = field.traction(p, n);
+                        match own_share {
+                            Some(r) => (normal * r, shear * r),
+                            None => (normal, shear),
+                        }
                     }
                     _ => (0.0, DVec3::ZERO),
                 };
