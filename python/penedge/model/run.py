@@ -403,19 +403,18 @@ class Runner:
                 self.advance(stage, k, total)
                 done += k
                 self.report(stage, done, total)
-        elif stage.kind == "properties":
-            names = stage.sets or tuple(self.model.set_names)
-            if not stage.sets:  # every set, and the contacts of no set
-                e.default = merge(e.default, stage.changes)
-            changed = {name: merge(e.properties[name], stage.changes) for name in names}
-            e.apply_properties(changed)
-        elif stage.kind == "boundary":
-            assert stage.boundary is not None
-            b = stage.boundary
-            mask = self.setup.layout.regions[b.region]
-            bodies = self.setup.layout.bodies
-            apply_boundary(self.fixed, self.velocity, mask, b.condition, b.velocity, bodies)
-            e.apply_boundary(self.fixed, self.velocity)
+        elif stage.kind in ("properties", "boundary"):
+            # The engine's properties (the note's after a restart) and the runner's masks,
+            # which the stage changes in place (`StageEffects.apply`, as the replays do).
+            effects = StageEffects(
+                e.default, dict(e.properties), self.fixed, self.velocity, removed_of(e)
+            )
+            changed = effects.apply(stage, self.model, self.setup.layout)
+            if stage.kind == "properties":
+                e.default = effects.default
+                e.apply_properties(changed)
+            else:
+                e.apply_boundary(self.fixed, self.velocity)
         elif stage.kind == "reset":
             self.reference = e.positions()
         elif stage.kind == "excavate":
@@ -789,25 +788,64 @@ def shown(value: Any) -> str:
     return str(value)
 
 
+@dataclass
+class StageEffects:
+    """What the ``properties``, ``boundary`` and ``excavate`` stages leave: the default
+    joint properties, those of each set, the boundary masks (per block: `fixed`, and
+    `velocity`, NaN where not driven) and the excavated blocks (`removed`). The run and the
+    checks before it (`check_safety_stages`, a restart's `resolved_at` and
+    `excavation_differences`) apply the stages alike: :meth:`apply`, :func:`replay`."""
+
+    default: JointProperties
+    properties: dict[str, JointProperties]
+    fixed: np.ndarray
+    velocity: np.ndarray
+    removed: np.ndarray
+
+    @classmethod
+    def initial(cls, model: Model, layout: Any) -> StageEffects:
+        """Before the first stage: the model's properties, its ``[[boundary]]`` masks."""
+        return cls(
+            model.default_properties,
+            dict(model.properties),
+            layout.fixed.copy(),
+            layout.velocity.copy(),
+            np.zeros(len(layout.fixed), bool),
+        )
+
+    def apply(self, stage: Stage, model: Model, layout: Any) -> dict[str, JointProperties]:
+        """The effect of `stage`, in place (the arrays too); for a ``properties`` stage, the
+        sets it changes with their new properties (empty for another stage)."""
+        if stage.kind == "properties":
+            names = stage.sets or tuple(model.set_names)
+            if not stage.sets:  # every set, and the contacts of no set
+                self.default = merge(self.default, stage.changes)
+            changed = {name: merge(self.properties[name], stage.changes) for name in names}
+            self.properties.update(changed)
+            return changed
+        if stage.kind == "boundary" and stage.boundary is not None:
+            b = stage.boundary
+            mask = layout.regions[b.region]
+            apply_boundary(self.fixed, self.velocity, mask, b.condition, b.velocity, layout.bodies)
+        elif stage.kind == "excavate" and stage.region is not None:
+            self.removed |= layout.regions[stage.region]
+        return {}
+
+
+def replay(model: Model, layout: Any, upto: int) -> StageEffects:
+    """The effects of the model's stages before stage `upto`, from its initial state."""
+    effects = StageEffects.initial(model, layout)
+    for stage in model.stages[:upto]:
+        effects.apply(stage, model, layout)
+    return effects
+
+
 def resolved_at(setup: Any, upto: int) -> tuple[Any, dict[str, Any], np.ndarray, np.ndarray]:
     """The default joint properties, those of each set and the boundary masks (fixed,
     velocity) of the model as its stages before stage `upto` leave them (as the run
     applies them: `Runner.run_stage`)."""
-    model, layout = setup.model, setup.layout
-    default = model.default_properties
-    properties = dict(model.properties)
-    fixed, velocity = layout.fixed.copy(), layout.velocity.copy()
-    for stage in model.stages[:upto]:
-        if stage.kind == "properties":
-            names = stage.sets or tuple(model.set_names)
-            if not stage.sets:
-                default = merge(default, stage.changes)
-            properties.update({name: merge(properties[name], stage.changes) for name in names})
-        elif stage.kind == "boundary" and stage.boundary is not None:
-            b = stage.boundary
-            mask = layout.regions[b.region]
-            apply_boundary(fixed, velocity, mask, b.condition, b.velocity, layout.bodies)
-    return default, properties, fixed, velocity
+    effects = replay(setup.model, setup.layout, upto)
+    return effects.default, effects.properties, effects.fixed, effects.velocity
 
 
 def check_save_stage(model: Model, path: Path, note: dict[str, Any]) -> None:
@@ -912,10 +950,7 @@ def restart_differences(setup: Any, note: dict[str, Any], fresh: Any, loaded: An
 def excavation_differences(setup: Any, upto: int, removed: np.ndarray) -> list[str]:
     """The blocks the model's excavate stages before stage `upto` remove, against those the
     restart file has removed (`removed`), if they differ (an edited region)."""
-    expected = np.zeros(len(removed), bool)
-    for stage in setup.model.stages[:upto]:
-        if stage.kind == "excavate" and stage.region is not None:
-            expected |= setup.layout.regions[stage.region]
+    expected = replay(setup.model, setup.layout, upto).removed
     if np.array_equal(expected, removed):
         return []
     mine = block_list(np.flatnonzero(expected)) or "none"
@@ -964,20 +999,20 @@ def check_safety_stages(
     fail) from stage `first` on has a free block, given the `fixed` and driven (`velocity`
     not NaN) blocks and the `removed` ones at stage `first`, and the boundary and excavate
     stages before it."""
-    fixed, velocity = fixed.copy(), velocity.copy()
-    removed = np.zeros(len(fixed), bool) if removed is None else removed.copy()
+    effects = StageEffects(
+        model.default_properties,
+        dict(model.properties),
+        fixed.copy(),
+        velocity.copy(),
+        np.zeros(len(fixed), bool) if removed is None else removed.copy(),
+    )
     for i, stage in enumerate(model.stages):
         if i < first:
             continue
-        if stage.kind == "boundary" and stage.boundary is not None:
-            b = stage.boundary
-            mask = layout.regions[b.region]
-            apply_boundary(fixed, velocity, mask, b.condition, b.velocity, layout.bodies)
-        elif stage.kind == "excavate" and stage.region is not None:
-            removed |= layout.regions[stage.region]
+        effects.apply(stage, model, layout)
         if stage.kind not in (*STEPPING_STAGES, "factor_of_safety"):
             continue
-        if not free_of(fixed, velocity, removed).any():
+        if not free_of(effects.fixed, effects.velocity, effects.removed).any():
             if stage.kind == "factor_of_safety":
                 raise ModelError(f"stages[{i}]", NO_FREE_BLOCK)
             raise ModelError(
