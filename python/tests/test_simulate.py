@@ -296,16 +296,46 @@ def test_engine_error_stops_the_run_and_keeps_what_it_did(tmp_path, monkeypatch,
     assert json.loads((out / "summary.json").read_text())["error"].startswith("bodies 1 and 3")
 
 
-def test_engine_error_in_a_trial_is_a_failure():
+def mechanics_error(kind, message):
+    """A :exc:`penedge.MechanicsError` of `kind`, as the engine raises it."""
+    error = penedge.MechanicsError(message)
+    error.kind = kind
+    return error
+
+
+def test_a_penetration_in_a_trial_is_a_failure():
     class Overlapping(InclineEngine):
         def cycle(self, steps):
             super().cycle(steps)
             if self.v > 0.05:  # sliding far: blocks driven into each other
-                raise penedge.InputError("overlap")
+                raise mechanics_error("penetration", "bodies 0 and 1 overlap deeper")
 
     f = Runner(wedge(40.0, FOS.format(2000)), Overlapping).run().safety
     exact = exact_factor(40.0)
     assert f.stable < exact <= f.failing
+
+
+@pytest.mark.parametrize(
+    "error",
+    [
+        mechanics_error("not_finite", "a free body's unbalanced force has a NaN component"),
+        penedge.InputError("bad input"),
+    ],
+)
+def test_another_engine_error_in_a_trial_stops_the_run(error):
+    # Only a penetration says the reduced strength fails; another error says nothing of
+    # the strength: it is the run's error, not a failing trial (which gave a factor).
+    class Broken(InclineEngine):
+        def cycle(self, steps):
+            super().cycle(steps)
+            if self.v > 0.05:
+                raise error
+
+    outcome = Runner(wedge(40.0, FOS.format(2000)), Broken).run()
+    assert outcome.error == str(error)
+    assert outcome.safety is None
+    assert outcome.stages[-1].stopped == "error"
+    assert not outcome.stable
 
 
 def test_interrupted_run_keeps_what_it_did():

@@ -10,6 +10,7 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import penedge.model as pm
@@ -168,3 +169,61 @@ def test_a_stage_that_steps_with_no_free_block_is_refused_by_check(tmp_path, cap
     # The run is refused before its first step.
     with pytest.raises(pm.ModelError, match=r"takes steps"):
         pm.simulate(text, folder=tmp_path / "out")
+
+
+def test_an_unreliable_factor_of_safety_is_a_reason_the_run_is_not_stable(tmp_path):
+    # The solve stops at its own, looser ratio (1e-4): the final state is in equilibrium by
+    # that ratio, but not by the factor of safety's (1e-5, its default), whose trials start
+    # from there: the factor is unreliable, and the verdict may not call the run stable on
+    # it ("every factor of safety >= 1" beside a factor of safety marked UNRELIABLE).
+    stages = '[[stages]]\ntype = "solve"\nratio = 1e-4\n'
+    rc, summary, text = run(tmp_path, INCLINE.format(friction=35) + stages + FOS)
+    assert rc == 0
+    f = summary["stages"][-1]["factor_of_safety"]
+    assert f["reliable"] is False, f
+    assert 1e-5 < f["start_ratio"] <= 1e-4, f
+    assert summary["ratio"] <= 1e-4
+    assert summary["stable"] is False
+    because = [r for r in summary["not_stable_because"] if "UNRELIABLE" in r]
+    assert because == [
+        f"factor of safety UNRELIABLE (stages[1]: its trials started from a state not in "
+        f"equilibrium, ratio {f['start_ratio']:.2g} > 1e-05)"
+    ], summary["not_stable_because"]
+    line = result_line(text)
+    assert line.split()[1:3] == ["NOT", "stable:"], line
+    assert "every factor of safety >= 1" not in text
+
+
+def test_the_last_solve_is_found_by_its_place_not_its_name(tmp_path):
+    # Two solve stages share a name: the ratio of the final state's equilibrium is the
+    # second's (the last solve), not the first's.
+    stages = (
+        '[[stages]]\ntype = "solve"\nname = "settle"\nratio = 1e-6\n'
+        '[[stages]]\ntype = "solve"\nname = "settle"\nratio = 1e-3\n'
+    )
+    outcome = pm.simulate(INCLINE.format(friction=35) + stages, folder=tmp_path)
+    assert [s.converged for s in outcome.stages] == [True, True]
+    assert outcome.target == 1e-3
+    assert outcome.last_solve == "settle"
+
+
+@pytest.mark.parametrize(
+    ("factor", "shown"),
+    [(0.996, "0.996"), (0.9951, "0.995"), (0.99999, "0.99999")],
+)
+def test_a_factor_of_safety_below_one_never_reads_as_one(factor, shown):
+    from penedge.model.run import Outcome, SafetyFactor, StageResult
+
+    safety = SafetyFactor(factor, factor, factor + 0.01, [], [])
+    stage = StageResult("stages[1]", "factor_of_safety", 0, 0.0, 0.0, safety=safety)
+    outcome = Outcome(
+        [stage], None, np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(0, int), False, 0.01, 0,
+        0.0, 0.0,
+    )  # fmt: skip
+    assert outcome.problems == [f"factor of safety {shown} < 1 (stages[1])"]
+    # ... nor in the printed stage.
+    from penedge.cli.simulate import stage_text
+
+    printed = {"name": "stages[1]", "kind": "factor_of_safety", "stopped": None, "steps": 0}
+    printed["factor_of_safety"] = {"factor": factor, "bound": "=", "reliable": True, "trials": []}
+    assert stage_text(printed) == f"stages[1] factor_of_safety: F = {shown} (0 trials)"

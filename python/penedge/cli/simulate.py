@@ -498,10 +498,18 @@ def stage_text(stage: dict[str, Any]) -> str:
         trials = plural(len(f["trials"]), "trial")
         if not f["reliable"]:
             trials = f"UNRELIABLE, not from equilibrium; {trials}"
-        return f"{text}: F {f['bound']} {f['factor']:.2f} ({trials})"
+        return f"{text}: F {f['bound']} {factor_text(f['factor'])} ({trials})"
     if stage["steps"]:
         return f"{text}: {stage['steps']:,} steps"
     return text
+
+
+def factor_text(factor: float) -> str:
+    """A factor of safety to 2 decimals, one below 1 with the digits that keep it below 1
+    (``0.996``, not ``1.00``: :func:`penedge.model.run.below_one`)."""
+    from penedge.model.run import below_one
+
+    return below_one(factor) if factor < 1 else f"{factor:.2f}"
 
 
 def result_text(summary: dict[str, Any]) -> str:
@@ -518,7 +526,7 @@ def verdict_text(outcome: Any) -> str:
     """``stable (in equilibrium at the end: ...)`` or ``NOT stable: why; why``: stable
     means that the final state is in equilibrium (its unbalanced-force ratio at most the
     last solve's, no free block faster than ``[results].moving``), the last solve reached
-    equilibrium and every factor of safety is at least 1 (``Outcome.problems``)."""
+    equilibrium and every factor of safety is reliable and at least 1 (``Outcome.problems``)."""
     problems = outcome.problems
     if problems:
         return "NOT stable: " + "; ".join(problems)
@@ -569,7 +577,7 @@ def format_run(summary: dict[str, Any]) -> str:
             lines.append(
                 row(
                     "factor of safety",
-                    f"{f['bound']} {f['factor']:.2f}"
+                    f"{f['bound']} {factor_text(f['factor'])}"
                     + ("" if f["reliable"] else " UNRELIABLE")
                     + f" (failing blocks: {blocks})",
                 )

@@ -7,8 +7,9 @@ The runner steps in chunks of ``[results].history_every`` steps, so that progres
 points and Ctrl-C come between chunks: an interrupted run stops after the current chunk
 and keeps its outcome so far (``Outcome.interrupted``). A run the engine stops with an
 error (two blocks overlapping deeper than the detection gap, a NaN) keeps its outcome so
-far too, with the error (``Outcome.error``); in a factor-of-safety trial such an error
-counts as a failure. The engine is anything with the
+far too, with the error (``Outcome.error``); in a factor-of-safety trial a penetration
+(blocks driven into each other) counts as a failure, any other error stops the run. The
+engine is anything with the
 interface of :class:`penedge.model.engine.Engine`.
 """
 
@@ -26,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from penedge._core import PenedgeError
+from penedge._core import MechanicsError, PenedgeError
 from penedge.model.check import apply_boundary, block_list, partial_body
 from penedge.model.fields import ModelError
 from penedge.model.schema import JointProperties, Model, Stage
@@ -84,7 +85,8 @@ class SafetyFactor:
     failing_blocks: list[int]
     trials: list[Trial]
     start_ratio: float = 0.0  # the unbalanced-force ratio of the state the trials start from
-    in_equilibrium: bool = True  # whether that state was below the equilibrium ratio
+    in_equilibrium: bool = True  # whether that state was below the equilibrium ratio ...
+    target: float = 1e-5  # ... the stage's `ratio`
 
     @property
     def bounded(self) -> str:
@@ -108,6 +110,7 @@ class StageResult:
     converged: bool | None = None  # solve stages
     safety: SafetyFactor | None = None
     stopped: str | None = None  # "interrupted" or the engine's error, if the stage was cut short
+    index: int | None = None  # the stage's place in the model's stages
 
 
 @dataclass
@@ -140,7 +143,9 @@ class Outcome:
         before a restart included: `earlier`) did not reach its ratio, the final state is
         not in equilibrium (its ratio above the last solve's ratio, or the model's without
         one; or a free block still faster than ``[results].moving``), a factor of safety
-        below 1; or the run was interrupted or stopped by an error."""
+        below 1, or one that is unreliable (its trials started from a state above its
+        stage's ratio, which may be looser than the last solve's: it does not show the
+        model stable); or the run was interrupted or stopped by an error."""
         found = []
         if self.interrupted:
             found.append("interrupted")
@@ -161,14 +166,22 @@ class Outcome:
                 f"blocks still moving at the end (up to {speed:.2g} m/s > {self.moving:g})"
             )
         for s in self.stages:
-            if s.safety is not None and s.safety.factor < 1:
-                found.append(f"factor of safety {s.safety.factor:.2f} < 1 ({s.name})")
+            f = s.safety
+            if f is None:
+                continue
+            if f.factor < 1:
+                found.append(f"factor of safety {below_one(f.factor)} < 1 ({s.name})")
+            if not f.in_equilibrium:
+                found.append(
+                    f"factor of safety UNRELIABLE ({s.name}: its trials started from a state "
+                    f"not in equilibrium, ratio {f.start_ratio:.2g} > {f.target:.2g})"
+                )
         return found
 
     @property
     def stable(self) -> bool:
-        """In equilibrium at the end and every factor of safety at least 1 (`problems`
-        says what is not)."""
+        """In equilibrium at the end and every factor of safety reliable and at least 1
+        (`problems` says what is not)."""
         return not self.problems
 
     @property
@@ -265,7 +278,7 @@ class Runner:
                 continue
             start = (self.engine.steps, self.engine.time)
             try:
-                results.append(self.run_stage(index, stage))
+                results.append(dataclasses.replace(self.run_stage(index, stage), index=index))
                 self.write_frame()
             except (KeyboardInterrupt, PenedgeError, ModelError, OSError) as e:
                 interrupted = isinstance(e, KeyboardInterrupt)
@@ -279,6 +292,7 @@ class Runner:
                         e_.time - start[1],
                         e_.ratio,
                         stopped="interrupted" if interrupted else "error",
+                        index=index,
                     )
                 )
                 self.record("interrupted" if interrupted else "error")
@@ -314,23 +328,27 @@ class Runner:
         out.bolts = bolt_results(e)
         return out
 
-    def last_solve(self, results: list[StageResult]) -> str | None:
-        """The name of the last solve stage that ran (in this run, or before its restart)."""
-        ran = {r.name for r in results}
+    def last_solve_index(self, results: list[StageResult]) -> int | None:
+        """The place in the model's stages of the last solve stage that ran (in this run,
+        or before its restart): by place, not by name (two stages may share a name)."""
+        ran = {r.index for r in results}
         solves = [
-            s.name
+            i
             for i, s in enumerate(self.model.stages)
-            if s.kind == "solve" and (i < self.first or s.name in ran)
+            if s.kind == "solve" and (i < self.first or i in ran)
         ]
         return solves[-1] if solves else None
 
+    def last_solve(self, results: list[StageResult]) -> str | None:
+        """The name of the last solve stage that ran (in this run, or before its restart)."""
+        i = self.last_solve_index(results)
+        return None if i is None else self.model.stages[i].name
+
     def target(self, results: list[StageResult]) -> float:
         """The ratio of equilibrium of the final state: the last solve's, or the model's."""
-        name = self.last_solve(results)
-        for s in self.model.stages:
-            if s.kind == "solve" and s.name == name and s.ratio is not None:
-                return s.ratio
-        return self.model.mechanics.ratio
+        i = self.last_solve_index(results)
+        ratio = None if i is None else self.model.stages[i].ratio
+        return self.model.mechanics.ratio if ratio is None else ratio
 
     def record(self, stage: str) -> None:
         """One history point."""
@@ -385,19 +403,18 @@ class Runner:
                 self.advance(stage, k, total)
                 done += k
                 self.report(stage, done, total)
-        elif stage.kind == "properties":
-            names = stage.sets or tuple(self.model.set_names)
-            if not stage.sets:  # every set, and the contacts of no set
-                e.default = merge(e.default, stage.changes)
-            changed = {name: merge(e.properties[name], stage.changes) for name in names}
-            e.apply_properties(changed)
-        elif stage.kind == "boundary":
-            assert stage.boundary is not None
-            b = stage.boundary
-            mask = self.setup.layout.regions[b.region]
-            bodies = self.setup.layout.bodies
-            apply_boundary(self.fixed, self.velocity, mask, b.condition, b.velocity, bodies)
-            e.apply_boundary(self.fixed, self.velocity)
+        elif stage.kind in ("properties", "boundary"):
+            # The engine's properties (the note's after a restart) and the runner's masks,
+            # which the stage changes in place (`StageEffects.apply`, as the replays do).
+            effects = StageEffects(
+                e.default, dict(e.properties), self.fixed, self.velocity, removed_of(e)
+            )
+            changed = effects.apply(stage, self.model, self.setup.layout)
+            if stage.kind == "properties":
+                e.default = effects.default
+                e.apply_properties(changed)
+            else:
+                e.apply_boundary(self.fixed, self.velocity)
         elif stage.kind == "reset":
             self.reference = e.positions()
         elif stage.kind == "excavate":
@@ -578,7 +595,12 @@ class Runner:
             try:
                 converged = self.solve(stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e)
                 broke = False
-            except PenedgeError:  # blocks driven into each other: the model is failing
+            except MechanicsError as error:
+                # Blocks driven into each other: the reduced strength is failing. Any other
+                # error (a NaN, a bad parameter) is no verdict on the strength: it stops the
+                # run as it would any other stage.
+                if getattr(error, "kind", None) != "penetration":
+                    raise
                 converged, broke = False, True
             speeds = np.linalg.norm(e.velocities(), axis=1)
             speed = float(speeds[free].max(initial=0.0))
@@ -626,12 +648,23 @@ class Runner:
         return SafetyFactor(
             start_ratio=self.engine.ratio,
             in_equilibrium=bool(self.engine.ratio <= stage.ratio),
+            target=stage.ratio,
             factor=factor,
             stable=None if stable is None else stable.factor,
             failing=None if failing is None else failing.factor,
             failing_blocks=[] if failing is None else failing.moved,
             trials=trials,
         )
+
+
+def below_one(factor: float) -> str:
+    """A factor of safety below 1, with the digits that keep it below 1 when read:
+    ``0.80``, ``0.996`` (not ``1.00``), ``0.99999``."""
+    for digits in range(2, 10):
+        text = f"{factor:.{digits}f}"
+        if float(text) < 1:
+            return text
+    return repr(factor)
 
 
 #: The version of the note a ``save`` stage keeps in its restart file.
@@ -755,25 +788,64 @@ def shown(value: Any) -> str:
     return str(value)
 
 
+@dataclass
+class StageEffects:
+    """What the ``properties``, ``boundary`` and ``excavate`` stages leave: the default
+    joint properties, those of each set, the boundary masks (per block: `fixed`, and
+    `velocity`, NaN where not driven) and the excavated blocks (`removed`). The run and the
+    checks before it (`check_safety_stages`, a restart's `resolved_at` and
+    `excavation_differences`) apply the stages alike: :meth:`apply`, :func:`replay`."""
+
+    default: JointProperties
+    properties: dict[str, JointProperties]
+    fixed: np.ndarray
+    velocity: np.ndarray
+    removed: np.ndarray
+
+    @classmethod
+    def initial(cls, model: Model, layout: Any) -> StageEffects:
+        """Before the first stage: the model's properties, its ``[[boundary]]`` masks."""
+        return cls(
+            model.default_properties,
+            dict(model.properties),
+            layout.fixed.copy(),
+            layout.velocity.copy(),
+            np.zeros(len(layout.fixed), bool),
+        )
+
+    def apply(self, stage: Stage, model: Model, layout: Any) -> dict[str, JointProperties]:
+        """The effect of `stage`, in place (the arrays too); for a ``properties`` stage, the
+        sets it changes with their new properties (empty for another stage)."""
+        if stage.kind == "properties":
+            names = stage.sets or tuple(model.set_names)
+            if not stage.sets:  # every set, and the contacts of no set
+                self.default = merge(self.default, stage.changes)
+            changed = {name: merge(self.properties[name], stage.changes) for name in names}
+            self.properties.update(changed)
+            return changed
+        if stage.kind == "boundary" and stage.boundary is not None:
+            b = stage.boundary
+            mask = layout.regions[b.region]
+            apply_boundary(self.fixed, self.velocity, mask, b.condition, b.velocity, layout.bodies)
+        elif stage.kind == "excavate" and stage.region is not None:
+            self.removed |= layout.regions[stage.region]
+        return {}
+
+
+def replay(model: Model, layout: Any, upto: int) -> StageEffects:
+    """The effects of the model's stages before stage `upto`, from its initial state."""
+    effects = StageEffects.initial(model, layout)
+    for stage in model.stages[:upto]:
+        effects.apply(stage, model, layout)
+    return effects
+
+
 def resolved_at(setup: Any, upto: int) -> tuple[Any, dict[str, Any], np.ndarray, np.ndarray]:
     """The default joint properties, those of each set and the boundary masks (fixed,
     velocity) of the model as its stages before stage `upto` leave them (as the run
     applies them: `Runner.run_stage`)."""
-    model, layout = setup.model, setup.layout
-    default = model.default_properties
-    properties = dict(model.properties)
-    fixed, velocity = layout.fixed.copy(), layout.velocity.copy()
-    for stage in model.stages[:upto]:
-        if stage.kind == "properties":
-            names = stage.sets or tuple(model.set_names)
-            if not stage.sets:
-                default = merge(default, stage.changes)
-            properties.update({name: merge(properties[name], stage.changes) for name in names})
-        elif stage.kind == "boundary" and stage.boundary is not None:
-            b = stage.boundary
-            mask = layout.regions[b.region]
-            apply_boundary(fixed, velocity, mask, b.condition, b.velocity, layout.bodies)
-    return default, properties, fixed, velocity
+    effects = replay(setup.model, setup.layout, upto)
+    return effects.default, effects.properties, effects.fixed, effects.velocity
 
 
 def check_save_stage(model: Model, path: Path, note: dict[str, Any]) -> None:
@@ -878,10 +950,7 @@ def restart_differences(setup: Any, note: dict[str, Any], fresh: Any, loaded: An
 def excavation_differences(setup: Any, upto: int, removed: np.ndarray) -> list[str]:
     """The blocks the model's excavate stages before stage `upto` remove, against those the
     restart file has removed (`removed`), if they differ (an edited region)."""
-    expected = np.zeros(len(removed), bool)
-    for stage in setup.model.stages[:upto]:
-        if stage.kind == "excavate" and stage.region is not None:
-            expected |= setup.layout.regions[stage.region]
+    expected = replay(setup.model, setup.layout, upto).removed
     if np.array_equal(expected, removed):
         return []
     mine = block_list(np.flatnonzero(expected)) or "none"
@@ -930,20 +999,20 @@ def check_safety_stages(
     fail) from stage `first` on has a free block, given the `fixed` and driven (`velocity`
     not NaN) blocks and the `removed` ones at stage `first`, and the boundary and excavate
     stages before it."""
-    fixed, velocity = fixed.copy(), velocity.copy()
-    removed = np.zeros(len(fixed), bool) if removed is None else removed.copy()
+    effects = StageEffects(
+        model.default_properties,
+        dict(model.properties),
+        fixed.copy(),
+        velocity.copy(),
+        np.zeros(len(fixed), bool) if removed is None else removed.copy(),
+    )
     for i, stage in enumerate(model.stages):
         if i < first:
             continue
-        if stage.kind == "boundary" and stage.boundary is not None:
-            b = stage.boundary
-            mask = layout.regions[b.region]
-            apply_boundary(fixed, velocity, mask, b.condition, b.velocity, layout.bodies)
-        elif stage.kind == "excavate" and stage.region is not None:
-            removed |= layout.regions[stage.region]
+        effects.apply(stage, model, layout)
         if stage.kind not in (*STEPPING_STAGES, "factor_of_safety"):
             continue
-        if not free_of(fixed, velocity, removed).any():
+        if not free_of(effects.fixed, effects.velocity, effects.removed).any():
             if stage.kind == "factor_of_safety":
                 raise ModelError(f"stages[{i}]", NO_FREE_BLOCK)
             raise ModelError(
