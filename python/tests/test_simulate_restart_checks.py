@@ -10,31 +10,12 @@ import math
 from pathlib import Path
 
 import pytest
+from incline_model import incline
 
 import penedge
 from penedge import cli
 
-INCLINE = """
-[domain]
-type = "box"
-min = [0, 0, 0]
-max = [10, 2, 8]
-[[joints]]
-type = "plane"
-name = "slide"
-point = [5, 1, 3]
-dip = 30
-dip_direction = 90
-[rock]
-density = 2500
-[joint_properties.default]
-kn = 1e9
-ks = 1e8
-friction = 35
-[[boundary]]
-region = {type = "below", point = [5, 1, 3], dip = 30, dip_direction = 90}
-condition = "fixed"
-"""
+INCLINE = incline()
 
 SOLVE_SAVE = """
 [[stages]]

@@ -12,32 +12,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from incline_model import incline
 
 import penedge.model as pm
 from penedge import cli
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "models"
-INCLINE = """
-[domain]
-type = "box"
-min = [0, 0, 0]
-max = [10, 2, 8]
-[[joints]]
-type = "plane"
-name = "slide"
-point = [5, 1, 3]
-dip = 30
-dip_direction = 90
-[rock]
-density = 2500
-[joint_properties.default]
-kn = 1e9
-ks = 1e8
-friction = {friction}
-[[boundary]]
-region = {{type = "below", point = [5, 1, 3], dip = 30, dip_direction = 90}}
-condition = "fixed"
-"""
 QUIET = ["--no-pictures", "--no-series"]
 FOS = '[[stages]]\ntype = "factor_of_safety"\nmax_steps = 4000\n'
 
@@ -69,9 +49,7 @@ def result_line(text: str) -> str:
 
 
 def test_a_block_in_equilibrium_with_f_above_one_is_stable(tmp_path):
-    rc, summary, text = run(
-        tmp_path, INCLINE.format(friction=35) + '[[stages]]\ntype = "solve"\n' + FOS
-    )
+    rc, summary, text = run(tmp_path, incline(35) + '[[stages]]\ntype = "solve"\n' + FOS)
     assert rc == 0
     f = summary["stages"][-1]["factor_of_safety"]
     assert f["stable"] <= limit(35) <= f["failing"]
@@ -87,7 +65,7 @@ def test_a_factor_of_safety_below_one_is_not_stable_and_the_workaround_gives_it(
     # = 0.808 < 1, from a state in equilibrium (the workaround of a block that would slide
     # during its first solve).
     stages = '[[stages]]\ntype = "solve"\n[[stages]]\ntype = "properties"\nfriction = 25\n'
-    rc, summary, text = run(tmp_path, INCLINE.format(friction=45) + stages + FOS)
+    rc, summary, text = run(tmp_path, incline(45) + stages + FOS)
     assert rc == 0
     f = summary["stages"][-1]["factor_of_safety"]
     assert f["stable"] <= limit(25) <= f["failing"], f
@@ -104,7 +82,7 @@ def test_a_factor_of_safety_from_a_sliding_block_is_marked_unreliable(tmp_path):
     # Friction 25 < 30: the block slides during the solve, which cannot reach equilibrium;
     # the trials then start from a moving block and fail too soon.
     stages = '[[stages]]\ntype = "solve"\nmax_steps = 2000\n'
-    rc, summary, text = run(tmp_path, INCLINE.format(friction=25) + stages + FOS)
+    rc, summary, text = run(tmp_path, incline(25) + stages + FOS)
     assert rc == 0
     f = summary["stages"][-1]["factor_of_safety"]
     assert f["reliable"] is False
@@ -133,9 +111,7 @@ def test_blocks_falling_at_the_end_are_not_stable(tmp_path):
 def test_a_trial_counts_its_own_steps(tmp_path):
     # The budget of each trial is 4000 steps: a failing trial takes all of them, and no
     # trial more (the steps of the solve before are not the trial's).
-    _, summary, _ = run(
-        tmp_path, INCLINE.format(friction=35) + '[[stages]]\ntype = "solve"\n' + FOS
-    )
+    _, summary, _ = run(tmp_path, incline(35) + '[[stages]]\ntype = "solve"\n' + FOS)
     solve_steps = summary["stages"][0]["steps"]
     assert solve_steps > 0
     trials = summary["stages"][-1]["factor_of_safety"]["trials"]
@@ -159,7 +135,7 @@ def test_a_trial_counts_its_own_steps(tmp_path):
     ],
 )
 def test_a_stage_that_steps_with_no_free_block_is_refused_by_check(tmp_path, capsys, stages, where):
-    text = INCLINE.format(friction=35) + '[[stages]]\ntype = "solve"\n' + stages
+    text = incline(35) + '[[stages]]\ntype = "solve"\n' + stages
     model = tmp_path / "model.toml"
     model.write_text(text)
     assert cli.main(["simulate", str(model), "--check"]) == 1
@@ -177,7 +153,7 @@ def test_an_unreliable_factor_of_safety_is_a_reason_the_run_is_not_stable(tmp_pa
     # from there: the factor is unreliable, and the verdict may not call the run stable on
     # it ("every factor of safety >= 1" beside a factor of safety marked UNRELIABLE).
     stages = '[[stages]]\ntype = "solve"\nratio = 1e-4\n'
-    rc, summary, text = run(tmp_path, INCLINE.format(friction=35) + stages + FOS)
+    rc, summary, text = run(tmp_path, incline(35) + stages + FOS)
     assert rc == 0
     f = summary["stages"][-1]["factor_of_safety"]
     assert f["reliable"] is False, f
@@ -201,7 +177,7 @@ def test_the_last_solve_is_found_by_its_place_not_its_name(tmp_path):
         '[[stages]]\ntype = "solve"\nname = "settle"\nratio = 1e-6\n'
         '[[stages]]\ntype = "solve"\nname = "settle"\nratio = 1e-3\n'
     )
-    outcome = pm.simulate(INCLINE.format(friction=35) + stages, folder=tmp_path)
+    outcome = pm.simulate(incline(35) + stages, folder=tmp_path)
     assert [s.converged for s in outcome.stages] == [True, True]
     assert outcome.target == 1e-3
     assert outcome.last_solve == "settle"

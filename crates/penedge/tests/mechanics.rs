@@ -472,6 +472,22 @@ fn a_hanging_block_breaks_at_the_tensile_strength() {
     assert!(sim.contacts().subs.iter().all(|s| s.normal_force == 0.0));
 }
 
+/// The load at which the first bond of body 1 breaks under a force `direction × rate × t`
+/// growing with time (applied at its centroid), stepping until `until` seconds; `None`
+/// if none broke by then. The first corner to fail passes its load to the others, which
+/// fail at once.
+fn first_break(sim: &mut Simulation, direction: DVec3, rate: f64, until: f64) -> Option<f64> {
+    while sim.time() < until {
+        let load = rate * sim.time();
+        sim.apply_force(1, direction * load).unwrap();
+        sim.step().unwrap();
+        if sim.contacts().subs.iter().any(|s| !s.bonded) {
+            return Some(load);
+        }
+    }
+    None
+}
+
 /// Verification 7: a slab glued by cohesion and pushed sideways breaks at c A + N tan φ;
 /// after failure only friction resists: acceleration (F - N tan φ) / m.
 #[test]
@@ -496,18 +512,7 @@ fn a_glued_block_breaks_at_the_cohesive_strength_then_slides_on_friction() {
     let strength = cohesion * area + m * G * phi.to_radians().tan();
     let push = DVec3::new(0.6, 0.8, 0.0);
     let rate = 2e5;
-    let mut broke_at = None;
-    while sim.time() < 0.2 {
-        let load = rate * sim.time();
-        sim.apply_force(1, push * load).unwrap();
-        sim.step().unwrap();
-        // The first corner to fail passes its load to the others, which fail at once.
-        if sim.contacts().subs.iter().any(|s| !s.bonded) {
-            broke_at = Some(load);
-            break;
-        }
-    }
-    let broke_at = broke_at.expect("the bond broke");
+    let broke_at = first_break(&mut sim, push, rate, 0.2).expect("the bond broke");
     println!("cohesion: first corner at {broke_at} vs {strength}");
     assert!(
         (broke_at - strength).abs() < 0.02 * strength,
@@ -582,17 +587,8 @@ fn a_narrow_glued_joint_holds_its_own_area_not_the_floor_of_its_shares() {
     let strength = cohesion * area + m * G * phi.to_radians().tan();
     let push = DVec3::new(0.0, 1.0, 0.0);
     let rate = 4e4;
-    let mut broke_at = None;
-    while sim.time() < 2.0 * strength / rate {
-        let load = rate * sim.time();
-        sim.apply_force(1, push * load).unwrap();
-        sim.step().unwrap();
-        if sim.contacts().subs.iter().any(|s| !s.bonded) {
-            broke_at = Some(load);
-            break;
-        }
-    }
-    let broke_at = broke_at.expect("the bond broke");
+    let broke_at =
+        first_break(&mut sim, push, rate, 2.0 * strength / rate).expect("the bond broke");
     println!("narrow cohesion: first corner at {broke_at} vs {strength}");
     assert!(
         (broke_at - strength).abs() < 0.02 * strength,
@@ -602,17 +598,8 @@ fn a_narrow_glued_joint_holds_its_own_area_not_the_floor_of_its_shares() {
     let mut sim = build(0.0);
     sim.set_gravity(DVec3::ZERO).unwrap();
     let strength = tension * area;
-    let mut broke_at = None;
-    while sim.time() < 2.0 * strength / rate {
-        let load = rate * sim.time();
-        sim.apply_force(1, DVec3::Z * load).unwrap();
-        sim.step().unwrap();
-        if sim.contacts().subs.iter().any(|s| !s.bonded) {
-            broke_at = Some(load);
-            break;
-        }
-    }
-    let broke_at = broke_at.expect("the bond broke in tension");
+    let broke_at = first_break(&mut sim, DVec3::Z, rate, 2.0 * strength / rate)
+        .expect("the bond broke in tension");
     println!("narrow tension: first corner at {broke_at} vs {strength}");
     assert!(
         (broke_at - strength).abs() < 0.02 * strength,
