@@ -274,6 +274,12 @@ pub struct Simulation {
     /// Per candidate pair, where its certificate was made (when it has one): a separated
     /// pair's, or a dormant contact's.
     frames: Vec<Frame>,
+    /// One bit per candidate pair, set where its frame may be a dormant contact's
+    /// (`Frame::Open`; clear: it is not). The step's test of every carried contact and the
+    /// contact update read a pair's frame only where its bit is set: the frames take 120
+    /// bytes each, and reading every carried contact's was a cache line per contact and
+    /// step (docs/mechanics.md, "The sub-contact update").
+    open_frames: Vec<u64>,
     /// Per body: the step whose detection first sees its current pose (the pose last changed
     /// in any bit in the step before), the sum of the bounds of its motions (travel), and
     /// the bound of its last step's motion.
@@ -382,6 +388,7 @@ impl Simulation {
             pairs: Vec::new(),
             memo: Vec::new(),
             frames: Vec::new(),
+            open_frames: Vec::new(),
             moved_at: vec![0; n],
             travel: vec![0.0; n],
             last_step: vec![0.0; n],
@@ -1106,6 +1113,7 @@ impl Simulation {
             .collect();
         self.memo = vec![PairMemo::default(); self.pairs.len()];
         self.frames = vec![Frame::default(); self.pairs.len()];
+        self.open_frames = vec![0; self.pairs.len().div_ceil(64)];
         let poses = &self.bodies.pose;
         self.skin_passed = (0..self.bodies.len())
             .into_par_iter()
@@ -1132,12 +1140,19 @@ impl Simulation {
         let dormancy = self.dormancy && self.water.is_dry();
         // How much a turning body widens its pairs' gap per unit of its vertices' motion.
         let growth = SIZE_GROWTH * self.tolerance.gap_slope();
+        let open_frames = &self.open_frames;
         let outcomes: Vec<Outcome> = self
             .pairs
             .par_iter()
             .zip(&mut self.memo)
             .zip(&mut self.frames)
-            .map(|((&[i, j], memo), frame)| {
+            .enumerate()
+            .map(|(k, ((&[i, j], memo), frame))| {
+                // The bits' invariant, checked in the debug profile (every test run).
+                debug_assert!(
+                    may_be_open(open_frames, k) || !matches!(frame, Frame::Open(_)),
+                    "pair {k}: an open frame without its bit"
+                );
                 let [bi, bj] = [part_body[i as usize], part_body[j as usize]].map(|b| b as usize);
                 let asked = memo.asked_at;
                 if asked != NEVER_ASKED && !full {
@@ -1165,6 +1180,9 @@ impl Simulation {
                             // "Carried contacts").
                             let [ti, tj] = memo.travels;
                             if (travel[bi] - ti) + (travel[bj] - tj) <= tolerance {
+                                if !may_be_open(open_frames, k) {
+                                    return Outcome::Carried;
+                                }
                                 return match frame {
                                     Frame::Open(cert) if dormancy && cert.holds(now) => {
                                         Outcome::Dormant
@@ -1267,6 +1285,7 @@ impl Simulation {
             }
             self.memo[k as usize] = memo;
             self.frames[k as usize] = frame;
+            self.open_frames[k as usize / 64] &= !(1u64 << (k % 64));
         }
         match penetrating {
             None => Ok(()),
@@ -1379,54 +1398,75 @@ impl Simulation {
             first += count;
         }
         let old = &self.contacts;
-        work.into_par_iter().for_each_init(
-            Scratch::default,
-            |scratch, (chunk, mut first, list, mut subs, mut stress, frames)| {
-                let from = chunk[0].pair as usize;
-                for (f, slot) in chunk.iter().zip(list) {
-                    let n = f.count as usize;
-                    let (out, tail) = std::mem::take(&mut subs).split_at_mut(n);
-                    subs = tail;
-                    let (out_p, tail) =
-                        std::mem::take(&mut stress).split_at_mut(if keep_stress { n } else { 0 });
-                    stress = tail;
-                    let mut contact = match f.previous {
-                        // Dormant: the last step's contact and sub-contacts, its frame kept.
-                        Some(i) if f.dormant => {
-                            let i = i as usize;
-                            let at = old.list[i].first as usize;
-                            out.copy_from_slice(old.subs_of(i));
-                            for (k, p) in out_p.iter_mut().enumerate() {
-                                *p = old.prestress(at + k);
+        let open_frames = &self.open_frames;
+        // Each chunk gives the pairs whose frame it wrote, and whether the frame is open
+        // now: their bits are set or cleared after (a word of bits can span two chunks).
+        let written: Vec<Vec<(u32, bool)>> = work
+            .into_par_iter()
+            .map_init(
+                Scratch::default,
+                |scratch, (chunk, mut first, list, mut subs, mut stress, frames)| {
+                    let from = chunk[0].pair as usize;
+                    let mut written = Vec::new();
+                    for (f, slot) in chunk.iter().zip(list) {
+                        let n = f.count as usize;
+                        let (out, tail) = std::mem::take(&mut subs).split_at_mut(n);
+                        subs = tail;
+                        let (out_p, tail) = std::mem::take(&mut stress)
+                            .split_at_mut(if keep_stress { n } else { 0 });
+                        stress = tail;
+                        let mut contact = match f.previous {
+                            // Dormant: the last step's contact and sub-contacts, its frame kept.
+                            Some(i) if f.dormant => {
+                                let i = i as usize;
+                                let at = old.list[i].first as usize;
+                                out.copy_from_slice(old.subs_of(i));
+                                for (k, p) in out_p.iter_mut().enumerate() {
+                                    *p = old.prestress(at + k);
+                                }
+                                old.list[i].clone()
                             }
-                            old.list[i].clone()
-                        }
-                        previous => {
-                            let (contact, cert) = build_contact(
-                                &input,
-                                answer(f.pair),
-                                previous,
-                                f.same_answer,
-                                scratch,
-                                out,
-                                out_p,
-                            );
-                            // Not rewritten for a contact without a certificate that had
-                            // none (most of them): writing the slot dirtied its cache line
-                            // at every step.
-                            let frame = &mut frames[f.pair as usize - from];
-                            if cert.is_some() || !matches!(frame, Frame::None) {
-                                *frame = cert.map_or(Frame::None, Frame::Open);
+                            previous => {
+                                let (contact, cert) = build_contact(
+                                    &input,
+                                    answer(f.pair),
+                                    previous,
+                                    f.same_answer,
+                                    scratch,
+                                    out,
+                                    out_p,
+                                );
+                                // Not rewritten for a contact without a certificate that had
+                                // none (most of them): writing the slot dirtied its cache line
+                                // at every step.
+                                // (A contact's frame is open or none: the query that found it
+                                // wrote none. Its bit clear, it is none.)
+                                if cert.is_some() || may_be_open(open_frames, f.pair as usize) {
+                                    let frame = &mut frames[f.pair as usize - from];
+                                    if cert.is_some() || !matches!(frame, Frame::None) {
+                                        written.push((f.pair, cert.is_some()));
+                                        *frame = cert.map_or(Frame::None, Frame::Open);
+                                    }
+                                }
+                                contact
                             }
-                            contact
-                        }
-                    };
-                    contact.first = first;
-                    first += f.count;
-                    *slot = contact;
-                }
-            },
-        );
+                        };
+                        contact.first = first;
+                        first += f.count;
+                        *slot = contact;
+                    }
+                    written
+                },
+            )
+            .collect();
+        for &(pair, open) in written.iter().flatten() {
+            let (word, bit) = (pair as usize / 64, 1u64 << (pair % 64));
+            if open {
+                self.open_frames[word] |= bit;
+            } else {
+                self.open_frames[word] &= !bit;
+            }
+        }
         // The side table only while a sub-contact has an installed stress.
         if prestresses.iter().all(|&p| p == 0.0) {
             prestresses.clear();
@@ -1788,6 +1828,12 @@ enum Outcome {
     /// Carried, and its contact certified open: its sub-contacts are kept.
     Dormant,
     Certified,
+}
+
+/// Whether candidate pair `k`'s frame may be a dormant contact's (its bit in
+/// [`Simulation::open_frames`]).
+fn may_be_open(open_frames: &[u64], k: usize) -> bool {
+    open_frames[k / 64] & (1u64 << (k % 64)) != 0
 }
 
 /// The contacts of a step, in pair order, written to `out` (its old contents dropped, its
