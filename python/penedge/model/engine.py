@@ -156,10 +156,29 @@ class Engine:
         stress = initial_stress_of(setup)
         if stress is not None:
             self.sim.set_initial_stress(**stress)
+        #: ``[mechanics] mass_scaling``: rescaled from the stiffness and supports of the
+        #: moment, here and after every change of them (:meth:`rescale`).
+        self.mass_scaling = m.mass_scaling
+        self.rescale()
         if m.time_step is not None:
             # Last: checked against the critical step, which the bolts' stiffness lowers.
             with time_step_field():
                 self.sim.set_timestep(dt=m.time_step)
+
+    def rescale(self) -> None:
+        """Under ``[mechanics] mass_scaling``, scales the inertia (not the weight) of every
+        free body whose critical step is below the free bodies' median up to that median
+        (docs/mechanics.md, "Mass scaling"), for the joints' stiffness and the supports as
+        they are now; nothing without it, or while no body is free."""
+        if not getattr(self, "mass_scaling", False):
+            return  # off, or the engine is still being built (scaled once at its end)
+        import penedge
+
+        try:
+            self.sim.set_mass_scaling(True)
+        except penedge.MechanicsError as e:
+            if getattr(e, "kind", None) != "no_free_body":
+                raise
 
     @property
     def concave(self) -> bool:
@@ -270,6 +289,7 @@ class Engine:
             if bridge is not None:
                 reduced = bridge if factor == 1.0 else bridge.reduced(factor)
                 self.sim.set_bridge(**self.joint(reduced), set=self.set_ids[name])
+        self.rescale()  # a stiffer joint lowers the critical steps
 
     #: The cohesion and tensile strength (Pa) of an elastic solve: no bond fails.
     UNBREAKABLE = 1e30
@@ -316,6 +336,7 @@ class Engine:
             self.sim.free(np.flatnonzero(free).tolist())
         for i in np.flatnonzero(driven):
             self.sim.prescribe(int(i), velocity[i].tolist())
+        self.rescale()  # the free bodies, and so their median, may have changed
 
     def body_conditions(
         self, fixed: np.ndarray, velocity: np.ndarray

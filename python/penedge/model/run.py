@@ -758,6 +758,7 @@ def model_settings(model: Model, layout: Any) -> dict[str, Any]:
             "mechanics.time_step": m.time_step,
             "mechanics.gap": m.gap,
             "mechanics.point_width": m.point_width,
+            "mechanics.mass_scaling": m.mass_scaling,
             "seismic": model.seismic,
             "water": model.water,
             "bolts": [plain(b) for b in model.bolts],
@@ -899,11 +900,14 @@ def restart_differences(setup: Any, note: dict[str, Any], fresh: Any, loaded: An
         for key, value in model_settings(model, layout).items():
             if key in settings:
                 differ(key, value, settings[key])
+            elif key == "mechanics.mass_scaling":  # a file from before it: none
+                differ(key, value, False)
     elif fresh is not None and loaded is not None:
         mine_g = [round(float(x), 12) + 0.0 for x in np.asarray(fresh.gravity)]
         their_g = [round(float(x), 12) + 0.0 for x in np.asarray(loaded.gravity)]
         differ("mechanics.gravity (with [seismic])", mine_g, their_g)
         differ("mechanics.damping", list(fresh.damping), list(loaded.damping))
+        differ("mechanics.mass_scaling", model.mechanics.mass_scaling, False)  # none then
         mine_m, their_m = float(np.sum(fresh.masses)), float(np.sum(loaded.masses))
         if not math.isclose(mine_m, their_m, rel_tol=1e-12):
             density = model.mechanics.density

@@ -125,6 +125,7 @@ class Mechanics:
     max_steps: int = 100_000  # step budget of a `solve`
     gap: float = 1e-3  # relative contact gap of the detection
     point_width: float = 0.2  # width of point and edge contacts / the smaller body's diameter
+    mass_scaling: bool = False  # scale the inertia of bodies with a small critical step
 
 
 @dataclass(frozen=True)
@@ -408,6 +409,7 @@ def parse_mechanics(rock: Table, t: Table) -> Mechanics:
         max_steps=t.integer("max_steps", 100_000, minimum=1),
         gap=t.number("gap", 1e-3, above=0, at_most=0.01),
         point_width=t.number("point_width", 0.2, above=0, at_most=1),
+        mass_scaling=t.boolean("mass_scaling", False),
     )
     t.done()
     return mechanics
