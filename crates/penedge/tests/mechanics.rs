@@ -1387,3 +1387,45 @@ fn a_jointed_mass_in_place_settles_by_the_closure_of_its_horizontal_joints() {
         );
     }
 }
+
+/// A layer 4 cm thick between a fixed base and a block 2 m high (all 12 m long): thinner
+/// than the mechanics' length threshold (1 % of the block size), so that the detection may
+/// give the layer's far face for the contact with the block. The contact is measured from
+/// the layer's near face (`contacts::facing_faces`): it touches at step 1, and the block
+/// settles by its weight through the two joints in series, instead of falling through the
+/// layer (docs/mechanics.md, "Thin layers").
+#[test]
+fn a_block_on_a_thin_layer_rests_on_its_near_face() {
+    let (kn, density, h, t) = (1e9, 2500.0, 2.0, 0.04);
+    let blocks = vec![
+        ConvexBlock::cuboid([-6.0, -1.0, -1.0], [6.0, 1.0, 0.0]).unwrap(),
+        ConvexBlock::cuboid([-6.0, -1.0, 0.0], [6.0, 1.0, t]).unwrap(),
+        ConvexBlock::cuboid([-6.0, -1.0, t], [6.0, 1.0, t + h]).unwrap(),
+    ];
+    let mut sim = Simulation::new(&BlockSystem::new(blocks), density).unwrap();
+    sim.fix(0).unwrap();
+    sim.set_default_joint(joint(kn, 35.0, 0.0, 0.0)).unwrap();
+    sim.step().unwrap();
+    let contacts = sim.contacts();
+    for (k, c) in contacts.list.iter().enumerate() {
+        for s in contacts.subs_of(k) {
+            assert!(s.gap.abs() < 1e-9, "contact {:?}: gap {}", c.bodies, s.gap);
+        }
+    }
+    let z0 = sim.bodies().poses()[2].translation.z;
+    sim.solve(1e-5, 20_000).unwrap();
+    let settled = z0 - sim.bodies().poses()[2].translation.z;
+    // Each joint is the 12 m × 2 m rectangle. Its corners' area shares (docs/mechanics.md,
+    // "Areas of sub-contacts"): a quarter of the area each, at least w × 12 / 4 with
+    // w = 0.2 × the layer's diameter (the smaller body of both joints), here the larger.
+    let diameter = (12.0f64.powi(2) + 2.0f64.powi(2) + t * t).sqrt();
+    let share = f64::max(24.0 / 4.0, 0.2 * diameter * 12.0 / 4.0);
+    let stiffness = kn * 4.0 * share;
+    let (w_block, w_layer) = (density * G * 24.0 * h, density * G * 24.0 * t);
+    let expected = w_block / stiffness + (w_block + w_layer) / stiffness;
+    println!("thin layer: the block settled {settled} m, expected {expected}");
+    assert!(
+        (settled - expected).abs() < 0.01 * expected,
+        "{settled} vs {expected}"
+    );
+}

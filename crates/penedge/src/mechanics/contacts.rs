@@ -398,6 +398,44 @@ pub(super) struct Scratch {
     tangents: Tangents,
 }
 
+/// A face-face contact's two faces as the contact plane has them: A's face whose outward
+/// normal is nearest the contact normal `n` (from A to B), B's nearest `-n`. The
+/// classification gives these but for a block thinner than the length threshold (a layer
+/// a few centimetres thick between blocks of metres, at the mechanics' threshold of 1 % of
+/// the block size): there its two large faces are within the threshold of each other, and
+/// it may give the far one, whose normal is `-n`. The gaps, measured from that face, read
+/// the layer's thickness, and the joint set was the far face's (docs/mechanics.md, "Thin
+/// layers"). Other contacts, and a face that is already the nearest, are left as they are.
+pub(super) fn facing_faces(
+    mut contact: crate::classify::Contact,
+    n: DVec3,
+    [a, b]: [&ConvexBlock; 2],
+) -> crate::classify::Contact {
+    if contact.kind != ContactType::FaceFace {
+        return contact;
+    }
+    let nearest = |block: &ConvexBlock, face: u32, n: DVec3| -> u32 {
+        let planes = block.planes();
+        let mut best = face;
+        let mut cos = planes
+            .get(face as usize)
+            .map_or(f64::NEG_INFINITY, |p| p.normal.dot(n));
+        for (k, p) in planes.iter().enumerate() {
+            if p.normal.dot(n) > cos + 1e-9 {
+                (best, cos) = (k as u32, p.normal.dot(n));
+            }
+        }
+        best
+    };
+    if let Feature::Face(f) = contact.feature_a {
+        contact.feature_a = Feature::Face(nearest(a, f, n));
+    }
+    if let Feature::Face(f) = contact.feature_b {
+        contact.feature_b = Feature::Face(nearest(b, f, -n));
+    }
+    contact
+}
+
 /// How many sub-contacts the contact of `found` has: one per contact point.
 pub(super) fn sub_count(found: &Found) -> usize {
     found.geometry.points().len()

@@ -1243,6 +1243,8 @@ impl Simulation {
                     let mut frame = Frame::default();
                     match (result, geometry) {
                         (PairResult::Contact(contact), Some(geometry)) => {
+                            let contact =
+                                contacts::facing_faces(contact, geometry.normal(), [a, b]);
                             let gap = det.thresholds(a, b).gap;
                             let tolerance = if full { 0.0 } else { fraction * gap };
                             let carry = Carry::new(
