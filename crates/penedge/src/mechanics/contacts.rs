@@ -489,12 +489,12 @@ pub(super) fn counts_and_previous<'a>(
             };
             f.previous = at.map(|i| i as u32);
             match at {
-                // Built from the same answer at the last step (a dormant contact is): as
-                // many sub-contacts as then, one per point of that answer. Read from the
-                // last step's contact rather than from the answer's box, a cache miss per
-                // contact (the build reads the box later anyway, but that miss was a
+                // Built from the same answer at the last step (a dormant contact always
+                // is): as many sub-contacts as then, one per point of that answer. Read from
+                // the last step's contact rather than from the answer's box, a cache miss
+                // per contact (the build reads the box later anyway, but that miss was a
                 // twentieth of the step: docs/benchmarks.md, "Thirteenth run").
-                Some(i) if f.dormant || f.same_answer => f.count = list[i].count,
+                Some(i) if f.same_answer => f.count = list[i].count,
                 _ => {
                     f.count = sub_count(answer(f.pair)) as u32;
                     f.dormant = false;
@@ -1004,13 +1004,11 @@ fn area_shares(
         ContactPoints::Segment([p, q]) => shares.extend([0.25 * width * p.distance(*q); 2]),
         ContactPoints::Polygon(poly) => {
             let v = poly.vertices();
-            let c = v.iter().copied().sum::<DVec3>() / v.len() as f64;
             shares.resize(v.len(), 0.0);
             floors.clear();
             floors.resize(v.len(), 0.0);
-            for i in 0..v.len() {
-                let j = (i + 1) % v.len();
-                let half = 0.25 * (v[i] - c).cross(v[j] - c).dot(n).abs();
+            for (i, j, triangle) in triangles(v, n) {
+                let half = 0.5 * triangle;
                 shares[i] += half;
                 shares[j] += half;
                 let edge = 0.25 * width * v[i].distance(v[j]);
@@ -1024,14 +1022,20 @@ fn area_shares(
     }
 }
 
-/// The area of the convex polygon `v` (its corners in order) seen along `n`: the sum of
-/// the triangles from its centroid, as [`area_shares`] splits it (the shares before their
-/// floor sum to it).
-fn polygon_area(v: &[DVec3], n: DVec3) -> f64 {
+/// The triangles of the convex polygon `v` (its corners in order) from its centroid, seen
+/// along `n`: for each side, its two corners' indices and the triangle's area.
+fn triangles(v: &[DVec3], n: DVec3) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
     let c = v.iter().copied().sum::<DVec3>() / v.len() as f64;
-    (0..v.len())
-        .map(|i| 0.5 * (v[i] - c).cross(v[(i + 1) % v.len()] - c).dot(n).abs())
-        .sum()
+    (0..v.len()).map(move |i| {
+        let j = (i + 1) % v.len();
+        (i, j, 0.5 * (v[i] - c).cross(v[j] - c).dot(n).abs())
+    })
+}
+
+/// The area of the convex polygon `v` seen along `n`: the sum of its [`triangles`], which
+/// [`area_shares`] splits between their corners (the shares before their floor sum to it).
+fn polygon_area(v: &[DVec3], n: DVec3) -> f64 {
+    triangles(v, n).map(|(_, _, area)| area).sum()
 }
 
 /// A contact feature of a placed block, where it is: a vertex, a face's plane, or an edge's
