@@ -132,7 +132,9 @@ fn part_of_block(block_bodies: &[u32], part_bodies: &[u32]) -> Option<Vec<usize>
 /// id, in the order of their first block.
 fn placed_body_ids(system_ids: &[u32], block_bodies: &[u32]) -> Vec<u32> {
     use std::collections::HashMap;
-    let mut fresh = system_ids.iter().max().map_or(0, |&m| m + 1);
+    // Saturating, not overflowing, for ids near 2**32 - 1 (allowed, beyond any real system:
+    // there, the pieces' new ids would collide).
+    let mut fresh = system_ids.iter().max().map_or(0, |&m| m.saturating_add(1));
     let mut first_piece: HashMap<u32, u32> = HashMap::new(); // system id -> its first piece
     let mut id_of_piece: HashMap<u32, u32> = HashMap::new(); // simulation body -> id
     system_ids
@@ -143,8 +145,9 @@ fn placed_body_ids(system_ids: &[u32], block_bodies: &[u32]) -> Vec<u32> {
                 if *first_piece.entry(id).or_insert(body) == body {
                     id
                 } else {
-                    fresh += 1;
-                    fresh - 1
+                    let id = fresh;
+                    fresh = fresh.saturating_add(1);
+                    id
                 }
             })
         })
