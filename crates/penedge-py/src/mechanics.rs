@@ -1,16 +1,19 @@
 //! `Simulation` (core `mechanics`): rigid-block DEM on a block system.
 
 use crate::arrays::{self, Whole};
-use crate::errors::{input_error, to_py_err};
+use crate::errors::{input_error, to_py_err, Error};
 use crate::io::file_error;
 use crate::system::BlockSystem;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
+use penedge::generation::{JointRecord, SetRecord};
 use penedge::geometry::DVec3;
 use penedge::mechanics::{self, Damping, Fixity, JointModel, Water};
+use penedge::{ConvexBlock, Tolerance};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBool, PyDict};
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// A rigid-block simulation (3DEC-style distinct element method) of a block system.
@@ -65,6 +68,90 @@ pub struct Simulation {
     inner: mechanics::Simulation,
     /// The note of the restart file it was read from (:meth:`load`).
     note: Option<String>,
+    /// What the bodies do not keep of the system the simulation was made of, for
+    /// :meth:`system` (`None` for one read from a restart file, which does not hold it).
+    origin: Option<Arc<Origin>>,
+}
+
+/// The system a simulation was made of, less its blocks (the bodies hold them): its body
+/// ids, provenance (domain, joint table, spec entries) and unit.
+#[derive(Debug)]
+struct Origin {
+    body_ids: Vec<u32>,
+    domain: Vec<ConvexBlock>,
+    joints: Vec<JointRecord>,
+    sets: Vec<SetRecord>,
+    unit: Option<String>,
+}
+
+impl Origin {
+    fn of(system: &penedge::BlockSystem) -> Origin {
+        Origin {
+            body_ids: system.body_ids(),
+            domain: system.domain().to_vec(),
+            joints: system.joints().to_vec(),
+            sets: system.sets().to_vec(),
+            unit: system.unit().map(str::to_string),
+        }
+    }
+}
+
+/// Per block (its simulation body in `block_bodies`), the index of its part among the parts
+/// of [`mechanics::Simulation::placed_system`], which go body by body, each body's parts in
+/// the order of its blocks (`Bodies::of_system`; a restart file keeps them so). `None` if
+/// `part_bodies` (the body of each part) does not fit.
+fn part_of_block(block_bodies: &[u32], part_bodies: &[u32]) -> Option<Vec<usize>> {
+    if block_bodies.len() != part_bodies.len() {
+        return None;
+    }
+    let mut next = Vec::new(); // per body, the index of its next part
+    for (k, &b) in part_bodies.iter().enumerate() {
+        let b = b as usize;
+        if b == next.len() {
+            next.push(k);
+        } else if b + 1 != next.len() {
+            return None; // the parts are not body by body
+        }
+    }
+    let mut parts = Vec::with_capacity(block_bodies.len());
+    for &b in block_bodies {
+        let k = next.get_mut(b as usize)?;
+        if part_bodies.get(*k) != Some(&b) {
+            return None;
+        }
+        parts.push(*k);
+        *k += 1;
+    }
+    Some(parts)
+}
+
+/// Per block, the body id :meth:`Simulation.system` gives it: the system's own id
+/// (`system_ids`), except that a system body the simulation splits into several bodies
+/// (`block_bodies`: the pieces rock bridges hold) has one id per piece, the piece of its
+/// first block keeping the system's id and the others numbered on from the system's largest
+/// id, in the order of their first block.
+fn placed_body_ids(system_ids: &[u32], block_bodies: &[u32]) -> Vec<u32> {
+    use std::collections::HashMap;
+    // Saturating, not overflowing, for ids near 2**32 - 1 (allowed, beyond any real system:
+    // there, the pieces' new ids would collide).
+    let mut fresh = system_ids.iter().max().map_or(0, |&m| m.saturating_add(1));
+    let mut first_piece: HashMap<u32, u32> = HashMap::new(); // system id -> its first piece
+    let mut id_of_piece: HashMap<u32, u32> = HashMap::new(); // simulation body -> id
+    system_ids
+        .iter()
+        .zip(block_bodies)
+        .map(|(&id, &body)| {
+            *id_of_piece.entry(body).or_insert_with(|| {
+                if *first_piece.entry(id).or_insert(body) == body {
+                    id
+                } else {
+                    let id = fresh;
+                    fresh = fresh.saturating_add(1);
+                    id
+                }
+            })
+        })
+        .collect()
 }
 
 /// A joint model as a dict of its properties.
@@ -109,15 +196,33 @@ fn natural(value: Whole, name: &str) -> PyResult<u64> {
     }
 }
 
-/// A body id given as argument `name` ([`natural`]; one past the bodies is the core's
-/// `MechanicsError`).
-fn body_id(value: Whole, name: &str) -> PyResult<usize> {
+/// An id (of a body or a joint set) given as argument `name`: a whole number as [`Whole`]
+/// takes it, but not a bool (an `int` to Python): ``True`` is not body 1, as ``fix([True])``
+/// refuses it (an `InputError` of kind ``dtype`` naming the argument).
+fn whole_id(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Whole> {
+    let numpy_bool = value.get_type().name().is_ok_and(|n| n == "bool");
+    if value.is_instance_of::<PyBool>() || numpy_bool {
+        let message = format!("{name} must be an integer, got the bool {value}");
+        return Err(input_error("dtype", message));
+    }
+    value.extract()
+}
+
+/// A body id given as argument `name` ([`whole_id`], [`natural`]; one past the bodies is
+/// the core's `MechanicsError`).
+fn body_id(value: &Bound<'_, PyAny>, name: &str) -> PyResult<usize> {
+    let value = whole_id(value, name)?;
     Ok(usize::try_from(natural(value, name)?).unwrap_or(usize::MAX))
 }
 
-/// A joint set id given as argument `name`: a whole number from 0 to `u32::MAX`, else an
-/// `InputError` naming it.
-fn set_id(value: Whole, name: &str) -> PyResult<u32> {
+/// A joint set id given as argument `name` ([`whole_id`]): a whole number from 0 to
+/// `u32::MAX`, else an `InputError` naming it.
+fn set_id(value: &Bound<'_, PyAny>, name: &str) -> PyResult<u32> {
+    set_number(whole_id(value, name)?, name)
+}
+
+/// [`set_id`] of a whole number.
+fn set_number(value: Whole, name: &str) -> PyResult<u32> {
     match value.value().map(u32::try_from) {
         Some(Ok(set)) => Ok(set),
         _ => {
@@ -173,7 +278,7 @@ impl<'a, 'py> FromPyObject<'a, 'py> for WholeKey {
     type Error = PyErr;
 
     fn extract(obj: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
-        obj.extract().map(WholeKey)
+        whole_id(&obj, "a set of pressures").map(WholeKey)
     }
 }
 
@@ -232,7 +337,12 @@ impl Simulation {
         let mut inner = mechanics::Simulation::new(&system.inner, density).map_err(to_py_err)?;
         inner.set_gap(gap).map_err(to_py_err)?;
         inner.set_point_width(point_width).map_err(to_py_err)?;
-        Ok(Simulation { inner, note: None })
+        let origin = Some(Arc::new(Origin::of(&system.inner)));
+        Ok(Simulation {
+            inner,
+            note: None,
+            origin,
+        })
     }
 
     /// Number of bodies.
@@ -254,7 +364,9 @@ impl Simulation {
     /// Sets the joint properties of joint set `set` (the ``set`` of the faces' origins, as
     /// in :attr:`BlockSystem.sets`), or the default ones (``set=None``: every contact with
     /// no joint face, or of a set without its own). A contact between faces of two sets takes
-    /// the weaker set; see ``docs/mechanics.md``.
+    /// the weaker set; see ``docs/mechanics.md``. Until set, the default joint is ``kn = ks
+    /// = 1e10`` (stress per displacement), friction 30°, no cohesion or tension, residual
+    /// friction 30° and residual cohesion 0 (:meth:`joint`).
     ///
     /// Parameters
     /// ----------
@@ -288,7 +400,7 @@ impl Simulation {
         friction: f64,
         cohesion: f64,
         tension: f64,
-        set: Option<Whole>,
+        set: Option<&Bound<'_, PyAny>>,
         residual_friction: Option<f64>,
         residual_cohesion: f64,
     ) -> PyResult<()> {
@@ -349,7 +461,7 @@ impl Simulation {
         friction: f64,
         cohesion: f64,
         tension: f64,
-        set: Option<Whole>,
+        set: Option<&Bound<'_, PyAny>>,
         residual_friction: Option<f64>,
         residual_cohesion: f64,
     ) -> PyResult<()> {
@@ -373,16 +485,35 @@ impl Simulation {
         .map_err(to_py_err)
     }
 
-    /// The bridge properties of set `set` (its own, else the default), as a dict.
-    fn bridge<'py>(&self, py: Python<'py>, set: Whole) -> PyResult<Bound<'py, PyDict>> {
+    /// The bridge properties of joint set `set` (its own, else the default), as a dict.
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     A set the system does not have (kind ``unknown_set``), as :meth:`set_bridge`.
+    fn bridge<'py>(&self, py: Python<'py>, set: &Bound<'_, PyAny>) -> PyResult<Bound<'py, PyDict>> {
         let set = set_id(set, "set")?;
+        self.inner.check_set(set).map_err(to_py_err)?;
         model_dict(py, &self.inner.bridges().of_set(set, self.inner.joints()))
     }
 
-    /// The joint properties of set `set` (None: the default), as a dict.
+    /// The joint properties of joint set `set` (its own, else the default), or the default
+    /// ones (``set=None``), as a dict.
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     A set the system does not have (kind ``unknown_set``), as :meth:`set_joint`.
     #[pyo3(signature = (set = None))]
-    fn joint<'py>(&self, py: Python<'py>, set: Option<Whole>) -> PyResult<Bound<'py, PyDict>> {
+    fn joint<'py>(
+        &self,
+        py: Python<'py>,
+        set: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let set = set.map(|s| set_id(s, "set")).transpose()?;
+        if let Some(s) = set {
+            self.inner.check_set(s).map_err(to_py_err)?;
+        }
         model_dict(py, self.inner.joints().of_set(set))
     }
 
@@ -436,7 +567,7 @@ impl Simulation {
             }
         };
         for (WholeKey(set), p) in pressures.unwrap_or_default() {
-            let set = set_id(set, "a set of pressures")?;
+            let set = set_number(set, "a set of pressures")?;
             self.inner.check_set(set).map_err(to_py_err)?;
             water = water.with_set_pressure(set, p).map_err(to_py_err)?;
         }
@@ -444,10 +575,11 @@ impl Simulation {
         Ok(())
     }
 
-    /// Gravity, an acceleration vector (default ``(0, 0, -9.81)``).
+    /// Gravity, an acceleration vector (default ``(0, 0, -9.81)``): a read-only copy, as
+    /// the state arrays; set it by assigning a whole vector (``sim.gravity = [0, 0, -1]``).
     #[getter]
-    fn gravity<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        arrays::vector(py, self.inner.gravity().to_array().to_vec())
+    fn gravity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        arrays::read_only(arrays::vector(py, self.inner.gravity().to_array().to_vec()))
     }
 
     #[setter]
@@ -483,8 +615,9 @@ impl Simulation {
         self.inner.set_initial_stress(stress).map_err(to_py_err)
     }
 
-    /// Sets the damping: local non-viscous (3DEC's, in [0, 1); :meth:`solve` uses 0.8
-    /// when none is set) and mass-proportional viscous (a rate ≥ 0, in 1/s).
+    /// Sets the damping: local non-viscous (3DEC's, in [0, 1)) and mass-proportional
+    /// viscous (a rate ≥ 0, in 1/s); both 0 until set. :meth:`solve` replaces the pair
+    /// ``(0, 0)`` by local 0.8 for its steps, whether or not it was set so: see there.
     #[pyo3(signature = (local = 0.0, viscous = 0.0))]
     fn set_damping(&mut self, local: f64, viscous: f64) -> PyResult<()> {
         self.inner
@@ -533,7 +666,7 @@ impl Simulation {
     #[pyo3(signature = (id, velocity, spin = None))]
     fn prescribe(
         &mut self,
-        id: Whole,
+        id: &Bound<'_, PyAny>,
         velocity: &Bound<'_, PyAny>,
         spin: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
@@ -543,25 +676,55 @@ impl Simulation {
     }
 
     /// Sets the velocity and spin of free body `id` now.
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     An unknown or excavated body, or one that is not free (kind ``not_free``): a
+    ///     fixed body does not move, and a prescribed one moves at its prescribed velocity
+    ///     (:meth:`prescribe` changes it; :meth:`free` frees a body, at rest).
     #[pyo3(signature = (id, velocity, spin = None))]
     fn set_velocity(
         &mut self,
-        id: Whole,
+        id: &Bound<'_, PyAny>,
         velocity: &Bound<'_, PyAny>,
         spin: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
         let id = body_id(id, "id")?;
         let (v, w) = motion(velocity, spin)?;
+        let bodies = self.inner.bodies();
+        // An unknown or excavated body: the core's error, below.
+        if id < bodies.len() && !self.inner.removed()[id] {
+            let why = match bodies.fixity(id) {
+                Fixity::Free => None,
+                Fixity::Fixed => Some(String::from("is fixed")),
+                Fixity::Prescribed { .. } => Some(format!(
+                    "moves at a prescribed velocity (prescribe({id}, ...) changes it)"
+                )),
+            };
+            if let Some(why) = why {
+                let message = format!(
+                    "set_velocity: body {id} {why}, and only a free body's velocity can be \
+                     set (free([{id}]) frees it, at rest)"
+                );
+                return Err(to_py_err(Error::Mechanics("not_free".into(), message)));
+            }
+        }
         self.inner.set_velocity(id, v, w).map_err(to_py_err)
     }
 
     /// Applies a constant force on body `id` (besides gravity and contacts), at its centroid,
     /// or at `point` (world, at the body's current pose): then also the force's moment about
     /// the centroid, replacing any applied moment. Both stay constant in the world frame.
+    ///
+    /// Each call replaces the applied force; without `point` it leaves the applied moment
+    /// as it was: after ``apply_force(i, F, point=p)``, ``apply_force(i, F)`` keeps the
+    /// moment ``(p - c) × F`` of the first call, and the body goes on turning. To act at
+    /// the centroid only, remove the moment with ``apply_moment(i, [0, 0, 0])``.
     #[pyo3(signature = (id, force, point = None))]
     fn apply_force(
         &mut self,
-        id: Whole,
+        id: &Bound<'_, PyAny>,
         force: &Bound<'_, PyAny>,
         point: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
@@ -579,7 +742,7 @@ impl Simulation {
 
     /// Applies a constant moment on body `id` (world frame, about its centroid; replaces the
     /// one set before; zero removes it).
-    fn apply_moment(&mut self, id: Whole, moment: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn apply_moment(&mut self, id: &Bound<'_, PyAny>, moment: &Bound<'_, PyAny>) -> PyResult<()> {
         let id = body_id(id, "id")?;
         let m = DVec3::from_array(arrays::point(moment, "moment")?);
         self.inner.apply_moment(id, m).map_err(to_py_err)
@@ -783,8 +946,13 @@ impl Simulation {
         })
     }
 
-    /// Steps until the unbalanced-force ratio is below `ratio`, at most `max_steps`; local
-    /// damping 0.8 unless damping was set.
+    /// Steps until the unbalanced-force ratio is below `ratio`, at most `max_steps`.
+    ///
+    /// The damping of its steps: when local and viscous damping are both 0 (as they are
+    /// until :meth:`set_damping`), local damping 0.8 (viscous 0), and the damping is set
+    /// back to 0 after; otherwise the damping as set, unchanged. So
+    /// ``set_damping(local=0.0)`` still gets 0.8, and ``set_damping(viscous=10.0)`` gets no
+    /// local damping at all (give both to have both).
     ///
     /// Returns
     /// -------
@@ -1094,8 +1262,8 @@ impl Simulation {
     ///     Per contact (m rows): ``pairs`` (m, 2) body ids A < B, ``types`` (m,) contact type
     ///     codes 1..7, ``normals`` (m, 3) from A to B, ``sets`` (m,) the joint set whose
     ///     properties apply (-1: the default), ``bridges`` (m,) whether it is over a rock
-    ///     bridge (the set's bridge properties apply), ``sub_offsets`` (m + 1,): contact ``i`` has
-    ///     sub-contacts ``sub_offsets[i]:sub_offsets[i + 1]``. Per sub-contact: ``points``
+    ///     bridge (the set's bridge properties apply), ``sub_offsets`` (m + 1,) int64:
+    ///     contact ``i`` has sub-contacts ``sub_offsets[i]:sub_offsets[i + 1]``. Per sub-contact: ``points``
     ///     (k, 3), ``areas``, ``gaps`` (> 0 apart), ``normal_forces`` (on B, > 0 in
     ///     compression; the joint's effective force, without the water's: see
     ///     :meth:`set_water`), ``shear_forces`` (k, 3) on B, ``shear_displacements`` (k, 3),
@@ -1117,8 +1285,8 @@ impl Simulation {
         out.set_item("sets", arrays::vector(py, sets))?;
         let bridges: Vec<bool> = c.list.iter().map(|c| c.bridge).collect();
         out.set_item("bridges", arrays::vector(py, bridges))?;
-        let mut offsets: Vec<u64> = c.list.iter().map(|c| u64::from(c.first)).collect();
-        offsets.push(c.subs.len() as u64);
+        let mut offsets: Vec<i64> = c.list.iter().map(|c| i64::from(c.first)).collect();
+        offsets.push(c.subs.len() as i64);
         out.set_item("sub_offsets", arrays::vector(py, offsets))?;
         let rows = |f: &dyn Fn(&mechanics::SubContact) -> DVec3| -> Vec<[f64; 3]> {
             c.subs.iter().map(|s| f(s).to_array()).collect()
@@ -1162,6 +1330,7 @@ impl Simulation {
         Simulation {
             inner: self.inner.clone(),
             note: self.note.clone(),
+            origin: self.origin.clone(),
         }
     }
 
@@ -1171,7 +1340,10 @@ impl Simulation {
     /// their elements' state (forces, plastic elongations, yielding or broken), time and
     /// step count. Atomic: a
     /// temporary file renamed over `path`, never half a file. :meth:`load` gives back a
-    /// simulation whose next steps are bit for bit those this one would take.
+    /// simulation whose next steps are bit for bit those this one would take with the
+    /// default update fraction 0 (:meth:`set_update_fraction`); with a fraction above 0,
+    /// the loaded one queries every touching pair again at its first step and goes on within
+    /// a bound of this run, not bit for bit (``docs/mechanics.md``, "Restart files").
     ///
     /// Parameters
     /// ----------
@@ -1207,13 +1379,82 @@ impl Simulation {
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Simulation> {
         py.detach(|| mechanics::Simulation::load_state_noted(&path))
-            .map(|(inner, note)| Simulation { inner, note })
+            .map(|(inner, note)| Simulation {
+                inner,
+                note,
+                origin: None,
+            })
             .map_err(file_error(&path))
     }
 
-    /// The blocks at their current poses, as a :class:`BlockSystem` (for files and
-    /// pictures).
-    fn system(&self) -> BlockSystem {
-        BlockSystem::wrap(self.inner.placed_system())
+    /// The blocks at their current poses, as a :class:`BlockSystem` (for files, pictures
+    /// and detection): block ``i`` is block ``i`` of the system the simulation was made of,
+    /// moved with its body (:attr:`block_bodies`), with that system's body ids, joint sets
+    /// (:attr:`BlockSystem.sets`, its provenance) and :attr:`BlockSystem.unit`. A body that
+    /// rock bridges hold is several bodies in the simulation (so that a bridge can break):
+    /// its pieces are separate bodies here too, the piece of its first block keeping the
+    /// system's id and the others numbered on from the system's largest id. A simulation
+    /// read from a restart file (:meth:`load`) has the blocks in the same order, but the
+    /// file keeps neither the sets, nor the unit, nor the system's ids: the body ids are
+    /// :attr:`block_bodies`.
+    ///
+    /// :meth:`BlockSystem.detect` on it sees what the simulation sees only at the
+    /// simulation's gap (``gap=`` as given to :class:`Simulation`, default 1e-3): the joints
+    /// carry their load by overlapping a little (``m g / (kn A)`` under a block's weight),
+    /// and at detect's own default gap (1e-12) a block resting on another reads as
+    /// penetrating. The system does not carry the gap; pass it.
+    ///
+    /// Raises
+    /// ------
+    /// MechanicsError
+    ///     The parts of a body no longer fit together as its blocks (never expected: the
+    ///     bodies are rigid); kind ``concave``.
+    ///
+    /// Examples
+    /// --------
+    /// >>> import penedge
+    /// >>> base = penedge.Block.cuboid([-2, -2, -1], [2, 2, 0])
+    /// >>> cube = penedge.Block.cuboid([-0.5, -0.5, 0], [0.5, 0.5, 1])
+    /// >>> sim = penedge.Simulation(penedge.BlockSystem([base, cube]), density=2500.0)
+    /// >>> sim.fix([0])
+    /// >>> sim.solve()["converged"]
+    /// True
+    /// >>> placed = sim.system()
+    /// >>> placed.detect(gap=1e-3).types.tolist(), len(placed.detect().penetrating)
+    /// ([7], 1)
+    fn system(&self, py: Python<'_>) -> PyResult<BlockSystem> {
+        let placed = self.inner.placed_system();
+        let block_bodies = self.inner.block_bodies();
+        let Some(parts) = part_of_block(block_bodies, self.inner.part_bodies()) else {
+            // Never: a simulation's blocks are its bodies' parts (checked on reading a
+            // restart file); the parts as they are rather than a wrong order.
+            let message = "the simulation's blocks do not match its bodies' parts";
+            return Err(to_py_err(Error::Mechanics(
+                "internal".into(),
+                message.into(),
+            )));
+        };
+        let blocks: Vec<ConvexBlock> = parts.iter().map(|&k| placed.blocks()[k].clone()).collect();
+        let (system, ids) = match self.origin.as_deref() {
+            Some(o) if o.body_ids.len() == blocks.len() => (
+                penedge::BlockSystem::with_provenance(
+                    blocks,
+                    o.domain.clone(),
+                    o.joints.clone(),
+                    o.sets.clone(),
+                )
+                .with_unit(o.unit.clone()),
+                placed_body_ids(&o.body_ids, block_bodies),
+            ),
+            _ => (penedge::BlockSystem::new(blocks), block_bodies.to_vec()),
+        };
+        // The glue of the concave bodies, found again at their poses (nothing to find when
+        // every block is its own body).
+        py.detach(|| system.with_bodies(ids, &Tolerance::default()))
+            .map(BlockSystem::wrap)
+            .map_err(|e| {
+                let message = format!("the blocks at their current poses: {e}");
+                to_py_err(Error::Mechanics("concave".into(), message))
+            })
     }
 }

@@ -474,11 +474,13 @@ class Engine:
 
     def system(self) -> Any:
         """The blocks at their current poses, as a :class:`penedge.BlockSystem`, in the
-        model's block order (the simulation lists the parts body by body) with their body
-        ids (a picture draws a concave block as one)."""
+        model's block order with their body ids (a picture draws a concave block as one):
+        ``Simulation.system()``."""
         placed = self.sim.system()
-        if not self.concave:
+        if np.array_equal(self.sim.block_bodies, self.body):
             return placed
+        # A restart file from before 2026-11-28 keeps no block order (its simulation's
+        # block_bodies go part by part, body by body): the model's order from the parts'.
         import penedge
 
         order = np.argsort(self.body, kind="stable")  # the blocks in the parts' order
