@@ -610,10 +610,10 @@ impl Simulation {
         if gap == 0.0 {
             return Err(MechanicsError::Parameter {
                 name: "gap",
-                range: "in (0, 0.01), both ends excluded: a soft contact carries its force by \
-                        overlapping, and an overlap deeper than the gap stops the run, so a \
-                        gap of 0 can carry no load (the first resting contact would stop the \
-                        run); 1e-3, the default, suits most models",
+                range: "in (0, 0.01), both ends excluded (a soft contact carries its force \
+                        by overlapping, and an overlap deeper than the gap stops the run: a \
+                        gap of 0 can carry no load, the first resting contact would stop the \
+                        run; the default 1e-3 suits most models)",
                 value: gap,
             });
         }
