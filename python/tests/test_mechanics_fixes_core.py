@@ -50,7 +50,7 @@ def test_a_bolt_into_excavated_rock_is_refused():
         sim.add_bolt([0, 0, 0.5], [0, 0, 1], 1.0, stiffness=1e7, capacity=1e5)
 
 
-@pytest.mark.parametrize("beta", [1e3, 2.5e4, 1e5])
+@pytest.mark.parametrize("beta", [2.5e4, 1e5])
 def test_viscous_damping_never_makes_a_free_block_gain_energy(beta):
     box = penedge.Block.cuboid([0, 0, 0], [1, 1, 1])
     sim = penedge.Simulation(penedge.BlockSystem([box]), density=2500.0)
