@@ -428,3 +428,138 @@ fn bad_bolts_get_clear_errors() {
     assert!(sim.apply_moment(0, DVec3::NAN).is_err());
     assert!(sim.bolts().is_empty());
 }
+
+/// Excavating the rock a bolt is anchored in ends the bolt's action (docs/mechanics.md,
+/// "Excavation"): the cube hanging from the ceiling's bolt, settled, then the ceiling
+/// removed. The bolt's element goes, its pull on the cube (the cube's weight) is the load
+/// that relaxes, the time step is the one without the bolt, and with no relaxation the cube
+/// falls freely at once: from its half-step velocity `v` and height `z₀` the leapfrog puts
+/// it at `z₀ + n dt v − g dt² n (n + 1) / 2` after `n` steps, which is `½ g t²` below
+/// `z₀` but for `v t` and the half-step term `½ g dt t` (both computed here).
+#[test]
+fn excavating_the_rock_a_bolt_is_anchored_in_ends_the_bolt_and_the_block_falls() {
+    let weight = DENSITY * G;
+    let mut settled = hanging_cube(1e7, 1e6, None);
+    assert!(settled.solve(1e-7, 200_000).unwrap().converged);
+    // The same blocks without a bolt: the time step the cube has alone.
+    let ceiling = ConvexBlock::cuboid([-1.0, -1.0, 1.1], [1.0, 1.0, 2.0]).unwrap();
+    let cube = ConvexBlock::cuboid([-0.5, -0.5, 0.0], [0.5, 0.5, 1.0]).unwrap();
+    let mut unbolted = Simulation::new(&BlockSystem::new(vec![ceiling, cube]), DENSITY).unwrap();
+    unbolted.fix(0).unwrap();
+    assert!(settled.critical_timestep().unwrap() < unbolted.critical_timestep().unwrap());
+
+    // Relaxed over 50 steps: the bolt's pull is the load reported, and the first step after
+    // the excavation still holds the cube (the load as before, less a 50th).
+    let mut relaxed = settled.clone();
+    let report = relaxed.excavate(&[0], 50).unwrap();
+    assert_eq!(report.removed, vec![0]);
+    assert_eq!(report.loaded.len(), 1);
+    let (on, force) = report.loaded[0];
+    assert_eq!(on, 1);
+    assert!(
+        (force - DVec3::Z * weight).length() < 1e-6 * weight,
+        "{force}"
+    );
+    assert!(relaxed.bolts().elements().is_empty());
+    let v0 = relaxed.bodies().velocities()[1];
+    relaxed.step().unwrap();
+    let dv = relaxed.bodies().velocities()[1] - v0;
+    let dt = relaxed.timestep().unwrap();
+    // The bolt's force at the last step is the relaxing load; the weight as the cube's.
+    let expected = (force.z - weight) / DENSITY * dt;
+    assert!(
+        (dv.z - expected).abs() < 1e-9 * G * dt,
+        "{dv} vs {expected}"
+    );
+
+    // Released at once: the cube falls freely.
+    let mut sim = settled;
+    sim.excavate(&[0], 0).unwrap();
+    assert!(sim.bolts().elements().is_empty());
+    assert_eq!(sim.bolts().len(), 1); // the bolt's id stays
+    assert_eq!(
+        sim.critical_timestep().unwrap(),
+        unbolted.critical_timestep().unwrap()
+    );
+    let dt = sim.timestep().unwrap();
+    let z0 = sim.bodies().poses()[1].translation.z;
+    let v = sim.bodies().velocities()[1].z;
+    let n = 2000u32;
+    sim.cycle(n as u64).unwrap();
+    let (nf, t) = (n as f64, n as f64 * dt);
+    let expected = z0 + t * v - 0.5 * G * dt * dt * nf * (nf + 1.0);
+    let z = sim.bodies().poses()[1].translation.z;
+    assert!((z - expected).abs() < 1e-9, "{z} vs {expected}");
+    let fall = z0 - z;
+    let free_fall = 0.5 * G * t * t + 0.5 * G * dt * t - v * t;
+    assert!((fall - free_fall).abs() < 1e-9, "{fall} vs {free_fall}");
+    // It fell, far past the bolt's elongation (where the bolt would have caught it).
+    assert!(fall > 10.0 * weight / 1e7, "{fall}");
+}
+
+/// A bolt cannot be installed into excavated rock: one that crosses or ends in a removed
+/// body is refused naming it; removed rock at the collar is the opening (the bolt starts at
+/// the rock face), so a bolt from there ties what it reaches, or nothing.
+#[test]
+fn a_bolt_into_excavated_rock_is_refused_naming_the_body() {
+    // Bottom to top: the cube (body 0), the ceiling (1), a layer above it (2), a top (3).
+    let blocks = vec![
+        ConvexBlock::cuboid([-0.5, -0.5, 0.0], [0.5, 0.5, 1.0]).unwrap(),
+        ConvexBlock::cuboid([-1.0, -1.0, 1.1], [1.0, 1.0, 2.0]).unwrap(),
+        ConvexBlock::cuboid([-1.0, -1.0, 2.1], [1.0, 1.0, 3.0]).unwrap(),
+        ConvexBlock::cuboid([-1.0, -1.0, 3.1], [1.0, 1.0, 4.0]).unwrap(),
+    ];
+    let mut sim = Simulation::new(&BlockSystem::new(blocks), DENSITY).unwrap();
+    for i in [1, 2, 3] {
+        sim.fix(i).unwrap();
+    }
+    sim.excavate(&[2], 0).unwrap();
+    let up = |from: f64, length: f64| Bolt {
+        collar: DVec3::new(0.0, 0.0, from),
+        direction: DVec3::Z,
+        length,
+        stiffness: 1e7,
+        capacity: 1e5,
+        rupture_strain: None,
+        dowel: None,
+    };
+    // Ends in the removed layer; crosses it to the top.
+    for bolt in [up(0.5, 2.0), up(0.5, 3.0)] {
+        let e = sim.add_bolt(bolt).unwrap_err();
+        let text = e.to_string();
+        assert!(matches!(e, MechanicsError::Bolt(_)), "{e:?}");
+        assert!(text.contains("body 2, which was excavated"), "{text}");
+    }
+    // From inside the removed layer down: the opening, then the ceiling and the cube.
+    let down = Bolt {
+        collar: DVec3::new(0.0, 0.0, 2.5),
+        direction: -DVec3::Z,
+        length: 2.0,
+        ..up(0.0, 1.0)
+    };
+    let id = sim.add_bolt(down).unwrap();
+    let e = sim.bolts().elements()[0];
+    assert_eq!((e.bolt(), e.bodies()), (id, [1, 0]));
+    // From the ceiling's face (z = 2, the rock face) to the cube's centroid.
+    assert!((e.rest_length() - 1.5).abs() < 1e-12, "{}", e.rest_length());
+    // From inside the removed layer to the ceiling only: one body, ties nothing, and the
+    // message says why the layer does not count.
+    let short = Bolt {
+        length: 1.0,
+        ..down
+    };
+    let text = sim.add_bolt(short).unwrap_err().to_string();
+    assert!(text.contains("ties nothing"), "{text}");
+    assert!(text.contains("excavated body 2"), "{text}");
+    // Only the removed layer: the bolt meets no rock that stays.
+    let inside = Bolt {
+        length: 0.2,
+        ..down
+    };
+    let text = sim.add_bolt(inside).unwrap_err().to_string();
+    assert!(
+        text.contains("outside the rock") && text.contains("excavated body 2"),
+        "{text}"
+    );
+    assert_eq!(sim.bolts().len(), 1);
+}

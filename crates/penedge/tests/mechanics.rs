@@ -1429,3 +1429,138 @@ fn a_block_on_a_thin_layer_rests_on_its_near_face() {
         "{settled} vs {expected}"
     );
 }
+
+/// Viscous damping bounds the time step (docs/mechanics.md, "Integration"): the damping
+/// takes `β dt` of a free body's velocity at each step, so past `β dt = 2` the velocity
+/// flips and grows. The critical step is the undamped one `dt₀` lowered to
+/// `dt₀ / (ζ + √(1 + ζ²))`, `ζ = β dt₀ / 4` (the damped oscillator's limit under central
+/// differences); with it a free block's kinetic energy never grows, and an explicit step
+/// above it is refused.
+#[test]
+fn viscous_damping_lowers_the_critical_step_and_a_free_block_decays() {
+    let block = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    let mut sim = Simulation::new(&BlockSystem::new(vec![block]), 2500.0).unwrap();
+    sim.set_gravity(DVec3::ZERO).unwrap();
+    let undamped = sim.critical_timestep().unwrap();
+    // A rate 40 times the undamped automatic step's limit: β dt = 20 at that step.
+    let beta = 40.0 / undamped;
+    sim.set_damping(Damping {
+        local: 0.0,
+        viscous: beta,
+    })
+    .unwrap();
+    let zeta = beta * undamped / 4.0;
+    let critical = undamped / (zeta + (1.0 + zeta * zeta).sqrt());
+    let got = sim.critical_timestep().unwrap();
+    assert!(
+        (got - critical).abs() < 1e-12 * critical,
+        "{got} vs {critical}"
+    );
+    let dt = sim.timestep().unwrap();
+    assert_eq!(dt, 0.5 * got); // the safety factor kept
+    assert!(beta * dt <= 1.0, "{}", beta * dt);
+    sim.set_velocity(0, DVec3::new(1.0, 0.5, 0.0), DVec3::new(0.0, 0.0, 2.0))
+        .unwrap();
+    let mut energy = sim.bodies().kinetic_energy(0);
+    for _ in 0..500 {
+        sim.step().unwrap();
+        let now = sim.bodies().kinetic_energy(0);
+        assert!(now <= energy, "the energy grew: {energy} -> {now}");
+        energy = now;
+    }
+    assert!(energy < 1e-100, "{energy}");
+
+    // An explicit step above the damped bound is refused, set before or after the damping.
+    let step = 0.9 * undamped; // β step = 36
+    assert!(matches!(
+        sim.set_timestep(Some(step)),
+        Err(MechanicsError::TimeStep { .. })
+    ));
+    sim.set_damping(Damping::default()).unwrap();
+    sim.set_timestep(Some(step)).unwrap();
+    sim.set_damping(Damping {
+        local: 0.0,
+        viscous: beta,
+    })
+    .unwrap();
+    assert!(matches!(sim.step(), Err(MechanicsError::TimeStep { .. })));
+}
+
+/// A gap of 0 is refused when the simulation is set up, saying why (a soft contact carries
+/// its load by overlapping, up to the gap); the range is (0, 0.01).
+#[test]
+fn a_gap_of_zero_is_refused_with_the_reason() {
+    let mut sim = cube_on_base(0.0, 2500.0);
+    let e = sim.set_gap(0.0).unwrap_err();
+    assert!(
+        matches!(e, MechanicsError::Parameter { name: "gap", .. }),
+        "{e:?}"
+    );
+    let text = e.to_string();
+    assert!(
+        text.contains("(0, 0.01)") && text.contains("overlapping") && text.contains("got 0"),
+        "{text}"
+    );
+    assert!(matches!(
+        sim.set_gap(0.01),
+        Err(MechanicsError::Tolerance(_))
+    ));
+    assert!(sim.set_gap(-1e-3).is_err());
+    sim.set_gap(0.0099).unwrap();
+    sim.set_gap(1e-3).unwrap();
+    sim.step().unwrap();
+}
+
+/// Blocks that overlap in the input are named as such at the first step, with the depth,
+/// not as the contact law's doing; a penetration during the run keeps that advice.
+#[test]
+fn an_overlap_in_the_input_is_reported_as_the_input_s() {
+    let base = ConvexBlock::cuboid([-2.0, -2.0, -1.0], [2.0, 2.0, 0.0]).unwrap();
+    let cube = ConvexBlock::cuboid([-0.5, -0.5, -0.2], [0.5, 0.5, 0.8]).unwrap();
+    let mut sim = Simulation::new(&BlockSystem::new(vec![base, cube]), 2500.0).unwrap();
+    sim.fix(0).unwrap();
+    let e = sim.step().unwrap_err();
+    match &e {
+        MechanicsError::Penetration {
+            bodies,
+            step,
+            depth,
+            initial,
+            ..
+        } => {
+            assert_eq!((*bodies, *step, *initial), ([0, 1], 0, true));
+            let depth = depth.unwrap();
+            assert!((depth - 0.2).abs() < 1e-12, "{depth}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let text = e.to_string();
+    assert!(
+        text.contains("bodies 0 and 1 overlap in the input by 0.2"),
+        "{text}"
+    );
+    assert!(!text.contains("contact law"), "{text}");
+    // The same again at a retry: still the input's (no step was taken).
+    assert!(sim.step().unwrap_err().to_string().contains("in the input"));
+
+    // A cube thrown onto the base, soft: it goes deeper than the gap during the run.
+    let mut sim = cube_on_base(5e-4, 2500.0);
+    sim.set_default_joint(joint(1e7, 30.0, 0.0, 0.0)).unwrap();
+    let down = sim.bodies().poses()[0].rotation * DVec3::new(0.0, 0.0, -5.0);
+    sim.set_velocity(1, down, DVec3::ZERO).unwrap();
+    let e = loop {
+        if let Err(e) = sim.step() {
+            break e;
+        }
+        assert!(sim.steps() < 10_000);
+    };
+    assert!(
+        matches!(e, MechanicsError::Penetration { initial: false, step, .. } if step > 0),
+        "{e:?}"
+    );
+    let text = e.to_string();
+    assert!(
+        text.contains("contact law") && !text.contains("in the input"),
+        "{text}"
+    );
+}

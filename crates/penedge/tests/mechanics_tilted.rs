@@ -57,7 +57,7 @@ fn an_undamped_cube_rocking_on_a_40_degree_slope_lands_deeper_than_the_gap_at_an
             sim.set_timestep(Some(f * critical)).unwrap();
         }
         match run(&mut sim, 3000) {
-            Some(MechanicsError::Penetration { bodies, step }) => {
+            Some(MechanicsError::Penetration { bodies, step, .. }) => {
                 assert_eq!(bodies, [0, 1]);
                 times.push((sim.time(), step, half[0]));
             }

@@ -172,6 +172,27 @@ fn a_resumed_run_with_a_yielding_bolt_is_bit_for_bit_the_uninterrupted_one() {
     resumes_bit_for_bit("bolt", hanging_cube, &[0, 1, n], n + 400);
 }
 
+/// A file written before excavation ended the bolts anchored in removed bodies (its bolt
+/// element anchored in the excavated ceiling) reads without that element: the cube no longer
+/// hangs from removed rock.
+#[test]
+fn a_bolt_anchored_in_a_removed_body_of_an_old_file_is_dropped() {
+    let mut sim = hanging_cube();
+    sim.cycle(5).unwrap();
+    let mut json: serde_json::Value =
+        serde_json::from_str(&sim.to_state_string().unwrap()).unwrap();
+    // The ceiling excavated, as that engine left it: removed, its bolt element kept.
+    json["excavation"]["removed"] = serde_json::json!([0]);
+    let back = Simulation::from_state_str(&json.to_string()).unwrap();
+    assert_eq!(back.removed(), vec![true, false]);
+    assert!(back.bolts().elements().is_empty());
+    assert_eq!(back.bolts().len(), 1);
+    // The time step is the cube's without the bolt.
+    let mut plain = hanging_cube();
+    plain.excavate(&[0], 0).unwrap();
+    assert_eq!(back.critical_timestep(), plain.critical_timestep());
+}
+
 #[test]
 fn a_file_without_water_or_bolts_reads_as_dry_and_unbolted() {
     // As files written before penedge stored them (version 1 all the same).
@@ -434,6 +455,14 @@ fn a_bad_restart_file_is_named() {
         }),
     ];
     each_edit_is_named(&json, cases);
+    // A gap of 0, which `set_gap` refuses (no contact could carry a load), is refused here too.
+    let mut zero = json.clone();
+    zero["settings"]["tolerance"]["gap"] = 0.0.into();
+    let e = error_of(&zero.to_string());
+    assert!(
+        e.contains("settings.tolerance") && e.contains("gap of 0"),
+        "{e}"
+    );
     // An unknown field (a typo) is named too.
     json["clock"]["stpes"] = 3.into();
     let e = error_of(&json.to_string());

@@ -232,32 +232,64 @@ impl Bolts {
     }
 
     /// Installs `bolt` across the bodies its segment crosses now (`placed`: the parts at
-    /// their poses, `part_body` their bodies); its id.
+    /// their poses, `part_body` their bodies; `removed`: per body whether it was excavated,
+    /// or empty); its id. Excavated bodies before the first body that stays are the opening
+    /// the collar is in (skipped, as air); one further along is an error naming it.
     pub(super) fn install(
         &mut self,
         bolt: Bolt,
         bodies: &Bodies,
         placed: &[ConvexBlock],
         part_body: &[u32],
+        removed: &[bool],
     ) -> Result<usize, MechanicsError> {
         check(&bolt)?;
         let d = bolt.direction.normalize();
         let end = bolt.collar + d * bolt.length;
-        let runs = crossed(placed, part_body, bolt.collar, end);
+        let mut runs = crossed(placed, part_body, bolt.collar, end);
         let text = |p: DVec3| format!("({}, {}, {})", p.x, p.y, p.z);
+        let is_removed = |b: u32| removed.get(b as usize).copied().unwrap_or(false);
+        // The excavated rock at the collar is the opening: the bolt starts at the rock face.
+        let opening: Vec<u32> = runs
+            .iter()
+            .take_while(|r| is_removed(r.0))
+            .map(|r| r.0)
+            .collect();
+        runs.drain(..opening.len());
+        if let Some(&(b, _, _)) = runs.iter().find(|r| is_removed(r.0)) {
+            return Err(MechanicsError::Bolt(format!(
+                "the bolt from {} to {} crosses or ends in body {b}, which was excavated: a \
+                 bolt cannot tie or be anchored in removed rock (install it before the \
+                 excavation, or shorten it to end in rock that stays)",
+                text(bolt.collar),
+                text(end)
+            )));
+        }
         let bodies_crossed: Vec<u32> = runs.iter().map(|r| r.0).collect();
+        // Named in the errors below: the excavated bodies the collar is in.
+        let skipped = match opening.as_slice() {
+            [] => String::new(),
+            _ => {
+                let ids: Vec<String> = opening.iter().map(u32::to_string).collect();
+                format!(
+                    " (excavated body {}, at its collar, is the opening, not rock)",
+                    ids.join(", ")
+                )
+            }
+        };
         match bodies_crossed.as_slice() {
             [] => {
                 return Err(MechanicsError::Bolt(format!(
-                    "the bolt from {} to {} is outside the rock (it meets no block)",
+                    "the bolt from {} to {} is outside the rock (it meets no block that \
+                     stays){skipped}",
                     text(bolt.collar),
                     text(end)
                 )))
             }
             [b] => {
                 return Err(MechanicsError::Bolt(format!(
-                    "the bolt from {} to {} lies in one body (body {b}): it crosses no joint \
-                     and ties nothing",
+                    "the bolt from {} to {} lies in one body (body {b}): it crosses no \
+                     joint and ties nothing{skipped}",
                     text(bolt.collar),
                     text(end)
                 )))
@@ -331,6 +363,67 @@ impl Bolts {
         self.elements.extend(new);
         self.specs.push(bolt);
         Ok(id as usize)
+    }
+
+    /// Drops the elements with an anchor in a body now removed (`removed`, per body: the
+    /// excavated ones), and rebuilds the stiffness sums from the elements left, in element
+    /// order (as installing and `from_stored` sum them). Returns, per element dropped that
+    /// has one body staying, that body with the force and moment (about its centroid, at
+    /// the current poses) the element exerted on it at the last step: its axial force along
+    /// the current line between its anchors and its dowel's shear force, the loads
+    /// excavation relaxes.
+    pub(super) fn remove_bodies(
+        &mut self,
+        removed: &[bool],
+        bodies: &Bodies,
+    ) -> Vec<(usize, DVec3, DVec3)> {
+        let gone = |b: u32| removed.get(b as usize).copied().unwrap_or(false);
+        if !self
+            .elements
+            .iter()
+            .any(|e| gone(e.bodies[0]) || gone(e.bodies[1]))
+        {
+            return Vec::new();
+        }
+        let poses = bodies.poses();
+        let mut loads = Vec::new();
+        for e in &self.elements {
+            let [a, b] = e.bodies;
+            let stays = match (gone(a), gone(b)) {
+                (false, false) | (true, true) => continue,
+                (true, false) => 1,
+                (false, true) => 0,
+            };
+            let ends = e.ends(bodies);
+            let span = ends[1] - ends[0];
+            let length = span.length();
+            // The axial force pulls the anchors together (tension > 0), at the anchors; the
+            // dowel's shear force is `shear` on the second body, at the crossing.
+            let pull = if length > 0.0 {
+                span * (e.force / length)
+            } else {
+                DVec3::ZERO
+            };
+            let (axial, shear) = if stays == 0 {
+                (pull, -e.shear)
+            } else {
+                (-pull, e.shear)
+            };
+            let body = e.bodies[stays] as usize;
+            let centre = poses[body].translation;
+            let crossing = poses[body].apply(e.crossing[stays]);
+            let moment = (ends[stays] - centre).cross(axial) + (crossing - centre).cross(shear);
+            loads.push((body, axial + shear, moment));
+        }
+        self.elements
+            .retain(|e| !(gone(e.bodies[0]) || gone(e.bodies[1])));
+        self.stiffness.clear();
+        let elements = std::mem::take(&mut self.elements);
+        for e in &elements {
+            self.add_stiffness(e);
+        }
+        self.elements = elements;
+        loads
     }
 
     /// Adds element `e`'s springs to its bodies' stiffness sums.

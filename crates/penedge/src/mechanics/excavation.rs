@@ -45,15 +45,18 @@ pub struct ExcavationReport {
     /// The bodies removed.
     pub removed: Vec<usize>,
     /// The bodies that stay and that the removed ones pushed on (their contacts at the last
-    /// step), increasing; with the force on each (world frame), the load that relaxes.
+    /// step) or pulled on (bolt elements anchored in them), increasing; with the force on
+    /// each (world frame), the load that relaxes.
     pub loaded: Vec<(usize, DVec3)>,
 }
 
 impl Simulation {
     /// Removes the bodies `ids` (the rock excavated): from the next step they take no part
-    /// (no contacts, no motion, not in the unbalanced-force ratio nor the critical time
-    /// step; their ids stay, fixed where they were). The forces they exerted on the bodies
-    /// that stay, through the contacts of the last step, are applied to those bodies again
+    /// (no contacts, no bolts, no motion, not in the unbalanced-force ratio nor the critical
+    /// time step; their ids stay, fixed where they were). Every bolt element with an anchor
+    /// in a removed body goes (its bolt's elements between bodies that stay go on). The
+    /// forces they exerted on the bodies that stay, through the contacts and those bolt
+    /// elements of the last step, are applied to those bodies again
     /// at each step, reduced linearly to zero over `relax_steps` steps: the `j`-th step
     /// after the excavation applies `1 - (j - 1) / relax_steps` of them (the moment about
     /// each body's centroid kept as it was, in the world frame); `relax_steps = 0` releases
@@ -92,6 +95,18 @@ impl Simulation {
                 force[on] += f;
                 moment[on] += (s.point - centre).cross(f);
             }
+            loaded[on] = true;
+        }
+        // The rock bolts anchored in them stop acting: their elements with an anchor in a
+        // removed body go, and the forces those exerted on the bodies that stay relax with
+        // the contacts' (docs/mechanics.md, "Excavation").
+        let mut now_removed = self.removed();
+        for (r, &g) in now_removed.iter_mut().zip(&gone) {
+            *r |= g;
+        }
+        for (on, f, m) in self.bolts.remove_bodies(&now_removed, &self.bodies) {
+            force[on] += f;
+            moment[on] += m;
             loaded[on] = true;
         }
         let bodies: Vec<u32> = (0..n).filter(|&i| loaded[i]).map(|i| i as u32).collect();

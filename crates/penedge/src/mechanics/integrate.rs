@@ -126,9 +126,69 @@ pub(super) fn critical_step(bodies: &Bodies, i: usize, k: f64, scale: f64) -> f6
     2.0 / kt.max(kr).sqrt()
 }
 
+/// The critical time step with mass-proportional viscous damping of rate `beta` (1/s), from
+/// the undamped one `undamped` (docs/mechanics.md, "Integration"): the damping uses the
+/// velocity at the start of the step, so an oscillator of frequency `ω = 2 / undamped`
+/// steps as `x' = x + (1 - β dt) (x - x_) - ω² dt² x`, stable while `ω² dt² + 2 β dt < 4`,
+/// i.e. `dt ≤ (2 / ω) (√(1 + ζ²) - ζ) = undamped / (ζ + √(1 + ζ²))` with `ζ = β / (2 ω)
+/// = β undamped / 4`; without stiffness (ω → 0) that is `2 / β`, where a free body's velocity
+/// is multiplied by `1 - β dt` at each step. `undamped` itself for `β = 0`, bit for bit.
+pub(super) fn damped_step(undamped: f64, beta: f64) -> f64 {
+    if beta == 0.0 {
+        return undamped;
+    }
+    let zeta = 0.25 * beta * undamped;
+    if !zeta.is_finite() {
+        return 2.0 / beta; // no stiffness bound: the damping's alone
+    }
+    undamped / (zeta + (1.0 + zeta * zeta).sqrt())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The bound is where the damped oscillator's step stops being stable: iterated at the
+    /// bound times 0.999 its amplitude does not grow (undamped, it stays; damped, it
+    /// decays), at 1.001 times it it grows without bound.
+    #[test]
+    fn the_damped_critical_step_is_the_stability_limit_of_the_damped_oscillator() {
+        let omega: f64 = 100.0;
+        for beta in [0.0, 10.0, 200.0, 1e4] {
+            let dt = damped_step(2.0 / omega, beta);
+            let zeta = beta / (2.0 * omega);
+            let formula = 2.0 / omega * ((1.0 + zeta * zeta).sqrt() - zeta);
+            assert!((dt - formula).abs() < 1e-12 * formula, "{dt} vs {formula}");
+            // The largest |x| over the first and the last 1000 of 20000 steps (infinite
+            // once it overflows), as the engine steps: the damping from the velocity at the
+            // start of the step.
+            let amplitudes = |h: f64| {
+                let (mut x, mut v) = (1.0f64, 0.0f64);
+                let (mut early, mut late) = (0.0f64, 0.0f64);
+                for n in 0..20_000 {
+                    v += h * (-omega * omega * x - beta * v);
+                    x += h * v;
+                    if !x.is_finite() {
+                        return (early, f64::INFINITY);
+                    }
+                    if n < 1000 {
+                        early = early.max(x.abs());
+                    } else if n >= 19_000 {
+                        late = late.max(x.abs());
+                    }
+                }
+                (early, late)
+            };
+            let (early, late) = amplitudes(0.999 * dt);
+            assert!(late <= 1.01 * early, "beta {beta}: {early} -> {late}");
+            let (early, late) = amplitudes(1.001 * dt);
+            assert!(late > 1e3 * early, "beta {beta}: {early} -> {late}");
+        }
+        // No stiffness: the damping's own bound, 2 / β.
+        assert_eq!(damped_step(f64::INFINITY, 4.0), 0.5);
+        assert!((damped_step(1e12, 4.0) - 0.5).abs() < 1e-9);
+        assert_eq!(damped_step(0.25, 0.0), 0.25);
+    }
 
     #[test]
     fn free_rotation_about_a_principal_axis_is_exact() {

@@ -117,7 +117,10 @@ pub enum MechanicsError {
         value: f64,
     },
     /// A time step that is not positive, or above the critical one.
-    #[error("the time step {dt} is not in (0, {critical}] (the critical time step)")]
+    #[error(
+        "the time step {dt} is not in (0, {critical}] (the critical time step, with viscous \
+         damping's bound when there is some)"
+    )]
     TimeStep {
         /// The step given.
         dt: f64,
@@ -138,20 +141,23 @@ pub enum MechanicsError {
         /// Number of bodies.
         bodies: usize,
     },
-    /// Two bodies overlap deeper than the detection gap.
-    #[error(
-        "bodies {} and {} overlap deeper than the detection gap at step {step}: the contact \
-         law let one into the other (an impact or a load too large for the stiffness, e.g. \
-         an undamped block rocking onto an edge); raise kn and ks, add local damping \
-         (0.8 for a quasi-static run) or widen the gap; a smaller time step helps only when \
-         a body moves more than the gap in one step",
-        bodies[0], bodies[1]
-    )]
+    /// Two bodies overlap deeper than the detection gap: at the first detection, in the input
+    /// (`initial`); later, because the contact law let one into the other.
+    #[error("{}", penetration_text(*.bodies, *.step, *.depth, *.gap, *.initial))]
     Penetration {
         /// The two bodies.
         bodies: [u32; 2],
         /// The step.
         step: u64,
+        /// How deep they overlap: the shortest translation that separates the two parts
+        /// found (`overlap::overlap`); `None` where it finds none (never, for a pair the
+        /// detection finds penetrating).
+        depth: Option<f64>,
+        /// The detection gap of the pair (absolute).
+        gap: f64,
+        /// Whether it was found by the first detection, before any contact force acted: the
+        /// bodies overlap in the input.
+        initial: bool,
     },
     /// A body that was excavated cannot be fixed, freed, moved, loaded or excavated again.
     #[error("body {0} was excavated: it can no longer be fixed, freed, moved or loaded")]
@@ -180,6 +186,39 @@ pub enum MechanicsError {
     /// A simulation of a block system without blocks.
     #[error("the block system has no blocks")]
     NoBlocks,
+}
+
+/// The message of [`MechanicsError::Penetration`].
+fn penetration_text(
+    [a, b]: [u32; 2],
+    step: u64,
+    depth: Option<f64>,
+    gap: f64,
+    initial: bool,
+) -> String {
+    // Three significant digits, as people write them.
+    let short = |x: f64| {
+        let rounded = format!("{x:.2e}").parse().unwrap_or(x);
+        crate::geometry::Short(rounded).to_string()
+    };
+    let by = depth.map_or(String::new(), |d| format!(" by {}", short(d)));
+    if initial {
+        return format!(
+            "bodies {a} and {b} overlap in the input{by}, deeper than the detection gap ({}), \
+             before any contact force has acted: the blocks given must not overlap; move or \
+             cut them so that they touch or lie apart (an overlap within the gap is taken as \
+             a touching contact), or give them as one body",
+            short(gap)
+        );
+    }
+    format!(
+        "bodies {a} and {b} overlap{by}, deeper than the detection gap ({}), at step {step}: \
+         the contact law let one into the other (an impact or a load too large for the \
+         stiffness, e.g. an undamped block rocking onto an edge); raise kn and ks, add local \
+         damping (0.8 for a quasi-static run) or widen the gap; a smaller time step helps only \
+         when a body moves more than the gap in one step",
+        short(gap)
+    )
 }
 
 /// What [`Simulation::solve`] did.
@@ -562,8 +601,22 @@ impl Simulation {
     }
 
     /// Sets the detection gap (relative to block size, as [`Tolerance::with_gap`]): the
-    /// deepest overlap the contacts can carry.
+    /// deepest overlap the contacts can carry, in `(0, 0.01)` (both ends excluded). A gap of
+    /// 0 is refused: a soft contact carries its force by overlapping, and an overlap deeper
+    /// than the gap stops the run, so with no gap no contact could carry a load (the first
+    /// resting contact would stop it). Other values out of range are a
+    /// [`MechanicsError::Tolerance`].
     pub fn set_gap(&mut self, gap: f64) -> Result<(), MechanicsError> {
+        if gap == 0.0 {
+            return Err(MechanicsError::Parameter {
+                name: "gap",
+                range: "in (0, 0.01), both ends excluded (a soft contact carries its force \
+                        by overlapping, and an overlap deeper than the gap stops the run: a \
+                        gap of 0 can carry no load, the first resting contact would stop the \
+                        run; the default 1e-3 suits most models)",
+                value: gap,
+            });
+        }
         self.tolerance = Tolerance::with_gap(gap)?;
         self.built_at = None;
         Ok(())
@@ -687,10 +740,13 @@ impl Simulation {
     }
 
     /// Installs a rock bolt across the bodies its segment crosses now (docs/mechanics.md,
-    /// "Rock bolts"); its id. An error when the segment meets no body or one only.
+    /// "Rock bolts"); its id. An error when the segment meets no body or one only, or
+    /// crosses or ends in an excavated body (excavated rock before the first body that stays
+    /// is the opening the collar is in, and is skipped).
     pub fn add_bolt(&mut self, bolt: Bolt) -> Result<usize, MechanicsError> {
+        let removed = &self.excavation.removed;
         self.bolts
-            .install(bolt, &self.bodies, &self.placed, &self.part_body)
+            .install(bolt, &self.bodies, &self.placed, &self.part_body, removed)
     }
 
     /// The rock bolts and the state of their elements.
@@ -845,13 +901,16 @@ impl Simulation {
         Ok(())
     }
 
-    /// The critical time step (docs/mechanics.md): the smallest bound of the free bodies.
+    /// The critical time step (docs/mechanics.md, "Integration"): the smallest bound of the
+    /// free bodies, with their bolts, lowered for viscous damping (`integrate::damped_step`:
+    /// a rate β above `2 / dt` makes the explicit step unstable, whatever the stiffness).
     pub fn critical_timestep(&self) -> Result<f64, MechanicsError> {
         let k = self.max_stiffness();
         self.bodies
             .critical_timestep(k)
             .ok_or(MechanicsError::NoFreeBody)
             .map(|contacts| self.bolts.critical_step(&self.bodies, contacts))
+            .map(|undamped| integrate::damped_step(undamped, self.damping.viscous))
     }
 
     /// The time step the next step takes.
@@ -1293,9 +1352,15 @@ impl Simulation {
             None => Ok(()),
             Some(k) => {
                 let [i, j] = self.pairs[k as usize];
+                let (a, b) = (&self.placed[i as usize], &self.placed[j as usize]);
+                let depth = crate::overlap::overlap(a, b, &tol).map(|o| o.min_translation.length());
                 Err(MechanicsError::Penetration {
                     bodies: [part_body[i as usize], part_body[j as usize]],
                     step: self.steps,
+                    depth,
+                    gap: Detector::new(tol).thresholds(a, b).gap,
+                    // The first detection: no contact force has acted yet.
+                    initial: self.initial,
                 })
             }
         }

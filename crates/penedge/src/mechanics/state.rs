@@ -1388,6 +1388,14 @@ fn tolerance_of(t: Tolerance) -> Result<Tolerance, IoError> {
     if rebuilt != t {
         return Err(bad("settings.tolerance", "not a tolerance penedge makes"));
     }
+    // As `Simulation::set_gap` refuses it: a contact carries its force by overlapping, up to
+    // the gap, so no gap carries no load.
+    if t.absolute_gap().unwrap_or(t.gap()) == 0.0 {
+        return Err(bad(
+            "settings.tolerance",
+            "a detection gap of 0: no contact could carry a load (the gap must be > 0)",
+        ));
+    }
     Ok(t)
 }
 
@@ -1630,5 +1638,10 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
         *w = water;
         *bo = bolt_set;
     }
+    // A file written before excavation ended the bolts anchored in removed bodies may hold
+    // elements with an anchor in one: they go, as the excavation drops them now (their last
+    // force released at once: the file has no relaxation for it). None in a newer file.
+    let removed = sim.removed();
+    sim.bolts.remove_bodies(&removed, &sim.bodies);
     Ok(sim)
 }
