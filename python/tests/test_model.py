@@ -267,7 +267,7 @@ def test_bolt_resolves_its_blocks():
         ),
         ("[rocks]\ndensity = 3\n", "rocks", "unknown field"),
         ("[mechanics]\ndamping = 1.5\n", "mechanics.damping", "less than 1"),
-        ("[mechanics]\ngap = 0.05\n", "mechanics.gap", "at most 0.01"),
+        ("[mechanics]\ngap = 0.01\n", "mechanics.gap", "less than 0.01"),
         ("[mechanics]\npoint_width = 0\n", "mechanics.point_width", "greater than 0"),
         ("[mechanics]\ngravity = [0, -9.81]\n", "mechanics.gravity", "three numbers"),
         ("[mechanics]\ntime_step = 'small'\n", "mechanics.time_step", "must be a number"),

@@ -36,8 +36,9 @@ use std::time::{Duration, Instant};
 /// density : float, default 2700.0
 ///     Density of every block (mass per volume; :meth:`set_density` per block).
 /// gap : float, default 1e-3
-///     Relative detection gap (up to 0.01): the deepest overlap a contact can carry, relative
-///     to the smaller block's size (a deeper one stops the run with an error).
+///     Relative detection gap, in (0, 0.01) (both ends excluded): the deepest overlap a
+///     contact can carry, relative to the smaller block's size (a deeper one stops the run
+///     with an error). Not 0: a soft contact carries its load by overlapping.
 /// point_width : float, default 0.2
 ///     Width of point and edge contacts relative to the smaller body's diameter: a point
 ///     contact is a patch of ``w² / 2``, a segment of length ``l`` a strip of ``w l / 2``
@@ -46,9 +47,10 @@ use std::time::{Duration, Instant};
 /// Raises
 /// ------
 /// MechanicsError
-///     A density that is not a finite number > 0, a point width not in (0, 1].
+///     A density that is not a finite number > 0, a point width not in (0, 1], a gap of 0
+///     (kind ``parameter``).
 /// ToleranceError
-///     An impossible gap.
+///     Any other gap out of range.
 ///
 /// Examples
 /// --------
@@ -1186,16 +1188,19 @@ impl Simulation {
     }
 
     /// Removes the given bodies (the rock excavated): from the next step they take no part
-    /// (ids kept, fixed where they were; :attr:`removed`). The forces they exerted on the
-    /// bodies that stay are applied again and reduced linearly to zero over `relax_steps`
-    /// steps (the j-th step applies ``1 - (j - 1) / relax_steps`` of them; 0: at once).
-    /// ``docs/mechanics.md``, "Excavation".
+    /// (ids kept, fixed where they were; :attr:`removed`). A rock bolt's elements anchored
+    /// in a removed body stop acting (they leave :meth:`bolts`; the bolt's other elements
+    /// go on), and a bolt can no longer be installed into removed rock. The forces the
+    /// removed bodies and those bolt elements exerted on the bodies that stay are applied
+    /// again and reduced linearly to zero over `relax_steps` steps (the j-th step applies
+    /// ``1 - (j - 1) / relax_steps`` of them; 0: at once). ``docs/mechanics.md``,
+    /// "Excavation".
     ///
     /// Returns
     /// -------
     /// dict
-    ///     ``removed`` (ids), ``loaded`` (ids of the bodies the removed ones pushed on) and
-    ///     ``forces`` (k, 3), the load on each, which relaxes.
+    ///     ``removed`` (ids), ``loaded`` (ids of the bodies the removed ones pushed on or
+    ///     their bolts pulled on) and ``forces`` (k, 3), the load on each, which relaxes.
     ///
     /// Raises
     /// ------

@@ -407,7 +407,7 @@ def parse_mechanics(rock: Table, t: Table) -> Mechanics:
         time_step=time_step,
         ratio=t.number("ratio", 1e-5, above=0, below=1),
         max_steps=t.integer("max_steps", 100_000, minimum=1),
-        gap=t.number("gap", 1e-3, above=0, at_most=0.01),
+        gap=t.number("gap", 1e-3, above=0, below=0.01),
         point_width=t.number("point_width", 0.2, above=0, at_most=1),
         mass_scaling=t.boolean("mass_scaling", False),
     )

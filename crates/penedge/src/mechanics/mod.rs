@@ -1051,7 +1051,9 @@ impl Simulation {
     }
 
     /// Steps until the unbalanced-force ratio is below `ratio` (3DEC's default 1e-5), at
-    /// most `max_steps`, with local damping 0.8 unless damping was set.
+    /// most `max_steps`. With no damping at all (local and viscous both 0, as by default),
+    /// it steps with local damping 0.8 (3DEC's) and sets the damping back after; any damping
+    /// set, even local 0 with some viscous damping, is used as it is.
     pub fn solve(&mut self, ratio: f64, max_steps: u64) -> Result<SolveReport, MechanicsError> {
         if !(ratio.is_finite() && ratio > 0.0) {
             return Err(MechanicsError::Parameter {
