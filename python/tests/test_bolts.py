@@ -285,3 +285,21 @@ def test_the_factor_of_safety_of_a_bolted_roof_wedge_matches_limit_equilibrium()
     exact = np.degrees(np.arctan(np.tan(np.radians(30.0)) / expected))
     assert found == pytest.approx(exact, abs=1.0)  # critical friction, as issue 18 asks
     assert safety.failing - safety.stable <= 0.01 + 1e-12
+
+
+def test_a_bolt_whose_anchor_rock_is_excavated_is_reported_so_at_the_end():
+    """The tunnel roof example with the rock above the wedge excavated after the solve: the
+    crown bolt, anchored in that rock, loses its only element (docs/mechanics.md,
+    "Excavation"). The run's bolt results said so by raising on the empty element list (no
+    summary written); the bolt is now reported as excavated, with no force."""
+    text = (EXAMPLES / "tunnel_roof_bolt.toml").read_text()
+    text = text[: text.index("[[stages]]")]
+    text += '[regions.above]\ntype = "point"\npoint = [5, 5, 4.5]\n\n'
+    text += '[[stages]]\ntype = "solve"\n\n'
+    text += '[[stages]]\ntype = "excavate"\nregion = "above"\nrelax_steps = 10\n\n'
+    text += '[[stages]]\ntype = "cycle"\nsteps = 50\n'
+    outcome = pm.simulate(text)
+    assert outcome.stages[0].converged
+    assert outcome.bolts == [
+        {"name": "crown", "force": 0.0, "elongation": 0.0, "state": "excavated"}
+    ]

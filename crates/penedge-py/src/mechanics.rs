@@ -901,7 +901,9 @@ impl Simulation {
         self.inner.timestep().map_err(to_py_err)
     }
 
-    /// The critical time step (a bound from the masses, inertias and the largest stiffness).
+    /// The critical time step: a bound from the masses, inertias, the largest joint stiffness
+    /// and the bolts' stiffnesses, lowered by viscous damping when there is some
+    /// (``docs/mechanics.md``, "Integration").
     #[getter]
     fn critical_timestep(&self) -> PyResult<f64> {
         self.inner.critical_timestep().map_err(to_py_err)

@@ -194,6 +194,22 @@ fn a_bolt_anchored_in_a_removed_body_of_an_old_file_is_dropped() {
 }
 
 #[test]
+fn a_run_whose_bolt_lost_every_element_to_an_excavation_resumes_bit_for_bit() {
+    // The ceiling the bolt is anchored in excavated: the bolt keeps its id with no element
+    // left (it was refused on reading: "a bolt has at least one element").
+    let mut sim = hanging_cube();
+    sim.cycle(5).unwrap();
+    sim.excavate(&[0], 20).unwrap();
+    sim.cycle(5).unwrap();
+    assert_eq!((sim.bolts().len(), sim.bolts().elements().len()), (1, 0));
+    let mut back = Simulation::from_state_str(&sim.to_state_string().unwrap()).unwrap();
+    assert_same(&sim, &back);
+    sim.cycle(30).unwrap();
+    back.cycle(30).unwrap();
+    assert_same(&sim, &back);
+}
+
+#[test]
 fn a_file_without_water_or_bolts_reads_as_dry_and_unbolted() {
     // As files written before penedge stored them (version 1 all the same).
     let mut sim = scene();

@@ -493,7 +493,8 @@ class Engine:
     def bolts(self) -> list[dict[str, Any]]:
         """Per bolt: its name, its largest axial force now (N, tension > 0; over its
         elements), its largest elongation (m) and its state: ``"elastic"``, ``"yielding"``
-        (an element at its capacity) or ``"broken"`` (an element broke)."""
+        (an element at its capacity), ``"broken"`` (an element broke) or ``"excavated"`` (every
+        element was anchored in excavated rock: force and elongation 0)."""
         if not self.bolt_names:
             return []
         data = self.sim.bolts()
@@ -502,6 +503,10 @@ class Engine:
             mine = data["bolt"] == i
             states = data["states"][mine]
             forces = data["forces"][mine]
+            if not mine.any():
+                # Every element was anchored in excavated rock: the bolt no longer acts.
+                out.append({"name": name, "force": 0.0, "elongation": 0.0, "state": "excavated"})
+                continue
             state = (
                 "broken"
                 if (states == 2).any()

@@ -141,7 +141,8 @@ pub(super) fn damped_step(undamped: f64, beta: f64) -> f64 {
     if !zeta.is_finite() {
         return 2.0 / beta; // no stiffness bound: the damping's alone
     }
-    undamped / (zeta + (1.0 + zeta * zeta).sqrt())
+    // (`hypot`: `ζ²` overflows for a huge rate, and the step would be 0.)
+    undamped / (zeta + zeta.hypot(1.0))
 }
 
 #[cfg(test)]
@@ -184,6 +185,10 @@ mod tests {
             let (early, late) = amplitudes(1.001 * dt);
             assert!(late > 1e3 * early, "beta {beta}: {early} -> {late}");
         }
+        // A rate so large that `ζ²` overflows: still about the damping's own bound (it was
+        // 0: a run with a zero time step, whose `run_until` never ended).
+        let huge = damped_step(1.0, 1e160);
+        assert!((huge * 1e160 - 2.0).abs() < 1e-12, "{huge}");
         // No stiffness: the damping's own bound, 2 / β.
         assert_eq!(damped_step(f64::INFINITY, 4.0), 0.5);
         assert!((damped_step(1e12, 4.0) - 0.5).abs() < 1e-9);

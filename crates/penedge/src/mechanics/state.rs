@@ -1236,7 +1236,9 @@ fn water_of(f: &WaterFile) -> Result<Water, IoError> {
     Ok(water)
 }
 
-fn bolts_of(files: &[BoltFile], n: usize) -> Result<Bolts, IoError> {
+/// The bolts of a file with `n` bodies; `excavated`: whether it has removed bodies (only
+/// then may a bolt have no element left).
+fn bolts_of(files: &[BoltFile], n: usize, excavated: bool) -> Result<Bolts, IoError> {
     let mut specs = Vec::with_capacity(files.len());
     let mut elements = Vec::new();
     for (i, f) in files.iter().enumerate() {
@@ -1254,8 +1256,14 @@ fn bolts_of(files: &[BoltFile], n: usize) -> Result<Bolts, IoError> {
             rupture_strain: f.rupture_strain,
             dowel: f.dowel.map(dowel_of),
         });
-        if f.elements.is_empty() {
-            return Err(bad(field("elements"), "a bolt has at least one element"));
+        // A bolt is installed across two bodies at least; it has no element left only when
+        // excavation ended every one (each anchored in removed rock).
+        if f.elements.is_empty() && !excavated {
+            return Err(bad(
+                field("elements"),
+                "a bolt has at least one element (none only once excavation removed the rock \
+                 they were anchored in, and no body is removed)",
+            ));
         }
         for (k, e) in f.elements.iter().enumerate() {
             let field = format!("bolts[{i}].elements[{k}]");
@@ -1539,7 +1547,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
     let tolerance = tolerance_of(s.tolerance)?;
     let excavation = excavation_of(&file.excavation, n)?;
     let water = water_of(&s.water)?;
-    let bolt_set = bolts_of(&file.bolts, n)?;
+    let bolt_set = bolts_of(&file.bolts, n, !file.excavation.removed.is_empty())?;
     let initial_stress = match &s.initial_stress {
         None => None,
         Some(f) => Some(
