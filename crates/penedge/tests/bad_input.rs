@@ -212,6 +212,37 @@ fn a_cutting_plane_must_have_a_finite_unit_normal() {
 
 // -- detection ------------------------------------------------------------------------------
 
+/// A block moved by the unchecked `translated` to NaN coordinates (a caller's bug the type
+/// allows): the broad phase doubled its cell for the block's infinite extent until the
+/// level's `u8` overflowed, a panic ("attempt to add with overflow") in `detect` and in
+/// `ContactTracker::new`. Now no panic; the finite blocks' contacts are found as without it.
+#[test]
+fn a_block_with_nan_coordinates_does_not_panic_the_detection() {
+    use penedge::geometry::DVec3;
+    use penedge::system::ContactTracker;
+    let a = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    let b = ConvexBlock::cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0]).unwrap();
+    let broken = a.translated(DVec3::splat(f64::NAN));
+    let tol = Tolerance::default();
+    let clean = BlockSystem::new(vec![a.clone(), b.clone()]).detect(&tol);
+    let with = BlockSystem::new(vec![a, b, broken]);
+    let found = with.detect(&tol);
+    let between = |c: &penedge::system::SystemContacts| {
+        c.contacts
+            .iter()
+            .filter(|p| p.pair == [0, 1])
+            .map(|p| p.contact.kind)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(between(&found), between(&clean));
+    assert_eq!(between(&clean).len(), 1);
+    let _ = ContactTracker::new(&with, tol, 0.0);
+    // The block and its broken copy alone (the case that panicked).
+    let pair = BlockSystem::new(vec![with.blocks()[0].clone(), with.blocks()[2].clone()]);
+    assert!(pair.detect(&tol).contacts.is_empty());
+    let _ = ContactTracker::new(&pair, tol, 0.0);
+}
+
 #[test]
 fn an_empty_system_detects_and_writes_nothing() {
     let empty = BlockSystem::new(Vec::new());
@@ -673,6 +704,28 @@ fn blocks_moved_beyond_double_range_are_refused_and_never_written() {
     assert!(matches!(
         cube.try_rotated(q, DVec3::splat(1e60)),
         Err(BlockError::OutOfRange { .. })
+    ));
+    // A rotation that is not a unit quaternion scaled and sheared the block, its volume
+    // and centroid carried over (a cube's edge 62 long, its volume still 1): refused, with
+    // its length; a normalised one (rounded) is a rotation.
+    for (q, length) in [
+        (glam::DQuat::from_xyzw(0.0, 0.0, 3.0, 10.0), 109f64.sqrt()),
+        (glam::DQuat::from_xyzw(0.0, 0.0, 0.3, 1.0), 1.09f64.sqrt()),
+        (glam::DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0), 0.0),
+    ] {
+        match cube.try_rotated(q, cube.centroid()) {
+            Err(BlockError::NotUnitRotation { length: l }) => assert_eq!(l, length),
+            other => panic!("{q:?}: {other:?}"),
+        }
+        assert!(
+            cube.try_rotated(q.normalize() * (1.0 + 1e-12), DVec3::ZERO)
+                .is_ok()
+                || q.length() == 0.0
+        );
+    }
+    assert!(matches!(
+        cube.try_rotated(glam::DQuat::from_xyzw(f64::NAN, 0.0, 0.0, 1.0), DVec3::ZERO),
+        Err(BlockError::NotUnitRotation { .. })
     ));
     for scale in [0.0, -1.0, f64::NAN] {
         assert!(

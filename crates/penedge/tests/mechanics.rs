@@ -1564,3 +1564,42 @@ fn an_overlap_in_the_input_is_reported_as_the_input_s() {
         "{text}"
     );
 }
+
+/// `Bodies::push` took any density and pose: a NaN density ran to a NaN state, and a pose
+/// whose quaternion had length 2 stopped the run with a penetration of blocks that only
+/// touched. It now checks them as `Simulation::new` does.
+#[test]
+fn a_body_pushed_with_a_bad_density_or_pose_is_refused() {
+    use penedge::body::Shape;
+    use penedge::mechanics::Bodies;
+    use std::sync::Arc;
+    let block = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    let (shape, pose) = Shape::from_parts(std::slice::from_ref(&block)).unwrap();
+    let shape = Arc::new(shape);
+    let mut bodies = Bodies::default();
+    for density in [f64::NAN, -2500.0, 0.0] {
+        let e = bodies.push(shape.clone(), pose, density).unwrap_err();
+        assert!(matches!(e, MechanicsError::Density(_)), "{density}: {e}");
+    }
+    for scale in [2.0, 0.0, f64::NAN] {
+        let bad = penedge::block::Pose {
+            rotation: pose.rotation * scale,
+            translation: pose.translation,
+        };
+        let e = bodies.push(shape.clone(), bad, 2500.0).unwrap_err();
+        assert!(
+            matches!(e, MechanicsError::Parameter { .. }),
+            "{scale}: {e}"
+        );
+    }
+    let far = penedge::block::Pose {
+        rotation: pose.rotation,
+        translation: DVec3::new(f64::INFINITY, 0.0, 0.0),
+    };
+    assert!(matches!(
+        bodies.push(shape.clone(), far, 2500.0),
+        Err(MechanicsError::NotFinite(_))
+    ));
+    assert!(bodies.is_empty(), "nothing pushed by a refused call");
+    assert_eq!(bodies.push(shape, pose, 2500.0).unwrap(), 0);
+}

@@ -19,7 +19,7 @@ fn scene(kn: f64, half: [f64; 3], friction: f64) -> Simulation {
     let mut bodies = Bodies::default();
     for part in [base, block] {
         let (shape, pose) = Shape::from_parts(&[part]).unwrap();
-        bodies.push(Arc::new(shape), pose, 2500.0);
+        bodies.push(Arc::new(shape), pose, 2500.0).unwrap();
     }
     let mut sim = Simulation::from_bodies(bodies);
     sim.fix(0).unwrap();

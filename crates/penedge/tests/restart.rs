@@ -28,7 +28,7 @@ fn scene() -> Simulation {
     let mut bodies = Bodies::default();
     for parts in [vec![base], vec![slab], vec![leg, arm], vec![cube]] {
         let (shape, pose) = Shape::from_parts(&parts).unwrap();
-        bodies.push(Arc::new(shape), pose, 2500.0);
+        bodies.push(Arc::new(shape), pose, 2500.0).unwrap();
     }
     let mut sim = Simulation::from_bodies(bodies);
     sim.fix(0).unwrap();

@@ -61,6 +61,16 @@ pub enum BlockError {
         /// Faces given.
         faces: usize,
     },
+    /// A rotation that is not a unit quaternion (a rigid move needs one: another scales and
+    /// shears the block).
+    #[error(
+        "the rotation is not a unit quaternion (its length is {length}): normalise it (a \
+         quaternion of another length scales and shears the block)"
+    )]
+    NotUnitRotation {
+        /// The quaternion's length.
+        length: f64,
+    },
     /// A coordinate is NaN or infinite.
     #[error("vertex {vertex} has a NaN or infinite coordinate")]
     NonFiniteVertex {

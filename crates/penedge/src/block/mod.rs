@@ -33,6 +33,12 @@ pub(crate) use reach::Reach;
 /// The largest coordinate magnitude of a block: beyond it, products of four lengths (the
 /// volume's moments) would overflow `f64`.
 pub const MAX_COORDINATE: f64 = 1e50;
+
+/// How far from 1 the length of a rotation given to [`ConvexBlock::try_rotated`] and
+/// [`ConvexBlock::try_transformed`] may be: far above the rounding of a normalised
+/// quaternion (a few units in the last place), or of one composed from many, far below any
+/// visible distortion.
+pub const UNIT_ROTATION: f64 = 1e-9;
 /// The smallest size (bounding-box diagonal) of a block: below it, squared lengths would
 /// underflow `f64`.
 pub const MIN_SIZE: f64 = 1e-50;
@@ -298,7 +304,8 @@ impl ConvexBlock {
 
     /// The block turned by `rotation` about the point `about` (the centroid, say): a point
     /// `x` goes to `about + rotation (x - about)`. A copy; topology, ids and face origins
-    /// kept.
+    /// kept. `rotation` must be a unit quaternion (not checked: [`ConvexBlock::try_rotated`]
+    /// checks it).
     pub fn rotated(&self, rotation: DQuat, about: DVec3) -> ConvexBlock {
         self.transformed(rotation, about - rotation * about, 1.0)
     }
@@ -341,14 +348,21 @@ impl ConvexBlock {
     }
 
     /// [`ConvexBlock::transformed`], checked as [`ConvexBlock::try_translated`] is (a scale
-    /// that is zero, negative or not finite fails the same checks). The block returned is
-    /// the unchecked one's, bit for bit.
+    /// that is zero, negative or not finite fails the same checks), and the rotation must be
+    /// a unit quaternion (its length within [`UNIT_ROTATION`] of 1: the rounding of a
+    /// normalised one; another would scale and shear the block, whose volume and centroid,
+    /// carried over, would then be wrong). The block returned is the unchecked one's, bit
+    /// for bit.
     pub fn try_transformed(
         &self,
         rotation: DQuat,
         translation: DVec3,
         scale: f64,
     ) -> Result<ConvexBlock, BlockError> {
+        let length = rotation.length();
+        if !(length.is_finite() && (length - 1.0).abs() <= UNIT_ROTATION) {
+            return Err(BlockError::NotUnitRotation { length });
+        }
         let block = self.transformed(rotation, translation, scale);
         block.check_moved()?;
         Ok(block)

@@ -90,13 +90,35 @@ impl Bodies {
         for (i, block) in blocks.iter().enumerate() {
             let (shape, pose) = Shape::from_parts(std::slice::from_ref(block))
                 .map_err(|e| MechanicsError::Body(i, e))?;
-            bodies.push(Arc::new(shape), pose, density);
+            bodies.push(Arc::new(shape), pose, density)?;
         }
         Ok(bodies)
     }
 
-    /// Adds a body of `shape` at `pose`, at rest and free; returns its id.
-    pub fn push(&mut self, shape: Arc<Shape>, pose: Pose, density: f64) -> usize {
+    /// Adds a body of `shape` at `pose`, at rest and free; returns its id. The density must
+    /// be a finite number > 0 ([`MechanicsError::Density`]), the pose finite with a unit
+    /// quaternion (its squared length within 1e-12 of 1, as a restart file's:
+    /// [`MechanicsError::Parameter`]), as [`Simulation::new`](super::Simulation::new)'s
+    /// are: unchecked, a NaN density ran to a NaN state, and a quaternion of length 2 to a
+    /// penetration of blocks that touched.
+    pub fn push(
+        &mut self,
+        shape: Arc<Shape>,
+        pose: Pose,
+        density: f64,
+    ) -> Result<usize, MechanicsError> {
+        check_density(density)?;
+        if !pose.translation.is_finite() {
+            return Err(MechanicsError::NotFinite("the pose's translation"));
+        }
+        let squared = pose.rotation.length_squared();
+        if !(pose.rotation.is_finite() && (squared - 1.0).abs() <= 1e-12) {
+            return Err(MechanicsError::Parameter {
+                name: "pose rotation's length",
+                range: "1 (a unit quaternion)",
+                value: squared.sqrt(),
+            });
+        }
         self.shapes.push(shape);
         self.density.push(density);
         self.pose.push(pose);
@@ -104,7 +126,7 @@ impl Bodies {
         self.momentum.push(DVec3::ZERO);
         self.scale.push(1.0);
         self.critical.set(None);
-        self.len() - 1
+        Ok(self.len() - 1)
     }
 
     /// Number of bodies.
@@ -543,7 +565,7 @@ impl Bodies {
         for (i, blocks) in parts.iter().enumerate() {
             let (shape, pose) =
                 Shape::from_parts(blocks).map_err(|e| MechanicsError::Body(i, e))?;
-            bodies.push(Arc::new(shape), pose, density);
+            bodies.push(Arc::new(shape), pose, density)?;
         }
         Ok((bodies, ids))
     }

@@ -1105,7 +1105,9 @@ fn body_of(
         return Err(bad(field("density"), "must be a finite number > 0"));
     }
     let pose = pose_of(&field("pose"), &f.pose)?;
-    let id = bodies.push(shape.clone(), pose, f.density);
+    let id = bodies
+        .push(shape.clone(), pose, f.density)
+        .map_err(mechanics(field("pose")))?;
     if !(f.scale.is_finite() && f.scale >= 1.0) {
         return Err(bad(field("scale"), "must be a finite number >= 1"));
     }

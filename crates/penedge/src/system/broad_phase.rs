@@ -265,10 +265,15 @@ impl Grid {
         let base = (m * CELL_SLACK)
             .max(span.max_element() / MAX_CELLS_PER_AXIS)
             .max(f64::MIN_POSITIVE);
+        // At most `MAX_LEVEL` levels: a finite extent needs far fewer (the base cell is at
+        // least the span over `MAX_CELLS_PER_AXIS`); an infinite one, from a block left with
+        // a NaN or infinite coordinate by an unchecked move, would double the cell until it
+        // overflowed (and the level's `u8` before it).
+        const MAX_LEVEL: u8 = 64;
         let level_of = |e: f64| {
             let mut level = 0;
             let mut cell = base;
-            while e * CELL_SLACK > cell {
+            while e * CELL_SLACK > cell && level < MAX_LEVEL {
                 cell *= 2.0;
                 level += 1;
             }

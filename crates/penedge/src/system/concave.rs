@@ -168,7 +168,18 @@ impl BlockSystem {
     }
 
     /// The body id of block `block`.
+    ///
+    /// # Panics
+    ///
+    /// If the system has no block `block`, as indexing [`BlockSystem::blocks`] does (with
+    /// or without concave bodies: without them it returned the id given, for a block that
+    /// does not exist).
     pub fn body_of(&self, block: u32) -> u32 {
+        let n = self.len();
+        assert!(
+            (block as usize) < n,
+            "block {block} out of range: the system has {n} blocks"
+        );
         match &self.glue {
             Some(g) => g.ids[block as usize],
             None => block,
