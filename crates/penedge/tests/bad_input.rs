@@ -241,6 +241,36 @@ fn a_block_with_nan_coordinates_does_not_panic_the_detection() {
     let pair = BlockSystem::new(vec![with.blocks()[0].clone(), with.blocks()[2].clone()]);
     assert!(pair.detect(&tol).contacts.is_empty());
     let _ = ContactTracker::new(&pair, tol, 0.0);
+    // NaN in one coordinate only, with an absolute gap (boxes NaN in z alone): three such
+    // blocks made the grid's median and span NaN, and with the level bounded (no panic) the
+    // grid lost every pair of the three touching cubes (a reviewer's case). They are found.
+    let cubes: Vec<ConvexBlock> = (0..3)
+        .map(|k| {
+            let x = k as f64 * 0.5;
+            ConvexBlock::cuboid([x, 0.0, 0.0], [x + 0.5, 1.0, 1.0]).unwrap()
+        })
+        .collect();
+    let absolute = Tolerance::with_absolute_gap(1e-6).unwrap();
+    let pairs = |system: &BlockSystem| {
+        system
+            .detect(&absolute)
+            .contacts
+            .iter()
+            .map(|p| p.pair)
+            .collect::<Vec<_>>()
+    };
+    let expected = pairs(&BlockSystem::new(cubes.clone()));
+    assert_eq!(expected, vec![[0, 1], [1, 2]]);
+    for broken in 1..=4 {
+        let mut blocks = cubes.clone();
+        let copy = cubes[0].translated(DVec3::new(0.0, 0.0, f64::NAN));
+        blocks.extend(std::iter::repeat_n(copy, broken));
+        let system = BlockSystem::new(blocks);
+        assert_eq!(pairs(&system), expected, "{broken} broken blocks");
+        let tracker = ContactTracker::new(&system, absolute, 0.0).unwrap();
+        let tracked: Vec<[u32; 2]> = tracker.contacts().contacts.iter().map(|p| p.pair).collect();
+        assert_eq!(tracked, expected, "{broken} broken blocks, tracker");
+    }
 }
 
 #[test]

@@ -141,7 +141,11 @@ pub(super) fn damped_step(undamped: f64, beta: f64) -> f64 {
     if !zeta.is_finite() {
         return 2.0 / beta; // no stiffness bound: the damping's alone
     }
-    // (`hypot`: `ζ²` overflows for a huge rate, and the step would be 0.)
+    // (`hypot`: `ζ²` overflows for a huge rate, and the step would be 0; above 1, divided by
+    // `ζ` first, as `ζ + √(1 + ζ²)` itself overflows for `ζ` near the largest number.)
+    if zeta > 1.0 {
+        return undamped / zeta / (1.0 + zeta.recip().hypot(1.0));
+    }
     undamped / (zeta + zeta.hypot(1.0))
 }
 
@@ -189,6 +193,10 @@ mod tests {
         // 0: a run with a zero time step, whose `run_until` never ended).
         let huge = damped_step(1.0, 1e160);
         assert!((huge * 1e160 - 2.0).abs() < 1e-12, "{huge}");
+        // And so large that `ζ + √(1 + ζ²)` overflowed (ζ about 1.2e308).
+        let beta = 3.527e307;
+        let huge = damped_step(13.608, beta);
+        assert!(huge > 0.0 && (huge * beta - 2.0).abs() < 1e-12, "{huge}");
         // No stiffness: the damping's own bound, 2 / β.
         assert_eq!(damped_step(f64::INFINITY, 4.0), 0.5);
         assert!((damped_step(1e12, 4.0) - 0.5).abs() < 1e-9);

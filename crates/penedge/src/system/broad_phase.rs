@@ -242,23 +242,37 @@ impl Grid {
                 levels: Vec::new(),
             };
         }
+        // A box with a NaN coordinate (a block left with one by an unchecked move) overlaps
+        // nothing, as the brute force's comparisons say: it is in no level, and takes no
+        // part in the grid's origin, span and median (which it made NaN, the base cell the
+        // smallest number, and the grid lose the other blocks' pairs).
+        let valid: Vec<bool> = (0..n)
+            .into_par_iter()
+            .map(|i| !(boxes.min[i].is_nan() || boxes.max[i].is_nan()))
+            .collect();
         let extent: Vec<f64> = (0..n)
             .into_par_iter()
             .map(|i| (boxes.max[i] - boxes.min[i]).max_element())
             .collect();
-        let origin = boxes
-            .min
-            .par_iter()
-            .copied()
+        let origin = (0..n)
+            .into_par_iter()
+            .filter(|&i| valid[i])
+            .map(|i| boxes.min[i])
             .reduce(|| DVec3::INFINITY, DVec3::min);
-        let top = boxes
-            .max
-            .par_iter()
-            .copied()
+        let top = (0..n)
+            .into_par_iter()
+            .filter(|&i| valid[i])
+            .map(|i| boxes.max[i])
             .reduce(|| DVec3::NEG_INFINITY, DVec3::max);
         let span = top - origin;
-        let mut median = extent.clone();
-        let mid = n / 2;
+        let mut median: Vec<f64> = (0..n).filter(|&i| valid[i]).map(|i| extent[i]).collect();
+        if median.is_empty() {
+            return Grid {
+                origin: DVec3::ZERO,
+                levels: Vec::new(),
+            };
+        }
+        let mid = median.len() / 2;
         let (_, &mut m, _) = median.select_nth_unstable_by(mid, f64::total_cmp);
         // The base cell: the median extent, or coarser where the domain would need too many
         // cells along an axis; never zero (a box may be flat when its margin is zero).
@@ -279,8 +293,18 @@ impl Grid {
             }
             level
         };
-        let assigned: Vec<u8> = extent.par_iter().map(|&e| level_of(e)).collect();
-        let top_level = assigned.iter().copied().max().unwrap_or(0) as usize;
+        // (`u8::MAX`, above every level: a box with a NaN coordinate, in none.)
+        let assigned: Vec<u8> = extent
+            .par_iter()
+            .zip(&valid)
+            .map(|(&e, &ok)| if ok { level_of(e) } else { u8::MAX })
+            .collect();
+        let top_level = assigned
+            .iter()
+            .copied()
+            .filter(|&l| l != u8::MAX)
+            .max()
+            .unwrap_or(0) as usize;
         let levels = (0..=top_level)
             .map(|l| {
                 let members: Vec<u32> = (0..n as u32)
