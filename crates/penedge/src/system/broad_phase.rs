@@ -236,12 +236,6 @@ enum Lookup {
 impl Grid {
     fn new(boxes: &WideBoxes) -> Grid {
         let n = boxes.len();
-        if n == 0 {
-            return Grid {
-                origin: DVec3::ZERO,
-                levels: Vec::new(),
-            };
-        }
         // A box with a NaN coordinate (a block left with one by an unchecked move) overlaps
         // nothing, as the brute force's comparisons say: it is in no level, and takes no
         // part in the grid's origin, span and median (which it made NaN, the base cell the
@@ -266,6 +260,7 @@ impl Grid {
             .reduce(|| DVec3::NEG_INFINITY, DVec3::max);
         let span = top - origin;
         let mut median: Vec<f64> = (0..n).filter(|&i| valid[i]).map(|i| extent[i]).collect();
+        // No box, or none to place.
         if median.is_empty() {
             return Grid {
                 origin: DVec3::ZERO,
