@@ -619,8 +619,14 @@ pub(super) fn build_contact(
     // `T A`; the floor stays a stiffness (for continuity as the polygon narrows to a
     // segment), not more rock to glue. The model is left as it is (the same bits) elsewhere.
     // So is an initial stress installed on it (its tractions, below).
+    // Only where something reads it (a strength to scale, an initial stress to install): a
+    // frictional joint without bonds skips it (the same bits: the ratio scales zeros).
+    let scaled = model.cohesion != 0.0
+        || model.tension != 0.0
+        || model.residual_cohesion != 0.0
+        || (input.initial && input.initial_stress.is_some());
     let own_share = match g.shape() {
-        ContactPoints::Polygon(poly) => {
+        ContactPoints::Polygon(poly) if scaled => {
             let shares: f64 = areas.iter().sum();
             let own = polygon_area(poly.vertices(), g.normal());
             (shares > own * (1.0 + 1e-9)).then(|| own / shares)

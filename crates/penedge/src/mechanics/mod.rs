@@ -1211,8 +1211,8 @@ impl Simulation {
             .map(|(k, ((&[i, j], memo), frame))| {
                 // The bits' invariant, checked in the debug profile (every test run).
                 debug_assert!(
-                    may_be_open(open_frames, k) || !matches!(frame, Frame::Open(_)),
-                    "pair {k}: an open frame without its bit"
+                    may_be_open(open_frames, k) == matches!(frame, Frame::Open(_)),
+                    "pair {k}: its bit and its frame disagree on whether it is open"
                 );
                 let [bi, bj] = [part_body[i as usize], part_body[j as usize]].map(|b| b as usize);
                 let asked = memo.asked_at;
@@ -1509,13 +1509,11 @@ impl Simulation {
                                 // none (most of them): writing the slot dirtied its cache line
                                 // at every step.
                                 // (A contact's frame is open or none: the query that found it
-                                // wrote none. Its bit clear, it is none.)
+                                // wrote none. Its bit says which: set exactly when it is open.)
                                 if cert.is_some() || may_be_open(open_frames, f.pair as usize) {
-                                    let frame = &mut frames[f.pair as usize - from];
-                                    if cert.is_some() || !matches!(frame, Frame::None) {
-                                        written.push((f.pair, cert.is_some()));
-                                        *frame = cert.map_or(Frame::None, Frame::Open);
-                                    }
+                                    written.push((f.pair, cert.is_some()));
+                                    frames[f.pair as usize - from] =
+                                        cert.map_or(Frame::None, Frame::Open);
                                 }
                                 contact
                             }
@@ -1899,8 +1897,9 @@ enum Outcome {
     Certified,
 }
 
-/// Whether candidate pair `k`'s frame may be a dormant contact's (its bit in
-/// [`Simulation::open_frames`]).
+/// Whether candidate pair `k`'s frame is a dormant contact's (its bit in
+/// [`Simulation::open_frames`], set exactly when the frame is `Frame::Open`: checked on every
+/// pair at every step in the debug profile).
 fn may_be_open(open_frames: &[u64], k: usize) -> bool {
     open_frames[k / 64] & (1u64 << (k % 64)) != 0
 }
