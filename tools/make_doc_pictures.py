@@ -193,6 +193,7 @@ def draw(pair, found, path):
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
     from penedge.pictures import CONTACT_COLORS
+    from penedge.pictures.scene import padded_polygons
 
     fig = Figure(figsize=(4.2, 4.2), layout="constrained")
     FigureCanvasAgg(fig)
@@ -202,7 +203,7 @@ def draw(pair, found, path):
         faces = [block.vertices[f] for f in block.faces]
         ax.add_collection3d(
             Poly3DCollection(
-                faces,
+                padded_polygons(faces),
                 facecolors=(*color, 0.28),
                 edgecolors=(0.2, 0.2, 0.2, 0.7),
                 linewidths=0.7,

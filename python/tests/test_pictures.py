@@ -570,3 +570,41 @@ def test_the_spec_unit_labels_the_pictures(tmp_path):
     with pytest.raises(penedge.SpecError) as info:
         penedge.generate({**SETS_SPEC, "unit": ""})
     assert info.value.field == "unit"
+
+
+def test_polygons_of_different_sizes_never_reach_matplotlib_unfilled(monkeypatch):
+    # matplotlib (3.10+) pads a ragged list of polygons with np.empty and scales the axes to
+    # the padding: by chance an overflow (CI failed on one: warnings are errors there) or
+    # wrong limits. Here uninitialised memory is the worst case: the largest float.
+    import warnings
+
+    system, _ = penedge.generate(
+        {
+            "domain": {"type": "box", "min": [0, 0, 0], "max": [4, 4, 4]},
+            "joints": [
+                {"type": "plane", "point": [2, 2, 2], "normal": [1, 0.3, 0.2]},
+                {"type": "plane", "point": [2, 1, 2], "normal": [0.1, 1, 0.4]},
+                {"type": "plane", "point": [1, 2, 2.5], "normal": [0.3, -0.2, 1]},
+            ],
+        }
+    )
+    scene = build_scene(system, 0.0, None)
+    sizes = {len(p) for p in scene.polygons()}
+    assert len(sizes) > 1, sizes  # ragged: the case matplotlib pads
+    found = system.detect(geometry=True)
+    empty = np.empty
+
+    def poisoned(*args, **kwargs):
+        out = empty(*args, **kwargs)
+        if out.dtype.kind == "f":
+            out.fill(np.finfo(out.dtype).max)
+        return out
+
+    monkeypatch.setattr(np, "empty", poisoned)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for contacts in (None, found):
+            ax = pictures.plot_system(system, contacts=contacts, explode=0)
+            ax.figure.savefig(io.BytesIO(), format="png")  # projects every face
+            for limits in (ax.get_xlim(), ax.get_ylim(), ax.get_zlim()):
+                assert -4 < limits[0] < limits[1] < 8, limits

@@ -27,6 +27,7 @@ from penedge.pictures.scene import (
     build_scene,
     check_contacts,
     check_explode,
+    padded_polygons,
     plain_text,
     set_colors,
     shown_note,
@@ -357,7 +358,7 @@ def plot_system(
         for part, part_colors in parts:
             ax.add_collection3d(
                 Poly3DCollection(
-                    scene.polygons(part),
+                    padded_polygons(scene.polygons(part)),
                     facecolors=part_colors,
                     edgecolors=(0.35, 0.35, 0.35, 0.35) if ghost else (0.1, 0.1, 0.1, 0.95),
                     linewidths=min(width, 0.5) if ghost else width,

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from penedge.pictures.scene import check_contacts
+from penedge.pictures.scene import check_contacts, padded_polygons
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -179,7 +179,7 @@ def plot_contacts(
         if polys:
             ax.add_collection3d(
                 Poly3DCollection(
-                    polys,
+                    padded_polygons(polys),
                     facecolors=to_rgba(color, 0.25),
                     edgecolors=to_rgba(_darker(color), 0.8),
                     linewidths=0.4 if many else 0.8,

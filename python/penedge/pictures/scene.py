@@ -28,6 +28,7 @@ __all__ = [
     "check_explode",
     "dominant_sets",
     "face_areas",
+    "padded_polygons",
     "plain_text",
     "set_colors",
     "volume_scale",
@@ -67,6 +68,32 @@ MAX_EXPLODE = 100.0
 _GOLDEN_ANGLE = 0.381966  # fraction of a turn between successive block hues
 VOLUME_COLORMAP = "viridis"
 _VOLUME_DECADES = 100.0  # the volume colour scale starts at most this factor below V10
+
+
+def padded_polygons(polygons: list[np.ndarray]) -> np.ma.MaskedArray:
+    """Polygons of different sizes as one masked (n, k, 3) array, for ``Poly3DCollection``.
+
+    Given a ragged list, matplotlib (3.10 and later) pads the shorter polygons with
+    uninitialised memory (``np.empty``), and ``add_collection3d`` scales the axes to that
+    padding as well: by chance an overflow warning or wrong limits. Here each polygon is
+    padded with copies of its own last vertex, and the padding is masked; a matplotlib that
+    reads no mask draws the copies as edges of length zero.
+
+    >>> square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    >>> padded = padded_polygons([square, square[:3]])
+    >>> padded.shape, padded.mask[1, :, 0].tolist(), padded.data[1, 3].tolist()
+    ((2, 4, 3), [False, False, False, True], [1.0, 1.0, 0.0])
+    """
+    sizes = np.fromiter((len(p) for p in polygons), dtype=np.int64, count=len(polygons))
+    if not len(sizes):
+        return np.ma.MaskedArray(np.zeros((0, 0, 3)), mask=np.zeros((0, 0, 3), dtype=bool))
+    width = int(sizes.max())
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    column = np.arange(width)
+    entries = starts[:, None] + np.minimum(column, sizes[:, None] - 1)
+    data = np.concatenate(polygons).astype(float, copy=False)[entries]
+    mask = np.broadcast_to((column >= sizes[:, None])[:, :, None], data.shape)
+    return np.ma.MaskedArray(data, mask=mask.copy())
 
 
 def plain_text(text: str) -> str:
