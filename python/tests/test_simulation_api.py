@@ -243,3 +243,28 @@ def test_sub_offsets_are_int64_as_point_offsets():
     assert (c["sub_offsets"][:-1] + np.arange(len(c["types"]))).dtype == np.int64
     found = sim.system().detect(gap=1e-3, geometry=True)
     assert found.point_offsets.dtype == c["sub_offsets"].dtype
+
+
+def test_every_body_id_array_is_int64_as_the_systems_pairs():
+    # Mixed integer kinds do not mix in numpy: uint64 with int64 becomes float64 (ids 2^53 and
+    # up lose digits), and uint32 pairs cannot be compared with a detection's int64 ones in one
+    # array without a cast. Every id the simulation hands out is int64, as BlockSystem's.
+    sim = two_cubes()
+    sim.fix([0])
+    sim.set_joint(kn=1e9, ks=1e9, friction=30.0)
+    sim.add_bolt([0, 0, 0.5], [0, 0, -1], 1.0, stiffness=1e7, capacity=1e5)
+    sim.step(3)
+    found = sim.system().detect(gap=1e-3, geometry=True)
+    arrays = {
+        "contacts pairs": sim.contacts()["pairs"],
+        "bolts bolt": sim.bolts()["bolt"],
+        "bolts pairs": sim.bolts()["pairs"],
+        "block_bodies": sim.block_bodies,
+    }
+    report = sim.excavate([2])
+    arrays |= {"excavate removed": report["removed"], "excavate loaded": report["loaded"]}
+    for name, ids in arrays.items():
+        assert ids.dtype == found.pairs.dtype == np.int64, name
+    assert report["removed"].tolist() == [2]
+    assert sim.contacts()["pairs"].tolist() == [[0, 1]] == found.pairs.tolist()
+    assert sim.bolts()["pairs"].tolist() == [[1, 0]]  # from the cube down into the base

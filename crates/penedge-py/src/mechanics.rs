@@ -831,20 +831,20 @@ impl Simulation {
     /// Returns
     /// -------
     /// dict
-    ///     ``bolt`` (k,) the bolt id of each element, ``pairs`` (k, 2) its bodies in order
-    ///     along the bolt, ``starts`` and ``ends`` (k, 3) its anchors now, ``rest_lengths``,
-    ///     ``elongations`` and ``forces`` (k,) (axial, tension > 0), ``states`` (k,) 0
-    ///     elastic, 1 yielding, 2 broken, ``shear_forces`` (k, 3) the dowel's force on the
-    ///     second body (zero without a dowel).
+    ///     ``bolt`` (k,) int64 the bolt id of each element, ``pairs`` (k, 2) int64 its
+    ///     bodies in order along the bolt, ``starts`` and ``ends`` (k, 3) its anchors now,
+    ///     ``rest_lengths``, ``elongations`` and ``forces`` (k,) (axial, tension > 0),
+    ///     ``states`` (k,) 0 elastic, 1 yielding, 2 broken, ``shear_forces`` (k, 3) the
+    ///     dowel's force on the second body (zero without a dowel).
     fn bolts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let elements = self.inner.bolts().elements();
         let bodies = self.inner.bodies();
         let out = PyDict::new(py);
-        let ids: Vec<u64> = elements.iter().map(|e| e.bolt() as u64).collect();
+        let ids: Vec<i64> = elements.iter().map(|e| e.bolt() as i64).collect();
         out.set_item("bolt", arrays::vector(py, ids))?;
-        let pairs: Vec<[u64; 2]> = elements
+        let pairs: Vec<[i64; 2]> = elements
             .iter()
-            .map(|e| e.bodies().map(|b| b as u64))
+            .map(|e| e.bodies().map(|b| b as i64))
             .collect();
         out.set_item("pairs", arrays::pairs(py, &pairs))?;
         let ends: Vec<[DVec3; 2]> = elements.iter().map(|e| e.ends(bodies)).collect();
@@ -1201,8 +1201,9 @@ impl Simulation {
     /// Returns
     /// -------
     /// dict
-    ///     ``removed`` (ids), ``loaded`` (ids of the bodies the removed ones pushed on or
-    ///     their bolts pulled on) and ``forces`` (k, 3), the load on each, which relaxes.
+    ///     ``removed`` (int64 ids), ``loaded`` (int64 ids of the bodies the removed ones
+    ///     pushed on or their bolts pulled on) and ``forces`` (k, 3), the load on each,
+    ///     which relaxes.
     ///
     /// Raises
     /// ------
@@ -1220,9 +1221,9 @@ impl Simulation {
         let relax_steps = natural(relax_steps, "relax_steps")?;
         let report = self.inner.excavate(&ids, relax_steps).map_err(to_py_err)?;
         let out = PyDict::new(py);
-        let removed: Vec<u64> = report.removed.iter().map(|&i| i as u64).collect();
+        let removed: Vec<i64> = report.removed.iter().map(|&i| i as i64).collect();
         out.set_item("removed", arrays::vector(py, removed))?;
-        let loaded: Vec<u64> = report.loaded.iter().map(|l| l.0 as u64).collect();
+        let loaded: Vec<i64> = report.loaded.iter().map(|l| l.0 as i64).collect();
         out.set_item("loaded", arrays::vector(py, loaded))?;
         let forces: Vec<[f64; 3]> = report.loaded.iter().map(|l| l.1.to_array()).collect();
         out.set_item("forces", arrays::rows3(py, &forces))?;
@@ -1266,7 +1267,7 @@ impl Simulation {
     /// Returns
     /// -------
     /// dict
-    ///     Per contact (m rows): ``pairs`` (m, 2) body ids A < B, ``types`` (m,) contact type
+    ///     Per contact (m rows): ``pairs`` (m, 2) int64 body ids A < B, ``types`` (m,) contact type
     ///     codes 1..7, ``normals`` (m, 3) from A to B, ``sets`` (m,) the joint set whose
     ///     properties apply (-1: the default), ``bridges`` (m,) whether it is over a rock
     ///     bridge (the set's bridge properties apply), ``sub_offsets`` (m + 1,) int64:
@@ -1282,7 +1283,7 @@ impl Simulation {
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let c = self.inner.contacts();
         let out = PyDict::new(py);
-        let pairs: Vec<[u32; 2]> = c.list.iter().map(|c| c.bodies).collect();
+        let pairs: Vec<[i64; 2]> = c.list.iter().map(|c| c.bodies.map(i64::from)).collect();
         out.set_item("pairs", arrays::pairs(py, &pairs))?;
         let types: Vec<i8> = c.list.iter().map(|c| c.kind.code() as i8).collect();
         out.set_item("types", arrays::vector(py, types))?;
