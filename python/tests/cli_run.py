@@ -54,3 +54,22 @@ def table_counts(lines):
         if len(words) == 3 and words[0].isdigit() and words[1] in penedge.CONTACT_TYPES:
             counts[words[1]] = int(words[2])
     return counts
+
+
+def default_sigint():
+    """For ``Popen(preexec_fn=...)`` of a child that a test interrupts: SIGINT back to its
+    default action. A shell that starts a job in the background (``cmd &``, ``nohup``) sets
+    SIGINT to ignored, children inherit that, and Python then installs no KeyboardInterrupt
+    handler: the child would run on through the test's Ctrl-C."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def stop(process):
+    """Ends a child a test started (if it still runs) and reaps it: a killed child that is
+    never waited for is reported as a ResourceWarning, an error under ``-W error``, on
+    whichever test runs when it is collected."""
+    if process.poll() is None:
+        process.kill()
+    process.wait()

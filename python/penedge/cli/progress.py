@@ -123,19 +123,24 @@ class Activity:
         self._thread = threading.Thread(target=self._run, daemon=True)
         self._start = 0.0
 
+    def _draw(self) -> None:
+        elapsed = time.monotonic() - self._start
+        self.stream.write(f"\r{self.label} ... {elapsed:.0f} s")
+        self.stream.flush()
+        self.shown = True
+
     def _run(self) -> None:
-        if self._stop.wait(self.delay):
-            return
-        while True:
-            elapsed = time.monotonic() - self._start
-            self.stream.write(f"\r{self.label} ... {elapsed:.0f} s")
-            self.stream.flush()
-            self.shown = True
-            if self._stop.wait(self.interval):
+        if not self.shown:  # not drawn on entering: once the step has lasted `delay`
+            if self._stop.wait(self.delay):
                 return
+            self._draw()
+        while not self._stop.wait(self.interval):
+            self._draw()
 
     def __enter__(self) -> Activity:
         self._start = time.monotonic()
+        if self.delay <= 0:  # at once, before the step can end (not left to the thread)
+            self._draw()
         self._thread.start()
         return self
 
