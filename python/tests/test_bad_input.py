@@ -671,9 +671,9 @@ def box(**domain):
                     {"type": "set", "dip": 0, "dip_direction": 0, "spacing": 1, "number": 2**63 - 1}
                 ],
             },
-            "not_positive",
+            "too_many_planes",
             "joints[0].number",
-            "",
+            "would make 9223372036854775807 planes, more than the limit of 1000000",
         ),
     ],
     ids=[

@@ -624,3 +624,57 @@ def test_ctrl_c_while_a_block_file_is_read_stops_at_once(tmp_path):
     assert process.returncode == 130, err
     assert err.splitlines()[-1] == "penedge: interrupted"
     assert "Traceback" not in err
+
+
+ALL_GONE = (
+    CUBE
+    + """
+[[joints]]
+type = "set"
+dip = 0
+dip_direction = 0
+spacing = 3
+
+[[excavations]]
+type = "tunnel"
+profile = "circle"
+radius = 100
+start = [5, -10, 5]
+trend = 0
+length = 100
+"""
+)
+
+
+def test_an_excavation_of_all_the_rock_is_an_error_before_anything_is_written(tmp_path):
+    # It was "0 blocks", exit 0 and empty files (with --stats-png: "every block was a sliver").
+    (tmp_path / "gone.toml").write_text(ALL_GONE, encoding="utf-8")
+    args = ["-o", "b.json", "--vtu", "b.vtu", "--csv", "b.csv", "--stats-png", "v.png"]
+    result = run("generate", "gone.toml", *args, cwd=tmp_path)
+    assert result.returncode == 1
+    assert "excavations[0]: the excavation would remove all of the rock" in result.stderr
+    assert "sliver" not in result.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["gone.toml"]
+
+
+def test_the_summary_says_its_tiny_blocks_are_those_before_excavation(tmp_path):
+    spec = CUBE + plane([5, 5, 5], 0) + plane([5, 5, 5.001], 0)
+    spec += """
+[[excavations]]
+type = "cavern"
+center = [5, 5, 8]
+trend = 0
+length = 100
+width = 2
+height = 2
+"""
+    (tmp_path / "thin.toml").write_text(spec, encoding="utf-8")
+    result = run("generate", "thin.toml", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    lines = squeeze(result.stdout)
+    # The three blocks before excavation (500, 0.1, 499.9), not the parts after it.
+    want = (
+        "tiny blocks 1 (of the blocks before excavation; below 1e-3 of the median volume, "
+        "0.4999; smallest 0.1)"
+    )
+    assert want in lines, lines

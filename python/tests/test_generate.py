@@ -333,6 +333,18 @@ def test_the_report_counts_tiny_blocks():
     assert tiny["smallest"] == pytest.approx(0.1)
 
 
+def test_the_tiny_blocks_median_of_an_even_count_is_the_mean_of_the_middle_two():
+    # A 4 x 1 x 1 box cut at x = 1: blocks of 1 and 3, median 2 (it read 3).
+    _, report = penedge.generate(
+        {
+            "domain": {"type": "box", "min": [0, 0, 0], "max": [4, 1, 1]},
+            "joints": [{"type": "plane", "point": [1, 0, 0], "normal": [1, 0, 0]}],
+        }
+    )
+    assert report["tiny"]["median_volume"] == pytest.approx(2.0)
+    assert report["tiny"]["threshold"] == pytest.approx(2e-3)
+
+
 def test_statistics_and_volume_curve():
     system, _ = penedge.generate(EXAMPLES / "joint_set_random.toml")
     stats, volumes = system.statistics(), np.sort(system.volumes)
@@ -468,3 +480,15 @@ def test_one_line_toml_text_is_a_spec_not_a_file_name(tmp_path, monkeypatch):
     for missing in ["nothing.toml", "runs/dip=30.tom"]:
         with pytest.raises(FileNotFoundError):
             penedge.generate(missing)
+
+
+@pytest.mark.parametrize("name", ["boundary", "bridge of J2", ""])
+def test_a_joint_named_as_a_contact_table_label_is_refused(name):
+    # The contact table's set_a, set_b give these to domain faces, rock-bridge faces and
+    # faces with no origin: a joint of that name made the table ambiguous.
+    joints = [
+        {"type": "plane", "name": name, "point": [5, 5, 5], "normal": [0, 0, 1]},
+        {"type": "plane", "name": "J2", "point": [5, 5, 5], "normal": [1, 0, 0]},
+    ]
+    with pytest.raises(penedge.SpecError, match=r"joints\[0\]\.name: .*choose another"):
+        penedge.generate({"domain": BOX, "joints": joints})

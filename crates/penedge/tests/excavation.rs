@@ -119,6 +119,63 @@ fn bad_excavations_name_their_field() {
 }
 
 #[test]
+fn an_excavation_of_all_the_rock_is_an_error_of_every_kind() {
+    // Each kind of opening, around the whole domain: refused as a ground below the rock is,
+    // naming the entry (it was accepted and gave an empty system).
+    let run = |joints: &str, entries: &str| {
+        let text = format!(
+            "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n\n{joints}\n{entries}"
+        );
+        let spec = parse_toml(&text).unwrap();
+        generate(&spec).map(|g| g.system.len())
+    };
+    let set = "[[joints]]\ntype = \"set\"\ndip = 0\ndip_direction = 0\nspacing = 3\n";
+    let kinds = [
+        "type = \"tunnel\"\nprofile = \"circle\"\nradius = 100\nstart = [5, -10, 5]\n\
+         trend = 0\nlength = 100",
+        "type = \"cavern\"\ncenter = [5, 5, 5]\ntrend = 30\nlength = 100\nwidth = 100\n\
+         height = 100",
+        "type = \"shaft\"\nprofile = \"circle\"\nradius = 100\ntop = [5, 5, 50]\ndepth = 100",
+    ];
+    for joints in [set, ""] {
+        for kind in kinds {
+            let e = run(joints, &format!("[[excavations]]\n{kind}\n"))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("excavations[0]: the excavation would remove all of the rock"),
+                "{kind}: {e}"
+            );
+        }
+    }
+    // Excavating in stages through the API may take all of the rock: an empty system.
+    let rock = penedge::BlockSystem::new(vec![
+        penedge::ConvexBlock::cuboid([0.0; 3], [10.0; 3]).unwrap()
+    ]);
+    let all = penedge::generation::Excavation::new(penedge::generation::ExcavationShape::Cavern {
+        center: [5.0, 5.0, 5.0],
+        trend: 0.0,
+        length: 100.0,
+        width: 100.0,
+        height: 100.0,
+    });
+    let (left, report) = rock.excavate(&all, &penedge::Tolerance::default()).unwrap();
+    assert!(left.is_empty());
+    assert_eq!(report.removed_blocks, 1);
+    // The second of two excavations, the first leaving some rock: named as the second.
+    let half = "[[excavations]]\ntype = \"cavern\"\ncenter = [5, 5, 2]\ntrend = 0\n\
+                length = 100\nwidth = 100\nheight = 4\n";
+    assert!(run(set, half).unwrap() > 0);
+    let e = run(set, &format!("{half}[[excavations]]\n{}\n", kinds[0]))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("excavations[1]: the excavation would remove all of the rock"),
+        "{e}"
+    );
+}
+
+#[test]
 fn the_blocks_around_the_tunnel_touch_as_bodies_and_never_across_the_opening() {
     let out = example("tunnel_circular.toml");
     let tol = penedge::Tolerance::default();
@@ -180,7 +237,7 @@ fn excavations_get_names_a_block_file_reads_back() {
     let text = penedge::io::json::to_json_string(&twice);
     let back = penedge::io::json::from_json_str(&text).unwrap();
     assert_eq!(back.sets(), twice.sets());
-    for bad in ["excavation", "a|b"] {
+    for bad in ["excavation", "a|b", "boundary", "", "bridge of excavation"] {
         let named = Excavation {
             name: Some(bad.to_string()),
             ..cavern(7.0)
@@ -188,4 +245,27 @@ fn excavations_get_names_a_block_file_reads_back() {
         let err = once.excavate(&named, &tol).unwrap_err().to_string();
         assert!(err.contains("excavation.name"), "{err}");
     }
+}
+
+#[test]
+fn an_excavation_named_as_a_joint_is_refused_naming_the_entry_as_the_spec_does() {
+    // The clash read "already that of sets[0]"; the spec calls that entry joints[0].
+    let text = "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n\n\
+                [[joints]]\ntype = \"plane\"\nname = \"J1\"\npoint = [0, 0, 3]\n\
+                normal = [0, 0, 1]\n\n\
+                [[excavations]]\nname = \"T1\"\ntype = \"cavern\"\ncenter = [5, 5, 5]\n\
+                trend = 0\nlength = 100\nwidth = 1\nheight = 1\n\n\
+                [[excavations]]\nname = \"NAME\"\ntype = \"cavern\"\ncenter = [5, 5, 8]\n\
+                trend = 0\nlength = 100\nwidth = 1\nheight = 1\n";
+    let error = |name: &str| {
+        let spec = parse_toml(&text.replace("NAME", name)).unwrap();
+        generate(&spec).unwrap_err().to_string()
+    };
+    let e = error("J1");
+    assert!(
+        e.contains("excavations[1].name: the name \"J1\" is already that of joints[0]"),
+        "{e}"
+    );
+    let e = error("T1");
+    assert!(e.contains("is already that of excavations[0]"), "{e}");
 }

@@ -276,3 +276,27 @@ fn the_estimate_is_within_a_small_factor_of_the_blocks_made() {
         );
     }
 }
+
+#[test]
+fn the_median_block_of_an_even_count_is_the_mean_of_the_two_middle_ones() {
+    // A 4 x 1 x 1 box cut at x = 1: blocks of 1 and 3 m^3, median 2 (it read 3, the upper
+    // of the two); then at x = 1 and x = 1.5 as well: 1, 0.5 and 2.5, median 1 (odd).
+    let cut = |xs: &[f64]| {
+        let mut spec = Spec::new(Domain::cuboid([0.0; 3], [4.0, 1.0, 1.0]).unwrap());
+        for &x in xs {
+            spec = spec.with(Discontinuity::plane(
+                [x, 0.0, 0.0],
+                Orientation::dip(90.0, 90.0),
+            ));
+        }
+        generate(&spec).unwrap().report.tiny
+    };
+    let two = cut(&[1.0]);
+    assert!((two.median_volume - 2.0).abs() < 1e-12, "{two:?}");
+    assert!((two.threshold - 2.0 * TINY_SHARE).abs() < 1e-15, "{two:?}");
+    let three = cut(&[1.0, 1.5]);
+    assert!((three.median_volume - 1.0).abs() < 1e-12, "{three:?}");
+    // Four: 1, 0.5, 0.5 and 2; median 0.75.
+    let four = cut(&[1.0, 1.5, 2.0]);
+    assert!((four.median_volume - 0.75).abs() < 1e-12, "{four:?}");
+}

@@ -489,3 +489,136 @@ fn whole_numbers_too_large_are_named_as_such() {
         );
     }
 }
+
+#[test]
+fn every_number_of_planes_above_the_limit_is_too_many_without_a_spacing_hint() {
+    // Past 2^32 - 1 the count read "must be greater than zero" (a 32-bit conversion).
+    for n in [
+        1_000_001u64,
+        4_294_967_295,
+        4_294_967_296,
+        1 << 53,
+        i64::MAX as u64,
+    ] {
+        let e = error_of(&format!(
+            "[[joints]]\ntype = \"set\"\ndip = 0\ndip_direction = 0\nspacing = 1\nnumber = {n}\n"
+        ));
+        assert_eq!(e.field, "joints[0].number", "{e}");
+        assert!(
+            matches!(e.problem, Problem::TooManyPlanes { count, by_number: true, .. } if count == n),
+            "{e}"
+        );
+        assert_eq!(
+            e.to_string(),
+            format!("joints[0].number: would make {n} planes, more than the limit of 1000000")
+        );
+    }
+    for n in [0, -1, i64::MIN] {
+        assert_error(
+            &format!("[[joints]]\ntype = \"set\"\ndip = 0\ndip_direction = 0\nspacing = 1\nnumber = {n}\n"),
+            "joints[0].number",
+            |p| matches!(p, Problem::NotPositive { .. }),
+        );
+    }
+    // Two sets of 600,000 planes each: too many together, and no spacing to blame.
+    let two = "[[joints]]\ntype = \"set\"\ndip = 0\ndip_direction = 0\nspacing = 1e-5\n\
+               number = 600000\n[[joints]]\ntype = \"set\"\ndip = 90\ndip_direction = 0\n\
+               spacing = 1e-5\nnumber = 600000\n";
+    let e = error_of(two);
+    assert_eq!(e.field, "joints[1]", "{e}");
+    assert!(!e.to_string().contains("spacing"), "{e}");
+    // A set that fills the domain is told about its spacing.
+    let e = error_of("[[joints]]\ntype = \"set\"\ndip = 0\ndip_direction = 0\nspacing = 1e-6\n");
+    assert!(
+        e.to_string().ends_with("; is the spacing too small?"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_vertical_set_grows_towards_its_dip_direction_and_its_record_says_so() {
+    // dip 90: the normal is the formula's, in the sense of the dip direction given, and the
+    // joint table's dip direction is the one the stored normal points to (dip direction
+    // 270 was stored as normal (-1, 0, 0) with a derived dip direction of 90).
+    let set = |orientation: &str| {
+        let text = format!(
+            "{BOX}[[joints]]\ntype = \"set\"\n{orientation}\nspacing = 3\norigin = [1, 1, 0]\n\
+             number = 3\n"
+        );
+        let system = generate(&parse_toml(&text).unwrap()).unwrap().system;
+        let json: serde_json::Value =
+            serde_json::from_str(&penedge::io::json::to_json_string(&system)).unwrap();
+        json["joints"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|j| {
+                let f = |k: &str| j[k].as_f64().unwrap();
+                let normal: Vec<f64> = (0..3).map(|c| j["normal"][c].as_f64().unwrap()).collect();
+                (
+                    j["point"][0].as_f64().unwrap(),
+                    normal,
+                    f("dip"),
+                    f("dip_direction"),
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    // Towards West: x = 1 (the other two planes, x = -2 and -5, outside the box).
+    let west = set("dip = 90\ndip_direction = 270");
+    assert_eq!(west, [(1.0, vec![-1.0, 0.0, 0.0], 90.0, 270.0)]);
+    // Towards East, given by dip direction 90 or by a normal (stored upward: +x).
+    let east = [
+        (1.0, vec![1.0, 0.0, 0.0], 90.0, 90.0),
+        (4.0, vec![1.0, 0.0, 0.0], 90.0, 90.0),
+        (7.0, vec![1.0, 0.0, 0.0], 90.0, 90.0),
+    ];
+    assert_eq!(set("dip = 90\ndip_direction = 90"), east);
+    assert_eq!(set("normal = [-1, 0, 0]"), east);
+    // Every record's attitude gives its normal back, whatever the dip direction.
+    for dd in [0, 45, 135, 180, 225, 300, 360] {
+        for (_, n, dip, dir) in set(&format!("dip = 90\ndip_direction = {dd}")) {
+            let a = penedge::generation::Attitude::new(dip, dir).normal();
+            let back = [a.x, a.y, a.z];
+            assert!(
+                n.iter().zip(back).all(|(p, q)| (p - q).abs() < 1e-12),
+                "{dd}: {n:?} {back:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_seed_is_any_whole_number_from_minus_two_to_the_63_to_two_to_the_64_less_one() {
+    // Negative seeds were taken (as 2^64 + s) while 2^64 - 1 itself was refused.
+    let planes = |seed: &str| {
+        let text = format!(
+            r#"{{"domain": {{"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]}},
+               "joints": [{{"type": "set", "dip": 30, "dip_direction": 40, "spacing": 2,
+                            "dip_deviation": 10, "spacing_deviation": 1, "seed": {seed}}}]}}"#
+        );
+        let system = generate(&parse_json(&text).unwrap()).unwrap().system;
+        system
+            .joints()
+            .iter()
+            .map(|j| (j.plane.normal.to_array(), j.plane.point.to_array()))
+            .collect::<Vec<_>>()
+    };
+    let top = planes("18446744073709551615");
+    assert_eq!(top, planes("-1"));
+    assert_ne!(top, planes("0"));
+    assert_eq!(
+        planes("-9223372036854775808"),
+        planes("9223372036854775808")
+    );
+    assert_eq!(planes("null"), planes("0")); // not given, as before
+    let toml = |seed: &str| {
+        parse_toml(&format!(
+            "{BOX}[[joints]]\ntype = \"set\"\ndip = 0\ndip_direction = 0\nspacing = 1\n\
+             seed = {seed}\n"
+        ))
+    };
+    assert!(toml("-9223372036854775808").is_ok());
+    let e = toml("1.5").unwrap_err().to_string();
+    assert!(e.contains("expected a whole number"), "{e}");
+}

@@ -392,6 +392,22 @@ fn slopes_and_surfaces_are_read_from_a_spec_and_bad_ones_are_named() {
         e.to_string().contains("no elevation at x = 5, y = 10"),
         "{e}"
     );
+    // A header claiming 10^8 x 10^8 values before three: refused from the header, naming
+    // the entry (it aborted the process, allocating 80 PB before reading a value).
+    std::fs::write(
+        dir.join("data/huge.asc"),
+        "ncols 100000000\nnrows 100000000\nxllcorner -6\nyllcorner -6\ncellsize 11\n5 5 5\n",
+    )
+    .unwrap();
+    let e = run("type = \"topography\"\nfile = \"data/huge.asc\"\n").unwrap_err();
+    assert_eq!(e.field, "excavations[0].file");
+    assert!(
+        e.to_string().contains(
+            "a grid of 100000000 x 100000000 nodes (ncols x nrows) would make \
+             19999999600000002 triangles, more than the limit of 2000000"
+        ),
+        "{e}"
+    );
     // A file of the wrong kind; a missing file; an unknown extension.
     std::fs::write(dir.join("data/ramp.stl"), &xyz).unwrap();
     let e = run("type = \"topography\"\nfile = \"data/ramp.stl\"\n").unwrap_err();

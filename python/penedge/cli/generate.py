@@ -36,7 +36,7 @@ worked example:
     block volume          V10 486.6, V50 1395, V90 1584 (min 10.27, max 1584)
     partial cuts skipped  0
     slivers               none (thinner than 4.5e-05 or smaller than 0)
-    tiny blocks           none (below 1e-3 of the median volume, 0.6969)
+    tiny blocks           none (below 1e-3 of the median volume, 0.6545)
     volume error          1.3e-16 (blocks vs domain)
     written               blocks.json, volumes.png
 
@@ -241,9 +241,12 @@ def format_summary(summary: dict[str, Any], system: Any) -> str:
         lines.append(row("bridged cuts", f"{report['bridged_cuts']} (cut through, rock bridges)"))
     lines.append(row("slivers", slivers(report["slivers"])))
     if "tiny" in report:
-        # Found among the convex parts, as the slivers.
-        label = "tiny blocks" if summary["bodies"] == summary["blocks"] else "tiny parts"
-        lines.append(row(label, tiny(report["tiny"])))
+        # Found among the convex parts, as the slivers, and before the excavations: the
+        # blocks the joints cut, as they were before any was excavated (so named).
+        excavated = bool(report.get("excavated_volume"))
+        plain = summary["bodies"] == summary["blocks"] or excavated
+        label = "tiny blocks" if plain else "tiny parts"
+        lines.append(row(label, tiny(report["tiny"], before_excavation=excavated)))
     if report["set_planes_outside"]:
         lines.append(row("set planes outside", f"{report['set_planes_outside']} (left out)"))
     if report["retried_cuts"]:
@@ -270,9 +273,12 @@ def partial_cuts(report: dict[str, Any], sets: list[dict[str, str]]) -> str:
     return f"{total} ({', '.join(by_entry)})" if by_entry else str(total)
 
 
-def tiny(t: dict[str, Any]) -> str:
-    """The blocks far smaller than the typical block (below 1e-3 of the median volume)."""
+def tiny(t: dict[str, Any], before_excavation: bool = False) -> str:
+    """The blocks far smaller than the typical block (below 1e-3 of the median volume);
+    with ``before_excavation``, said to be those the joints cut, before the excavations."""
     limit = f"below 1e-3 of the median volume, {t['threshold']:.4g}"
+    if before_excavation:
+        limit = f"of the blocks before excavation; {limit}"
     if t["count"] == 0:
         return f"none ({limit})"
     return f"{t['count']} ({limit}; smallest {t['smallest']:.3g})"

@@ -73,13 +73,20 @@ pub(crate) fn normal(prefix: &str, o: &Orientation) -> Result<DVec3, SpecError> 
     }
 }
 
-/// The attitude of an orientation.
+/// The attitude of an orientation: for a normal, that of its upward sense, except that a
+/// vertical plane's dip direction is taken in [0, 180) (the mean attitude a random set's
+/// deviations are drawn about: kept as it was, so that the same spec and seed give the same
+/// planes).
 pub(crate) fn attitude_of(prefix: &str, o: &Orientation) -> Result<Attitude, SpecError> {
     match *o {
         Orientation::Attitude(a) => attitude(prefix, a),
         Orientation::Normal(_) => {
             let n = normal(prefix, o)?;
-            Ok(Attitude::from_normal(n).expect("unit normal"))
+            let mut a = Attitude::from_normal(n).expect("unit normal");
+            if n.z == 0.0 && a.dip_direction >= 180.0 {
+                a.dip_direction -= 180.0;
+            }
+            Ok(a)
         }
     }
 }
@@ -179,15 +186,56 @@ fn turns_left_once(pts: &[DVec3], normal: DVec3, eps: f64) -> bool {
 /// `set_b` columns (`J1|J2`): no entry's name may hold it.
 pub const NAME_SEPARATOR: char = '|';
 
-/// The names of a spec's entries (`label[i]` each, in order), checked: none holds
+/// The label of a domain face in the contact table's `set_a` and `set_b` columns: no
+/// entry may be called so.
+pub const BOUNDARY_LABEL: &str = "boundary";
+
+/// The start of a rock-bridge face's label in the contact table (`bridge of J1`): no
+/// entry's name may start so.
+pub const BRIDGE_PREFIX: &str = "bridge of ";
+
+/// Why `name` cannot name an entry because the contact table gives it another meaning
+/// (docs/tables.md, `set_a`): empty (no recorded origin), `boundary` (a domain face), or
+/// `bridge of ...` (a rock-bridge face).
+fn reserved(name: &str) -> Option<String> {
+    let why = if name.trim().is_empty() {
+        "is empty (or only spaces), as the contact table's set_a and set_b are for a face \
+         with no recorded origin"
+    } else if name == BOUNDARY_LABEL {
+        "is the contact table's label of a face on the domain's surface (set_a, set_b)"
+    } else if name.starts_with(BRIDGE_PREFIX) {
+        "starts as the contact table's label of a rock-bridge face (`bridge of NAME` in \
+         set_a, set_b)"
+    } else {
+        return None;
+    };
+    Some(format!(
+        "the name {} {why}: choose another, so that the table tells them apart",
+        shown(name)
+    ))
+}
+
+/// The names of a spec's entries (`label[i]` each, in order), checked: none is reserved by
+/// the contact table (empty, [`BOUNDARY_LABEL`], starting with [`BRIDGE_PREFIX`]), none holds
 /// [`NAME_SEPARATOR`] and none repeats an earlier one, since the contact table names faces by
 /// them. The first that fails, as its index and why.
 pub(crate) fn entry_names<'a>(
     label: &str,
     names: impl IntoIterator<Item = &'a str>,
 ) -> Result<(), (usize, String)> {
+    entry_names_by(names, |i| format!("{label}[{i}]"))
+}
+
+/// [`entry_names`], naming entry `i` as `label(i)` in the message of a repeated name.
+pub(crate) fn entry_names_by<'a>(
+    names: impl IntoIterator<Item = &'a str>,
+    label: impl Fn(usize) -> String,
+) -> Result<(), (usize, String)> {
     let mut seen = std::collections::HashMap::new();
     for (i, name) in names.into_iter().enumerate() {
+        if let Some(why) = reserved(name) {
+            return Err((i, why));
+        }
         if name.contains(NAME_SEPARATOR) {
             let why = format!(
                 "the name {} holds `{NAME_SEPARATOR}`, which separates the names of a \
@@ -198,9 +246,10 @@ pub(crate) fn entry_names<'a>(
         }
         if let Some(first) = seen.insert(name, i) {
             let why = format!(
-                "the name {} is already that of {label}[{first}]: each entry needs its own \
-                 name (the contact table names faces by it)",
-                shown(name)
+                "the name {} is already that of {}: each entry needs its own name (the \
+                 contact table names faces by it)",
+                shown(name),
+                label(first)
             );
             return Err((i, why));
         }

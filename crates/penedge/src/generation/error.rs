@@ -92,15 +92,18 @@ pub enum Problem {
         /// The distance allowed (the length threshold).
         distance: f64,
     },
-    /// Too many planes (a spacing far too small for the domain).
+    /// Too many planes (a spacing far too small for the domain, or a `number` too large).
     #[error(
-        "would make {count} planes, more than the limit of {limit}; is the spacing too small?"
+        "would make {count} planes, more than the limit of {limit}{}",
+        if *by_number { "" } else { "; is the spacing too small?" }
     )]
     TooManyPlanes {
-        /// Planes needed.
+        /// Planes needed (at least; `u64::MAX` for more).
         count: u64,
         /// The limit.
         limit: u64,
+        /// Whether the count is a set's `number` as given (no hint about the spacing).
+        by_number: bool,
     },
     /// A polygon joint that is not a flat convex polygon.
     #[error("not a flat convex polygon: {reason}")]

@@ -40,9 +40,16 @@ pub(crate) fn plan(spec: &Spec) -> Result<Plan, SpecError> {
         expand(i, entry, &spec.domain, &mut plan)?;
         if plan.records.len() as u64 > MAX_PLANES {
             let count = plan.records.len() as u64;
+            // The spacing hint only when a set fills the domain (not when every set so far
+            // gives its `number`).
+            let by_number = spec.joints[..=i].iter().all(|d| match &d.kind {
+                JointKind::Set(js) => js.number.is_some(),
+                _ => true,
+            });
             let problem = Problem::TooManyPlanes {
                 count,
                 limit: MAX_PLANES,
+                by_number,
             };
             return Err(SpecError::new(format!("joints[{i}]"), problem));
         }
@@ -228,6 +235,7 @@ fn positions(
         let problem = Problem::TooManyPlanes {
             count: count as u64,
             limit: MAX_PLANES,
+            by_number: field == "number",
         };
         Err(SpecError::new(format!("{prefix}.{field}"), problem))
     };

@@ -187,6 +187,17 @@ pub fn generate_with(
         let prefix = format!("excavations[{k}]");
         let tol = &spec.options.tolerance;
         let (excavated, done) = system.excavate_at(excavation, &prefix, tol)?;
+        if excavated.is_empty() {
+            // As a ground entirely below the rock (slope.rs, topography.rs): a spec's
+            // excavation of every kind may not leave an empty system (`BlockSystem::excavate`
+            // may, for rock excavated in stages).
+            let msg = format!(
+                "the excavation would remove all of the rock: every one of the {} blocks lies \
+                 inside it, so no block would be left",
+                system.len()
+            );
+            return Err(SpecError::new(prefix, Problem::Invalid(msg)).into());
+        }
         report.excavated_volume += done.volume_removed;
         system = excavated;
     }

@@ -30,9 +30,11 @@ impl Attitude {
         DVec3::new(sd * sa, sd * ca, cd)
     }
 
-    /// The attitude of the plane with this normal (either sense; not normalised needed).
-    /// `None` for a zero or non-finite normal. A vertical plane gets the dip direction in
-    /// [0, 180).
+    /// The attitude of the plane with this normal (not normalised needed). `None` for a zero
+    /// or non-finite normal. Either sense of a plane that is not vertical gives the same
+    /// attitude; a vertical plane (`normal.z == 0`) has two dip directions, 180° apart, and
+    /// gets the one its normal points to (`(-1, 0, 0)`: 270), so that [`Attitude::normal`]
+    /// gives the normal back (a joint record's stored normal and its dip direction agree).
     pub fn from_normal(normal: DVec3) -> Option<Attitude> {
         let n = normal.try_normalize()?;
         let n = if n.z < 0.0 { -n } else { n };
@@ -41,10 +43,7 @@ impl Attitude {
         if horizontal == 0.0 {
             return Some(Attitude::new(0.0, 0.0));
         }
-        let mut dd = n.x.atan2(n.y).to_degrees().rem_euclid(360.0);
-        if n.z == 0.0 && dd >= 180.0 {
-            dd -= 180.0;
-        }
+        let dd = n.x.atan2(n.y).to_degrees().rem_euclid(360.0);
         Some(Attitude::new(dip, dd))
     }
 
@@ -150,8 +149,23 @@ mod tests {
             assert!((b.dip - dip).abs() < 1e-12 && (b.dip_direction - dd).abs() < 1e-12);
         }
         assert_eq!(Attitude::from_normal(DVec3::ZERO), None);
+    }
+
+    #[test]
+    fn a_vertical_normal_gives_the_dip_direction_it_points_to() {
+        // Every dip direction of a vertical plane, both senses: the attitude's normal is
+        // the normal given (it was folded into [0, 180), so that (-1, 0, 0) read 90).
+        for dd in [0.0, 30.0, 90.0, 150.0, 180.0, 210.0, 270.0, 300.0, 359.0] {
+            let n = Attitude::new(90.0, dd).normal();
+            let a = Attitude::from_normal(n).unwrap();
+            assert_eq!(a.dip, 90.0, "{dd}");
+            assert!((a.dip_direction - dd).abs() < 1e-12, "{dd}: {a:?}");
+            assert!((a.normal() - n).length() < 1e-15, "{dd}");
+        }
         let v = Attitude::from_normal(DVec3::new(-1.0, 0.0, 0.0)).unwrap();
-        assert_eq!((v.dip, v.dip_direction), (90.0, 90.0));
+        assert_eq!((v.dip, v.dip_direction), (90.0, 270.0));
+        let v = Attitude::from_normal(DVec3::new(0.0, -2.0, 0.0)).unwrap();
+        assert_eq!((v.dip, v.dip_direction), (90.0, 180.0));
     }
 
     #[test]

@@ -72,8 +72,16 @@ impl TinyReport {
         if volumes.is_empty() {
             return TinyReport::default();
         }
-        let middle = volumes.len() / 2;
-        let (_, &mut median, _) = volumes.select_nth_unstable_by(middle, f64::total_cmp);
+        // The usual median: the middle value of an odd count, the mean of the two middle
+        // values of an even one (it was the upper of the two: 3 for volumes 1 and 3).
+        let n = volumes.len();
+        let (below, &mut upper, _) = volumes.select_nth_unstable_by(n / 2, f64::total_cmp);
+        let median = if n.is_multiple_of(2) {
+            let lower = below.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            lower / 2.0 + upper / 2.0
+        } else {
+            upper
+        };
         let threshold = TINY_SHARE * median;
         TinyReport {
             median_volume: median,

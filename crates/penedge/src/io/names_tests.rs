@@ -50,6 +50,45 @@ fn a_spec_with_a_name_given_twice_or_holding_the_separator_is_refused() {
     }
 }
 
+#[test]
+fn a_spec_with_a_name_the_contact_table_uses_for_other_faces_is_refused() {
+    // The contact table's own labels (set_a, set_b): a domain face, a rock-bridge face, a
+    // face with no recorded origin. They were accepted, and the table read ambiguously.
+    let cases = [
+        ("boundary", "of a face on the domain's surface"),
+        ("bridge of J2", "label of a rock-bridge face"),
+        ("bridge of ", "label of a rock-bridge face"),
+        ("", "is empty"),
+        ("   ", "is empty"),
+    ];
+    for (name, why) in cases {
+        let (field, message) = refused(&spec([Some("J1"), Some(name)]));
+        assert_eq!(field, "joints[1].name", "{name:?}");
+        assert!(message.contains(why), "{name:?}: {message}");
+        assert!(message.contains("choose another"), "{name:?}: {message}");
+    }
+    // Names that only look alike are kept.
+    for name in [
+        "Boundary",
+        "boundary 2",
+        "bridge",
+        "a bridge of J2",
+        "bridge ofJ2",
+    ] {
+        let system = generate(&parse_toml(&spec([Some("J1"), Some(name)])).unwrap())
+            .unwrap()
+            .system;
+        assert_eq!(system.len(), 3, "{name:?}");
+    }
+    // And so is a block file's set of such a name.
+    let (field, message) = format_error(&file_with_sets(["A", "boundary"]));
+    assert_eq!(field, "sets[1].name");
+    assert!(
+        message.contains("\"boundary\" is the contact table's label"),
+        "{message}"
+    );
+}
+
 /// The block file of the two-plane spec, its set names replaced by `names`.
 fn file_with_sets(names: [&str; 2]) -> String {
     let system = generate(&parse_toml(&spec([Some("A"), Some("B")])).unwrap())

@@ -20,6 +20,7 @@
 
 use super::strict::{self, Table};
 use super::{messages, read_text, surface, IoError};
+use crate::generation::MAX_PLANES;
 use crate::generation::{Attitude, Deviation, Discontinuity, Domain, JointKind, JointSet};
 use crate::generation::{Excavation, ExcavationShape, Profile};
 use crate::generation::{Options, Orientation, Problem, SliverPolicy, Spec, SpecError};
@@ -77,7 +78,9 @@ struct RawJoint {
     dip_deviation: Option<f64>,
     dip_direction_deviation: Option<f64>,
     spacing_deviation: Option<f64>,
-    seed: Option<i64>,
+    /// Any whole number from -2^63 to 2^64 - 1 (a negative `s` is the seed `2^64 + s`).
+    #[serde(default, deserialize_with = "whole_number")]
+    seed: Option<i128>,
     #[serde(default, deserialize_with = "strict::read")]
     center: Option<[f64; 3]>,
     radius: Option<f64>,
@@ -413,11 +416,21 @@ fn joint_set(prefix: &str, j: &RawJoint, given: &[(&str, bool)]) -> Result<Joint
     only(prefix, "set", given, &allowed)?;
     let number = match j.number {
         None => None,
-        Some(n) if n >= 1 && n <= u32::MAX as i64 => Some(n as u32),
-        Some(n) => {
+        Some(n) if n < 1 => {
             let problem = Problem::NotPositive { value: n as f64 };
             return Err(SpecError::new(format!("{prefix}.number"), problem));
         }
+        // Every count above the limit is the same error (it was "must be greater than
+        // zero" past 2^32 - 1).
+        Some(n) if n as u64 > MAX_PLANES => {
+            let problem = Problem::TooManyPlanes {
+                count: n as u64,
+                limit: MAX_PLANES,
+                by_number: true,
+            };
+            return Err(SpecError::new(format!("{prefix}.number"), problem));
+        }
+        Some(n) => Some(n as u32),
     };
     Ok(JointSet {
         orientation: orientation(prefix, j)?,
@@ -429,8 +442,51 @@ fn joint_set(prefix: &str, j: &RawJoint, given: &[(&str, bool)]) -> Result<Joint
             dip_direction: j.dip_direction_deviation.unwrap_or(0.0),
             spacing: j.spacing_deviation.unwrap_or(0.0),
         },
-        seed: j.seed.unwrap_or(0) as u64,
+        seed: seed(prefix, j.seed)?,
     })
+}
+
+/// A whole number as TOML (-2^63 to 2^63 - 1) or JSON (also to 2^64 - 1) has it.
+fn whole_number<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<i128>, D::Error> {
+    struct Whole;
+    impl serde::de::Visitor<'_> for Whole {
+        type Value = Option<i128>;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a whole number")
+        }
+        fn visit_i64<E>(self, v: i64) -> Result<Self::Value, E> {
+            Ok(Some(v.into()))
+        }
+        fn visit_u64<E>(self, v: u64) -> Result<Self::Value, E> {
+            Ok(Some(v.into()))
+        }
+        // JSON's `null`: not given, as for the other optional fields.
+        fn visit_unit<E>(self) -> Result<Self::Value, E> {
+            Ok(None)
+        }
+        fn visit_none<E>(self) -> Result<Self::Value, E> {
+            Ok(None)
+        }
+    }
+    d.deserialize_any(Whole)
+}
+
+/// A set's seed: a whole number from -2^63 (the least TOML integer) to 2^64 - 1 (the
+/// greatest seed); a negative `s` is the seed `2^64 + s`, as it always was (`-1` is
+/// `2^64 - 1`).
+fn seed(prefix: &str, given: Option<i128>) -> Result<u64, SpecError> {
+    match given {
+        None => Ok(0),
+        Some(s) if s >= i64::MIN as i128 && s < 0 => Ok(s as i64 as u64),
+        Some(s) if s >= 0 && s <= u64::MAX as i128 => Ok(s as u64),
+        Some(s) => Err(SpecError::new(
+            format!("{prefix}.seed"),
+            Problem::Invalid(format!(
+                "must be a whole number from -2^63 to 2^64 - 1 (a negative seed s is the seed \
+                 2^64 + s), got {s}"
+            )),
+        )),
+    }
 }
 
 fn options(o: &RawOptions) -> Result<Options, SpecError> {

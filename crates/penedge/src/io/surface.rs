@@ -24,7 +24,7 @@
 //!   lines). The facets' normals are ignored.
 
 use super::IoError;
-use crate::generation::Surface;
+use crate::generation::{Surface, MAX_TRIANGLES};
 use std::collections::HashMap;
 use std::io::Read;
 use std::path::Path;
@@ -203,6 +203,7 @@ fn grid(text: &str, source: &str) -> Result<Surface, String> {
             ys.len()
         ));
     }
+    grid_size(xs.len(), ys.len(), "distinct x by distinct y")?;
     let column: HashMap<u64, usize> = xs
         .iter()
         .enumerate()
@@ -331,9 +332,12 @@ fn asc(text: &str, source: &str) -> Result<Surface, String> {
     let x0 = centre("xllcorner", "xllcenter", dx)?;
     let y0 = centre("yllcorner", "yllcenter", dy)?;
     let nodata = get(&["nodata_value"]).map(|v| v.0);
-    let xs: Vec<f64> = (0..ncols).map(|i| x0 + i as f64 * dx).collect();
-    let ys: Vec<f64> = (0..nrows).map(|j| y0 + j as f64 * dy).collect();
-    let mut z = vec![0.0; ncols * nrows];
+    // Bounded before anything is allocated from the header: the counts alone may claim
+    // far more values than the file holds.
+    grid_size(ncols, nrows, "ncols x nrows")?;
+    // The values as read, row by row from the North: grown as they come, not allocated
+    // from the header.
+    let mut values: Vec<f64> = Vec::new();
     for row in 0..nrows {
         for col in 0..ncols {
             let Some((word, line)) = words.next() else {
@@ -344,7 +348,7 @@ fn asc(text: &str, source: &str) -> Result<Surface, String> {
                     nrows
                 ));
             };
-            let (x, y) = (xs[col], ys[nrows - 1 - row]);
+            let (x, y) = (x0 + col as f64 * dx, y0 + (nrows - 1 - row) as f64 * dy);
             let v = if is_missing(word) {
                 None
             } else {
@@ -357,7 +361,7 @@ fn asc(text: &str, source: &str) -> Result<Surface, String> {
                      (NODATA): a hole in the surface"
                 ));
             };
-            z[(nrows - 1 - row) * ncols + col] = v;
+            values.push(v);
         }
     }
     if let Some((word, line)) = words.next() {
@@ -365,7 +369,37 @@ fn asc(text: &str, source: &str) -> Result<Surface, String> {
             "line {line}: `{word}` is past the grid's {ncols} x {nrows} values"
         ));
     }
+    let xs: Vec<f64> = (0..ncols).map(|i| x0 + i as f64 * dx).collect();
+    let ys: Vec<f64> = (0..nrows).map(|j| y0 + j as f64 * dy).collect();
+    // From the South: row `nrows - 1 - j` of the file is row `j` of the grid.
+    let z: Vec<f64> = (0..nrows)
+        .rev()
+        .flat_map(|row| values[row * ncols..(row + 1) * ncols].iter().copied())
+        .collect();
     Ok(Surface::from_grid(&xs, &ys, &z, source))
+}
+
+/// A grid of `nx` by `ny` nodes makes `2 (nx - 1) (ny - 1)` triangles: refused (before
+/// anything is allocated for it) beyond [`MAX_TRIANGLES`], the limit of every surface.
+fn grid_size(nx: usize, ny: usize, what: &str) -> Result<(), String> {
+    let triangles = 2 * (nx as u128).saturating_sub(1) * (ny as u128).saturating_sub(1);
+    if triangles > MAX_TRIANGLES as u128 {
+        return Err(format!(
+            "a grid of {nx} x {ny} nodes ({what}) would make {triangles} triangles, more than \
+             the limit of {MAX_TRIANGLES} of a surface"
+        ));
+    }
+    Ok(())
+}
+
+/// The triangles of a mesh so far, refused beyond [`MAX_TRIANGLES`] as they are read.
+fn mesh_size(triangles: usize) -> Result<(), String> {
+    if triangles > MAX_TRIANGLES {
+        return Err(format!(
+            "more than {MAX_TRIANGLES} triangles, the limit of a surface"
+        ));
+    }
+    Ok(())
 }
 
 fn one_line(text: &str) -> String {
@@ -418,6 +452,8 @@ fn obj(text: &str) -> Result<Vec<[[f64; 3]; 3]>, String> {
                 if corners.len() < 3 {
                     return Err(format!("line {line}: a face needs at least 3 vertices"));
                 }
+                mesh_size(triangles.len() + corners.len() - 2)
+                    .map_err(|why| format!("line {line}: {why}"))?;
                 for c in 1..corners.len() - 1 {
                     triangles.push([corners[0], corners[c], corners[c + 1]]);
                 }
@@ -447,6 +483,7 @@ fn binary_stl(bytes: &[u8]) -> Result<Vec<[[f64; 3]; 3]>, String> {
     let float = |at: usize| {
         f32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]) as f64
     };
+    mesh_size(n)?;
     let mut triangles = Vec::with_capacity(n);
     for t in 0..n {
         let base = 84 + 50 * t + 12; // past the normal
@@ -492,6 +529,7 @@ fn ascii_stl(text: &str) -> Result<Vec<[[f64; 3]; 3]>, String> {
                         corners.len()
                     ));
                 }
+                mesh_size(triangles.len() + 1).map_err(|why| format!("line {line}: {why}"))?;
                 triangles.push([corners[0], corners[1], corners[2]]);
                 corners.clear();
             }
@@ -605,6 +643,46 @@ mod tests {
         let centred = text.replace("llcorner", "llcenter");
         let s = parse_surface(Kind::Asc, centred.as_bytes(), "g.asc").unwrap();
         assert_eq!(s.triangles[0][0], [10.0, 20.0, 4.0]);
+    }
+
+    #[test]
+    fn an_esri_header_beyond_the_triangle_limit_is_refused_before_its_values_are_read() {
+        // The counts alone claim 10^16 values (80 PB): refused, not allocated.
+        let e = parse_surface(
+            Kind::Asc,
+            b"ncols 100000000\nnrows 100000000\nxllcorner 0\nyllcorner 0\ncellsize 1\n5 5 5\n",
+            "huge.asc",
+        )
+        .unwrap_err();
+        assert!(e.contains("more than the limit of 2000000"), "{e}");
+        // Just past the limit (1001 x 1002 nodes: 2,002,000 triangles), with one value.
+        let e = parse_surface(
+            Kind::Asc,
+            b"ncols 1001\nnrows 1002\nxllcorner 0\nyllcorner 0\ncellsize 1\n5\n",
+            "big.asc",
+        )
+        .unwrap_err();
+        assert!(e.contains("would make 2002000 triangles"), "{e}");
+        // At the limit (1001 x 1001 nodes: 2,000,000 triangles), a file that ends early is
+        // told so.
+        let e = parse_surface(
+            Kind::Asc,
+            b"ncols 1001\nnrows 1001\nxllcorner 0\nyllcorner 0\ncellsize 1\n5\n",
+            "short.asc",
+        )
+        .unwrap_err();
+        assert!(e.contains("ends after 1 of its 1001 x 1001 values"), "{e}");
+    }
+
+    #[test]
+    fn a_mesh_beyond_the_triangle_limit_is_refused_as_it_is_read() {
+        // One face of MAX_TRIANGLES + 3 vertices: MAX_TRIANGLES + 1 triangles of its fan.
+        let mut text = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\nf");
+        for k in 0..MAX_TRIANGLES + 3 {
+            text += [" 1", " 2", " 3"][k % 3];
+        }
+        let e = parse_surface(Kind::Obj, text.as_bytes(), "big.obj").unwrap_err();
+        assert!(e.contains("line 4: more than 2000000 triangles"), "{e}");
     }
 
     #[test]

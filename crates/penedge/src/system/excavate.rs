@@ -60,6 +60,8 @@ impl BlockSystem {
     ///
     /// A bad excavation (the error names its field under `excavation`); one that removes no
     /// rock (outside the blocks, or in rock already excavated); a cut that cannot be made.
+    /// One that removes all of the rock leaves an empty system (a spec's excavation may not:
+    /// [`crate::generation::generate`] refuses it).
     pub fn excavate(
         &self,
         excavation: &Excavation,
@@ -178,7 +180,24 @@ impl BlockSystem {
         match &excavation.name {
             Some(name) => {
                 let names = self.sets.iter().map(|s| s.name.as_str());
-                crate::generation::check::entry_names("sets", names.chain([name.as_str()]))
+                // In a spec (`excavations[k]`), the sets are its joints' entries and then its
+                // earlier excavations': named as the spec names them.
+                let in_spec = prefix.starts_with("excavations[");
+                let label = |i: usize| {
+                    let kind = self.sets.get(i).map(|s| s.kind);
+                    if !in_spec {
+                        format!("sets[{i}]")
+                    } else if kind == Some(SetKind::Excavation) {
+                        let k = self.sets[..i]
+                            .iter()
+                            .filter(|s| s.kind == SetKind::Excavation)
+                            .count();
+                        format!("excavations[{k}]")
+                    } else {
+                        format!("joints[{i}]")
+                    }
+                };
+                crate::generation::check::entry_names_by(names.chain([name.as_str()]), label)
                     .map_err(|(_, why)| {
                         SpecError::new(format!("{prefix}.name"), Problem::Invalid(why))
                     })?;
