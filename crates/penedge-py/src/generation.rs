@@ -55,7 +55,7 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 ///     ``volume_error``, ``slivers`` (``policy``, ``min_volume``, ``min_thickness``,
 ///     ``count``, ``volume``, ``kept_ids``) and ``tiny`` (blocks below 1e-3 of the median
 ///     block volume, slivers or not: ``median_volume``, ``threshold``, ``count``,
-///     ``smallest``).
+///     ``smallest``; of the blocks the joints cut, before any excavation).
 ///
 /// Raises
 /// ------
