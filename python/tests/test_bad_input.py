@@ -643,8 +643,8 @@ def box(**domain):
                     }
                 ],
             },
-            "too_many_planes",
-            "joints[0].spacing",
+            "origin_far",
+            "joints[0].origin",
             "more than the limit",
         ),
         (

@@ -116,6 +116,24 @@ def test_ctrl_c_exits_130_with_a_word_and_no_traceback(monkeypatch, capsys, tmp_
     assert list(tmp_path.iterdir()) == []
 
 
+def test_out_of_memory_is_an_error_with_advice_and_leaves_no_file(monkeypatch, capsys, tmp_path):
+    # The HTML view of a million contacts ran out of memory in plotly with a traceback.
+    pytest.importorskip("plotly")
+    import plotly.graph_objects as go
+
+    def too_large(self, *args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(go.Figure, "write_html", too_large)
+    assert cli.main(["example", "1", "--html"]) == 1
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    assert err.startswith("penedge: error: out of memory: penedge example needs more memory")
+    assert "--max-blocks" in err
+    assert not list(tmp_path.glob("*.html"))
+
+
 def test_a_signal_before_the_command_runs_exits_130_without_a_traceback(monkeypatch, capsys):
     def interrupted():
         raise KeyboardInterrupt

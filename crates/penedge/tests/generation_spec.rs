@@ -130,6 +130,30 @@ fn zero_and_negative_spacings_are_named() {
 }
 
 #[test]
+fn a_set_whose_origin_is_far_from_the_domain_says_so_not_that_the_spacing_is_small() {
+    // Eleven planes cross the box, but the walk from the origin, gap after gap, is 1e12
+    // steps: the error used to say "would make 1000000000010 planes; is the spacing too
+    // small?".
+    let far = "[[joints]]\ntype = \"set\"\ndip = 0\ndip_direction = 0\nspacing = 1\n";
+    let e = error_of(&format!("{far}origin = [0, 0, -1e12]\n"));
+    assert_eq!(e.field, "joints[0].origin", "{e}");
+    let Problem::OriginFar { steps, limit } = e.problem else {
+        panic!("{e}");
+    };
+    assert!((1e12..1.1e12).contains(&steps), "{steps}");
+    assert_eq!(limit, 10 * penedge::generation::MAX_PLANES);
+    assert!(
+        e.to_string().contains("put the origin near the domain"),
+        "{e}"
+    );
+    assert!(!e.to_string().contains("spacing too small"), "{e}");
+    // Nearer, the same set is fine.
+    let spec = parse_toml(&format!("{BOX}{far}origin = [0, 0, -1e6]\n")).unwrap();
+    let report = generate(&spec).expect("a set 1e6 spacings away").report;
+    assert_eq!(report.joint_planes, 9); // z = 1 ... 9 cut the box; 0 and 10 are its faces
+}
+
+#[test]
 fn a_plane_that_misses_the_domain_is_named() {
     let e = error_of("[[joints]]\ntype = \"plane\"\npoint = [0, 0, 12]\nnormal = [0, 0, 1]\n");
     assert_eq!(

@@ -143,6 +143,16 @@ def main(argv: list[str] | None = None) -> int:
     except (CommandError, penedge.PenedgeError) as e:
         print(f"{PROG}: error: {e}", file=sys.stderr)
         return 1
+    except MemoryError:
+        # A run larger than the machine (e.g. the HTML view of a million contacts): a
+        # message and status 1, not a traceback; outputs are written whole or not at all.
+        print(
+            f"{PROG}: error: out of memory: {args.subparser.prog} needs more memory than is "
+            "free here; ask for less (--max-blocks for pictures and generation, no "
+            "--contacts in pictures of large systems) or use a larger machine",
+            file=sys.stderr,
+        )
+        return 1
     except KeyboardInterrupt as e:
         said = str(e) if isinstance(e, Interrupted) else "interrupted"
         print(f"\n{PROG}: {said}", file=sys.stderr)

@@ -105,6 +105,20 @@ pub enum Problem {
         /// Whether the count is a set's `number` as given (no hint about the spacing).
         by_number: bool,
     },
+    /// A filling set whose origin is so far from the domain that walking its planes out to
+    /// the domain, one gap after the other (each plane's gap is drawn in turn), would take
+    /// too many steps.
+    #[error(
+        "lies about {steps:.1e} spacings from the domain, more than the limit of {limit}: a \
+         set's planes are placed one gap after the other from its origin, so put the origin \
+         near the domain (e.g. at its centre)"
+    )]
+    OriginFar {
+        /// Gaps from the origin to the domain's far end (at least).
+        steps: f64,
+        /// The limit.
+        limit: u64,
+    },
     /// A polygon joint that is not a flat convex polygon.
     #[error("not a flat convex polygon: {reason}")]
     BadPolygon {

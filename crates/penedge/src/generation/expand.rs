@@ -256,8 +256,15 @@ fn positions(
     let smallest_gap = js.spacing - js.deviation.spacing;
     let inside = (hi - lo) / smallest_gap;
     let steps = lo.abs().max(hi.abs()) / smallest_gap;
-    if inside > MAX_PLANES as f64 || steps > 10.0 * MAX_PLANES as f64 {
-        return too_many(inside.max(steps), "spacing");
+    if inside > MAX_PLANES as f64 {
+        return too_many(inside, "spacing");
+    }
+    if steps > 10.0 * MAX_PLANES as f64 {
+        let problem = Problem::OriginFar {
+            steps,
+            limit: 10 * MAX_PLANES,
+        };
+        return Err(SpecError::new(format!("{prefix}.origin"), problem));
     }
     Ok(fill(lo, hi, gap))
 }
