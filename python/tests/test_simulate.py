@@ -9,6 +9,7 @@ against limit equilibrium are in test_simulate_engine.py.)
 """
 
 import copy
+import dataclasses
 import json
 import math
 import xml.etree.ElementTree as ET
@@ -199,6 +200,38 @@ def test_factor_of_safety_tries_low_and_high_themselves(friction, factors, bound
     f = Runner(wedge(friction, FOS.format(1000)), InclineEngine).run().safety
     assert [t.factor for t in f.trials] == factors
     assert (f.bounded, f.factor) == (bound, factors[-1])
+
+
+def test_factor_of_safety_refuses_a_tolerance_finer_than_it_can_mean():
+    # tolerance = 1e-20 (below the floats' spacing at F = 1) looped for ever: refused, naming
+    # the field and the bound (1e-6 x high); 1e-6 x high itself is taken.
+    stages = FOS.format(100).rstrip("\n") + "\ntolerance = 1e-20\n"
+    with pytest.raises(pm.ModelError, match=r"must be at least 1e-06 x high \(1e-05 here\)") as e:
+        wedge(40.0, stages)
+    assert e.value.field == "stages[1].tolerance"
+    stages = FOS.format(100).rstrip("\n") + "\nhigh = 2\ntolerance = 2e-6\n"
+    assert wedge(40.0, stages).model.stages[1].tolerance == 2e-6
+
+
+def test_factor_of_safety_bisection_ends_at_neighbouring_floats():
+    # A tolerance below the floats' spacing, given past the model file's check (a Stage
+    # changed in Python): the bisection stops where no factor lies between its two ends
+    # (it looped for ever, the midpoint being one of them).
+    setup = wedge(40.0, FOS.format(50))
+    stages = list(setup.model.stages)
+    stages[1] = dataclasses.replace(stages[1], tolerance=1e-300)
+    setup = dataclasses.replace(setup, model=dataclasses.replace(setup.model, stages=stages))
+    trials = []
+
+    def progress(engine, stage, done, total):
+        if stage.kind == "factor_of_safety":
+            trials.append(done)
+            assert done < 200, "the bisection does not end"
+
+    f = Runner(setup, InclineEngine, progress=progress).run().safety
+    assert f.bounded == "="
+    assert f.failing == math.nextafter(f.stable, math.inf)
+    assert len(f.trials) < 100
 
 
 def test_factor_of_safety_leaves_the_model_as_it_was():

@@ -936,10 +936,29 @@ impl Simulation {
 
     /// Steps until the simulated time reaches `t` (the last step may pass it by less than a
     /// step; Ctrl-C stops them after a whole step, as for :meth:`step`).
+    ///
+    /// Raises
+    /// ------
+    /// InputError
+    ///     `t` not finite, or so far ahead that it takes more steps, ``(t - time) /
+    ///     timestep``, than :meth:`step` takes (2**63 - 1): kind ``out_of_range``, before
+    ///     any step.
     fn run_until(&mut self, py: Python<'_>, t: f64) -> PyResult<()> {
         if !t.is_finite() {
             // The core's refusal, before any step.
             return self.inner.run_until(t).map_err(to_py_err);
+        }
+        if let Ok(dt) = self.inner.timestep() {
+            // (Without a time step, no free body: the first step's error says so.)
+            let steps = (t - self.inner.time()) / dt;
+            if steps > i64::MAX as f64 {
+                let message = format!(
+                    "run_until({t:e}) takes {steps:.3e} steps of {dt:e} s from time {:e}, more \
+                     than step(n) takes (2**63 - 1): a time step or an end time typed wrong?",
+                    self.inner.time()
+                );
+                return Err(input_error("out_of_range", message));
+            }
         }
         in_chunks(py, &mut self.inner, |sim| {
             if sim.time() >= t {

@@ -179,6 +179,7 @@ def simulate_model(args: argparse.Namespace, path: Path) -> int:
         with progress.activity(show, f"{PROG} simulate: building the engine"):
             runner = check_run(setup, folder, args.restart)
         summary = check_summary(path, setup)
+        summary.update(plan_summary(setup, runner, args.no_series))
         if runner is not None and args.restart is not None:
             stages = model.stages[runner.first :]
             then = [f"{s.name} {s.kind}" for s in stages]
@@ -221,6 +222,11 @@ def simulate_model(args: argparse.Namespace, path: Path) -> int:
     runner = Runner(
         setup, engine_factory, progress=report, frame=frame, folder=folder, restart=args.restart
     )
+    plan = plan_summary(setup, runner, args.no_series)
+    for warning in plan_warnings(plan):
+        print(f"{PROG}: warning: {warning}", file=sys.stderr)
+    if long_run(plan) and not (args.quiet or args.json):
+        print(f"{PROG} simulate: a long run: {plan_text(plan)}", file=sys.stderr)
     folder.mkdir(parents=True, exist_ok=True)
     remove_earlier_results(folder)
     if not args.no_series:
@@ -388,6 +394,99 @@ def check_summary(path: Path, setup: Any) -> dict[str, Any]:
     }
 
 
+#: A run that writes more files than this is warned of (``[results].frame_every``).
+MANY_FILES = 10_000
+
+#: A run of more steps than this (the stages' known steps, a solve's budget included) says
+#: at its start what it will take, on a terminal or not.
+LONG_RUN = 1_000_000
+
+
+def plan_summary(setup: Any, runner: Any, no_series: bool = False) -> dict[str, Any]:
+    """What the run will take, before its first step: the time step it starts with, per
+    stage that takes steps its steps (``exact`` or at most), history points and frames, a
+    factor of safety's trials; in all the history points, its memory, the ParaView frames
+    and files (docs/models.md, "How long a run is")."""
+    from penedge.model.run import plan_stages
+
+    model = setup.model
+    dt = None if runner is None else runner.timestep
+    first = 0 if runner is None else runner.first
+    plans = plan_stages(model, dt, first)
+    monitors = len(setup.layout.monitors)
+    points = 1 + sum(p.history for p in plans)
+    frames = 1 + sum(p.frames for p in plans)
+    per_frame = 2 + bool(model.bolts)  # blocks, subcontacts (and bolts) files
+    return {
+        "time_step": dt,
+        "plan": [p.__dict__ for p in plans],
+        "history_points": points,
+        # 8 bytes a number (step, time, ratio, kinetic energy, 6 per monitor) and the
+        # stage's name, then about as much again for history.csv while it is written
+        "history_bytes": points * 8 * (5 + 6 * monitors),
+        "frames": 0 if no_series else frames,
+        "files": 0 if no_series else frames * per_frame + per_frame,
+        "frame_every": model.results.frame_every,
+    }
+
+
+def plan_warnings(plan: dict[str, Any]) -> list[str]:
+    """A warning when the series would hold more than :data:`MANY_FILES` files."""
+    if plan["files"] <= MANY_FILES:
+        return []
+    every = plan["frame_every"]
+    return [
+        f"[results] frame_every = {every} writes up to {plan['frames']:,} ParaView frames, "
+        f"{plan['files']:,} files in the series folder: raise frame_every (0: a frame at "
+        "the end of each stage only), or run with --no-series"
+    ]
+
+
+def long_run(plan: dict[str, Any]) -> bool:
+    """Whether the stages take more than :data:`LONG_RUN` steps (or the series more than
+    :data:`MANY_FILES` files)."""
+    steps = sum((p["steps"] or 0) * max(1, p["trials"]) for p in plan["plan"])
+    return steps > LONG_RUN or plan["files"] > MANY_FILES
+
+
+def stage_plan_text(p: dict[str, Any]) -> str:
+    """``stages[0] time 4,651,163 steps``, ``stages[1] solve at most 100,000 steps``."""
+    name = f"{p['name']} {p['kind']}"
+    if p["steps"] is None:
+        return f"{name} (steps unknown: no time step yet)"
+    if p["trials"]:
+        return f"{name} at most {p['trials']} trials of at most {p['steps']:,} steps"
+    return f"{name} {'' if p['exact'] else 'at most '}{p['steps']:,} steps"
+
+
+def plan_text(plan: dict[str, Any]) -> str:
+    """The plan on one line (the start of a long run)."""
+    dt = plan["time_step"]
+    parts = [f"time step {dt:.3g} s" if dt is not None else "no time step yet"]
+    parts += [stage_plan_text(p) for p in plan["plan"]]
+    parts.append(history_text(plan))
+    if plan["files"]:
+        parts.append(series_text(plan))
+    return "; ".join(parts)
+
+
+def history_text(plan: dict[str, Any]) -> str:
+    return f"at most {plan['history_points']:,} history points ({size_text(plan['history_bytes'])})"
+
+
+def series_text(plan: dict[str, Any]) -> str:
+    return f"at most {plan['frames']:,} ParaView frames ({plan['files']:,} files)"
+
+
+def size_text(n: float) -> str:
+    """``12 kB``, ``3.4 MB``, ``1.2 GB``."""
+    for unit in ("B", "kB", "MB", "GB"):
+        if n < 1000 or unit == "GB":
+            return f"{n:.3g} {unit}"
+        n /= 1000
+    return f"{n:.3g} TB"  # pragma: no cover
+
+
 def format_check(summary: dict[str, Any]) -> str:
     title = f": {summary['title']}" if summary["title"] else ""
     lines = [
@@ -405,6 +504,17 @@ def format_check(summary: dict[str, Any]) -> str:
     for support in summary.get("supports", []):
         pushed = f"{support['pressure']:g} Pa on {support['area']:.4g} m² of free faces"
         lines.append(row("support", f"{support['name']}: {pushed}"))
+    if "plan" in summary:
+        dt = summary["time_step"]
+        dt_text = f"{dt:.3g} s (at the start)" if dt is not None else "none yet (no engine)"
+        lines.append(row("time step", dt_text))
+        for p in summary["plan"]:
+            lines.append(row("steps", stage_plan_text(p)))
+        lines.append(row("history", history_text(summary)))
+        if summary["files"]:
+            lines.append(row("series", series_text(summary)))
+        for warning in plan_warnings(summary):
+            lines.append(row("warning", warning))
     for note in summary["not_supported"]:
         lines.append(row("cannot run yet", note))
     return "\n".join(lines)
@@ -604,11 +714,13 @@ def write_results(
     """summary.json is written by the caller's summary; here the history (CSV, PNG), the
     picture of the final state and the series index. Returns the names written."""
     written: list[str] = []
-    rows = outcome.history.rows()
+    rows = outcome.history.each_row()
     buffer = io.StringIO()
-    if rows:
-        writer = csv.DictWriter(buffer, fieldnames=list(rows[0]))
+    first = next(rows, None)
+    if first is not None:
+        writer = csv.DictWriter(buffer, fieldnames=list(first))
         writer.writeheader()
+        writer.writerow(first)
         writer.writerows(rows)
     history = folder / OUTPUT_NAMES["history"]
     write_via_temp(history, True, lambda h: h.write(buffer.getvalue().encode()))

@@ -19,6 +19,18 @@ from penedge._core import SpecError
 #: The largest whole number a model field takes (:meth:`Table.integer`).
 MAX_WHOLE = 10**15
 
+#: The most steps one stage may take: a ``cycle``'s `steps`, a ``solve``'s or a factor of
+#: safety's `max_steps` (per trial), an ``excavate``'s `relax_steps`, a ``time`` stage's
+#: time over the time step (docs/models.md, "How long a run is").
+MAX_STEPS = 10**8
+
+#: Why :data:`MAX_STEPS`, for the errors that refuse more.
+MAX_STEPS_WHY = (
+    "the most steps a stage may take: hours to days of computing, and a history of "
+    "gigabytes; a longer run is several stages, on purpose (docs/models.md, "
+    '"How long a run is")'
+)
+
 
 class ModelError(SpecError):
     """A model file that cannot be run: ``field: what is wrong`` (also a
@@ -127,7 +139,8 @@ class Table:
         if value < minimum:
             raise ModelError(field, f"must be at least {minimum}, got {value}")
         if value > maximum:
-            raise ModelError(field, f"must be at most {maximum:.0e}, got {value:.3g}")
+            why = f" ({MAX_STEPS_WHY})" if maximum == MAX_STEPS else ""
+            raise ModelError(field, f"must be at most {maximum:.0e}, got {value:.3g}{why}")
         return value
 
     def text(self, key: str, default: str | None = None, choices: Sequence[str] = ()) -> str:

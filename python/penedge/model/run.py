@@ -20,7 +20,7 @@ import dataclasses
 import hashlib
 import json
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -29,37 +29,84 @@ import numpy as np
 
 from penedge._core import MechanicsError, PenedgeError
 from penedge.model.check import apply_boundary, block_list, partial_body
-from penedge.model.fields import ModelError
+from penedge.model.fields import MAX_STEPS, MAX_STEPS_WHY, ModelError
 from penedge.model.schema import JointProperties, Model, Stage
+
+
+class Column:
+    """A column of the history that grows: a numpy array filled in place and doubled when
+    full (8 bytes a number; a list of Python floats took 32, and a tuple of numpy scalars
+    per monitored point some 300). Reads as a sequence (``len``, ``[k]``, ``[-1]``) and as
+    an array (``np.asarray``); `width` > 0 makes rows of that many numbers."""
+
+    def __init__(self, width: int = 0, dtype: Any = float) -> None:
+        self.width = width
+        self.data = np.empty((16, width) if width else 16, dtype=dtype)
+        self.size = 0
+
+    def append(self, value: Any) -> None:
+        if self.size == len(self.data):
+            grown = np.empty((2 * len(self.data), *self.data.shape[1:]), dtype=self.data.dtype)
+            grown[: self.size] = self.data
+            self.data = grown
+        self.data[self.size] = value
+        self.size += 1
+
+    @property
+    def values(self) -> np.ndarray:
+        """The numbers so far (a view: copy it to keep it past the next append)."""
+        return self.data[: self.size]
+
+    def tolist(self) -> list[Any]:
+        return self.values.tolist()  # type: ignore[no-any-return]
+
+    def __len__(self) -> int:
+        return self.size
+
+    def __getitem__(self, k: Any) -> Any:
+        return self.values[k]
+
+    def __iter__(self) -> Any:
+        return iter(self.values)
+
+    def __array__(self, dtype: Any = None, copy: Any = None) -> np.ndarray:
+        return np.array(self.values, dtype=dtype, copy=True if copy is None else copy)
 
 
 @dataclass
 class History:
-    """One row per history point."""
+    """One row per history point: the step, time, ratio, kinetic energy (numpy-backed
+    :class:`Column` s), the stage's name, and per monitor a column of rows
+    ``dx dy dz vx vy vz``."""
 
-    step: list[int] = field(default_factory=list)
-    time: list[float] = field(default_factory=list)
-    ratio: list[float] = field(default_factory=list)
-    kinetic: list[float] = field(default_factory=list)
-    stage: list[str] = field(default_factory=list)
-    monitors: dict[str, list[tuple[float, ...]]] = field(default_factory=dict)  # dx dy dz vx vy vz
+    step: Column = field(default_factory=lambda: Column(dtype=np.int64))
+    time: Column = field(default_factory=Column)
+    ratio: Column = field(default_factory=Column)
+    kinetic: Column = field(default_factory=Column)
+    stage: list[str] = field(default_factory=list)  # the stage's own name: 8 bytes a point
+    monitors: dict[str, Column] = field(default_factory=dict)  # dx dy dz vx vy vz
 
     def rows(self) -> list[dict[str, Any]]:
-        """The history as dict rows (for CSV)."""
-        rows = []
-        for k in range(len(self.step)):
+        """The history as dict rows."""
+        return list(self.each_row())
+
+    def each_row(self) -> Iterator[dict[str, Any]]:
+        """The history's dict rows one by one (for CSV: not all at once in memory)."""
+        step, time = self.step.tolist(), self.time.tolist()
+        ratio, kinetic = self.ratio.tolist(), self.kinetic.tolist()
+        monitors = {name: values.tolist() for name, values in self.monitors.items()}
+        for k in range(len(step)):
             row: dict[str, Any] = {
-                "step": self.step[k],
-                "time": self.time[k],
+                "step": step[k],
+                "time": time[k],
                 "stage": self.stage[k],
-                "ratio": self.ratio[k],
-                "kinetic_energy": self.kinetic[k],
+                "ratio": ratio[k],
+                "kinetic_energy": kinetic[k],
             }
-            for name, values in self.monitors.items():
+            for name, values in monitors.items():
                 for label, v in zip(("dx", "dy", "dz", "vx", "vy", "vz"), values[k], strict=True):
                     row[f"{name}.{label}"] = v
-            rows.append(row)
-        return rows
+            yield row
 
 
 @dataclass
@@ -247,7 +294,7 @@ class Runner:
         self.frame = frame
         self.engine = factory(setup)
         self.reference = self.engine.positions()
-        self.history = History(monitors={name: [] for name in setup.layout.monitors})
+        self.history = History(monitors={name: Column(6) for name in setup.layout.monitors})
         self.fixed = setup.layout.fixed.copy()
         self.velocity = setup.layout.velocity.copy()
         self.last_frame = -1
@@ -263,6 +310,10 @@ class Runner:
         check_safety_stages(
             self.model, setup.layout, self.fixed, self.velocity, removed_of(self.engine), self.first
         )
+        #: The time step the engine starts with (None when it has none yet: no free block
+        #: until a later stage frees some); the time stages' steps, checked now.
+        self.timestep = timestep_of(self.engine)
+        check_time_stages(self.model, self.timestep, self.first)
 
     # --- the run --------------------------------------------------------------------
 
@@ -363,7 +414,7 @@ class Runner:
             d = e.positions() - self.reference
             v = e.velocities()
             for name, block in self.setup.layout.monitors.items():
-                h.monitors[name].append((*d[block], *v[block]))
+                h.monitors[name].append(np.concatenate((d[block], v[block])))
 
     def write_frame(self) -> None:
         if self.frame is not None and self.engine.steps != self.last_frame:
@@ -396,7 +447,8 @@ class Runner:
                 total = stage.steps
             else:
                 assert stage.time is not None
-                total = max(1, math.ceil(stage.time / e.timestep - 1e-9))
+                total = time_steps(stage.time, e.timestep)
+                refuse_long_time_stage(index, stage, total, e.timestep)
             done = 0
             while done < total:
                 k = min(self.chunk, total - done)
@@ -639,7 +691,13 @@ class Runner:
                 stable = t
         if stable is not None and failing is not None:
             while failing.factor - stable.factor > stage.tolerance:
-                t = trial(0.5 * (stable.factor + failing.factor))
+                middle = 0.5 * (stable.factor + failing.factor)
+                if not stable.factor < middle < failing.factor:
+                    # Two neighbouring floats: no factor lies between them, and the bracket
+                    # cannot narrow (a `tolerance` below the floats' spacing, given outside
+                    # a model file, which refuses it: MIN_RELATIVE_TOLERANCE).
+                    break
+                t = trial(middle)
                 if t.failed:
                     failing = t
                 else:
@@ -655,6 +713,104 @@ class Runner:
             failing_blocks=[] if failing is None else failing.moved,
             trials=trials,
         )
+
+
+def timestep_of(engine: Any) -> float | None:
+    """The engine's time step (s), or None where it has none (no free block yet, or an
+    engine without one)."""
+    try:
+        dt = float(engine.timestep)
+    except (AttributeError, PenedgeError):
+        return None
+    return dt if math.isfinite(dt) and dt > 0 else None
+
+
+def time_steps(time: float, timestep: float) -> int:
+    """The steps a ``time`` stage of `time` seconds takes at `timestep` (at least one)."""
+    return max(1, math.ceil(time / timestep - 1e-9))
+
+
+def refuse_long_time_stage(index: int, stage: Stage, steps: int, timestep: float) -> None:
+    """A ``time`` stage of more than :data:`~penedge.model.fields.MAX_STEPS` steps is an
+    error naming it, its steps and the time step."""
+    if steps <= MAX_STEPS:
+        return
+    raise ModelError(
+        f"stages[{index}].time",
+        f"{stage.name} (time) runs {stage.time:g} s, {steps:,} steps of {timestep:.3g} s: "
+        f"more than {MAX_STEPS:.0e} ({MAX_STEPS_WHY})",
+    )
+
+
+def check_time_stages(model: Model, timestep: float | None, first: int = 0) -> None:
+    """Before any step: no ``time`` stage from stage `first` on takes more than
+    :data:`~penedge.model.fields.MAX_STEPS` steps at `timestep`, the time step the engine
+    starts with (a stage that changes it, a ``properties`` stage raising kn, is checked
+    again when the time stage starts)."""
+    if timestep is None:
+        return
+    for i, stage in enumerate(model.stages):
+        if i >= first and stage.kind == "time" and stage.time is not None:
+            refuse_long_time_stage(i, stage, time_steps(stage.time, timestep), timestep)
+
+
+@dataclass
+class StagePlan:
+    """What a stage will take, before the run (``penedge simulate --check``, and the
+    start of a long run): its steps (exact, or at most: a ``solve`` may converge sooner),
+    its history points and ParaView frames; a factor of safety's at most `trials` trials of
+    at most `steps` steps each (on copies: no history, no frame)."""
+
+    index: int
+    name: str
+    kind: str
+    steps: int | None  # None: a time stage without a known time step
+    exact: bool
+    history: int = 0
+    frames: int = 0
+    trials: int = 0
+
+
+def safety_trials(stage: Stage) -> int:
+    """The most trials a factor of safety takes: F = 1, the widening to `low` or `high`,
+    then the bisection of a bracket of at most half the widest step down to `tolerance`."""
+    up = math.ceil(math.log2(stage.high)) if stage.high > 1 else 0
+    down = math.ceil(math.log2(1 / stage.low)) if stage.low < 1 else 0
+    halvings = max(0, math.ceil(math.log2(max(stage.high / 2, 0.5) / stage.tolerance)))
+    return 1 + max(up, down) + halvings
+
+
+def plan_stages(model: Model, timestep: float | None, first: int = 0) -> list[StagePlan]:
+    """Per stage that takes steps, from stage `first` on: its :class:`StagePlan`, with
+    `timestep` for the time stages (the engine's at the start)."""
+    every = model.results.history_every
+    frame_every = model.results.frame_every
+    plans = []
+    for i, stage in enumerate(model.stages):
+        if i < first:
+            continue
+        trials = 0
+        if stage.kind == "cycle":
+            steps: int | None = stage.steps
+            exact = True
+        elif stage.kind == "time":
+            assert stage.time is not None
+            steps = None if timestep is None else time_steps(stage.time, timestep)
+            exact = True
+        elif stage.kind == "excavate":
+            steps, exact = stage.relax_steps, True
+        elif stage.kind == "solve":
+            steps, exact = stage.max_steps, False
+        elif stage.kind == "factor_of_safety":
+            steps, exact, trials = stage.max_steps, False, safety_trials(stage)
+        else:
+            continue
+        plan = StagePlan(i, stage.name, stage.kind, steps, exact, trials=trials)
+        if steps is not None and not trials:
+            plan.history = -(-steps // every)
+            plan.frames = 1 + (steps // frame_every if frame_every else 0)
+        plans.append(plan)
+    return plans
 
 
 def below_one(factor: float) -> str:

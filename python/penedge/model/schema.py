@@ -13,7 +13,14 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from penedge.model.fields import ModelError, Range, Table, check_direction, check_vector
+from penedge.model.fields import (
+    MAX_STEPS,
+    ModelError,
+    Range,
+    Table,
+    check_direction,
+    check_vector,
+)
 
 #: The generation spec's tables, passed unchanged to :func:`penedge.generate` (excavations
 #: make concave blocks: docs/models.md, "Concave blocks").
@@ -42,6 +49,11 @@ FACE_DIRECTIONS = {
 }
 
 STANDARD_GRAVITY = 9.81
+
+#: A factor of safety's finest `tolerance`, relative to its `high`: 1e-5 with the default
+#: high = 10 (a bisection of at most about 20 trials), far below what a trial's verdict
+#: resolves, far above the floats' spacing (docs/models.md, "Factor of safety").
+MIN_RELATIVE_TOLERANCE = 1e-6
 
 # The ranges of the fields whose products the engine computes (masses, weights, contact and
 # bolt forces, pressures times areas, the critical time step): wide enough for any rock,
@@ -406,7 +418,7 @@ def parse_mechanics(rock: Table, t: Table) -> Mechanics:
         damping=t.number("damping", 0.8, at_least=0, below=1),
         time_step=time_step,
         ratio=t.number("ratio", 1e-5, above=0, below=1),
-        max_steps=t.integer("max_steps", 100_000, minimum=1),
+        max_steps=t.integer("max_steps", 100_000, minimum=1, maximum=MAX_STEPS),
         gap=t.number("gap", 1e-3, above=0, below=0.01),
         point_width=t.number("point_width", 0.2, above=0, at_most=1),
         mass_scaling=t.boolean("mass_scaling", False),
@@ -897,11 +909,11 @@ def parse_stage(
             name,
             kind,
             ratio=t.number("ratio", mechanics.ratio, above=0, below=1),
-            max_steps=t.integer("max_steps", mechanics.max_steps, minimum=1),
+            max_steps=t.integer("max_steps", mechanics.max_steps, minimum=1, maximum=MAX_STEPS),
             elastic=t.boolean("elastic", False),
         )
     elif kind == "cycle":
-        stage = Stage(name, kind, steps=t.integer("steps", minimum=1))
+        stage = Stage(name, kind, steps=t.integer("steps", minimum=1, maximum=MAX_STEPS))
     elif kind == "time":
         stage = Stage(name, kind, time=t.number("time", required=True, above=0))
     elif kind == "properties":
@@ -918,7 +930,7 @@ def parse_stage(
             name,
             kind,
             region=region_ref(t, "region", regions),
-            relax_steps=t.integer("relax_steps", 100, minimum=1),
+            relax_steps=t.integer("relax_steps", 100, minimum=1, maximum=MAX_STEPS),
         )
     elif kind == "boundary":
         boundary = parse_boundary(
@@ -940,7 +952,7 @@ def parse_stage(
             kind,
             sets=stage_sets(t, set_names),
             ratio=t.number("ratio", mechanics.ratio, above=0, below=1),
-            max_steps=t.integer("max_steps", mechanics.max_steps, minimum=1),
+            max_steps=t.integer("max_steps", mechanics.max_steps, minimum=1, maximum=MAX_STEPS),
             velocity=t.number("velocity", moving, above=0),
             tolerance=t.number("tolerance", 0.01, above=0),
             low=t.number("low", 0.1, above=0),
@@ -948,6 +960,15 @@ def parse_stage(
         )
         if stage.high <= stage.low:
             raise ModelError(t.field("high"), f"must be greater than low ({stage.low:g})")
+        finest = MIN_RELATIVE_TOLERANCE * stage.high
+        if stage.tolerance < finest:
+            raise ModelError(
+                t.field("tolerance"),
+                f"must be at least {MIN_RELATIVE_TOLERANCE:g} x high ({finest:g} here), got "
+                f"{stage.tolerance:g}: the trials' verdict does not tell factors of safety "
+                "apart so finely (the bisection would take trials to no purpose, and below "
+                "the floats' spacing could never end)",
+            )
     t.done()
     return stage
 
