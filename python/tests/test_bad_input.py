@@ -645,7 +645,7 @@ def box(**domain):
             },
             "origin_far",
             "joints[0].origin",
-            "more than the limit",
+            "put the origin near the domain",
         ),
         (
             {

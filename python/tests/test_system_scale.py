@@ -150,7 +150,9 @@ def test_ctrl_c_stops_a_long_detection_cleanly():
         stop(child)
     assert child.returncode == 0, out + err
     stopped = float(out.split()[-1])
-    assert stopped - sent < 0.5 * once, f"took {stopped - sent:.2f} s to stop ({once:.2f} s a run)"
+    # The binding looks for signals every 0.1 s: within half a run, and never asked below 0.3 s.
+    bound = max(0.5 * once, 0.3)
+    assert stopped - sent < bound, f"took {stopped - sent:.2f} s to stop ({once:.2f} s a run)"
 
 
 def rotate(q, v):

@@ -137,10 +137,10 @@ fn a_set_whose_origin_is_far_from_the_domain_says_so_not_that_the_spacing_is_sma
     let far = "[[joints]]\ntype = \"set\"\ndip = 0\ndip_direction = 0\nspacing = 1\n";
     let e = error_of(&format!("{far}origin = [0, 0, -1e12]\n"));
     assert_eq!(e.field, "joints[0].origin", "{e}");
-    let Problem::OriginFar { steps, limit } = e.problem else {
+    let Problem::OriginFar { spacings, limit } = e.problem else {
         panic!("{e}");
     };
-    assert!((1e12..1.1e12).contains(&steps), "{steps}");
+    assert!((1e12..1.1e12).contains(&spacings), "{spacings}");
     assert_eq!(limit, 10 * penedge::generation::MAX_PLANES);
     assert!(
         e.to_string().contains("put the origin near the domain"),
@@ -151,6 +151,11 @@ fn a_set_whose_origin_is_far_from_the_domain_says_so_not_that_the_spacing_is_sma
     let spec = parse_toml(&format!("{BOX}{far}origin = [0, 0, -1e6]\n")).unwrap();
     let report = generate(&spec).expect("a set 1e6 spacings away").report;
     assert_eq!(report.joint_planes, 9); // z = 1 ... 9 cut the box; 0 and 10 are its faces
+                                        // The walk is counted, not bounded by its worst case: gaps of 1 +- 0.9999 from 1e3 away
+                                        // take about 1e3 steps, though the smallest gap would need 1e7.
+    let spread = format!("{far}spacing_deviation = 0.9999\norigin = [0, 0, -1000]\n");
+    let spec = parse_toml(&format!("{BOX}{spread}")).unwrap();
+    generate(&spec).expect("a set with spread gaps 1e3 spacings away");
 }
 
 #[test]
@@ -645,4 +650,19 @@ fn a_seed_is_any_whole_number_from_minus_two_to_the_63_to_two_to_the_64_less_one
     assert!(toml("-9223372036854775808").is_ok());
     let e = toml("1.5").unwrap_err().to_string();
     assert!(e.contains("expected a whole number"), "{e}");
+    // TOML holds 2^64 - 1 too, and one beyond it is the seed's error, naming the field (the
+    // parser's 128-bit number was "got the whole number ... as i128, expected a whole number").
+    let spec = |seed: &str| toml(seed).map(|s| generate(&s).map(|g| g.system.len()));
+    assert_eq!(spec("18446744073709551615").unwrap().unwrap(), 10);
+    for beyond in [
+        "18446744073709551616",
+        "-9223372036854775809",
+        "1".repeat(39).as_str(),
+    ] {
+        let e = spec(beyond).unwrap_err().to_string();
+        assert!(
+            e.starts_with("joints[0].seed: must be a whole number from -2^63"),
+            "{beyond}: {e}"
+        );
+    }
 }

@@ -107,16 +107,16 @@ pub enum Problem {
     },
     /// A filling set whose origin is so far from the domain that walking its planes out to
     /// the domain, one gap after the other (each plane's gap is drawn in turn), would take
-    /// too many steps.
+    /// more than `limit` gaps.
     #[error(
-        "lies about {steps:.1e} spacings from the domain, more than the limit of {limit}: a \
-         set's planes are placed one gap after the other from its origin, so put the origin \
-         near the domain (e.g. at its centre)"
+        "lies about {spacings:.1e} spacings from the domain's far side: a set's planes are \
+         placed one gap after the other from its origin, and the walk would take more than \
+         {limit} gaps; put the origin near the domain (e.g. at its centre)"
     )]
     OriginFar {
-        /// Gaps from the origin to the domain's far end (at least).
-        steps: f64,
-        /// The limit.
+        /// The distance from the origin to the domain's far side, in spacings.
+        spacings: f64,
+        /// The most gaps walked.
         limit: u64,
     },
     /// A polygon joint that is not a flat convex polygon.

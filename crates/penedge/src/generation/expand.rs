@@ -252,22 +252,22 @@ fn positions(
             .collect());
     }
     let (lo, hi) = fill_range(js, normal, origin, domain);
-    // Planes inside the range, and steps from the origin to reach its far end.
-    let smallest_gap = js.spacing - js.deviation.spacing;
-    let inside = (hi - lo) / smallest_gap;
-    let steps = lo.abs().max(hi.abs()) / smallest_gap;
+    // Planes inside the range, at most.
+    let inside = (hi - lo) / (js.spacing - js.deviation.spacing);
     if inside > MAX_PLANES as f64 {
-        return too_many(inside, "spacing");
+        return too_many(inside.ceil(), "spacing");
     }
-    if steps > 10.0 * MAX_PLANES as f64 {
+    fill(lo, hi, gap, MAX_WALK).ok_or_else(|| {
         let problem = Problem::OriginFar {
-            steps,
-            limit: 10 * MAX_PLANES,
+            spacings: lo.abs().max(hi.abs()) / js.spacing,
+            limit: MAX_WALK,
         };
-        return Err(SpecError::new(format!("{prefix}.origin"), problem));
-    }
-    Ok(fill(lo, hi, gap))
+        SpecError::new(format!("{prefix}.origin"), problem)
+    })
 }
+
+/// The most gaps walked from a set's origin to place its planes (`Problem::OriginFar`).
+const MAX_WALK: u64 = 10 * MAX_PLANES;
 
 /// The range of positions along the set's normal whose planes can meet the domain: its
 /// extent, widened for planes tilted by the random deviations.
@@ -278,17 +278,23 @@ fn fill_range(js: &JointSet, normal: DVec3, origin: DVec3, domain: &Domain) -> (
     (lo - margin, hi + margin)
 }
 
-/// Positions from the origin outwards in both directions, kept where in `[lo, hi]`.
-fn fill(lo: f64, hi: f64, gap: impl Fn(i64) -> f64) -> Vec<(i64, f64)> {
+/// Positions from the origin outwards in both directions, kept where in `[lo, hi]`; `None`
+/// if the walk would take more than `max_walk` gaps (an origin far from the domain).
+fn fill(lo: f64, hi: f64, gap: impl Fn(i64) -> f64, max_walk: u64) -> Option<Vec<(i64, f64)>> {
     let mut below = Vec::new();
     let mut t = 0.0;
     let mut k = 0;
+    let mut walked = 0;
     while t >= lo {
         if t <= hi {
             below.push((k, t));
         }
         k -= 1;
         t -= gap(k);
+        walked += 1;
+        if walked > max_walk {
+            return None;
+        }
     }
     below.reverse();
     let (mut k, mut t) = (1, gap(1));
@@ -298,6 +304,10 @@ fn fill(lo: f64, hi: f64, gap: impl Fn(i64) -> f64) -> Vec<(i64, f64)> {
         }
         k += 1;
         t += gap(k);
+        walked += 1;
+        if walked > max_walk {
+            return None;
+        }
     }
-    below
+    Some(below)
 }

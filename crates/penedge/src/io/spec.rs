@@ -446,7 +446,8 @@ fn joint_set(prefix: &str, j: &RawJoint, given: &[(&str, bool)]) -> Result<Joint
     })
 }
 
-/// A whole number as TOML (-2^63 to 2^63 - 1) or JSON (also to 2^64 - 1) has it.
+/// A whole number as TOML or JSON has it (a parser that holds a larger one hands it over
+/// as 128 bits; the seed's own check then names the field).
 fn whole_number<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<i128>, D::Error> {
     struct Whole;
     impl serde::de::Visitor<'_> for Whole {
@@ -460,6 +461,13 @@ fn whole_number<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<i128>, 
         fn visit_u64<E>(self, v: u64) -> Result<Self::Value, E> {
             Ok(Some(v.into()))
         }
+        fn visit_i128<E>(self, v: i128) -> Result<Self::Value, E> {
+            Ok(Some(v))
+        }
+        fn visit_u128<E: serde::de::Error>(self, v: u128) -> Result<Self::Value, E> {
+            // Beyond i128 only far beyond every seed: the seed's check names the field.
+            Ok(Some(i128::try_from(v).unwrap_or(i128::MAX)))
+        }
         // JSON's `null`: not given, as for the other optional fields.
         fn visit_unit<E>(self) -> Result<Self::Value, E> {
             Ok(None)
@@ -471,9 +479,8 @@ fn whole_number<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<i128>, 
     d.deserialize_any(Whole)
 }
 
-/// A set's seed: a whole number from -2^63 (the least TOML integer) to 2^64 - 1 (the
-/// greatest seed); a negative `s` is the seed `2^64 + s`, as it always was (`-1` is
-/// `2^64 - 1`).
+/// A set's seed: a whole number from -2^63 to 2^64 - 1 (the greatest seed); a negative `s`
+/// is the seed `2^64 + s`, as it always was (`-1` is `2^64 - 1`).
 fn seed(prefix: &str, given: Option<i128>) -> Result<u64, SpecError> {
     match given {
         None => Ok(0),
