@@ -257,13 +257,19 @@ fn positions(
     if inside > MAX_PLANES as f64 {
         return too_many(inside.ceil(), "spacing");
     }
-    fill(lo, hi, gap, MAX_WALK).ok_or_else(|| {
+    let far = || {
         let problem = Problem::OriginFar {
             spacings: lo.abs().max(hi.abs()) / js.spacing,
             limit: MAX_WALK,
         };
         SpecError::new(format!("{prefix}.origin"), problem)
-    })
+    };
+    // Hopeless even at the largest gaps: said at once, without walking 10^7 of them.
+    let nearest = if lo > 0.0 { lo } else { -hi.min(0.0) };
+    if nearest / (js.spacing + js.deviation.spacing) > MAX_WALK as f64 {
+        return Err(far());
+    }
+    fill(lo, hi, gap, MAX_WALK).ok_or_else(far)
 }
 
 /// The most gaps walked from a set's origin to place its planes (`Problem::OriginFar`).
