@@ -179,7 +179,7 @@ fn run(
     let result = py.detach(|| {
         let mut last = Instant::now();
         let mut report = |p: Progress| {
-            let done = p.planes_done == p.planes_total;
+            let done = p.is_last();
             if !done && last.elapsed() < PROGRESS_INTERVAL {
                 return ControlFlow::Continue(());
             }
