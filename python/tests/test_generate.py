@@ -289,6 +289,42 @@ def test_an_exception_in_progress_stops_the_run_where_it_is():
     assert done == calls[0] < total
 
 
+def test_an_exception_in_progress_stops_an_excavation_during_its_cuts(tmp_path):
+    # A 10 m box in 3 blocks under a ground of 120 x 120 elevations: the excavation makes
+    # some 20,000 parts after the last plane. The callback sees them (as the excavation cuts,
+    # every 0.1 s, and at the end) and stops the run; it used to see the 3 blocks of the
+    # last plane and nothing after (Ctrl-C waited for the end of the excavation).
+    n = 120
+    xs = np.linspace(-1.0, 11.0, n)
+    x, y = np.meshgrid(xs, xs)
+    z = 6.0 + 0.3 * np.sin(1.3 * x) * np.cos(0.9 * y) + 0.1 * np.sin(3.1 * x + 2.3 * y)
+    ground = tmp_path / "ground.csv"
+    rows = "\n".join(
+        f"{a:.9f},{b:.9f},{c:.9f}" for a, b, c in zip(x.ravel(), y.ravel(), z.ravel(), strict=True)
+    )
+    ground.write_text("x,y,z\n" + rows + "\n")
+    spec = {
+        "domain": {"type": "box", "min": [0, 0, 0], "max": [10, 10, 10]},
+        "joints": [
+            {"type": "set", "dip": 90, "dip_direction": 90, "spacing": 5, "origin": [2.5, 0, 0]}
+        ],
+        "excavations": [{"type": "topography", "file": str(ground)}],
+    }
+    calls = []
+
+    def fail(done, total, blocks):
+        calls.append((done, total, blocks))
+        if blocks > 3:
+            raise RuntimeError("no more")
+
+    with pytest.raises(RuntimeError, match="no more") as info:
+        penedge.generate(spec, progress=fail)
+    assert calls[-1][:2] == (2, 2), calls
+    assert calls[-1][2] > 3, calls
+    (note,) = info.value.__notes__
+    assert note == "penedge.generate stopped after 2 of 2 joint planes"
+
+
 def three_sets(size, spacing):
     """Three orthogonal sets from the origin: ``(size / spacing)^3`` blocks."""
     joints = [

@@ -32,14 +32,17 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 ///     missing).
 /// progress : callable, optional
 ///     Called as ``progress(planes_done, planes_total, blocks)`` at most ten times a second
-///     and once at the end. If it raises, the run stops there (between two planes' cuts)
-///     and its exception is raised, with a note of how far the run got. Ctrl-C
-///     (``KeyboardInterrupt``) stops the run the same way, with or without a callback.
+///     and once at the end, while the joints cut and while the excavations do (then with
+///     every plane done, and ``blocks`` the convex parts held so far). If it raises, the run
+///     stops there (between two planes' cuts, or two of an excavation's) and its exception
+///     is raised, with a note of how far the run got. Ctrl-C (``KeyboardInterrupt``) stops
+///     the run the same way, with or without a callback.
 /// max_blocks : int, optional
 ///     The most blocks the run may make. Before cutting, the blocks are estimated from the
 ///     arrangement of the planes (``1 + planes + lines + points`` where they meet: the
 ///     product of the plane counts for joint sets that fill the domain); a spec estimated to
-///     make more is refused, and a run that makes more stops. Default: what half the memory
+///     make more is refused, and a run that makes more stops (an excavation too, once it holds
+///     more convex parts). Default: what half the memory
 ///     available holds (about 4 kB a block); give a larger number where the estimate is
 ///     too high. At most 2**63 - 1 (the command line's cap for no limit).
 ///
@@ -179,7 +182,7 @@ fn run(
     let result = py.detach(|| {
         let mut last = Instant::now();
         let mut report = |p: Progress| {
-            let done = p.planes_done == p.planes_total;
+            let done = p.is_last();
             if !done && last.elapsed() < PROGRESS_INTERVAL {
                 return ControlFlow::Continue(());
             }

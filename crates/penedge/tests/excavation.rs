@@ -269,3 +269,167 @@ fn an_excavation_named_as_a_joint_is_refused_naming_the_entry_as_the_spec_does()
     let e = error("T1");
     assert!(e.contains("is already that of excavations[0]"), "{e}");
 }
+
+/// A 10 m box split into 3 blocks by vertical joints at x = 2.5 and 7.5, under a bumpy ground of `n` x `n` elevations over x, y in -1..11:
+/// its air is `2 (n - 1)^2` triangular columns, and the rock below is cut into thousands
+/// of convex parts.
+fn bumpy_ground(n: usize) -> penedge::generation::Spec {
+    use penedge::generation::{
+        Discontinuity, Domain, Excavation, ExcavationShape, JointSet, Orientation, Spec, Surface,
+    };
+    let step = 12.0 / (n - 1) as f64;
+    let xs: Vec<f64> = (0..n).map(|i| -1.0 + i as f64 * step).collect();
+    let z: Vec<f64> = (0..n * n)
+        .map(|k| {
+            let (x, y) = (xs[k % n], xs[k / n]);
+            6.0 + 0.3 * (1.3 * x).sin() * (0.9 * y).cos() + 0.1 * (3.1 * x + 2.3 * y).sin()
+        })
+        .collect();
+    let ground = Surface::from_grid(&xs, &xs, &z, "bumpy");
+    let set = JointSet {
+        origin: [2.5, 0.0, 0.0],
+        ..JointSet::new(Orientation::dip(90.0, 90.0), 5.0)
+    };
+    let mut spec =
+        Spec::new(Domain::cuboid([0.0; 3], [10.0; 3]).unwrap()).with(Discontinuity::set(set));
+    spec.excavations
+        .push(Excavation::new(ExcavationShape::Topography {
+            surface: ground,
+        }));
+    spec
+}
+
+#[test]
+fn an_excavation_stops_when_its_parts_pass_the_block_limit() {
+    use penedge::generation::{generate_with, GenerationError, Limits};
+    use std::ops::ControlFlow;
+    let spec = bumpy_ground(16);
+    let stop = &mut |_| ControlFlow::Continue(());
+    let all = generate_with(&spec, &Limits::blocks(1_000_000), stop).unwrap();
+    let parts = all.system.len();
+    assert!(parts > 300, "{parts}");
+    // The joints make 3 blocks, well within the limit; the excavation's parts pass it.
+    let err = generate_with(&spec, &Limits::blocks(100), stop).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            GenerationError::Outgrew {
+                limit: 100,
+                excavation: Some(0),
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    assert!(err.to_string().contains("excavations[0]"), "{err}");
+}
+
+#[test]
+fn the_progress_callback_is_asked_during_an_excavation_and_can_stop_it() {
+    use penedge::generation::{generate_with, GenerationError, Limits};
+    use std::ops::ControlFlow;
+    let spec = bumpy_ground(16);
+    // Every report: during the excavation the blocks grow past the joints' 3, with every
+    // plane applied, and the last report comes once, with the excavation done.
+    let mut seen = Vec::new();
+    let out = generate_with(&spec, &Limits::default(), &mut |p| {
+        seen.push(p);
+        ControlFlow::Continue(())
+    })
+    .unwrap();
+    let during: Vec<_> = seen
+        .iter()
+        .filter(|p| p.planes_done == p.planes_total && p.excavations_done == 0)
+        .collect();
+    assert!(during.len() > 100, "{}", during.len());
+    assert!(during.iter().any(|p| p.blocks > 300), "{during:?}");
+    assert_eq!(seen.iter().filter(|p| p.is_last()).count(), 1);
+    let last = seen.last().unwrap();
+    assert!(
+        last.is_last() && last.blocks == out.system.len(),
+        "{last:?}"
+    );
+    // A callback that says stop once the excavation has made 50 parts stops it there.
+    let mut calls = 0;
+    let err = generate_with(&spec, &Limits::default(), &mut |p| {
+        calls += 1;
+        if p.blocks > 50 {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    })
+    .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            GenerationError::Cancelled {
+                planes_done: 2,
+                planes_total: 2
+            }
+        ),
+        "{err:?}"
+    );
+    assert!(calls < during.len() / 2, "{calls}");
+}
+
+#[test]
+fn a_circular_tunnel_of_1024_segments_removes_its_polygon_times_its_length() {
+    // 1026 faces: more half-spaces than a block from half-spaces takes (128), built from
+    // its vertices and faces. A tunnel of radius 2 along y from y = -1 through the 10 m
+    // box: 10 m of it within the rock.
+    for segments in [127.0, 1024.0] {
+        let text = format!(
+            "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n\n\
+             [[joints]]\ntype = \"set\"\ndip = 90\ndip_direction = 90\nspacing = 5\n\
+             origin = [2.5, 0, 0]\n\n\
+             [[excavations]]\ntype = \"tunnel\"\nstart = [5.3, -1, 4.7]\ntrend = 0\n\
+             plunge = 0\nlength = 12\nprofile = \"circle\"\nradius = 2\n\
+             segments = {segments}\n"
+        );
+        let out = generate(&parse_toml(&text).unwrap()).unwrap();
+        let exact = polygon_area(segments, 2.0) * 10.0;
+        let err = (out.report.excavated_volume - exact).abs();
+        assert!(err < 1e-9 * exact, "{segments}: {err}");
+        assert!((1000.0 - left(&out) - exact).abs() < 1e-9 * exact);
+        // The blocks around the tunnel stay whole: the three joint blocks, in parts.
+        assert_eq!(out.system.body_parts().len(), 3);
+    }
+}
+
+#[test]
+fn a_smooth_slope_of_2001_vertices_removes_the_air_above_its_polyline() {
+    // A valley v = 2 + 0.06 (u - 5)^2 from u = 0 to 10 at 2001 points: the air above it is
+    // one convex piece of 2000 edges and its lid (a valley joins its columns), more
+    // half-spaces than a block from half-spaces takes.
+    let v = |u: f64| 2.0 + 0.06 * (u - 5.0) * (u - 5.0);
+    let vertices: Vec<[f64; 2]> = (0..=2000)
+        .map(|k| {
+            let u = k as f64 / 200.0;
+            [u, v(u)]
+        })
+        .collect();
+    let list: Vec<String> = vertices
+        .iter()
+        .map(|p| format!("[{:?}, {:?}]", p[0], p[1]))
+        .collect();
+    let text = format!(
+        "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n\n\
+         [[joints]]\ntype = \"set\"\ndip = 90\ndip_direction = 90\nspacing = 5\n\
+         origin = [2.5, 0, 0]\n\n\
+         [[excavations]]\ntype = \"slope\"\norigin = [0, 0, 0]\ntrend = 0\n\
+         vertices = [{}]\n",
+        list.join(", ")
+    );
+    let out = generate(&parse_toml(&text).unwrap()).unwrap();
+    // The air between the polyline and the top z = 10, 10 m along y.
+    let air: f64 = vertices
+        .windows(2)
+        .map(|w| (w[1][0] - w[0][0]) * (10.0 - 0.5 * (w[0][1] + w[1][1])))
+        .sum::<f64>()
+        * 10.0;
+    let err = (out.report.excavated_volume - air).abs();
+    assert!(err < 1e-9 * air, "{err}");
+    assert!((1000.0 - left(&out) - air).abs() < 1e-9 * air);
+    assert_eq!(out.system.body_parts().len(), 3);
+}

@@ -62,8 +62,9 @@ Before cutting, the blocks are estimated from the arrangement of the planes (1 +
 + lines + points where they meet; the product of the plane counts for joint sets that
 fill the domain). A spec estimated to make more than --max-blocks (default: what half
 the memory available holds, at about 4 kB a block) is refused with the estimate, and a
-run that makes more stops. Ctrl-C stops a run within a second (between two planes);
-nothing is written then. Every output is written to a temporary file beside it first
+run that makes more stops (an excavation too, once it holds more convex parts). Ctrl-C
+stops a run within a second (between two planes, or two cuts of an excavation); nothing
+is written then. Every output is written to a temporary file beside it first
 and all are moved into place at the end: a run that cannot write one of them (a
 folder it may not write to, a full disk) writes none.
 

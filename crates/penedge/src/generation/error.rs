@@ -197,9 +197,10 @@ pub enum GenerationError {
     /// The run made more blocks than its limit (its estimate was too low) and stopped.
     #[error(
         "the run outgrew its estimate (about {} blocks): it made more than the limit of {} \
-         blocks{} after {planes_done} of {planes_total} joint planes and was stopped. Use a \
-         larger spacing or a smaller domain, or raise the limit (max_blocks, `--max-blocks`)",
-        Count(*estimate), Count(*limit as f64), limit_reason(*given)
+         blocks{} {} and was stopped. Use a larger spacing or a smaller domain, or raise the \
+         limit (max_blocks, `--max-blocks`)",
+        Count(*estimate), Count(*limit as f64), limit_reason(*given),
+        outgrew_when(*planes_done, *planes_total, *excavation)
     )]
     Outgrew {
         /// The estimate made before cutting.
@@ -212,6 +213,9 @@ pub enum GenerationError {
         planes_done: usize,
         /// Planes in all.
         planes_total: usize,
+        /// The excavation (its index in the spec) whose convex parts outgrew the limit;
+        /// `None` when the joints' cuts did.
+        excavation: Option<usize>,
     },
     /// The progress callback asked the run to stop (Ctrl-C, an exception in a callback).
     #[error("generation cancelled after {planes_done} of {planes_total} joint planes")]
@@ -221,6 +225,17 @@ pub enum GenerationError {
         /// Planes in all.
         planes_total: usize,
     },
+}
+
+/// When a run outgrew its limit: `after 3 of 9 joint planes`, or `in excavations[0] (after
+/// all 9 joint planes)`.
+fn outgrew_when(planes_done: usize, planes_total: usize, excavation: Option<usize>) -> String {
+    match excavation {
+        None => format!("after {planes_done} of {planes_total} joint planes"),
+        Some(k) => format!(
+            "in the convex parts of excavations[{k}] (after all {planes_total} joint planes)"
+        ),
+    }
 }
 
 fn limit_reason(given: bool) -> &'static str {

@@ -453,11 +453,16 @@ impl Prism {
             .map_err(|e| SpecError::new(prefix, Problem::Invalid(e.to_string())))
     }
 
-    /// One convex piece swept along the axis, as half-spaces: the two ends and one side per
-    /// edge of the piece (its outward normal in the profile's plane).
+    /// One convex piece swept along the axis: the two ends and one side per edge of the
+    /// piece (its outward normal in the profile's plane). Built from these half-spaces
+    /// while they are few enough ([`crate::block::MAX_HALFSPACES`]), else from its
+    /// vertices and faces, known exactly (a circle of 1024 segments has 1026 faces).
     fn region(&self, piece: &[[f64; 2]]) -> Result<ConvexBlock, crate::BlockError> {
         let at = |p: [f64; 2]| self.start + self.u * p[0] + self.v * p[1];
         let end = self.start + self.d * self.length;
+        if piece.len() + 2 > crate::block::MAX_HALFSPACES {
+            return self.column(piece);
+        }
         let mut normals = vec![(-self.d).to_array(), self.d.to_array()];
         let mut offsets = vec![-self.d.dot(self.start), self.d.dot(end)];
         for k in 0..piece.len() {
@@ -468,6 +473,50 @@ impl Prism {
             offsets.push(n.dot(at(p)));
         }
         ConvexBlock::from_planes(&normals, &offsets)
+    }
+
+    /// [`Prism::region`] from vertices and faces, in the same order of faces: the start
+    /// (the piece's vertices at `start`, counter-clockwise seen from behind it: `v = u x
+    /// d`), the end, and the side of each edge. A vertex of the piece within a few times
+    /// the block's length tolerance of the line through its neighbours is left out, as the
+    /// half-spaces would leave it: its two sides would be one face, and it no corner.
+    fn column(&self, piece: &[[f64; 2]]) -> Result<ConvexBlock, crate::BlockError> {
+        let at = |p: [f64; 2]| self.start + self.u * p[0] + self.v * p[1];
+        let along = self.d * self.length;
+        let corners: Vec<DVec3> = piece.iter().flat_map(|&p| [at(p), at(p) + along]).collect();
+        let size = crate::geometry::Aabb::of_points(&corners);
+        let straight = 8.0 * crate::Tolerance::default().for_box(&size).length;
+        let mut piece = piece.to_vec();
+        loop {
+            let before = piece.len();
+            let mut k = 0;
+            while k < piece.len() && piece.len() > 3 {
+                let n = piece.len();
+                let (p, q, r) = (piece[(k + n - 1) % n], piece[k], piece[(k + 1) % n]);
+                let (a, b) = ([r[0] - p[0], r[1] - p[1]], [q[0] - p[0], q[1] - p[1]]);
+                let off = (a[0] * b[1] - a[1] * b[0]).abs() / a[0].hypot(a[1]);
+                if off <= straight {
+                    piece.remove(k);
+                    k = k.saturating_sub(1);
+                } else {
+                    k += 1;
+                }
+            }
+            if piece.len() == before {
+                break;
+            }
+        }
+        let n = piece.len();
+        let mut vertices: Vec<[f64; 3]> = piece.iter().map(|&p| at(p).to_array()).collect();
+        vertices.extend(piece.iter().map(|&p| (at(p) + along).to_array()));
+        let mut faces: Vec<Vec<usize>> = Vec::with_capacity(n + 2);
+        faces.push((0..n).collect());
+        faces.push((0..n).rev().map(|k| n + k).collect());
+        for k in 0..n {
+            let l = (k + 1) % n;
+            faces.push(vec![k, n + k, n + l, l]);
+        }
+        ConvexBlock::new(&vertices, &faces)
     }
 }
 
@@ -711,6 +760,34 @@ mod tests {
 
     fn area(pieces: &[Vec<[f64; 2]>]) -> f64 {
         pieces.iter().map(|p| signed_area(p)).sum()
+    }
+
+    #[test]
+    fn a_convex_piece_of_many_edges_is_a_column_and_a_vertex_on_its_chord_no_corner() {
+        // A regular 300-gon of radius 1 (302 faces swept, more half-spaces than a block
+        // from them takes) with a vertex 1e-10 outside the middle of one edge: within the
+        // length tolerance (1e-9 of the column's size, some 4 m) of that edge's line, so
+        // its two sides are one face and it is no corner; it is left out.
+        let n = 300;
+        let mut piece: Vec<[f64; 2]> = (0..n)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / n as f64;
+                [a.cos(), a.sin()]
+            })
+            .collect();
+        let (p, q) = (piece[0], piece[1]);
+        let (mid, out) = ([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])], 1e-10);
+        let norm = mid[0].hypot(mid[1]);
+        piece.insert(
+            1,
+            [mid[0] * (1.0 + out / norm), mid[1] * (1.0 + out / norm)],
+        );
+        let prism = Prism::new(DVec3::ZERO, DVec3::Y, DVec3::X, 3.0, vec![piece]);
+        let regions = prism.regions("excavation").unwrap();
+        assert_eq!(regions.len(), 1);
+        assert_eq!(regions[0].n_faces(), n + 2);
+        let exact = 0.5 * n as f64 * (std::f64::consts::TAU / n as f64).sin() * 3.0;
+        assert!((regions[0].volume() - exact).abs() < 1e-12 * exact);
     }
 
     #[test]

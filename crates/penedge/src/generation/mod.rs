@@ -81,15 +81,28 @@ pub struct Generated {
     pub report: GenerationReport,
 }
 
-/// Progress of a run, reported after each joint plane.
+/// Progress of a run, reported after each joint plane, then during the excavations (after
+/// each of their cuts and blocks, with every plane applied).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Progress {
     /// Planes applied so far.
     pub planes_done: usize,
     /// Planes in all.
     pub planes_total: usize,
-    /// Blocks so far.
+    /// Blocks so far (during an excavation: the convex parts it holds, those still to be
+    /// cut included).
     pub blocks: usize,
+    /// Excavations done (0 while the planes are cut).
+    pub excavations_done: usize,
+    /// Excavations in all.
+    pub excavations_total: usize,
+}
+
+impl Progress {
+    /// Whether this is the run's last report: every plane applied, every excavation done.
+    pub fn is_last(&self) -> bool {
+        self.planes_done == self.planes_total && self.excavations_done == self.excavations_total
+    }
 }
 
 /// Generates the block system of a spec, within the memory available ([`Limits::default`]).
@@ -108,15 +121,17 @@ pub fn generate_with_progress(
     })
 }
 
-/// Generates within `limits`, calling `progress` after each joint plane; the run stops
-/// there with [`GenerationError::Cancelled`] when `progress` returns `Break` (Ctrl-C, an
-/// error in a callback), so a run stops within one plane's cuts.
+/// Generates within `limits`, calling `progress` after each joint plane and, during the
+/// excavations, after each of their cuts; the run stops there with
+/// [`GenerationError::Cancelled`] when `progress` returns `Break` (Ctrl-C, an error in a
+/// callback), so a run stops within one plane's cuts (or one excavation cut's).
 ///
 /// # Errors
 ///
 /// A bad spec; [`GenerationError::TooManyBlocks`] before cutting when the spec's
 /// [`estimate`] passes `limits.max_blocks`; [`GenerationError::Outgrew`] when the run
-/// makes more blocks than that all the same; a cut that cannot be made.
+/// makes more blocks than that all the same (the cuts of the joints, or of an excavation:
+/// its convex parts); a cut that cannot be made.
 pub fn generate_with(
     spec: &Spec,
     limits: &Limits,
@@ -159,6 +174,7 @@ pub fn generate_with(
                 given: limits.given,
                 planes_done: done + 1,
                 planes_total,
+                excavation: None,
             });
         }
         partial[record.set as usize] += counts.partial - before;
@@ -166,6 +182,8 @@ pub fn generate_with(
             planes_done: done + 1,
             planes_total,
             blocks: tree.len(),
+            excavations_done: 0,
+            excavations_total: spec.excavations.len(),
         };
         if progress(step).is_break() {
             return Err(GenerationError::Cancelled {
@@ -183,10 +201,38 @@ pub fn generate_with(
     let domain = spec.domain.parts().to_vec();
     let mut system = BlockSystem::with_provenance(blocks, domain, plan.records, plan.sets)
         .with_unit(spec.unit.clone());
+    let excavations_total = spec.excavations.len();
     for (k, excavation) in spec.excavations.iter().enumerate() {
         let prefix = format!("excavations[{k}]");
         let tol = &spec.options.tolerance;
-        let (excavated, done) = system.excavate_at(excavation, &prefix, tol)?;
+        // The excavation's parts within the limit, and the callback asked as the cutting's.
+        let watch = &mut |blocks: usize| {
+            if blocks > max_blocks {
+                return Err(GenerationError::Outgrew {
+                    estimate: estimate.blocks,
+                    limit: limits.max_blocks,
+                    given: limits.given,
+                    planes_done: planes_total,
+                    planes_total,
+                    excavation: Some(k),
+                });
+            }
+            let step = Progress {
+                planes_done: planes_total,
+                planes_total,
+                blocks,
+                excavations_done: k,
+                excavations_total,
+            };
+            if progress(step).is_break() {
+                return Err(GenerationError::Cancelled {
+                    planes_done: planes_total,
+                    planes_total,
+                });
+            }
+            Ok(())
+        };
+        let (excavated, done) = system.excavate_watched(excavation, &prefix, tol, watch)?;
         if excavated.is_empty() {
             // As a ground entirely below the rock (slope.rs, topography.rs): a spec's
             // excavation of every kind may not leave an empty system (`BlockSystem::excavate`
@@ -200,6 +246,19 @@ pub fn generate_with(
         }
         report.excavated_volume += done.volume_removed;
         system = excavated;
+        // The last report (planes and excavations done) comes once, at the end.
+        if k + 1 < excavations_total {
+            watch_between(progress, planes_total, &system, k + 1, excavations_total)?;
+        }
+    }
+    if excavations_total > 0 {
+        watch_between(
+            progress,
+            planes_total,
+            &system,
+            excavations_total,
+            excavations_total,
+        )?;
     }
     // The pieces a bridged joint cut through, one body while the bridge holds (after the
     // excavations: they cut and remove single pieces, and the bridges left glue what holds).
@@ -213,6 +272,30 @@ pub fn generate_with(
         report.block_volume = system.blocks().iter().map(|b| b.volume()).sum();
     }
     Ok(Generated { system, report })
+}
+
+/// Reports the blocks after `done` of `total` excavations; a `Break` cancels the run.
+fn watch_between(
+    progress: &mut dyn FnMut(Progress) -> ControlFlow<()>,
+    planes_total: usize,
+    system: &BlockSystem,
+    done: usize,
+    total: usize,
+) -> Result<(), GenerationError> {
+    let step = Progress {
+        planes_done: planes_total,
+        planes_total,
+        blocks: system.len(),
+        excavations_done: done,
+        excavations_total: total,
+    };
+    if progress(step).is_break() {
+        return Err(GenerationError::Cancelled {
+            planes_done: planes_total,
+            planes_total,
+        });
+    }
+    Ok(())
 }
 
 /// The number of joint planes a spec makes (checked and expanded, nothing cut): to bound

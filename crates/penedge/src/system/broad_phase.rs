@@ -133,17 +133,48 @@ impl WideBoxes {
             .collect()
     }
 
-    fn sweep(&self) -> Vec<[u32; 2]> {
+    /// The boxes [`BroadPhase::Sweep`] would compare (each with those after it in its
+    /// order, up to the first that starts past its end), counted without comparing them:
+    /// few where the boxes are thin across the axis of largest spread (the columns a
+    /// topographic surface leaves), on which the grid, whose cells are as large as the
+    /// boxes' longest side, compares nearly every pair.
+    pub(crate) fn sweep_work(&self) -> usize {
         let n = self.len();
         if n < 2 {
-            return Vec::new();
+            return 0;
         }
+        let axis = self.sweep_axis();
+        let mut starts: Vec<f64> = self.min.iter().map(|m| m[axis]).collect();
+        starts.par_sort_unstable_by(f64::total_cmp);
+        // The box at `k` in the order compares those after it that start by its end: those
+        // that do, `k + 1` of them before it or itself; summed over the boxes, those that
+        // start by each end less `n (n + 1) / 2`.
+        let before: usize = self
+            .max
+            .par_iter()
+            .map(|e| starts.partition_point(|&s| s <= e[axis]))
+            .sum();
+        before.saturating_sub(n * (n + 1) / 2)
+    }
+
+    /// The axis along which [`BroadPhase::Sweep`] sorts: of the boxes' centres' largest
+    /// spread.
+    fn sweep_axis(&self) -> usize {
+        let n = self.len();
         let centre = |i: usize| (self.min[i] + self.max[i]) * 0.5;
         let mean = (0..n).map(centre).sum::<DVec3>() / n as f64;
         let spread = (0..n)
             .map(|i| (centre(i) - mean) * (centre(i) - mean))
             .sum::<DVec3>();
-        let axis = spread.max_position();
+        spread.max_position()
+    }
+
+    fn sweep(&self) -> Vec<[u32; 2]> {
+        let n = self.len();
+        if n < 2 {
+            return Vec::new();
+        }
+        let axis = self.sweep_axis();
         let mut order: Vec<u32> = (0..n as u32).collect();
         order.par_sort_unstable_by(|&i, &j| {
             self.min[i as usize][axis].total_cmp(&self.min[j as usize][axis])

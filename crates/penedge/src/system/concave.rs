@@ -103,7 +103,18 @@ impl BlockSystem {
     /// assert_eq!(system.internal_faces().len(), 1); // the top of part 0 under part 1
     /// assert!((system.internal_faces()[0].area - 1.0).abs() < 1e-9);
     /// ```
-    pub fn with_bodies(mut self, ids: Vec<u32>, tol: &Tolerance) -> Result<Self, ConcaveError> {
+    pub fn with_bodies(self, ids: Vec<u32>, tol: &Tolerance) -> Result<Self, ConcaveError> {
+        self.with_bodies_among(ids, None, tol)
+    }
+
+    /// [`BlockSystem::with_bodies`], with the broad phase's candidate pairs when the caller
+    /// has them already (an excavation), else found here.
+    pub(crate) fn with_bodies_among(
+        mut self,
+        ids: Vec<u32>,
+        pairs: Option<&[[u32; 2]]>,
+        tol: &Tolerance,
+    ) -> Result<Self, ConcaveError> {
         if ids.len() != self.len() {
             return Err(ConcaveError::Count {
                 given: ids.len(),
@@ -118,11 +129,19 @@ impl BlockSystem {
         for &b in &ids {
             *counts.entry(b).or_default() += 1;
         }
+        let found;
+        let pairs = match pairs {
+            Some(pairs) => pairs,
+            None => {
+                found = self.candidate_pairs(tol);
+                &found
+            }
+        };
         let multi: Vec<bool> = ids.iter().map(|b| counts[b] > 1).collect();
         let mut det = Detector::new(*tol);
         let mut internal = Vec::new();
         // Pairs of parts of one body: within the broad phase's candidates (boxes that touch).
-        for [i, j] in self.candidate_pairs(tol) {
+        for &[i, j] in pairs {
             if ids[i as usize] != ids[j as usize] {
                 continue;
             }

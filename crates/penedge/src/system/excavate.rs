@@ -21,6 +21,7 @@ use crate::generation::{
     SpecError,
 };
 use crate::geometry::{Aabb, Plane};
+use crate::system::BroadPhase;
 use crate::tolerance::Tolerance;
 
 /// What an excavation did.
@@ -77,6 +78,20 @@ impl BlockSystem {
         prefix: &str,
         tol: &Tolerance,
     ) -> Result<(BlockSystem, ExcavationReport), GenerationError> {
+        self.excavate_watched(excavation, prefix, tol, &mut |_| Ok(()))
+    }
+
+    /// [`BlockSystem::excavate_at`], calling `watch` as it goes with the parts it holds
+    /// (those made, those still to be cut and the blocks not reached yet): after each cut
+    /// and each block, and now and then while it glues the parts into bodies. An error
+    /// from `watch` (a block limit passed, a run cancelled) stops the excavation there.
+    pub(crate) fn excavate_watched(
+        &self,
+        excavation: &Excavation,
+        prefix: &str,
+        tol: &Tolerance,
+        watch: &mut Watch<'_>,
+    ) -> Result<(BlockSystem, ExcavationReport), GenerationError> {
         let extent = Extent::of(&self.blocks).ok_or_else(|| misses(prefix))?;
         let regions = excavation.regions_at(prefix, Some(&extent))?;
         let set = self.sets.len() as u32;
@@ -115,37 +130,61 @@ impl BlockSystem {
                 Some(first)
             })
             .collect();
+        let index = RegionIndex::new(&regions);
+        // The parts still to be cut, each with the first region it may meet, last on top.
+        let mut stack: Vec<(ConvexBlock, usize)> = Vec::new();
         for (k, block) in self.blocks.iter().enumerate() {
-            let mut parts = vec![block.clone()];
+            // Each part goes through the regions in order, as a whole list of parts would
+            // (region by region, each part replaced in place by what is left of it): a
+            // part's pieces depend on that part and the regions alone, so taking the parts
+            // depth first, the pieces of a part before the next part, makes the same pieces
+            // in the same order. Only the regions whose box meets the part's are tried (a
+            // slope or a surface has many regions, most far from any one part), found in
+            // the index, and a region must meet the block's box too (as it always did).
+            let block_box = block.aabb();
+            let before = pieces.len();
             let mut touched = false;
-            for (region, &joint) in regions.iter().zip(&firsts) {
-                // A slope or a surface has many regions, most far from the block: skipped
-                // before its parts are moved.
-                if !block.aabb().overlaps(&region.aabb(), eps) {
-                    continue;
-                }
-                let mut next = Vec::with_capacity(parts.len());
-                for part in parts {
-                    match subtract(&part, region, set, joint, eps, &mut splitter) {
-                        Ok(Some(left)) => {
-                            touched = true;
-                            next.extend(left);
+            stack.push((block.clone(), 0));
+            while let Some((part, from)) = stack.pop() {
+                let part_box = part.aabb();
+                let mut next = from;
+                let left = loop {
+                    let Some(r) = index.first(next, &part_box, -eps) else {
+                        break None;
+                    };
+                    next = r + 1;
+                    let region = &regions[r];
+                    if !block_box.overlaps(&region.aabb(), eps) {
+                        continue;
+                    }
+                    match subtract(&part, region, set, firsts[r], eps, &mut splitter) {
+                        Ok(Some(left)) => break Some(left),
+                        Ok(None) => {}
+                        Err(source) => {
+                            let joint = firsts[r];
+                            return Err(GenerationError::Cut { set, joint, source });
                         }
-                        Ok(None) => next.push(part),
-                        Err(source) => return Err(GenerationError::Cut { set, joint, source }),
+                    }
+                };
+                match left {
+                    None => pieces.push((k as u32, part)),
+                    Some(left) => {
+                        touched = true;
+                        stack.extend(left.into_iter().rev().map(|p| (p, next)));
+                        watch(pieces.len() + stack.len() + self.len() - k - 1)?;
                     }
                 }
-                parts = next;
             }
             if touched {
-                if parts.is_empty() {
+                let parts = pieces.len() - before;
+                if parts == 0 {
                     report.removed_blocks += 1;
                 } else {
                     report.cut_blocks += 1;
-                    report.parts += parts.len();
+                    report.parts += parts;
                 }
             }
-            pieces.extend(parts.into_iter().map(|p| (k as u32, p)));
+            watch(pieces.len() + self.len() - k - 1)?;
         }
         if report.removed_blocks + report.cut_blocks == 0 {
             return Err(misses(prefix));
@@ -157,11 +196,70 @@ impl BlockSystem {
         let blocks: Vec<ConvexBlock> = pieces.into_iter().map(|p| p.1).collect();
         let out = BlockSystem::with_provenance(blocks, self.domain.clone(), joints, sets)
             .with_unit(self.unit.clone());
-        let ids = connected_bodies(&out, &bodies, tol);
+        let pairs = part_pairs(&out, tol);
+        watch(out.len())?;
+        let ids = connected_bodies(&out, &bodies, &pairs, tol, watch)?;
         let out = out
-            .with_bodies(ids, tol)
+            .with_bodies_among(ids, Some(&pairs), tol)
             .map_err(|e| SpecError::new(prefix, Problem::Invalid(e.to_string())))?;
         Ok((out, report))
+    }
+}
+
+/// What [`BlockSystem::excavate_watched`] calls with the parts it holds; an error stops it.
+pub(crate) type Watch<'a> = dyn FnMut(usize) -> Result<(), GenerationError> + 'a;
+
+/// The regions' boxes in a tree over their order (a segment tree: each node holds the
+/// union of its range's boxes), to find the first region from a given one on whose box
+/// meets a part's box in time logarithmic in the regions (when there is one near).
+struct RegionIndex {
+    /// Leaves at `size..size + n` (padded with empty boxes), node `i`'s children at `2i`
+    /// and `2i + 1`.
+    nodes: Vec<Aabb>,
+    size: usize,
+}
+
+impl RegionIndex {
+    fn new(regions: &[ConvexBlock]) -> RegionIndex {
+        let size = regions.len().next_power_of_two();
+        let empty = Aabb {
+            min: crate::geometry::DVec3::splat(f64::INFINITY),
+            max: crate::geometry::DVec3::splat(f64::NEG_INFINITY),
+        };
+        let mut nodes = vec![empty; 2 * size];
+        for (k, r) in regions.iter().enumerate() {
+            nodes[size + k] = r.aabb();
+        }
+        for i in (1..size).rev() {
+            nodes[i] = union(nodes[2 * i], nodes[2 * i + 1]);
+        }
+        RegionIndex { nodes, size }
+    }
+
+    /// The first region `r >= from` whose box `b.overlaps(box of r, margin)`: a union
+    /// meets `b` whenever one of its boxes does, so a node whose union does not is skipped.
+    fn first(&self, from: usize, b: &Aabb, margin: f64) -> Option<usize> {
+        self.first_in(1, 0, self.size, from, b, margin)
+    }
+
+    fn first_in(
+        &self,
+        node: usize,
+        lo: usize,
+        hi: usize,
+        from: usize,
+        b: &Aabb,
+        margin: f64,
+    ) -> Option<usize> {
+        if hi <= from || !b.overlaps(&self.nodes[node], margin) {
+            return None;
+        }
+        if hi - lo == 1 {
+            return Some(lo);
+        }
+        let mid = lo + (hi - lo) / 2;
+        self.first_in(2 * node, lo, mid, from, b, margin)
+            .or_else(|| self.first_in(2 * node + 1, mid, hi, from, b, margin))
     }
 }
 
@@ -287,11 +385,32 @@ fn subtract(
     Ok(Some(left))
 }
 
+/// The broad phase's candidate pairs of the parts (the same pairs by either method, in
+/// the same order): by the sweep where it compares few boxes (up to 1024 a part: a few
+/// microseconds), as for the
+/// thin columns of a topographic surface, which the grid (cells as large as the parts'
+/// longest side) compares nearly all with one another; else by the grid.
+fn part_pairs(system: &BlockSystem, tol: &Tolerance) -> Vec<[u32; 2]> {
+    let boxes = system.wide_boxes(tol);
+    let method = if boxes.sweep_work() <= 1024 * boxes.len() {
+        BroadPhase::Sweep
+    } else {
+        BroadPhase::Grid
+    };
+    boxes.pairs(method)
+}
+
 /// Body ids after a cut: the parts of one body (`bodies`, per block) that are connected
 /// through face-face contacts of positive area (not across a crack, [`BlockSystem::is_crack`])
 /// stay one body; a body cut in two becomes two.
 /// Ids are renumbered `0..` in the order of each body's first part.
-fn connected_bodies(system: &BlockSystem, bodies: &[u32], tol: &Tolerance) -> Vec<u32> {
+fn connected_bodies(
+    system: &BlockSystem,
+    bodies: &[u32],
+    pairs: &[[u32; 2]],
+    tol: &Tolerance,
+    watch: &mut Watch<'_>,
+) -> Result<Vec<u32>, GenerationError> {
     let n = bodies.len();
     let mut root: Vec<usize> = (0..n).collect();
     fn find(root: &mut [usize], mut k: usize) -> usize {
@@ -302,7 +421,10 @@ fn connected_bodies(system: &BlockSystem, bodies: &[u32], tol: &Tolerance) -> Ve
         k
     }
     let mut det = Detector::new(*tol);
-    for [i, j] in system.candidate_pairs(tol) {
+    for (k, &[i, j]) in pairs.iter().enumerate() {
+        if k % 1024 == 1023 {
+            watch(n)?;
+        }
         let (i, j) = (i as usize, j as usize);
         if bodies[i] != bodies[j] {
             continue;
@@ -333,7 +455,7 @@ fn connected_bodies(system: &BlockSystem, bodies: &[u32], tol: &Tolerance) -> Ve
         }
         ids[k] = ids[r];
     }
-    ids
+    Ok(ids)
 }
 
 #[cfg(test)]
