@@ -268,3 +268,64 @@ def test_every_body_id_array_is_int64_as_the_systems_pairs():
     assert report["removed"].tolist() == [2]
     assert sim.contacts()["pairs"].tolist() == [[0, 1]] == found.pairs.tolist()
     assert sim.bolts()["pairs"].tolist() == [[1, 0]]  # from the cube down into the base
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda sim: sim.fix([0, True]),
+        lambda sim: sim.excavate([2, True]),
+        lambda sim: sim.set_density(2000.0, (np.int64(0), np.True_)),
+    ],
+)
+def test_a_bool_in_a_list_of_ids_is_refused_not_read_as_0_or_1(call):
+    # numpy makes [0, True] the int64 array [0, 1]: body 1 was fixed, excavated or changed.
+    sim = two_cubes()
+    with pytest.raises(penedge.InputError, match=r"ids\[1\] must be an integer, got the bool"):
+        call(sim)
+    assert not sim.fixed.any() and not sim.removed.any()
+    with pytest.raises(penedge.InputError, match="body_ids"):
+        penedge.BlockSystem([CUBOID([0, 0, 0], [1, 1, 1])] * 1).with_bodies([False])
+
+
+def test_a_large_unsigned_id_is_named_as_given():
+    sim = two_cubes()
+    with pytest.raises(penedge.MechanicsError, match="18446744073709551615"):
+        sim.fix(np.array([2**64 - 1], dtype=np.uint64))
+
+
+@pytest.mark.parametrize(
+    ("base", "problem"),
+    [
+        (np.array([1, 2, 3, 0, 0, 0], dtype=complex), "real numbers"),
+        (np.array([True, False, False, False, False, False]), "real numbers"),
+        (np.zeros((1, 6)), "shape"),
+        (np.zeros((3, 3)), "shape"),
+        (np.float64(1.0), "shape"),
+    ],
+)
+def test_an_initial_stress_that_is_not_six_real_numbers_is_named(base, problem):
+    # Complex values were cut to their real part, bools read as 1 and 0 Pa, and wrong
+    # shapes raised a bare ValueError or TypeError naming no argument.
+    sim = two_cubes()
+    with pytest.raises(penedge.InputError, match=rf"base.*{problem}|{problem}.*base") as e:
+        sim.set_initial_stress(base=base)
+    assert "base" in str(e.value)
+    with pytest.raises(penedge.InputError, match="per_depth"):
+        sim.set_initial_stress(per_depth=base)
+    sim.set_initial_stress(base=np.arange(6.0), per_depth=(0, 0, 1e4, 0, 0, 0))  # fine
+
+
+def test_a_masked_array_with_masked_values_is_refused_not_read_under_the_mask():
+    # np.asarray drops the mask: the box went up to z = 99 and gravity to -1e6.
+    hidden = np.ma.masked_array([1.0, 1.0, 99.0], mask=[0, 0, 1])
+    with pytest.raises(penedge.InputError, match="hi has masked values") as e:
+        CUBOID([0, 0, 0], hidden)
+    assert e.value.kind == "masked"
+    sim = two_cubes()
+    with pytest.raises(penedge.InputError, match="gravity has masked values"):
+        sim.gravity = np.ma.masked_array([0.0, 0.0, -1e6], mask=[0, 0, 1])
+    assert sim.gravity.tolist() == [0.0, 0.0, -9.81]
+    # No value masked: read as it is.
+    box = CUBOID([0, 0, 0], np.ma.masked_array([1.0, 2.0, 3.0], mask=False))
+    assert box.volume == pytest.approx(6.0)

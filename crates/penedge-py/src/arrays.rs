@@ -15,13 +15,44 @@ use penedge::glam::{DMat3, DQuat};
 use pyo3::prelude::*;
 
 /// `numpy.asarray(obj)`, as an `InputError` naming `name` and what it should hold when
-/// numpy cannot make an array of it.
+/// numpy cannot make an array of it. A masked array with a masked value is refused: asarray
+/// would hand over the values under the mask as if they were given.
 fn as_array<'py>(obj: &Bound<'py, PyAny>, name: &str, what: &str) -> PyResult<Bound<'py, PyAny>> {
-    obj.py()
-        .import("numpy")?
+    let numpy = obj.py().import("numpy")?;
+    let ma = numpy.getattr("ma")?;
+    if obj.is_instance(&ma.getattr("MaskedArray")?)?
+        && ma.call_method1("is_masked", (obj,))?.is_truthy()?
+    {
+        let message = format!(
+            "{name} has masked values: penedge reads no mask, so fill them (`.filled(x)`) or \
+             leave those rows out"
+        );
+        return Err(input_error("masked", message));
+    }
+    numpy
         .getattr("asarray")?
         .call1((obj,))
         .map_err(|e| input_error("dtype", format!("{name} must be an array of {what}: {e}")))
+}
+
+/// A list or tuple holding a bool, Python's or numpy's, as an `InputError` naming `name`:
+/// numpy would make 0 and 1 of it when other elements are integers (`[0, True]`).
+fn refuse_bools(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<()> {
+    let items = if let Ok(list) = obj.cast::<pyo3::types::PyList>() {
+        list.iter().collect::<Vec<_>>()
+    } else if let Ok(tuple) = obj.cast::<pyo3::types::PyTuple>() {
+        tuple.iter().collect()
+    } else {
+        return Ok(());
+    };
+    for (i, item) in items.iter().enumerate() {
+        let numpy_bool = item.get_type().name().is_ok_and(|n| n == "bool");
+        if item.is_instance_of::<pyo3::types::PyBool>() || numpy_bool {
+            let message = format!("{name}[{i}] must be an integer, got the bool {item}");
+            return Err(input_error("dtype", message));
+        }
+    }
+    Ok(())
 }
 
 /// `obj` as float64 values with the given shape (`None` = any length along that axis).
@@ -128,6 +159,7 @@ pub fn rotation(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<DQuat> {
 /// An `(n,)` array-like of non-negative whole numbers (offsets, indices); any integer
 /// dtype, no floats.
 pub fn indices(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<u64>> {
+    refuse_bools(obj, name)?;
     let array = as_array(obj, name, "integers")?;
     let untyped = array.cast::<PyUntypedArray>()?;
     let dtype = untyped.dtype();
@@ -137,6 +169,12 @@ pub fn indices(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<u64>> {
         return Err(input_error("dtype", msg));
     }
     check_shape(name, untyped.shape(), &[None])?;
+    if dtype.kind() == b'u' {
+        // As they are: through int64, 2**64 - 1 would read as -1.
+        let ints = array.call_method1("astype", ("uint64",))?;
+        let ints: PyReadonlyArrayDyn<'_, u64> = ints.extract()?;
+        return Ok(ints.as_array().iter().copied().collect());
+    }
     let ints = array.call_method1("astype", ("int64",))?;
     let ints: PyReadonlyArrayDyn<'_, i64> = ints.extract()?;
     ints.as_array()
@@ -147,6 +185,12 @@ pub fn indices(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<u64>> {
                 .map_err(|_| input_error("negative", format!("{name}[{i}] is {v}, below 0")))
         })
         .collect()
+}
+
+/// A `(6,)` array-like as six numbers (a stress tensor's components).
+pub fn six(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<[f64; 6]> {
+    let v = float_array(obj, name, &[Some(6)])?;
+    Ok([v[0], v[1], v[2], v[3], v[4], v[5]])
 }
 
 /// An `(n,)` array-like as numbers.

@@ -600,15 +600,19 @@ impl Simulation {
     ///
     /// Raises
     /// ------
+    /// InputError
+    ///     `base` or `per_depth` not six real numbers.
     /// MechanicsError
     ///     After the first step, or a NaN.
     #[pyo3(signature = (base = None, per_depth = None, surface = 0.0))]
     fn set_initial_stress(
         &mut self,
-        base: Option<[f64; 6]>,
-        per_depth: Option<[f64; 6]>,
+        base: Option<&Bound<'_, PyAny>>,
+        per_depth: Option<&Bound<'_, PyAny>>,
         surface: f64,
     ) -> PyResult<()> {
+        let base = base.map(|b| arrays::six(b, "base")).transpose()?;
+        let per_depth = per_depth.map(|p| arrays::six(p, "per_depth")).transpose()?;
         let stress = (base.is_some() || per_depth.is_some()).then(|| mechanics::InitialStress {
             base: base.unwrap_or([0.0; 6]),
             per_depth: per_depth.unwrap_or([0.0; 6]),

@@ -26,9 +26,10 @@ impl BlockSystem {
     /// Raises
     /// ------
     /// InputError
-    ///     Not one id per block, a negative id (``kind == "body_ids"``), parts of a body that
-    ///     overlap or are not all glued face to face (``kind == "concave"``, the message names
-    ///     the body and the parts).
+    ///     Not one id per block (``kind == "body_ids"``), an id that is negative or not a
+    ///     whole number (a float or a bool: ``kind`` ``"negative"`` or ``"dtype"``), parts
+    ///     of a body that overlap or are not all glued face to face (``kind == "concave"``,
+    ///     the message names the body and the parts).
     ///
     /// Examples
     /// --------
@@ -43,13 +44,14 @@ impl BlockSystem {
     fn with_bodies(
         &self,
         py: Python<'_>,
-        body_ids: Vec<i64>,
+        body_ids: &Bound<'_, PyAny>,
         gap: f64,
         length: Option<f64>,
         absolute_gap: Option<f64>,
     ) -> PyResult<BlockSystem> {
         let tol = tolerance(gap, length, absolute_gap)?;
-        let ids = body_ids
+        // Whole numbers of any integer dtype, no floats or bools (`arrays::indices`).
+        let ids = arrays::indices(body_ids, "body_ids")?
             .iter()
             .map(|&b| u32::try_from(b))
             .collect::<Result<Vec<u32>, _>>()
