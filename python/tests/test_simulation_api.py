@@ -283,7 +283,8 @@ def test_a_bool_in_a_list_of_ids_is_refused_not_read_as_0_or_1(call):
     sim = two_cubes()
     with pytest.raises(penedge.InputError, match=r"ids\[1\] must be an integer, got the bool"):
         call(sim)
-    assert not sim.fixed.any() and not sim.removed.any()
+    assert not sim.fixed.any()
+    assert not sim.removed.any()
     with pytest.raises(penedge.InputError, match="body_ids"):
         penedge.BlockSystem([CUBOID([0, 0, 0], [1, 1, 1])] * 1).with_bodies([False])
 
