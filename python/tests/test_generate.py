@@ -88,6 +88,12 @@ def test_a_dict_may_hold_numpy_values_and_none():
     assert len(system) == 3
     assert report["joint_planes"] == 2
     assert system.sets == [{"name": "joints[0]", "kind": "set"}]
+    # np.longdouble stays a longdouble under tolist(): it went round to the nesting limit
+    # and was reported as "a list or dict that contains itself".
+    spec["domain"]["max"] = np.full(3, 10, dtype=np.longdouble)
+    spec["joints"][0]["spacing"] = np.longdouble(2.5)
+    again, _ = penedge.generate(spec)
+    assert again.to_json() == system.to_json()
 
 
 def test_report_counts_partial_cuts_by_entry():

@@ -388,7 +388,18 @@ fn nested_value(
         Value::Array(toml_array(obj, field, depth)?)
     } else if obj.hasattr("tolist")? {
         // numpy arrays and scalars
-        return nested_value(&obj.call_method0("tolist")?, field, depth + 1);
+        let listed = obj.call_method0("tolist")?;
+        if !listed.get_type().is(obj.get_type()) {
+            return nested_value(&listed, field, depth + 1);
+        }
+        // A scalar numpy keeps as it is (`np.longdouble`): a number as its float, if any
+        // (it had gone round to the nesting limit, reported as a loop).
+        let kind = obj.get_type().name()?;
+        let x: f64 = obj
+            .call_method0("__float__")
+            .and_then(|f| f.extract())
+            .map_err(|_| spec_error(field, format!("must be a number, got {kind}")))?;
+        Value::Float(x)
     } else {
         let kind = obj.get_type().name()?;
         let msg = format!("must be a number, string, list or table, got {kind}");
