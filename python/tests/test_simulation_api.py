@@ -216,6 +216,24 @@ def test_a_bool_is_not_an_id(call):
         sim.fix([True])
 
 
+@pytest.mark.parametrize(
+    ("call", "name"),
+    [
+        (lambda sim: sim.set_velocity(1.0, [0, 0, 1]), "id"),
+        (lambda sim: sim.set_velocity(np.array([1]), [0, 0, 1]), "id"),
+        (lambda sim: sim.apply_force(np.float64(1), [0, 0, 1]), "id"),
+        (lambda sim: sim.set_joint(1e9, 1e9, 30.0, set=1.0), "set"),
+    ],
+)
+def test_a_float_or_an_array_is_not_an_id(call, name):
+    # A bare TypeError ("'float' object cannot be interpreted as an integer") named nothing.
+    system = penedge.BlockSystem.from_box_cut([0, 0, 0], [3, 1, 1], [[1, 0, 0]] * 2, [1, 2])
+    sim = penedge.Simulation(system)
+    with pytest.raises(penedge.InputError, match=rf"{name} must be an integer, got the ") as e:
+        call(sim)
+    assert e.value.kind == "dtype"
+
+
 def test_joint_and_bridge_of_an_unknown_set_are_the_setters_error():
     system = penedge.BlockSystem.from_box_cut([0, 0, 0], [3, 1, 1], [[1, 0, 0]] * 2, [1, 2])
     sim = penedge.Simulation(system)  # joint sets 0 and 1
