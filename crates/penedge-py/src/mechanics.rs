@@ -210,7 +210,10 @@ fn whole_id(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Whole> {
     value.extract().map_err(|e: PyErr| {
         if e.is_instance_of::<pyo3::exceptions::PyTypeError>(value.py()) {
             // A float (even 1.0) or an array is no id: named, not a bare TypeError.
-            let kind = value.get_type().name().map_or(String::new(), |n| n.to_string());
+            let kind = value
+                .get_type()
+                .name()
+                .map_or(String::new(), |n| n.to_string());
             let message = format!("{name} must be an integer, got the {kind} {value}");
             input_error("dtype", message)
         } else {
