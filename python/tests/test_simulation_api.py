@@ -10,6 +10,8 @@ import pytest
 
 import penedge
 
+from shapes import rotation_from_quaternion
+
 CUBOID = penedge.Block.cuboid
 
 SPEC = """\
@@ -50,15 +52,8 @@ bridge = true
 
 
 def rotation(q):
-    """The rotation matrix of the unit quaternion ``x, y, z, w``."""
-    x, y, z, w = q
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-        ]
-    )
+    """The rotation matrix of a simulation's quaternion ``x, y, z, w``."""
+    return rotation_from_quaternion(np.roll(q, 1))  # shapes' helper takes w first
 
 
 def l_body_system():

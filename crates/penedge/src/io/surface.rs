@@ -654,17 +654,25 @@ mod tests {
             "huge.asc",
         )
         .unwrap_err();
-        assert!(e.contains("more than the limit of 2000000"), "{e}");
-        // Just past the limit (1001 x 1002 nodes: 2,002,000 triangles), with one value.
+        assert!(
+            e.contains(&format!("more than the limit of {MAX_TRIANGLES}")),
+            "{e}"
+        );
+        // Just past the limit (1001 x 1002 nodes: 2 (nx - 1) (ny - 1) triangles), with one
+        // value; 1001 x 1001 nodes are exactly at it.
+        assert_eq!(2 * 1000 * 1000, MAX_TRIANGLES);
         let e = parse_surface(
             Kind::Asc,
             b"ncols 1001\nnrows 1002\nxllcorner 0\nyllcorner 0\ncellsize 1\n5\n",
             "big.asc",
         )
         .unwrap_err();
-        assert!(e.contains("would make 2002000 triangles"), "{e}");
-        // At the limit (1001 x 1001 nodes: 2,000,000 triangles), a file that ends early is
-        // told so.
+        let triangles = 2 * (1001 - 1) * (1002 - 1);
+        assert!(
+            e.contains(&format!("would make {triangles} triangles")),
+            "{e}"
+        );
+        // At the limit, a file that ends early is told so.
         let e = parse_surface(
             Kind::Asc,
             b"ncols 1001\nnrows 1001\nxllcorner 0\nyllcorner 0\ncellsize 1\n5\n",
