@@ -98,7 +98,7 @@ impl Contacts {
     }
 
     /// The index of the contact of `parts`.
-    fn find(&self, parts: [u32; 2]) -> Option<usize> {
+    pub(super) fn find(&self, parts: [u32; 2]) -> Option<usize> {
         self.list.binary_search_by_key(&parts, |c| c.parts).ok()
     }
 }

@@ -38,7 +38,7 @@ pub use integrate::{free_rotation, Damping};
 pub use joint::{JointModel, JointTable, SubState};
 pub use state::{FORMAT as STATE_FORMAT, VERSION as STATE_VERSION};
 pub use stress::InitialStress;
-pub use water::Water;
+pub use water::{opened_polygon, Water, WetJoint, OPENED_JOINT_COS, OPENED_JOINT_WIDTH};
 
 /// The default update tolerance of touching pairs, as a fraction of their detection gap
 /// ([`Simulation::set_update_fraction`]; docs/mechanics.md, "Carried contacts"): 0, every
@@ -367,6 +367,9 @@ pub struct Simulation {
     excavation: excavation::Excavation,
     /// The stress installed on the first detection's contacts (`stress.rs`).
     initial_stress: Option<InitialStress>,
+    /// The wet joints: the face-face contacts carrying water, and the joints they left
+    /// when their faces opened beyond the detection gap (`water.rs`, [`WetJoint`]).
+    wet: Vec<WetJoint>,
     timings: StepTimings,
 }
 
@@ -452,6 +455,7 @@ impl Simulation {
             initial: true,
             excavation: excavation::Excavation::default(),
             initial_stress: None,
+            wet: Vec::new(),
             timings: StepTimings::default(),
         }
     }
@@ -961,6 +965,14 @@ impl Simulation {
         &self.forces
     }
 
+    /// The wet joints at the last step ([`WetJoint`], docs/mechanics.md "Water pressure in
+    /// the joints"): the face-face contacts carrying water (`opened` false: their water is
+    /// the contact's, [`Water::contact_forces`]) and the joints opened beyond the detection
+    /// gap that keep their water (`opened` true, with its force), sorted by parts.
+    pub fn wet_joints(&self) -> &[WetJoint] {
+        &self.wet
+    }
+
     /// Per body, the sum of the moments of its contact and bolt forces about its centroid,
     /// and of its applied moment.
     pub fn contact_moments(&self) -> &[DVec3] {
@@ -1009,6 +1021,7 @@ impl Simulation {
         detected?;
         let [queried, unmoved, certified, carried, dormant] = counts;
         self.update_contacts(dt, &outcomes);
+        self.update_wet_joints();
         lap(&mut t.contacts);
         self.sum_forces();
         self.apply_relaxation();
@@ -1581,6 +1594,7 @@ impl Simulation {
         let poses = &self.bodies.pose;
         self.water
             .add_forces(&self.contacts, poses, &mut self.forces, &mut self.moments);
+        self.add_opened_joint_forces();
     }
 
     /// Adds the bolts' forces and the applied moments to the bodies' sums (docs/mechanics.md,

@@ -559,6 +559,7 @@ fn file_of(sim: &Simulation) -> StateFile {
         initial,
         excavation,
         initial_stress,
+        wet: _,
     } = sim;
     let (shapes, shape_ids) = shape_files(bodies);
     StateFile {
@@ -1612,6 +1613,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             initial,
             excavation: ex,
             initial_stress: stress,
+            wet: _,
         } = &mut sim;
         if !file.block_bodies.is_empty() {
             *bb = block_bodies_of(&file.block_bodies, n)?;

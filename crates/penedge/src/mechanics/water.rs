@@ -4,8 +4,9 @@
 //! and the joint law's spring force is then the effective normal force (3DEC's convention).
 
 use super::contacts::Contacts;
-use super::MechanicsError;
-use crate::block::Pose;
+use super::{MechanicsError, Simulation};
+use crate::classify::Feature;
+use crate::block::{ConvexBlock, Pose};
 use crate::classify::ContactType;
 use crate::geometry::DVec3;
 use std::collections::BTreeMap;
@@ -172,6 +173,182 @@ impl Water {
             forces[a] -= f;
             moments[a] -= (at - poses[a].translation).cross(f);
         });
+    }
+}
+
+/// A wet joint: two faces, of parts A and B, that met in a face-face contact carrying water.
+/// While the contact lasts, its water is the contact's; once the faces have opened beyond
+/// the detection gap (no contact), the joint stays full of water and keeps pushing them
+/// apart, over the part of A's face that B's face still covers, while the joint stays
+/// narrow and the faces face each other ([`opened_polygon`]; docs/mechanics.md, "Water
+/// pressure in the joints", "Opened joints"). Without it, the water of a tension crack
+/// vanished once the sliding block had opened the crack by the detection gap (a
+/// centimetre for 10 m blocks), and a factor of safety by strength reduction came out that
+/// of a dry crack: a slope failing by limit equilibrium was found stable.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WetJoint {
+    /// The two parts (A, B), as the contact's (global part ids).
+    pub parts: [u32; 2],
+    /// The face of A and the face of B.
+    pub faces: [u32; 2],
+    /// The joint set (the contact's): its pressure, when it has one of its own.
+    pub set: Option<u32>,
+    /// Whether the faces have opened: the pair has no contact this step, and the water
+    /// force below is the opened joint's (else the contact carries its water).
+    pub opened: bool,
+    /// An opened joint's water force this step: `U` (≥ 0), pushing B along `normal` and A
+    /// against it, at `centre` (0 for a joint that is a contact; not stored in restart
+    /// files: computed at each step from the poses).
+    pub force: f64,
+    /// An opened joint's normal: A's face normal (A towards B).
+    pub normal: DVec3,
+    /// An opened joint's centre of pressure, on A's face.
+    pub centre: DVec3,
+}
+
+/// How far the faces of an opened joint may part, as a fraction of the smaller block's size
+/// (its bounding box's diagonal, the size that scales the detection gap): a joint opened
+/// wider is taken as drained, and its water force goes. One block size: a sliding block
+/// that limit equilibrium finds failing keeps its crack's water until it has slid out of
+/// the crack (the faces no longer face each other), as limit equilibrium assumes; a tenth
+/// of it let such a block stop after sliding 1.5 m, its crack taken as drained, and a
+/// factor of safety by strength reduction found it stable. The bound is there for a block
+/// that water lifts off its joint (a pressure above its weight's): it is pushed at most a
+/// block size away, not for ever.
+pub const OPENED_JOINT_WIDTH: f64 = 1.0;
+
+/// The cosine of the largest angle between an opened joint's face normals (A's and B's
+/// reversed, 10°): turned further apart, the faces no longer bound one joint.
+pub const OPENED_JOINT_COS: f64 = 0.984_807_753_012_208; // cos 10°
+
+/// The part of face `fa` of `a` (placed in the world) that face `fb` of `b` covers, seen
+/// along B's face normal: A's face polygon clipped by the planes through B's face edges
+/// parallel to B's normal. `None` when the faces no longer bound one opened joint: their
+/// normals more than 10° from opposite ([`OPENED_JOINT_COS`]), the cover empty, or a corner
+/// of it farther from B's face than [`OPENED_JOINT_WIDTH`] of the smaller block's size.
+pub fn opened_polygon(a: &ConvexBlock, fa: u32, b: &ConvexBlock, fb: u32) -> Option<Vec<DVec3>> {
+    let (pa, pb) = (a.planes().get(fa as usize)?, b.planes().get(fb as usize)?);
+    if -pa.normal.dot(pb.normal) < OPENED_JOINT_COS {
+        return None;
+    }
+    let mut polygon: Vec<DVec3> = a
+        .face(fa as usize)
+        .iter()
+        .map(|&v| a.vertices()[v as usize])
+        .collect();
+    let cover: Vec<DVec3> = b
+        .face(fb as usize)
+        .iter()
+        .map(|&v| b.vertices()[v as usize])
+        .collect();
+    let mut next = Vec::with_capacity(polygon.len() + cover.len());
+    for k in 0..cover.len() {
+        let (q0, q1) = (cover[k], cover[(k + 1) % cover.len()]);
+        // B's face is counter-clockwise seen from outside B (along its normal): its inside
+        // is to the left of each edge.
+        let inward = pb.normal.cross(q1 - q0);
+        let side = |x: DVec3| inward.dot(x - q0);
+        next.clear();
+        for i in 0..polygon.len() {
+            let (p, q) = (polygon[i], polygon[(i + 1) % polygon.len()]);
+            let (sp, sq) = (side(p), side(q));
+            if sp >= 0.0 {
+                next.push(p);
+            }
+            if (sp >= 0.0) != (sq >= 0.0) {
+                next.push(p + (q - p) * (sp / (sp - sq)));
+            }
+        }
+        std::mem::swap(&mut polygon, &mut next);
+        if polygon.len() < 3 {
+            return None;
+        }
+    }
+    let width = OPENED_JOINT_WIDTH * a.size().min(b.size());
+    if polygon.iter().any(|&x| pb.distance(x) > width) {
+        return None;
+    }
+    Some(polygon)
+}
+
+impl Simulation {
+    /// The wet joints after this step's contacts are built ([`WetJoint`]): every face-face
+    /// contact that carries water now, then every joint of the last step's list whose pair
+    /// has no contact now and whose faces still bound an opened joint ([`opened_polygon`]),
+    /// with its water force; sorted by parts. Nothing without water (the list is emptied).
+    pub(super) fn update_wet_joints(&mut self) {
+        if self.water.is_dry() {
+            self.wet.clear();
+            return;
+        }
+        let old = std::mem::take(&mut self.wet);
+        let mut wet = Vec::new();
+        let mut corners = Vec::new();
+        for (i, c) in self.contacts.list.iter().enumerate() {
+            if c.kind != ContactType::FaceFace || c.count < 3 {
+                continue;
+            }
+            corners.clear();
+            corners.extend(self.contacts.subs_of(i).iter().map(|s| s.point));
+            if self.water.polygon_force(c.set, &corners, c.normal).is_none() {
+                continue;
+            }
+            let pair = self.current[i].pair as usize;
+            let found = self.memo[pair].found.as_deref();
+            if let Some((Feature::Face(fa), Feature::Face(fb))) =
+                found.map(|f| (f.contact.feature_a, f.contact.feature_b))
+            {
+                wet.push(WetJoint {
+                    parts: c.parts,
+                    faces: [fa, fb],
+                    set: c.set,
+                    opened: false,
+                    force: 0.0,
+                    normal: DVec3::ZERO,
+                    centre: DVec3::ZERO,
+                });
+            }
+        }
+        for joint in old {
+            let [pa, pb] = joint.parts.map(|p| p as usize);
+            let removed = |p: usize| self.is_removed(self.part_body[p] as usize);
+            if self.contacts.find(joint.parts).is_some() || removed(pa) || removed(pb) {
+                continue;
+            }
+            let (a, b) = (&self.placed[pa], &self.placed[pb]);
+            let [fa, fb] = joint.faces;
+            let Some(polygon) = opened_polygon(a, fa, b, fb) else {
+                continue;
+            };
+            let normal = a.planes()[fa as usize].normal;
+            let (force, centre) = self
+                .water
+                .polygon_force(joint.set, &polygon, normal)
+                .unwrap_or((0.0, DVec3::ZERO));
+            wet.push(WetJoint {
+                opened: true,
+                force,
+                normal,
+                centre,
+                ..joint
+            });
+        }
+        wet.sort_by_key(|j| j.parts);
+        self.wet = wet;
+    }
+
+    /// Adds the opened joints' water forces to the bodies' sums: `U n` on B at the centre
+    /// of pressure, `-U n` on A (after the contacts', in the joints' order: deterministic).
+    pub(super) fn add_opened_joint_forces(&mut self) {
+        let poses = &self.bodies.pose;
+        for j in self.wet.iter().filter(|j| j.opened && j.force > 0.0) {
+            let [a, b] = j.parts.map(|p| self.part_body[p as usize] as usize);
+            let f = j.normal * j.force;
+            self.forces[b] += f;
+            self.moments[b] += (j.centre - poses[b].translation).cross(f);
+            self.forces[a] -= f;
+            self.moments[a] -= (j.centre - poses[a].translation).cross(f);
+        }
     }
 }
 
