@@ -906,9 +906,18 @@ impl Simulation {
     /// Mass scaling for quasi-static runs (3DEC's density scaling): with True, free bodies
     /// whose critical step is below the median get their inertia (not their weight) scaled up
     /// to it, so that slivers no longer set the time step. Same equilibrium, non-physical
-    /// motion towards it: for :meth:`solve`, not for dynamics.
+    /// motion towards it: for :meth:`solve`, not for dynamics. While on, :meth:`excavate`
+    /// computes the factors again from the free bodies that stay; after :meth:`fix`,
+    /// :meth:`free`, :meth:`prescribe`, :meth:`set_density` or :meth:`set_joint`, call it
+    /// again (``docs/mechanics.md``, "Mass scaling"). Kept in restart files.
     fn set_mass_scaling(&mut self, on: bool) -> PyResult<()> {
         self.inner.set_mass_scaling(on).map_err(to_py_err)
+    }
+
+    /// Whether mass scaling is on (:meth:`set_mass_scaling`).
+    #[getter]
+    fn mass_scaling(&self) -> bool {
+        self.inner.mass_scaling()
     }
 
     /// The time step the next step takes.
@@ -1437,9 +1446,10 @@ impl Simulation {
     /// rock bridges hold is several bodies in the simulation (so that a bridge can break):
     /// its pieces are separate bodies here too, the piece of its first block keeping the
     /// system's id and the others numbered on from the system's largest id. A simulation
-    /// read from a restart file (:meth:`load`) has the blocks in the same order, but the
-    /// file keeps neither the sets, nor the unit, nor the system's ids: the body ids are
-    /// :attr:`block_bodies`.
+    /// read from a restart file (:meth:`load`) has the blocks in the same order, with the
+    /// sets (:attr:`BlockSystem.sets`), unit and body ids the file kept, but no domain and
+    /// no joint table; a file written before 2026-11-29 kept none of them: no sets, no
+    /// unit, and :attr:`block_bodies` as the body ids.
     ///
     /// :meth:`BlockSystem.detect` on it sees what the simulation sees only at the
     /// simulation's gap (``gap=`` as given to :class:`Simulation`, default 1e-3): the joints
@@ -1489,7 +1499,21 @@ impl Simulation {
                 .with_unit(o.unit.clone()),
                 placed_body_ids(&o.body_ids, block_bodies),
             ),
-            _ => (penedge::BlockSystem::new(blocks), block_bodies.to_vec()),
+            _ => {
+                // Read from a restart file: the sets, unit and body ids it kept (none in a
+                // file written before 2026-11-29), no domain nor joint table.
+                let labels = self.inner.system_labels();
+                let ids = if labels.body_ids.len() == blocks.len() {
+                    placed_body_ids(&labels.body_ids, block_bodies)
+                } else {
+                    block_bodies.to_vec()
+                };
+                let sets = labels.sets.clone();
+                let system =
+                    penedge::BlockSystem::with_provenance(blocks, Vec::new(), Vec::new(), sets)
+                        .with_unit(labels.unit.clone());
+                (system, ids)
+            }
         };
         // The glue of the concave bodies, found again at their poses (nothing to find when
         // every block is its own body).
