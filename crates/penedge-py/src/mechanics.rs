@@ -1239,15 +1239,17 @@ impl Simulation {
     /// go on), and a bolt can no longer be installed into removed rock. The forces the
     /// removed bodies and those bolt elements exerted on the bodies that stay are applied
     /// again and reduced linearly to zero over `relax_steps` steps (the j-th step applies
-    /// ``1 - (j - 1) / relax_steps`` of them; 0: at once). ``docs/mechanics.md``,
-    /// "Excavation".
+    /// ``1 - (j - 1) / relax_steps`` of them; 0: at once). Only loads not zero: before
+    /// any step no contact or bolt has a force, and nothing relaxes. With mass scaling on
+    /// (:meth:`set_mass_scaling`), its factors are computed again from the free bodies that
+    /// stay. ``docs/mechanics.md``, "Excavation".
     ///
     /// Returns
     /// -------
     /// dict
     ///     ``removed`` (int64 ids), ``loaded`` (int64 ids of the bodies the removed ones
-    ///     pushed on or their bolts pulled on) and ``forces`` (k, 3), the load on each,
-    ///     which relaxes.
+    ///     pushed on or their bolts pulled on, with a force or moment not zero) and
+    ///     ``forces`` (k, 3), the load on each, which relaxes.
     ///
     /// Raises
     /// ------

@@ -289,7 +289,7 @@ fn an_excavation_reports_only_the_bodies_it_loads() {
         sim
     };
     let mut before = fresh();
-    before.add_bolt(bolt.clone()).unwrap();
+    before.add_bolt(bolt).unwrap();
     assert_eq!(before.bolts().elements().len(), 1);
     let report = before.excavate(&[2], 10).unwrap();
     assert_eq!(report.removed, vec![2]);
@@ -300,7 +300,7 @@ fn an_excavation_reports_only_the_bodies_it_loads() {
         Simulation::new(&BlockSystem::new(system.blocks()[..2].to_vec()), DENSITY).unwrap();
     without.fix(0).unwrap();
     without
-        .set_default_joint(before.joints().of_set(None).clone())
+        .set_default_joint(*before.joints().of_set(None))
         .unwrap();
     before.cycle(20).unwrap();
     without.cycle(20).unwrap();
