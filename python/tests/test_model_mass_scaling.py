@@ -172,3 +172,23 @@ def test_an_excavate_stage_rescales_from_the_blocks_that_stay():
         steps[on] = (before, engine.timestep)
     assert steps[True][0] > 10 * steps[False][0]
     assert steps[True][1] == steps[False][1] == steps[False][0]
+
+
+def test_an_old_restart_file_that_scaled_nothing_is_scaled_again(tmp_path):
+    # A restart file from before restart files kept the switch reads as on only if it
+    # scaled some body; the incline has one free block, which the median never scales. A
+    # model that says mass_scaling = true turns it on again on restoring it.
+    import penedge
+
+    text = scaled(incline(), True) + SOLVE_SAVE + AFTER
+    assert run(tmp_path, text, "first") == 0
+    saved = tmp_path / "first" / "settled.json"
+    state = json.loads(saved.read_text())
+    assert state["settings"]["mass_scaling"] is True
+    del state["settings"]["mass_scaling"]
+    older = tmp_path / "older.json"
+    older.write_text(json.dumps(state))
+    assert not penedge.Simulation.load(older).mass_scaling
+    engine = Engine(pm.prepare(text))
+    engine.restore(older)
+    assert engine.sim.mass_scaling
