@@ -165,6 +165,10 @@ def test_a_loaded_simulation_keeps_the_joint_sets_and_the_unit(tmp_path):
     assert loaded.sets == original.sets == system.sets
     assert loaded.unit == original.unit == "ft"
     assert loaded.body_ids.tolist() == original.body_ids.tolist()
+    # With the joint table the faces name: a block file of it reads back.
+    again = penedge.BlockSystem.from_json(loaded.to_json())
+    assert again.sets == system.sets
+    assert again.unit == "ft"
     # A file written before restart files kept them: no sets, no unit, and the
     # simulation's bodies as the ids.
     state = json.loads(path.read_text())

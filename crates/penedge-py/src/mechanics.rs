@@ -1449,9 +1449,9 @@ impl Simulation {
     /// its pieces are separate bodies here too, the piece of its first block keeping the
     /// system's id and the others numbered on from the system's largest id. A simulation
     /// read from a restart file (:meth:`load`) has the blocks in the same order, with the
-    /// sets (:attr:`BlockSystem.sets`), unit and body ids the file kept, but no domain and
-    /// no joint table; a file written before 2026-11-29 kept none of them: no sets, no
-    /// unit, and :attr:`block_bodies` as the body ids.
+    /// sets (:attr:`BlockSystem.sets`), joint table, unit and body ids the file kept, but
+    /// no domain; a file written before 2026-11-29 kept none of them: no sets, no unit,
+    /// and :attr:`block_bodies` as the body ids.
     ///
     /// :meth:`BlockSystem.detect` on it sees what the simulation sees only at the
     /// simulation's gap (``gap=`` as given to :class:`Simulation`, default 1e-3): the joints
@@ -1502,17 +1502,17 @@ impl Simulation {
                 placed_body_ids(&o.body_ids, block_bodies),
             ),
             _ => {
-                // Read from a restart file: the sets, unit and body ids it kept (none in a
-                // file written before 2026-11-29), no domain nor joint table.
+                // Read from a restart file: the sets, joint table, unit and body ids it
+                // kept (none in a file written before 2026-11-29), no domain.
                 let labels = self.inner.system_labels();
                 let ids = if labels.body_ids.len() == blocks.len() {
                     placed_body_ids(&labels.body_ids, block_bodies)
                 } else {
                     block_bodies.to_vec()
                 };
-                let sets = labels.sets.clone();
+                let (sets, joints) = (labels.sets.clone(), labels.joints.clone());
                 let system =
-                    penedge::BlockSystem::with_provenance(blocks, Vec::new(), Vec::new(), sets)
+                    penedge::BlockSystem::with_provenance(blocks, Vec::new(), joints, sets)
                         .with_unit(labels.unit.clone());
                 (system, ids)
             }

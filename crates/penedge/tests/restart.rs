@@ -510,7 +510,8 @@ fn a_missing_file_or_folder_is_an_error_and_leaves_nothing() {
 /// A simulation of a system with spec entries, a unit and a concave block (its two parts
 /// share body id 7, the others' ids are not their indices).
 fn labelled() -> (BlockSystem, Simulation) {
-    use penedge::generation::{SetKind, SetRecord};
+    use penedge::generation::{JointRecord, JointShape, SetKind, SetRecord};
+    use penedge::geometry::Plane;
     let blocks = vec![
         ConvexBlock::cuboid([-3.0, -3.0, -1.0], [3.0, 3.0, 0.0]).unwrap(),
         ConvexBlock::cuboid([0.0, 0.0, 0.0], [1.0, 0.5, 0.5]).unwrap(),
@@ -527,7 +528,30 @@ fn labelled() -> (BlockSystem, Simulation) {
             kind: SetKind::Plane,
         },
     ];
-    let system = BlockSystem::with_provenance(blocks, Vec::new(), Vec::new(), sets)
+    let joints = vec![
+        JointRecord {
+            set: 0,
+            member: 0,
+            plane: Plane {
+                normal: DVec3::Z,
+                point: DVec3::new(0.0, 0.0, 0.5),
+            },
+            shape: JointShape::Disc {
+                center: DVec3::new(0.5, 0.5, 0.5),
+                radius: 2.0,
+            },
+        },
+        JointRecord {
+            set: 1,
+            member: 0,
+            plane: Plane {
+                normal: DVec3::X,
+                point: DVec3::new(0.5, 0.0, 0.0),
+            },
+            shape: JointShape::Infinite,
+        },
+    ];
+    let system = BlockSystem::with_provenance(blocks, Vec::new(), joints, sets)
         .with_unit(Some("ft".into()))
         .with_bodies(vec![3, 7, 7, 1], &Default::default())
         .unwrap();
@@ -536,13 +560,14 @@ fn labelled() -> (BlockSystem, Simulation) {
     (system, sim)
 }
 
-/// The sets, unit and body ids of the system a simulation was made of survive a restart
-/// file (docs/mechanics.md, "Restart files"), and so does whether mass scaling is on.
+/// The sets, joint table, unit and body ids of the system a simulation was made of survive
+/// a restart file (docs/mechanics.md, "Restart files"), and so does whether mass scaling is on.
 #[test]
 fn the_system_labels_and_mass_scaling_survive_a_restart_file() {
     let (system, mut sim) = labelled();
     let labels = sim.system_labels().clone();
     assert_eq!(labels.sets, system.sets());
+    assert_eq!(labels.joints, system.joints());
     assert_eq!(labels.unit.as_deref(), Some("ft"));
     assert_eq!(labels.body_ids, system.body_ids());
     sim.set_mass_scaling(true).unwrap();
@@ -557,8 +582,8 @@ fn the_system_labels_and_mass_scaling_survive_a_restart_file() {
 }
 
 /// A file written before the labels and the mass-scaling switch were kept reads with none
-/// known (no sets, no unit, no body ids) and with mass scaling on exactly when it scaled
-/// some body; a unit or body ids edited into nonsense are named.
+/// known (no sets, no joints, no unit, no body ids) and with mass scaling on exactly when
+/// it scaled some body; a unit, a joint or body ids edited into nonsense are named.
 #[test]
 fn a_file_without_labels_reads_with_none_and_scaling_from_its_factors() {
     let (_, mut sim) = labelled();
@@ -589,6 +614,12 @@ fn a_file_without_labels_reads_with_none_and_scaling_from_its_factors() {
         &json,
         vec![
             ("system.unit", |j| j["system"]["unit"] = "\u{7}".into()),
+            ("system.joints[1].normal", |j| {
+                j["system"]["joints"][1]["normal"] = serde_json::json!([2.0, 0.0, 0.0])
+            }),
+            ("system.joints[0].set", |j| {
+                j["system"]["joints"][0]["set"] = serde_json::json!(5)
+            }),
             ("system.body_ids", |j| {
                 j["system"]["body_ids"] = serde_json::json!([1, 2])
             }),

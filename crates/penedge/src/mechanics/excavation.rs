@@ -65,8 +65,7 @@ impl Simulation {
     /// them at once. Only loads not zero are relaxed and reported: before any step no contact
     /// and no bolt has a force yet, so an excavation then relaxes nothing and its report's
     /// `loaded` is empty (the rock goes as if the model had been built without it). With
-    /// mass scaling on, the
-    /// factors are computed again from the free bodies that stay
+    /// mass scaling on, the factors are computed again from the free bodies that stay
     /// ([`Simulation::set_mass_scaling`]).
     pub fn excavate(
         &mut self,

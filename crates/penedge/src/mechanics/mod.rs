@@ -55,7 +55,7 @@ use crate::block::{ConvexBlock, Pose};
 use crate::body::BodyError;
 use crate::classify::PairResult;
 use crate::contact::Detector;
-use crate::generation::SetRecord;
+use crate::generation::{JointRecord, SetRecord};
 use crate::geometry::DVec3;
 use crate::system::{
     deadline, edge_certificate, holds, separation, BlockSystem, BroadPhase, WideBoxes,
@@ -379,13 +379,16 @@ pub struct Simulation {
 
 /// The labels of the system a simulation was made of ([`Simulation::new`]): the entries of
 /// its generation spec (their name and kind; a face's joint set is an index into them), its
-/// length unit and its body ids (per block, [`BlockSystem::body_ids`]). None of them takes
-/// part in a step; a restart file keeps them (absent in files written before 2026-11-29:
-/// empty, `None` and empty).
+/// joint table (a face's joint is an index into it), its length unit and its body ids (per
+/// block, [`BlockSystem::body_ids`]). None of them takes part in a step; a restart file
+/// keeps them (absent in files written before 2026-11-29: all empty or `None`). Not the
+/// domain.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SystemLabels {
     /// One record per spec entry (empty: not known).
     pub sets: Vec<SetRecord>,
+    /// The joint table ([`BlockSystem::joints`]; empty: not known, or none).
+    pub joints: Vec<JointRecord>,
     /// The length unit (`None`: not named, or not known).
     pub unit: Option<String>,
     /// Per block, its body id in the system (empty: not known).
@@ -409,6 +412,7 @@ impl Simulation {
         sim.sets.extend(0..system.sets().len() as u32);
         sim.origin = SystemLabels {
             sets: system.sets().to_vec(),
+            joints: system.joints().to_vec(),
             unit: system.unit().map(str::to_string),
             body_ids: system.body_ids(),
         };

@@ -23,6 +23,7 @@ use crate::body::Shape;
 use crate::classify::ContactType;
 use crate::generation::SetRecord;
 use crate::geometry::{Aabb, DVec3, Plane};
+use crate::io::json::{self as blocks_json, record_of};
 use crate::io::{read_text, write_atomic, IoError};
 use crate::tolerance::Tolerance;
 use glam::DQuat;
@@ -80,6 +81,9 @@ struct SystemFile {
     /// Per entry of the generation spec, its `name` and `kind` (empty: not known).
     #[serde(default)]
     sets: Vec<SetRecord>,
+    /// The joint table, as a block file has it (empty: not known, or none).
+    #[serde(default)]
+    joints: Vec<blocks_json::JointFile>,
     /// The length unit (`null`: not named, or not known).
     #[serde(default)]
     unit: Option<String>,
@@ -654,6 +658,12 @@ fn file_of(sim: &Simulation) -> StateFile {
         sets: sets.iter().copied().collect(),
         system: SystemFile {
             sets: origin.sets.clone(),
+            joints: origin
+                .joints
+                .iter()
+                .enumerate()
+                .map(blocks_json::joint_file)
+                .collect(),
             unit: origin.unit.clone(),
             body_ids: origin.body_ids.clone(),
         },
@@ -1483,8 +1493,8 @@ fn synced_of(c: &ClockFile, n: usize) -> Result<Synced, IoError> {
 }
 
 /// The system labels of a file, `blocks` blocks (its body ids, when given, one per block;
-/// its unit, when given, a unit's name as a spec's).
-fn labels_of(f: &SystemFile, blocks: usize) -> Result<SystemLabels, IoError> {
+/// its unit, when given, a unit's name as a spec's; its joints checked as a block file's).
+fn labels_of(f: SystemFile, blocks: usize) -> Result<SystemLabels, IoError> {
     if !f.body_ids.is_empty() && f.body_ids.len() != blocks {
         let msg = format!(
             "{} ids for the {blocks} blocks: one per block, or none",
@@ -1498,10 +1508,23 @@ fn labels_of(f: &SystemFile, blocks: usize) -> Result<SystemLabels, IoError> {
         .map(crate::generation::check::unit_name)
         .transpose()
         .map_err(|why| bad("system.unit", why))?;
+    let sets = f.sets.len();
+    let joints = f
+        .joints
+        .into_iter()
+        .enumerate()
+        .map(|(i, j)| {
+            record_of(i, j, sets).map_err(|e| match e {
+                IoError::Format { field, message } => bad(format!("system.{field}"), message),
+                other => other,
+            })
+        })
+        .collect::<Result<_, _>>()?;
     Ok(SystemLabels {
-        sets: f.sets.clone(),
+        sets: f.sets,
+        joints,
         unit,
-        body_ids: f.body_ids.clone(),
+        body_ids: f.body_ids,
     })
 }
 
@@ -1521,7 +1544,7 @@ fn block_bodies_of(ids: &[u32], n: usize) -> Result<Vec<u32>, IoError> {
     Ok(ids.to_vec())
 }
 
-fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
+fn simulation_of(mut file: StateFile) -> Result<Simulation, IoError> {
     let shapes = file
         .shapes
         .iter()
@@ -1708,7 +1731,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             // A file from before the setting was kept: it was on if it scaled a body.
             None => file.bodies.iter().any(|b| b.scale > 1.0),
         };
-        *origin = labels_of(&file.system, bb.len())?;
+        *origin = labels_of(std::mem::take(&mut file.system), bb.len())?;
     }
     // A file written before excavation ended the bolts anchored in removed bodies may hold
     // elements with an anchor in one: they go, as the excavation drops them now (their last
