@@ -17,11 +17,13 @@
 use super::excavation::{Excavation, Relaxation};
 use super::{Bodies, BodyContact, Contacts, Damping, Fixity, JointModel, Simulation, SubContact};
 use super::{Bolt, BoltElement, BoltState, Bolts, Dowel, Water};
-use super::{InitialStress, JointTable, SubState, Synced};
+use super::{InitialStress, JointTable, SubState, Synced, SystemLabels};
 use crate::block::{ConvexBlock, Edge, FaceOrigin, Pose};
 use crate::body::Shape;
 use crate::classify::ContactType;
+use crate::generation::SetRecord;
 use crate::geometry::{Aabb, DVec3, Plane};
+use crate::io::json::{self as blocks_json, record_of};
 use crate::io::{read_text, write_atomic, IoError};
 use crate::tolerance::Tolerance;
 use glam::DQuat;
@@ -65,8 +67,29 @@ struct StateFile {
     /// files written before penedge stored them: the faces' sets and those with properties).
     #[serde(default)]
     sets: Vec<u32>,
+    /// What the simulation keeps of the system it was made of ([`SystemLabels`]: its spec
+    /// entries, unit and body ids; absent in files written before 2026-11-29: none known).
+    #[serde(default)]
+    system: SystemFile,
     /// Free text for the caller (`penedge simulate` keeps where its run stands there).
     note: Option<String>,
+}
+
+#[derive(Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SystemFile {
+    /// Per entry of the generation spec, its `name` and `kind` (empty: not known).
+    #[serde(default)]
+    sets: Vec<SetRecord>,
+    /// The joint table, as a block file has it (empty: not known, or none).
+    #[serde(default)]
+    joints: Vec<blocks_json::JointFile>,
+    /// The length unit (`null`: not named, or not known).
+    #[serde(default)]
+    unit: Option<String>,
+    /// Per block, its body id in the system (empty: not known).
+    #[serde(default)]
+    body_ids: Vec<u32>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -114,6 +137,10 @@ struct SettingsFile {
     /// absent in older files: on, the default).
     #[serde(default = "default_dormant_contacts")]
     dormant_contacts: bool,
+    /// Whether mass scaling is on (`Simulation::set_mass_scaling`; absent in older files:
+    /// on when some body's `scale` is above 1, off otherwise).
+    #[serde(default)]
+    mass_scaling: Option<bool>,
     /// Applied moments (world frame): `[body, [x, y, z]]` per body that has one.
     applied_moments: Vec<(u32, V3)>,
     /// The water in the joints (absent in files written before penedge stored water: dry).
@@ -559,6 +586,8 @@ fn file_of(sim: &Simulation) -> StateFile {
         initial,
         excavation,
         initial_stress,
+        mass_scaling,
+        origin,
     } = sim;
     let (shapes, shape_ids) = shape_files(bodies);
     StateFile {
@@ -586,6 +615,7 @@ fn file_of(sim: &Simulation) -> StateFile {
             full_detection: *full_detection,
             update_fraction: *update_fraction,
             dormant_contacts: *dormancy,
+            mass_scaling: Some(*mass_scaling),
             applied_moments: applied_moments
                 .iter()
                 .map(|(&b, m)| (b, m.to_array()))
@@ -626,6 +656,17 @@ fn file_of(sim: &Simulation) -> StateFile {
         excavation: excavation_file(excavation),
         bolts: bolts_file(bolts),
         sets: sets.iter().copied().collect(),
+        system: SystemFile {
+            sets: origin.sets.clone(),
+            joints: origin
+                .joints
+                .iter()
+                .enumerate()
+                .map(blocks_json::joint_file)
+                .collect(),
+            unit: origin.unit.clone(),
+            body_ids: origin.body_ids.clone(),
+        },
         note: None,
     }
 }
@@ -1451,6 +1492,42 @@ fn synced_of(c: &ClockFile, n: usize) -> Result<Synced, IoError> {
     Ok(Synced::Bodies(ids.iter().copied().collect()))
 }
 
+/// The system labels of a file, `blocks` blocks (its body ids, when given, one per block;
+/// its unit, when given, a unit's name as a spec's; its joints checked as a block file's).
+fn labels_of(f: SystemFile, blocks: usize) -> Result<SystemLabels, IoError> {
+    if !f.body_ids.is_empty() && f.body_ids.len() != blocks {
+        let msg = format!(
+            "{} ids for the {blocks} blocks: one per block, or none",
+            f.body_ids.len()
+        );
+        return Err(bad("system.body_ids", msg));
+    }
+    let unit = f
+        .unit
+        .as_deref()
+        .map(crate::generation::check::unit_name)
+        .transpose()
+        .map_err(|why| bad("system.unit", why))?;
+    let sets = f.sets.len();
+    let joints = f
+        .joints
+        .into_iter()
+        .enumerate()
+        .map(|(i, j)| {
+            record_of(i, j, sets).map_err(|e| match e {
+                IoError::Format { field, message } => bad(format!("system.{field}"), message),
+                other => other,
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(SystemLabels {
+        sets: f.sets,
+        joints,
+        unit,
+        body_ids: f.body_ids,
+    })
+}
+
 /// The block-to-body map of a file: every body of the `n` a block's.
 fn block_bodies_of(ids: &[u32], n: usize) -> Result<Vec<u32>, IoError> {
     let mut seen = vec![false; n];
@@ -1467,7 +1544,7 @@ fn block_bodies_of(ids: &[u32], n: usize) -> Result<Vec<u32>, IoError> {
     Ok(ids.to_vec())
 }
 
-fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
+fn simulation_of(mut file: StateFile) -> Result<Simulation, IoError> {
     let shapes = file
         .shapes
         .iter()
@@ -1612,6 +1689,8 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             initial,
             excavation: ex,
             initial_stress: stress,
+            mass_scaling,
+            origin,
         } = &mut sim;
         if !file.block_bodies.is_empty() {
             *bb = block_bodies_of(&file.block_bodies, n)?;
@@ -1647,6 +1726,12 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
         *stress = initial_stress;
         *w = water;
         *bo = bolt_set;
+        *mass_scaling = match s.mass_scaling {
+            Some(on) => on,
+            // A file from before the setting was kept: it was on if it scaled a body.
+            None => file.bodies.iter().any(|b| b.scale > 1.0),
+        };
+        *origin = labels_of(std::mem::take(&mut file.system), bb.len())?;
     }
     // A file written before excavation ended the bolts anchored in removed bodies may hold
     // elements with an anchor in one: they go, as the excavation drops them now (their last
