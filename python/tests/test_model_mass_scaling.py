@@ -139,3 +139,56 @@ def test_a_restart_file_from_before_the_setting_had_none(tmp_path, capsys):
     assert rc == 1, err
     assert "mechanics.mass_scaling: the model says true, the file false" in err, err
     assert run(tmp_path, text, "off", "--restart", str(older)) == 0
+
+
+#: Excavates the incline's block (its centroid near z = 5.2; the sliver's is at 7.9975, the
+#: fixed rock's near 2), leaving the sliver alone free on the rock.
+EXCAVATE_THE_BLOCK = """
+[[stages]]
+type = "excavate"
+region = {type = "box", min = [0, 0, 3.5], max = [10, 2, 7.9]}
+relax_steps = 1
+"""
+
+
+def test_an_excavate_stage_rescales_from_the_blocks_that_stay():
+    # Before, the sliver is scaled up to the block's step (the median of the two free
+    # blocks); once the block is excavated the sliver is the only free block, its own step
+    # is the median and it is no longer scaled: the time step is the one without mass
+    # scaling (the sliver's true one), not the scaled one of before.
+    from penedge.model.run import Runner
+
+    steps = {}
+    for on in (False, True):
+        setup = pm.prepare(scaled(sliver(), on) + EXCAVATE_THE_BLOCK)
+        runner = Runner(setup, Engine)
+        engine = runner.engine
+        before = engine.timestep
+        runner.run_stage(0, setup.model.stages[0])
+        removed = engine.removed()
+        assert removed.sum() == 1
+        assert not removed[~setup.layout.fixed].all()  # the sliver stays
+        assert engine.sim.mass_scaling == on
+        steps[on] = (before, engine.timestep)
+    assert steps[True][0] > 10 * steps[False][0]
+    assert steps[True][1] == steps[False][1] == steps[False][0]
+
+
+def test_an_old_restart_file_that_scaled_nothing_is_scaled_again(tmp_path):
+    # A restart file from before restart files kept the switch reads as on only if it
+    # scaled some body; the incline has one free block, which the median never scales. A
+    # model that says mass_scaling = true turns it on again on restoring it.
+    import penedge
+
+    text = scaled(incline(), True) + SOLVE_SAVE + AFTER
+    assert run(tmp_path, text, "first") == 0
+    saved = tmp_path / "first" / "settled.json"
+    state = json.loads(saved.read_text())
+    assert state["settings"]["mass_scaling"] is True
+    del state["settings"]["mass_scaling"]
+    older = tmp_path / "older.json"
+    older.write_text(json.dumps(state))
+    assert not penedge.Simulation.load(older).mass_scaling
+    engine = Engine(pm.prepare(text))
+    engine.restore(older)
+    assert engine.sim.mass_scaling

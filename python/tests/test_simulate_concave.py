@@ -296,3 +296,36 @@ def test_a_point_between_two_parts_of_a_concave_block_is_that_block():
     with pytest.raises(pm.ModelError, match="lies on the boundary between blocks") as caught:
         blocks.containing(point)
     assert all(f" {b} (centroid" in str(caught.value) for b in owners)
+
+
+def test_an_engine_error_naming_two_bodies_names_their_blocks(monkeypatch):
+    # The engine's penetration error names its bodies, rows a model's user never sees: in a
+    # model with concave blocks body i is not block i. The run's error names the blocks
+    # each body is made of (docs/models.md, "Concave blocks").
+    from penedge.model.engine import Engine
+    from penedge.model.run import Runner
+
+    setup = pm.prepare(BASE + '[[stages]]\ntype = "cycle"\nsteps = 10\n')
+    runner = Runner(setup, Engine)
+    body = runner.engine.body
+    ids, concave = bodies_of(setup)
+    a = int(body[ids == concave[0]][0])  # a concave block's body
+    b = int(np.flatnonzero(np.bincount(body) == 1)[-1])  # a convex block's body
+    assert not np.array_equal(body, np.arange(len(body)))
+    message = f"bodies {a} and {b} overlap by 0.1, deeper than the detection gap (0.001), at step 3"
+
+    def penetrate(steps):
+        raise penedge.MechanicsError(message)
+
+    monkeypatch.setattr(runner.engine, "cycle", penetrate)
+    outcome = runner.run()
+    parts = ", ".join(str(k) for k in np.flatnonzero(body == a))
+    (block,) = np.flatnonzero(body == b)
+    assert outcome.error == (
+        f"bodies {a} and {b} (the concave block made of blocks {parts}; block {block}) "
+        "overlap by 0.1, deeper than the detection gap (0.001), at step 3"
+    )
+    # Where every body is its own block, the message is left as it is.
+    column = (EXAMPLES / "block_column.toml").read_text()
+    plain = Runner(pm.prepare(column), Engine)
+    assert plain.engine.with_blocks(message) == message

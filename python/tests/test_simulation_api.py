@@ -1,8 +1,9 @@
 """penedge.Simulation's API: ``system()`` (block order, body ids, sets and unit of the
-system the simulation was made of, at the current poses), read-only ``gravity``,
-``set_velocity`` on a body that is not free, ids that are bools, unknown joint sets in
-``joint``/``bridge``, the dtype of ``contacts()["sub_offsets"]``."""
+system the simulation was made of, at the current poses; also after a restart file),
+read-only ``gravity``, ``set_velocity`` on a body that is not free, ids that are bools,
+unknown joint sets in ``joint``/``bridge``, the dtype of ``contacts()["sub_offsets"]``."""
 
+import json
 import tomllib
 
 import numpy as np
@@ -143,10 +144,41 @@ def test_a_loaded_simulation_has_its_blocks_in_their_order(tmp_path):
     sim.save(tmp_path / "state.json")
     loaded = penedge.Simulation.load(tmp_path / "state.json")
     placed, again = sim.system(), loaded.system()
-    # The file keeps the block order, not the system's ids (the simulation's instead).
-    assert again.body_ids.tolist() == loaded.block_bodies.tolist() == [0, 1, 2, 0]
+    # The file keeps the block order and the system's ids (since 2026-11-29).
+    assert again.body_ids.tolist() == placed.body_ids.tolist() == [7, 1, 2, 7]
+    assert loaded.block_bodies.tolist() == [0, 1, 2, 0]
     for a, b in zip(placed.blocks, again.blocks, strict=True):
         assert np.array_equal(a.vertices, b.vertices)
+
+
+def test_a_loaded_simulation_keeps_the_joint_sets_and_the_unit(tmp_path):
+    system, _ = penedge.generate(tomllib.loads(SPEC))
+    sim = penedge.Simulation(system, density=2500.0)
+    sim.fix([k for k, b in enumerate(system.blocks) if b.centroid[2] < 1])
+    sim.set_joint(kn=1e9, ks=1e9, friction=30.0)
+    sim.step(5)
+    path = tmp_path / "state.json"
+    sim.save(path)
+    loaded = penedge.Simulation.load(path).system()
+    original = sim.system()
+    assert [s["name"] for s in original.sets] == ["cross", "bed"]
+    assert loaded.sets == original.sets == system.sets
+    assert loaded.unit == original.unit == "ft"
+    assert loaded.body_ids.tolist() == original.body_ids.tolist()
+    # With the joint table the faces name: a block file of it reads back.
+    again = penedge.BlockSystem.from_json(loaded.to_json())
+    assert again.sets == system.sets
+    assert again.unit == "ft"
+    # A file written before restart files kept them: no sets, no unit, and the
+    # simulation's bodies as the ids.
+    state = json.loads(path.read_text())
+    del state["system"]
+    older = tmp_path / "older.json"
+    older.write_text(json.dumps(state))
+    old = penedge.Simulation.load(older)
+    assert old.system().sets == []
+    assert old.system().unit is None
+    assert old.system().body_ids.tolist() == old.block_bodies.tolist()
 
 
 def test_gravity_is_read_only_as_the_state_arrays():

@@ -906,9 +906,18 @@ impl Simulation {
     /// Mass scaling for quasi-static runs (3DEC's density scaling): with True, free bodies
     /// whose critical step is below the median get their inertia (not their weight) scaled up
     /// to it, so that slivers no longer set the time step. Same equilibrium, non-physical
-    /// motion towards it: for :meth:`solve`, not for dynamics.
+    /// motion towards it: for :meth:`solve`, not for dynamics. While on, :meth:`excavate`
+    /// computes the factors again from the free bodies that stay; after :meth:`fix`,
+    /// :meth:`free`, :meth:`prescribe`, :meth:`set_density` or :meth:`set_joint`, call it
+    /// again (``docs/mechanics.md``, "Mass scaling"). Kept in restart files.
     fn set_mass_scaling(&mut self, on: bool) -> PyResult<()> {
         self.inner.set_mass_scaling(on).map_err(to_py_err)
+    }
+
+    /// Whether mass scaling is on (:meth:`set_mass_scaling`).
+    #[getter]
+    fn mass_scaling(&self) -> bool {
+        self.inner.mass_scaling()
     }
 
     /// The time step the next step takes.
@@ -1230,15 +1239,17 @@ impl Simulation {
     /// go on), and a bolt can no longer be installed into removed rock. The forces the
     /// removed bodies and those bolt elements exerted on the bodies that stay are applied
     /// again and reduced linearly to zero over `relax_steps` steps (the j-th step applies
-    /// ``1 - (j - 1) / relax_steps`` of them; 0: at once). ``docs/mechanics.md``,
-    /// "Excavation".
+    /// ``1 - (j - 1) / relax_steps`` of them; 0: at once). Only loads not zero: before
+    /// any step no contact or bolt has a force, and nothing relaxes. With mass scaling on
+    /// (:meth:`set_mass_scaling`), its factors are computed again from the free bodies that
+    /// stay. ``docs/mechanics.md``, "Excavation".
     ///
     /// Returns
     /// -------
     /// dict
     ///     ``removed`` (int64 ids), ``loaded`` (int64 ids of the bodies the removed ones
-    ///     pushed on or their bolts pulled on) and ``forces`` (k, 3), the load on each,
-    ///     which relaxes.
+    ///     pushed on or their bolts pulled on, with a force or moment not zero) and
+    ///     ``forces`` (k, 3), the load on each, which relaxes.
     ///
     /// Raises
     /// ------
@@ -1437,9 +1448,10 @@ impl Simulation {
     /// rock bridges hold is several bodies in the simulation (so that a bridge can break):
     /// its pieces are separate bodies here too, the piece of its first block keeping the
     /// system's id and the others numbered on from the system's largest id. A simulation
-    /// read from a restart file (:meth:`load`) has the blocks in the same order, but the
-    /// file keeps neither the sets, nor the unit, nor the system's ids: the body ids are
-    /// :attr:`block_bodies`.
+    /// read from a restart file (:meth:`load`) has the blocks in the same order, with the
+    /// sets (:attr:`BlockSystem.sets`), joint table, unit and body ids the file kept, but
+    /// no domain; a file written before 2026-11-29 kept none of them: no sets, no unit,
+    /// and :attr:`block_bodies` as the body ids.
     ///
     /// :meth:`BlockSystem.detect` on it sees what the simulation sees only at the
     /// simulation's gap (``gap=`` as given to :class:`Simulation`, default 1e-3): the joints
@@ -1489,7 +1501,21 @@ impl Simulation {
                 .with_unit(o.unit.clone()),
                 placed_body_ids(&o.body_ids, block_bodies),
             ),
-            _ => (penedge::BlockSystem::new(blocks), block_bodies.to_vec()),
+            _ => {
+                // Read from a restart file: the sets, joint table, unit and body ids it
+                // kept (none in a file written before 2026-11-29), no domain.
+                let labels = self.inner.system_labels();
+                let ids = if labels.body_ids.len() == blocks.len() {
+                    placed_body_ids(&labels.body_ids, block_bodies)
+                } else {
+                    block_bodies.to_vec()
+                };
+                let (sets, joints) = (labels.sets.clone(), labels.joints.clone());
+                let system =
+                    penedge::BlockSystem::with_provenance(blocks, Vec::new(), joints, sets)
+                        .with_unit(labels.unit.clone());
+                (system, ids)
+            }
         };
         // The glue of the concave bodies, found again at their poses (nothing to find when
         // every block is its own body).

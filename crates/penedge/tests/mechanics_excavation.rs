@@ -3,7 +3,7 @@
 //! they held falls freely. References are formulas computed here.
 
 use penedge::glam::DVec3;
-use penedge::mechanics::{JointModel, MechanicsError, Simulation};
+use penedge::mechanics::{Bolt, JointModel, MechanicsError, Simulation};
 use penedge::{BlockSystem, ConvexBlock};
 
 const G: f64 = 9.81;
@@ -162,4 +162,166 @@ fn a_relaxation_survives_a_restart() {
         straight.bodies().velocities()
     );
     assert_eq!(resumed.contacts().subs, straight.contacts().subs);
+}
+
+/// Cubes of sides `sides` (bodies 1, 2, ...) standing apart on a fixed base (body 0), joints
+/// of normal stiffness 1e9 and shear stiffness 5e8.
+fn cubes(sides: &[f64]) -> Simulation {
+    let mut blocks = vec![ConvexBlock::cuboid([-1.0, -1.0, -1.0], [9.0, 1.0, 0.0]).unwrap()];
+    for (k, &a) in sides.iter().enumerate() {
+        let x = 2.0 * k as f64;
+        blocks.push(ConvexBlock::cuboid([x, 0.0, 0.0], [x + a, a, a]).unwrap());
+    }
+    let mut sim = Simulation::new(&BlockSystem::new(blocks), DENSITY).unwrap();
+    sim.fix(0).unwrap();
+    sim.set_default_joint(JointModel {
+        kn: 1e9,
+        ks: 5e8,
+        ..JointModel::default()
+    })
+    .unwrap();
+    sim
+}
+
+/// The mass-scaling factors the documented rule gives (docs/mechanics.md, "Critical time
+/// step" and "Mass scaling") to a system of cubes of sides `sides` (body `i + 1` has side
+/// `sides[i]`) of which the bodies `free` are free: each free cube's critical step
+/// `2 / √(max(2 k S / m, 2 k R / I_min))`, `k = max(kn, ks)`, `S = 6 a²` its surface and
+/// `R = Σ_f A_f max_v |r_v|² = 6 a² · 3 a² / 4` (every vertex of a cube at `√3 a / 2` from
+/// its centroid), `m = ρ a³`, `I_min = ρ a⁵ / 6`; the median `t` of the free cubes' steps
+/// (sorted, the one at index `len / 2`); a free cube's factor `max((t / dt)², 1)`, every
+/// other body's 1.
+fn expected_scales(sides: &[f64], free: &[usize]) -> Vec<f64> {
+    let k = 1e9;
+    let step = |a: f64| {
+        let (s, r) = (6.0 * a * a, 6.0 * a * a * 0.75 * a * a);
+        let (m, i) = (DENSITY * a.powi(3), DENSITY * a.powi(5) / 6.0);
+        2.0 / (2.0 * k * s / m).max(2.0 * k * r / i).sqrt()
+    };
+    let mut steps: Vec<f64> = free.iter().map(|&b| step(sides[b - 1])).collect();
+    steps.sort_by(f64::total_cmp);
+    let t = steps[steps.len() / 2];
+    (0..=sides.len())
+        .map(|b| {
+            if free.contains(&b) {
+                (t / step(sides[b - 1])).powi(2).max(1.0)
+            } else {
+                1.0
+            }
+        })
+        .collect()
+}
+
+fn assert_scales(sim: &Simulation, expected: &[f64]) {
+    let got = sim.bodies().mass_scales();
+    assert_eq!(got.len(), expected.len());
+    for (b, (g, e)) in got.iter().zip(expected).enumerate() {
+        assert!((g - e).abs() <= 1e-9 * e, "body {b}: {g} vs {e} ({got:?})");
+    }
+}
+
+/// Mass scaling stays the rule's after an excavation: the factors are computed again from
+/// the free bodies that stay (the removed ones, fixed, are no longer in the median and go
+/// back to 1), also for a simulation read back from a restart file, which keeps that the
+/// scaling is on.
+#[test]
+fn an_excavation_rescales_the_masses_from_the_free_bodies_that_stay() {
+    let sides = [0.1, 0.2, 0.4, 0.8, 1.0];
+    let mut sim = cubes(&sides);
+    sim.set_mass_scaling(true).unwrap();
+    assert!(sim.mass_scaling());
+    assert_scales(&sim, &expected_scales(&sides, &[1, 2, 3, 4, 5]));
+    sim.cycle(10).unwrap();
+    let mut restored = Simulation::from_state_str(&sim.to_state_string().unwrap()).unwrap();
+    assert!(restored.mass_scaling());
+    // The two largest go: the median of the free cubes' steps falls from the 0.4 m cube's
+    // to the 0.2 m cube's (the 0.1 m cube's factor from 4 to 2).
+    let after = expected_scales(&sides, &[1, 2, 3]);
+    assert!(
+        (after[1] - 2.0).abs() < 1e-12
+            && (expected_scales(&sides, &[1, 2, 3, 4, 5])[1] - 4.0).abs() < 1e-12
+    );
+    for s in [&mut sim, &mut restored] {
+        s.excavate(&[4, 5], 0).unwrap();
+        assert_scales(s, &after);
+        s.step().unwrap();
+    }
+    assert_eq!(restored.bodies().poses(), sim.bodies().poses());
+    // Off, nothing is scaled again by an excavation.
+    let mut plain = cubes(&sides);
+    plain.excavate(&[5], 0).unwrap();
+    assert!(!plain.mass_scaling());
+    assert_scales(&plain, &[1.0; 6]);
+}
+
+/// Only bodies with a load are reported and relaxed (docs/mechanics.md, "Excavation"):
+/// before any step no bolt and no contact has a force, so an excavation then loads nothing;
+/// after a step, a body that the removed one touches through an open contact (detected
+/// within the gap, no force) is not loaded either, while the base it stands on is, with its
+/// weight.
+#[test]
+fn an_excavation_reports_only_the_bodies_it_loads() {
+    let bolt = Bolt {
+        collar: DVec3::new(0.0, 0.5, 0.5),
+        direction: DVec3::X,
+        length: 1.9,
+        stiffness: 1e8,
+        capacity: 1e6,
+        rupture_strain: None,
+        dowel: None,
+    };
+    // Two 1 m cubes 0.5 mm apart (within the detection gap of 1e-3 × 1 m), a bolt across.
+    let blocks = vec![
+        ConvexBlock::cuboid([-1.0, -1.0, -1.0], [3.0, 2.0, 0.0]).unwrap(),
+        ConvexBlock::cuboid([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]).unwrap(),
+        ConvexBlock::cuboid([1.0005, 0.0, 0.0], [2.0005, 1.0, 1.0]).unwrap(),
+    ];
+    let system = BlockSystem::new(blocks);
+    let fresh = || {
+        let mut sim = Simulation::new(&system, DENSITY).unwrap();
+        sim.fix(0).unwrap();
+        sim.set_default_joint(JointModel {
+            kn: 1e9,
+            ks: 1e9,
+            ..JointModel::default()
+        })
+        .unwrap();
+        sim
+    };
+    let mut before = fresh();
+    before.add_bolt(bolt).unwrap();
+    assert_eq!(before.bolts().elements().len(), 1);
+    let report = before.excavate(&[2], 10).unwrap();
+    assert_eq!(report.removed, vec![2]);
+    assert_eq!(report.loaded, vec![]);
+    // Nothing relaxes: the cube left feels its weight and its contact with the base only,
+    // as in a simulation built without the removed cube.
+    let mut without =
+        Simulation::new(&BlockSystem::new(system.blocks()[..2].to_vec()), DENSITY).unwrap();
+    without.fix(0).unwrap();
+    without
+        .set_default_joint(*before.joints().of_set(None))
+        .unwrap();
+    before.cycle(20).unwrap();
+    without.cycle(20).unwrap();
+    let [z, z0] = [&before, &without].map(|s| s.bodies().poses()[1].translation.z);
+    assert!((z - z0).abs() < 1e-12, "{z} vs {z0}");
+
+    let mut after = fresh();
+    assert!(after.solve(1e-6, 200_000).unwrap().converged);
+    let open = after.contacts().list.iter().enumerate().any(|(k, c)| {
+        c.bodies == [1, 2]
+            && after
+                .contacts()
+                .subs_of(k)
+                .iter()
+                .all(|s| s.force(c.normal) == DVec3::ZERO)
+    });
+    assert!(open, "the cubes should touch through an open contact");
+    let report = after.excavate(&[2], 10).unwrap();
+    let weight = DENSITY * G;
+    assert_eq!(report.loaded.len(), 1, "{:?}", report.loaded);
+    let (body, force) = report.loaded[0];
+    assert_eq!(body, 0);
+    assert!((force.z + weight).abs() < 1e-4 * weight, "{force}");
 }

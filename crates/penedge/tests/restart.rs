@@ -11,6 +11,8 @@ use penedge::{BlockSystem, ConvexBlock};
 use std::path::PathBuf;
 use std::sync::Arc;
 
+mod support;
+
 const G: f64 = 9.81;
 
 /// A fixed base tilted by 40° (steeper than the 30° friction: the slab on it slides), a
@@ -73,6 +75,15 @@ fn assert_same(a: &Simulation, b: &Simulation) {
     assert_eq!(a.water(), b.water());
     assert_eq!(a.bolts().specs(), b.bolts().specs());
     assert_eq!(a.bolts().elements(), b.bolts().elements());
+    // The wet joints as a restart file keeps them (an opened joint's force is computed
+    // again at the next step).
+    let kept = |s: &Simulation| -> Vec<_> {
+        s.wet_joints()
+            .iter()
+            .map(|j| (j.parts, j.faces, j.set, j.opened))
+            .collect()
+    };
+    assert_eq!(kept(a), kept(b));
 }
 
 /// Runs `scene` for `total` steps straight, and for `stop` steps, saved, read back and
@@ -134,6 +145,38 @@ fn a_resumed_run_with_water_is_bit_for_bit_the_uninterrupted_one() {
         .contact_forces(wet.contacts())
         .iter()
         .any(|&(u, _)| u > 0.0));
+}
+
+/// A slab pushed down an incline by the water of a tension crack behind it
+/// (`support::tension_crack`), undamped: the crack opens past the detection gap within
+/// some 200 steps and keeps its water (docs/mechanics.md, "Opened joints").
+fn crack_scene() -> Simulation {
+    let (system, _) = support::tension_crack(20f64.to_radians());
+    let mut sim = Simulation::new(&system, 2500.0).unwrap();
+    sim.fix(0).unwrap();
+    sim.fix(1).unwrap();
+    let law = JointModel {
+        kn: 1e9,
+        ks: 1e9,
+        friction: 30.0,
+        ..JointModel::default()
+    };
+    sim.set_joint(0, law).unwrap();
+    sim.set_joint(1, law).unwrap();
+    sim.set_water(Water::none().with_set_pressure(1, 1e4).unwrap());
+    sim
+}
+
+#[test]
+fn a_resumed_run_with_an_opened_crack_is_bit_for_bit_the_uninterrupted_one() {
+    let mut sim = crack_scene();
+    while !sim.wet_joints().iter().any(|j| j.opened) {
+        assert!(sim.steps() < 5000, "the crack did not open");
+        sim.step().unwrap();
+    }
+    let opened = sim.steps();
+    let straight = resumes_bit_for_bit("crack", crack_scene, &[1, opened + 5], opened + 300);
+    assert!(straight.wet_joints()[0].opened && straight.wet_joints()[0].force > 0.0);
 }
 
 /// A fixed ceiling and a free 1 m cube 0.1 m below it hanging from a bolt whose capacity is
@@ -505,4 +548,124 @@ fn a_missing_file_or_folder_is_an_error_and_leaves_nothing() {
     later.save_state(&path).unwrap();
     assert_eq!(Simulation::load_state(&path).unwrap().steps(), 10);
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A simulation of a system with spec entries, a unit and a concave block (its two parts
+/// share body id 7, the others' ids are not their indices).
+fn labelled() -> (BlockSystem, Simulation) {
+    use penedge::generation::{JointRecord, JointShape, SetKind, SetRecord};
+    use penedge::geometry::Plane;
+    let blocks = vec![
+        ConvexBlock::cuboid([-3.0, -3.0, -1.0], [3.0, 3.0, 0.0]).unwrap(),
+        ConvexBlock::cuboid([0.0, 0.0, 0.0], [1.0, 0.5, 0.5]).unwrap(),
+        ConvexBlock::cuboid([0.0, 0.5, 0.0], [0.5, 1.5, 0.5]).unwrap(),
+        ConvexBlock::cuboid([-2.0, -2.0, 0.0], [-1.0, -1.0, 1.0]).unwrap(),
+    ];
+    let sets = vec![
+        SetRecord {
+            name: "bedding".into(),
+            kind: SetKind::Set,
+        },
+        SetRecord {
+            name: "fault".into(),
+            kind: SetKind::Plane,
+        },
+    ];
+    let joints = vec![
+        JointRecord {
+            set: 0,
+            member: 0,
+            plane: Plane {
+                normal: DVec3::Z,
+                point: DVec3::new(0.0, 0.0, 0.5),
+            },
+            shape: JointShape::Disc {
+                center: DVec3::new(0.5, 0.5, 0.5),
+                radius: 2.0,
+            },
+        },
+        JointRecord {
+            set: 1,
+            member: 0,
+            plane: Plane {
+                normal: DVec3::X,
+                point: DVec3::new(0.5, 0.0, 0.0),
+            },
+            shape: JointShape::Infinite,
+        },
+    ];
+    let system = BlockSystem::with_provenance(blocks, Vec::new(), joints, sets)
+        .with_unit(Some("ft".into()))
+        .with_bodies(vec![3, 7, 7, 1], &Default::default())
+        .unwrap();
+    let mut sim = Simulation::new(&system, 2500.0).unwrap();
+    sim.fix(0).unwrap();
+    (system, sim)
+}
+
+/// The sets, joint table, unit and body ids of the system a simulation was made of survive
+/// a restart file (docs/mechanics.md, "Restart files"), and so does whether mass scaling is on.
+#[test]
+fn the_system_labels_and_mass_scaling_survive_a_restart_file() {
+    let (system, mut sim) = labelled();
+    let labels = sim.system_labels().clone();
+    assert_eq!(labels.sets, system.sets());
+    assert_eq!(labels.joints, system.joints());
+    assert_eq!(labels.unit.as_deref(), Some("ft"));
+    assert_eq!(labels.body_ids, system.body_ids());
+    sim.set_mass_scaling(true).unwrap();
+    sim.cycle(3).unwrap();
+    let back = Simulation::from_state_str(&sim.to_state_string().unwrap()).unwrap();
+    assert_eq!(back.system_labels(), &labels);
+    assert!(back.mass_scaling());
+    assert_eq!(back.bodies().mass_scales(), sim.bodies().mass_scales());
+    sim.set_mass_scaling(false).unwrap();
+    let back = Simulation::from_state_str(&sim.to_state_string().unwrap()).unwrap();
+    assert!(!back.mass_scaling());
+}
+
+/// A file written before the labels and the mass-scaling switch were kept reads with none
+/// known (no sets, no joints, no unit, no body ids) and with mass scaling on exactly when
+/// it scaled some body; a unit, a joint or body ids edited into nonsense are named.
+#[test]
+fn a_file_without_labels_reads_with_none_and_scaling_from_its_factors() {
+    let (_, mut sim) = labelled();
+    sim.cycle(3).unwrap();
+    let old = |sim: &Simulation| {
+        let mut json: serde_json::Value =
+            serde_json::from_str(&sim.to_state_string().unwrap()).unwrap();
+        json.as_object_mut().unwrap().remove("system").unwrap();
+        json["settings"]
+            .as_object_mut()
+            .unwrap()
+            .remove("mass_scaling")
+            .unwrap();
+        json
+    };
+    let back = Simulation::from_state_str(&old(&sim).to_string()).unwrap();
+    assert_eq!(back.system_labels(), &Default::default());
+    assert!(!back.mass_scaling());
+    assert_same(&sim, &back);
+    // The 0.5 m thick L's step is below the 1 m cube's, the median of the two: it is
+    // scaled; a file of a run with scaling on (and a factor above 1) reads as on.
+    sim.set_mass_scaling(true).unwrap();
+    assert!(sim.bodies().mass_scales().iter().any(|&s| s > 1.0));
+    let back = Simulation::from_state_str(&old(&sim).to_string()).unwrap();
+    assert!(back.mass_scaling());
+    let json: serde_json::Value = serde_json::from_str(&sim.to_state_string().unwrap()).unwrap();
+    each_edit_is_named(
+        &json,
+        vec![
+            ("system.unit", |j| j["system"]["unit"] = "\u{7}".into()),
+            ("system.joints[1].normal", |j| {
+                j["system"]["joints"][1]["normal"] = serde_json::json!([2.0, 0.0, 0.0])
+            }),
+            ("system.joints[0].set", |j| {
+                j["system"]["joints"][0]["set"] = serde_json::json!(5)
+            }),
+            ("system.body_ids", |j| {
+                j["system"]["body_ids"] = serde_json::json!([1, 2])
+            }),
+        ],
+    );
 }

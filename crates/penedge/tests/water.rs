@@ -265,19 +265,6 @@ fn water_gives_the_same_motion_for_any_number_of_threads() {
     assert_eq!(motion(3).0, one);
 }
 
-/// Every face of `block` tagged with the joint set `set(normal)` of its outward normal.
-fn with_sets(block: ConvexBlock, set: impl Fn(DVec3) -> u32) -> ConvexBlock {
-    let origins = block
-        .planes()
-        .iter()
-        .map(|p| FaceOrigin::Joint {
-            set: set(p.normal),
-            joint: 0,
-        })
-        .collect();
-    block.with_face_origins(origins).unwrap()
-}
-
 /// (c) Hoek and Bray's tension crack, opened: a slab on a plane inclined at θ (dry, set 0,
 /// friction φ > θ: dry, it holds), pushed downhill by the water in a crack behind it (set 1,
 /// a uniform pressure u on the slab's back face of area A_c: V = u A_c). Undamped, it slides
@@ -295,20 +282,7 @@ fn the_water_of_an_opened_crack_keeps_pushing_a_sliding_block() {
     let push = mass * (target - G * theta.sin() + G * theta.cos() * phi.tan());
     assert!(push > 0.0 && G * theta.sin() < G * theta.cos() * phi.tan());
     let pressure = push / crack;
-    // Local frame: the plane z = 0, downhill +x; turned and moved off the world's axes.
-    let frame = DQuat::from_rotation_z(0.6) * DQuat::from_rotation_y(theta);
-    let offset = DVec3::new(100.0, -50.0, 20.0);
-    let place = |b: ConvexBlock| b.transformed(frame, offset, 1.0);
-    let uphill = frame * -DVec3::X;
-    let base = ConvexBlock::cuboid([-5.0, -5.0, -1.0], [5.0, 5.0, 0.0]).unwrap();
-    let back = ConvexBlock::cuboid([-1.0, -0.4, 0.0], [0.0, 0.4, 0.5]).unwrap();
-    let slab = ConvexBlock::cuboid([0.0, -0.4, 0.0], [1.0, 0.4, 0.3]).unwrap();
-    let system = BlockSystem::new(vec![
-        with_sets(place(base), |_| 0),
-        with_sets(place(back), |_| 1),
-        // The slab's back face is in the crack (set 1), its others on the plane (set 0).
-        with_sets(place(slab), |n| u32::from(n.dot(uphill) > 0.99)),
-    ]);
+    let (system, frame) = support::tension_crack(theta);
     let mut sim = Simulation::new(&system, density).unwrap();
     sim.fix(0).unwrap();
     sim.fix(1).unwrap();

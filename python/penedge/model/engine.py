@@ -157,7 +157,8 @@ class Engine:
         if stress is not None:
             self.sim.set_initial_stress(**stress)
         #: ``[mechanics] mass_scaling``: rescaled from the stiffness and supports of the
-        #: moment, here and after every change of them (:meth:`rescale`).
+        #: moment, here and after every change of them (:meth:`rescale`); after an
+        #: excavation the simulation rescales by itself (its free bodies changed).
         self.mass_scaling = m.mass_scaling
         self.rescale()
         if m.time_step is not None:
@@ -234,17 +235,27 @@ class Engine:
 
     def with_blocks(self, message: str) -> str:
         """An engine message that names a body (``(body 10)``: the engine's row) with the
-        blocks it is made of, the ids a model's user knows."""
+        blocks it is made of, the ids a model's user knows; and one that names two
+        (``bodies 3 and 7 overlap``, a penetration) with theirs, when some body is not the
+        block of its own id (a concave block, or pieces that rock bridges hold: else body
+        ``i`` is block ``i`` and the message is left as it is)."""
         found = re.search(r"\(body (\d+)\)", message)
-        if found is None:
-            return message
-        body = int(found[1])
+        if found is not None:
+            body = int(found[1])
+            message = message.replace(found[0], f"(body {body}: {self.blocks_of(body)})")
+        pair = re.match(r"bodies (\d+) and (\d+) ", message)
+        if pair is not None and not np.array_equal(self.body, np.arange(len(self.body))):
+            a, b = int(pair[1]), int(pair[2])
+            named = f"bodies {a} and {b} ({self.blocks_of(a)}; {self.blocks_of(b)}) "
+            message = named + message[pair.end() :]
+        return message
+
+    def blocks_of(self, body: int) -> str:
+        """The blocks of engine body `body`, as a message names them."""
         blocks = np.flatnonzero(self.body == body)
         if len(blocks) == 1:
-            what = f"block {blocks[0]}"
-        else:
-            what = f"the concave block made of blocks {block_list(blocks)}"
-        return message.replace(found[0], f"(body {body}: {what})")
+            return f"block {blocks[0]}"
+        return f"the concave block made of blocks {block_list(blocks)}"
 
     # --- set-up ---------------------------------------------------------------------
 
@@ -399,7 +410,9 @@ class Engine:
         """Removes the blocks of `mask` not removed yet, whole bodies only (a `mask` that
         holds some parts of a concave block and not the others is a :exc:`ModelError`);
         their forces on the rest relax over `relax_steps` steps (the steps the caller takes
-        next). The block ids removed."""
+        next). The block ids removed. Under ``[mechanics] mass_scaling`` the simulation
+        computes its factors again from the free blocks that stay (docs/mechanics.md, "Mass
+        scaling"): the excavated ones no longer count in the median."""
         split = partial_body(mask, self.body)
         if split is not None:
             raise ModelError("excavate", split)
@@ -425,6 +438,10 @@ class Engine:
                 f"{path} holds {len(sim)} {what}, the model {n}: it was saved from another model",
             )
         self.sim = sim
+        if getattr(self, "mass_scaling", False) and not getattr(sim, "mass_scaling", True):
+            # A file from before restart files kept the switch, that scaled no body (read
+            # as off): on, as the model says (the runner checks it against the file's note).
+            self.rescale()
         note: str | None = sim.note
         return note
 

@@ -334,6 +334,9 @@ class Runner:
             except (KeyboardInterrupt, PenedgeError, ModelError, OSError) as e:
                 interrupted = isinstance(e, KeyboardInterrupt)
                 error = None if interrupted else str(e)
+                named = getattr(self.engine, "with_blocks", None)
+                if isinstance(e, MechanicsError) and named is not None:
+                    error = named(str(e))  # the engine's bodies as the model's blocks
                 e_ = self.engine
                 results.append(
                     StageResult(

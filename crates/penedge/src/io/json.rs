@@ -77,7 +77,7 @@ struct BlockFile {
 
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct JointFile {
+pub(crate) struct JointFile {
     id: u32,
     set: u32,
     member: u32,
@@ -93,7 +93,7 @@ struct JointFile {
 
 #[derive(Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-enum ShapeFile {
+pub(crate) enum ShapeFile {
     Infinite,
     Disc {
         #[serde(deserialize_with = "strict::read")]
@@ -432,7 +432,7 @@ fn block_of(
     ConvexBlock::from_parts_in(&f.vertices, &f.faces, &planes, &origins, tol, system)
 }
 
-fn joint_file((id, r): (usize, &JointRecord)) -> JointFile {
+pub(crate) fn joint_file((id, r): (usize, &JointRecord)) -> JointFile {
     // A zero or NaN normal (a joint table built by hand) has no attitude: such a joint is
     // written with null angles, and reading the file names it.
     let attitude = r.attitude().unwrap_or(Attitude::new(f64::NAN, f64::NAN));
@@ -459,7 +459,7 @@ fn joint_file((id, r): (usize, &JointRecord)) -> JointFile {
 
 /// A joint of the file, checked: ids in order, a spec entry that exists, a finite unit
 /// normal, finite points, a positive finite radius, a polygon of 3 vertices or more.
-fn record_of(i: usize, f: JointFile, sets: usize) -> Result<JointRecord, IoError> {
+pub(crate) fn record_of(i: usize, f: JointFile, sets: usize) -> Result<JointRecord, IoError> {
     let field = |name: &str| format!("joints[{i}].{name}");
     if f.id as usize != i {
         let msg = format!("ids must run 0, 1, 2, ... in order; found {}", f.id);

@@ -46,7 +46,9 @@ pub struct ExcavationReport {
     pub removed: Vec<usize>,
     /// The bodies that stay and that the removed ones pushed on (their contacts at the last
     /// step) or pulled on (bolt elements anchored in them), increasing; with the force on
-    /// each (world frame), the load that relaxes.
+    /// each (world frame), the load that relaxes. Only bodies with a load: a force or a
+    /// moment not zero (a contact without force, open or before any step, or a slack bolt
+    /// element, loads nothing).
     pub loaded: Vec<(usize, DVec3)>,
 }
 
@@ -60,7 +62,11 @@ impl Simulation {
     /// at each step, reduced linearly to zero over `relax_steps` steps: the `j`-th step
     /// after the excavation applies `1 - (j - 1) / relax_steps` of them (the moment about
     /// each body's centroid kept as it was, in the world frame); `relax_steps = 0` releases
-    /// them at once. Call it after a step (before any, there are no forces to relax).
+    /// them at once. Only loads not zero are relaxed and reported: before any step no contact
+    /// and no bolt has a force yet, so an excavation then relaxes nothing and its report's
+    /// `loaded` is empty (the rock goes as if the model had been built without it). With
+    /// mass scaling on, the factors are computed again from the free bodies that stay
+    /// ([`Simulation::set_mass_scaling`]).
     pub fn excavate(
         &mut self,
         ids: &[usize],
@@ -109,7 +115,13 @@ impl Simulation {
             moment[on] += m;
             loaded[on] = true;
         }
-        let bodies: Vec<u32> = (0..n).filter(|&i| loaded[i]).map(|i| i as u32).collect();
+        // A body counts as loaded only if the load is not zero: contacts without force
+        // (open, or none computed yet: before the first step) and slack bolt elements
+        // exert none, and there is nothing to relax or report.
+        let bodies: Vec<u32> = (0..n)
+            .filter(|&i| loaded[i] && (force[i] != DVec3::ZERO || moment[i] != DVec3::ZERO))
+            .map(|i| i as u32)
+            .collect();
         let report = ExcavationReport {
             removed: (0..n).filter(|&i| gone[i]).collect(),
             loaded: bodies
@@ -152,6 +164,10 @@ impl Simulation {
             }
         }
         self.built_at = None;
+        if self.mass_scaling {
+            // The free bodies changed: the median and the factors follow.
+            self.rescale();
+        }
         Ok(report)
     }
 

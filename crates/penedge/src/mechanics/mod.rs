@@ -55,6 +55,7 @@ use crate::block::{ConvexBlock, Pose};
 use crate::body::BodyError;
 use crate::classify::PairResult;
 use crate::contact::Detector;
+use crate::generation::{JointRecord, SetRecord};
 use crate::geometry::DVec3;
 use crate::system::{
     deadline, edge_certificate, holds, separation, BlockSystem, BroadPhase, WideBoxes,
@@ -370,7 +371,31 @@ pub struct Simulation {
     /// The wet joints: the face-face contacts carrying water, and the joints they left
     /// when their faces opened beyond the detection gap (`water.rs`, [`WetJoint`]).
     wet: Vec<WetJoint>,
+    /// Whether mass scaling is on ([`Simulation::set_mass_scaling`]; the factors are the
+    /// bodies').
+    mass_scaling: bool,
+    /// What the simulation keeps of the system it was made of besides its blocks, for
+    /// restart files and the system of a loaded simulation (empty for `from_bodies`).
+    origin: SystemLabels,
     timings: StepTimings,
+}
+
+/// The labels of the system a simulation was made of ([`Simulation::new`]): the entries of
+/// its generation spec (their name and kind; a face's joint set is an index into them), its
+/// joint table (a face's joint is an index into it), its length unit and its body ids (per
+/// block, [`BlockSystem::body_ids`]). None of them takes part in a step; a restart file
+/// keeps them (absent in files written before 2026-11-29: all empty or `None`). Not the
+/// domain.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SystemLabels {
+    /// One record per spec entry (empty: not known).
+    pub sets: Vec<SetRecord>,
+    /// The joint table ([`BlockSystem::joints`]; empty: not known, or none).
+    pub joints: Vec<JointRecord>,
+    /// The length unit (`None`: not named, or not known).
+    pub unit: Option<String>,
+    /// Per block, its body id in the system (empty: not known).
+    pub body_ids: Vec<u32>,
 }
 
 impl Simulation {
@@ -388,6 +413,12 @@ impl Simulation {
         let mut sim = Simulation::from_bodies(bodies);
         sim.block_bodies = block_bodies;
         sim.sets.extend(0..system.sets().len() as u32);
+        sim.origin = SystemLabels {
+            sets: system.sets().to_vec(),
+            joints: system.joints().to_vec(),
+            unit: system.unit().map(str::to_string),
+            body_ids: system.body_ids(),
+        };
         Ok(sim)
     }
 
@@ -456,6 +487,8 @@ impl Simulation {
             excavation: excavation::Excavation::default(),
             initial_stress: None,
             wet: Vec::new(),
+            mass_scaling: false,
+            origin: SystemLabels::default(),
             timings: StepTimings::default(),
         }
     }
@@ -479,6 +512,13 @@ impl Simulation {
     /// such block.
     pub fn body_of_block(&self, block: usize) -> Option<u32> {
         self.block_bodies.get(block).copied()
+    }
+
+    /// What the simulation keeps of the system it was made of: its spec entries, unit and
+    /// body ids ([`SystemLabels`]; empty for [`Simulation::from_bodies`], or for one read
+    /// from a restart file written before they were kept).
+    pub fn system_labels(&self) -> &SystemLabels {
+        &self.origin
     }
 
     /// The contacts and sub-contacts of the last step.
@@ -878,23 +918,41 @@ impl Simulation {
     /// moments, not its weight) scaled up until its step is the median, so that slivers no
     /// longer set the time step. The equilibrium is the same; the motion towards it is not
     /// physical. Off: true inertia. Velocities and spins are kept.
+    ///
+    /// The factors are those of the free bodies and the joints' stiffness of the moment.
+    /// While it is on, [`Simulation::excavate`] computes them again from the free bodies
+    /// that stay (the removed ones, fixed, go back to 1), as 3DEC recomputes its density
+    /// scaling when the model changes; after other changes of the free bodies, their
+    /// densities or the joints' stiffness (`fix`, `free`, `prescribe`, `set_density`,
+    /// `set_joint`, ...), call it again (docs/mechanics.md, "Mass scaling"). Whether it is
+    /// on is kept in restart files. No free body: an error, and nothing changes.
     pub fn set_mass_scaling(&mut self, on: bool) -> Result<(), MechanicsError> {
-        let k = self.max_stiffness();
-        let free: Vec<usize> = (0..self.bodies.len())
-            .filter(|&i| self.bodies.is_free(i))
-            .collect();
-        let mut steps: Vec<f64> = free
-            .iter()
-            .map(|&i| integrate::critical_step(&self.bodies, i, k, 1.0))
-            .collect();
-        if steps.is_empty() {
+        if !(0..self.bodies.len()).any(|i| self.bodies.is_free(i)) {
             return Err(MechanicsError::NoFreeBody);
         }
+        self.mass_scaling = on;
+        self.rescale();
+        Ok(())
+    }
+
+    /// Whether mass scaling is on ([`Simulation::set_mass_scaling`]).
+    pub fn mass_scaling(&self) -> bool {
+        self.mass_scaling
+    }
+
+    /// Sets every body's mass-scaling factor by the rule of [`Simulation::set_mass_scaling`]
+    /// (1 for all when it is off, or when no body is free).
+    fn rescale(&mut self) {
+        let k = self.max_stiffness();
+        let mut steps: Vec<f64> = (0..self.bodies.len())
+            .filter(|&i| self.bodies.is_free(i))
+            .map(|i| integrate::critical_step(&self.bodies, i, k, 1.0))
+            .collect();
         steps.sort_by(f64::total_cmp);
-        let target = steps[steps.len() / 2];
+        let target = steps.get(steps.len() / 2).copied();
         for i in 0..self.bodies.len() {
-            let scale = match self.bodies.fixity(i) {
-                Fixity::Free if on => {
+            let scale = match (self.bodies.fixity(i), target) {
+                (Fixity::Free, Some(target)) if self.mass_scaling => {
                     let own = integrate::critical_step(&self.bodies, i, k, 1.0);
                     (target / own).powi(2).max(1.0)
                 }
@@ -902,7 +960,6 @@ impl Simulation {
             };
             self.bodies.set_scale(i, scale);
         }
-        Ok(())
     }
 
     /// The critical time step (docs/mechanics.md, "Integration"): the smallest bound of the

@@ -16,12 +16,14 @@
 
 use super::excavation::{Excavation, Relaxation};
 use super::{Bodies, BodyContact, Contacts, Damping, Fixity, JointModel, Simulation, SubContact};
-use super::{Bolt, BoltElement, BoltState, Bolts, Dowel, Water};
-use super::{InitialStress, JointTable, SubState, Synced};
+use super::{Bolt, BoltElement, BoltState, Bolts, Dowel, Water, WetJoint};
+use super::{InitialStress, JointTable, SubState, Synced, SystemLabels};
 use crate::block::{ConvexBlock, Edge, FaceOrigin, Pose};
 use crate::body::Shape;
 use crate::classify::ContactType;
+use crate::generation::SetRecord;
 use crate::geometry::{Aabb, DVec3, Plane};
+use crate::io::json::{self as blocks_json, record_of};
 use crate::io::{read_text, write_atomic, IoError};
 use crate::tolerance::Tolerance;
 use glam::DQuat;
@@ -65,8 +67,45 @@ struct StateFile {
     /// files written before penedge stored them: the faces' sets and those with properties).
     #[serde(default)]
     sets: Vec<u32>,
+    /// What the simulation keeps of the system it was made of ([`SystemLabels`]: its spec
+    /// entries, unit and body ids; absent in files written before 2026-11-29: none known).
+    #[serde(default)]
+    system: SystemFile,
+    /// The wet joints ([`WetJoint`]: the face-face contacts carrying water and the joints
+    /// opened beyond the detection gap that keep it), sorted by parts (absent in files
+    /// written before 2026-11-29: none, and an opened joint's water is lost at the restart).
+    #[serde(default)]
+    wet: Vec<WetJointFile>,
     /// Free text for the caller (`penedge simulate` keeps where its run stands there).
     note: Option<String>,
+}
+
+/// A wet joint ([`WetJoint`]) in a restart file: its force is computed again at the next
+/// step.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct WetJointFile {
+    parts: [u32; 2],
+    faces: [u32; 2],
+    set: Option<u32>,
+    opened: bool,
+}
+
+#[derive(Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SystemFile {
+    /// Per entry of the generation spec, its `name` and `kind` (empty: not known).
+    #[serde(default)]
+    sets: Vec<SetRecord>,
+    /// The joint table, as a block file has it (empty: not known, or none).
+    #[serde(default)]
+    joints: Vec<blocks_json::JointFile>,
+    /// The length unit (`null`: not named, or not known).
+    #[serde(default)]
+    unit: Option<String>,
+    /// Per block, its body id in the system (empty: not known).
+    #[serde(default)]
+    body_ids: Vec<u32>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -114,6 +153,10 @@ struct SettingsFile {
     /// absent in older files: on, the default).
     #[serde(default = "default_dormant_contacts")]
     dormant_contacts: bool,
+    /// Whether mass scaling is on (`Simulation::set_mass_scaling`; absent in older files:
+    /// on when some body's `scale` is above 1, off otherwise).
+    #[serde(default)]
+    mass_scaling: Option<bool>,
     /// Applied moments (world frame): `[body, [x, y, z]]` per body that has one.
     applied_moments: Vec<(u32, V3)>,
     /// The water in the joints (absent in files written before penedge stored water: dry).
@@ -559,7 +602,9 @@ fn file_of(sim: &Simulation) -> StateFile {
         initial,
         excavation,
         initial_stress,
-        wet: _,
+        wet,
+        mass_scaling,
+        origin,
     } = sim;
     let (shapes, shape_ids) = shape_files(bodies);
     StateFile {
@@ -587,6 +632,7 @@ fn file_of(sim: &Simulation) -> StateFile {
             full_detection: *full_detection,
             update_fraction: *update_fraction,
             dormant_contacts: *dormancy,
+            mass_scaling: Some(*mass_scaling),
             applied_moments: applied_moments
                 .iter()
                 .map(|(&b, m)| (b, m.to_array()))
@@ -627,6 +673,26 @@ fn file_of(sim: &Simulation) -> StateFile {
         excavation: excavation_file(excavation),
         bolts: bolts_file(bolts),
         sets: sets.iter().copied().collect(),
+        system: SystemFile {
+            sets: origin.sets.clone(),
+            joints: origin
+                .joints
+                .iter()
+                .enumerate()
+                .map(blocks_json::joint_file)
+                .collect(),
+            unit: origin.unit.clone(),
+            body_ids: origin.body_ids.clone(),
+        },
+        wet: wet
+            .iter()
+            .map(|j| WetJointFile {
+                parts: j.parts,
+                faces: j.faces,
+                set: j.set,
+                opened: j.opened,
+            })
+            .collect(),
         note: None,
     }
 }
@@ -1133,6 +1199,47 @@ fn body_of(
     Ok(())
 }
 
+/// The wet joints of a file: two parts, smaller first, and a face of each that exists,
+/// sorted by parts.
+fn wet_of(files: &[WetJointFile], placed: &[ConvexBlock]) -> Result<Vec<WetJoint>, IoError> {
+    let mut out: Vec<WetJoint> = Vec::with_capacity(files.len());
+    for (i, f) in files.iter().enumerate() {
+        let field = |name: &str| format!("wet[{i}].{name}");
+        let [p, q] = f.parts;
+        if !(p < q && (q as usize) < placed.len()) {
+            let msg = format!(
+                "must be two part ids, smaller first, below {}; got {:?}",
+                placed.len(),
+                f.parts
+            );
+            return Err(bad(field("parts"), msg));
+        }
+        if out.last().is_some_and(|last| last.parts >= f.parts) {
+            return Err(bad(
+                field("parts"),
+                "wet joints must be sorted by their parts, one per pair",
+            ));
+        }
+        for (k, (&part, &face)) in f.parts.iter().zip(&f.faces).enumerate() {
+            let faces = placed[part as usize].n_faces();
+            if face as usize >= faces {
+                let msg = format!("part {part} has {faces} faces; got face {face}");
+                return Err(bad(field(&format!("faces[{k}]")), msg));
+            }
+        }
+        out.push(WetJoint {
+            parts: f.parts,
+            faces: f.faces,
+            set: f.set,
+            opened: f.opened,
+            force: 0.0,
+            normal: DVec3::ZERO,
+            centre: DVec3::ZERO,
+        });
+    }
+    Ok(out)
+}
+
 fn contacts_of(files: &[ContactFile], part_body: &[u32]) -> Result<Contacts, IoError> {
     let mut out = Contacts::default();
     for (i, f) in files.iter().enumerate() {
@@ -1452,6 +1559,42 @@ fn synced_of(c: &ClockFile, n: usize) -> Result<Synced, IoError> {
     Ok(Synced::Bodies(ids.iter().copied().collect()))
 }
 
+/// The system labels of a file, `blocks` blocks (its body ids, when given, one per block;
+/// its unit, when given, a unit's name as a spec's; its joints checked as a block file's).
+fn labels_of(f: SystemFile, blocks: usize) -> Result<SystemLabels, IoError> {
+    if !f.body_ids.is_empty() && f.body_ids.len() != blocks {
+        let msg = format!(
+            "{} ids for the {blocks} blocks: one per block, or none",
+            f.body_ids.len()
+        );
+        return Err(bad("system.body_ids", msg));
+    }
+    let unit = f
+        .unit
+        .as_deref()
+        .map(crate::generation::check::unit_name)
+        .transpose()
+        .map_err(|why| bad("system.unit", why))?;
+    let sets = f.sets.len();
+    let joints = f
+        .joints
+        .into_iter()
+        .enumerate()
+        .map(|(i, j)| {
+            record_of(i, j, sets).map_err(|e| match e {
+                IoError::Format { field, message } => bad(format!("system.{field}"), message),
+                other => other,
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(SystemLabels {
+        sets: f.sets,
+        joints,
+        unit,
+        body_ids: f.body_ids,
+    })
+}
+
 /// The block-to-body map of a file: every body of the `n` a block's.
 fn block_bodies_of(ids: &[u32], n: usize) -> Result<Vec<u32>, IoError> {
     let mut seen = vec![false; n];
@@ -1468,7 +1611,7 @@ fn block_bodies_of(ids: &[u32], n: usize) -> Result<Vec<u32>, IoError> {
     Ok(ids.to_vec())
 }
 
-fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
+fn simulation_of(mut file: StateFile) -> Result<Simulation, IoError> {
     let shapes = file
         .shapes
         .iter()
@@ -1545,6 +1688,7 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
         moments_applied.insert(b, vec3(field, m)?);
     }
     let contacts = contacts_of(&file.contacts, &sim.part_body)?;
+    let wet = wet_of(&file.wet, &sim.placed)?;
     let forces = per_body("forces", &file.forces, n)?;
     let moments = per_body("moments", &file.moments, n)?;
     let tolerance = tolerance_of(s.tolerance)?;
@@ -1613,7 +1757,9 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
             initial,
             excavation: ex,
             initial_stress: stress,
-            wet: _,
+            wet: wj,
+            mass_scaling,
+            origin,
         } = &mut sim;
         if !file.block_bodies.is_empty() {
             *bb = block_bodies_of(&file.block_bodies, n)?;
@@ -1649,6 +1795,13 @@ fn simulation_of(file: StateFile) -> Result<Simulation, IoError> {
         *stress = initial_stress;
         *w = water;
         *bo = bolt_set;
+        *mass_scaling = match s.mass_scaling {
+            Some(on) => on,
+            // A file from before the setting was kept: it was on if it scaled a body.
+            None => file.bodies.iter().any(|b| b.scale > 1.0),
+        };
+        *origin = labels_of(std::mem::take(&mut file.system), bb.len())?;
+        *wj = wet;
     }
     // A file written before excavation ended the bolts anchored in removed bodies may hold
     // elements with an anchor in one: they go, as the excavation drops them now (their last

@@ -267,3 +267,37 @@ pub fn cubes_in_a_box_at(
     }
     sim
 }
+
+/// Every face of `block` tagged with the joint set `set(normal)` of its outward normal.
+pub fn with_sets(block: ConvexBlock, set: impl Fn(DVec3) -> u32) -> ConvexBlock {
+    let origins = block
+        .planes()
+        .iter()
+        .map(|p| penedge::block::FaceOrigin::Joint {
+            set: set(p.normal),
+            joint: 0,
+        })
+        .collect();
+    block.with_face_origins(origins).unwrap()
+}
+
+/// Hoek and Bray's tension crack on a bench: a base block (set 0) whose top is a plane
+/// inclined at `theta`, a block behind the crack (set 1) and a 1 × 0.8 × 0.3 m slab on the
+/// plane in front of it, whose back face, 0.8 × 0.3 m, is in the crack (set 1; its other
+/// faces set 0). In the plane's frame (returned: the plane is z = 0, downhill +x, the crack
+/// x = 0), turned and moved off the world's axes.
+pub fn tension_crack(theta: f64) -> (BlockSystem, glam::DQuat) {
+    let frame = glam::DQuat::from_rotation_z(0.6) * glam::DQuat::from_rotation_y(theta);
+    let offset = DVec3::new(100.0, -50.0, 20.0);
+    let place = |b: ConvexBlock| b.transformed(frame, offset, 1.0);
+    let uphill = frame * -DVec3::X;
+    let base = ConvexBlock::cuboid([-5.0, -5.0, -1.0], [5.0, 5.0, 0.0]).unwrap();
+    let back = ConvexBlock::cuboid([-1.0, -0.4, 0.0], [0.0, 0.4, 0.5]).unwrap();
+    let slab = ConvexBlock::cuboid([0.0, -0.4, 0.0], [1.0, 0.4, 0.3]).unwrap();
+    let system = BlockSystem::new(vec![
+        with_sets(place(base), |_| 0),
+        with_sets(place(back), |_| 1),
+        with_sets(place(slab), |n| u32::from(n.dot(uphill) > 0.99)),
+    ]);
+    (system, frame)
+}
