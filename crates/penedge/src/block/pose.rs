@@ -14,6 +14,10 @@ pub struct Pose {
     pub translation: DVec3,
 }
 
+/// How far two normalised quaternions of one rotation may differ in a component
+/// ([`Pose::same_placement`]).
+pub const ROTATION_ROUNDING: f64 = 4.0 * f64::EPSILON;
+
 impl Default for Pose {
     fn default() -> Self {
         Pose::IDENTITY
@@ -35,6 +39,25 @@ impl Pose {
             rotation: rotation / len,
             translation,
         })
+    }
+
+    /// Whether `self` and `other` place a block alike: equal translations and the same
+    /// rotation. A rotation is compared, not its quaternion: `q` and `-q` are one rotation,
+    /// and so are `q` and any positive multiple of it once normalised ([`Pose::new`]). The
+    /// rule, on the normalised quaternions: `other`'s is turned into the hemisphere of
+    /// `self`'s (negated when their dot product is negative, an exact step), and then every
+    /// component must agree within `ROTATION_ROUNDING` (4 units of `2^-52`: the rounding of
+    /// normalising two multiples of one quaternion, a few units in the last place of
+    /// components at most 1). The relative angle of two such rotations is at most about
+    /// `2 × 4 × 2^-52 × 2` radians, 4e-15: below the rounding of the placed coordinates.
+    /// Both poses should come from [`Pose::new`] (unit quaternions).
+    pub fn same_placement(&self, other: &Pose) -> bool {
+        if self.translation != other.translation {
+            return false;
+        }
+        let (a, b) = (self.rotation, other.rotation);
+        let b = if a.dot(b) < 0.0 { -b } else { b };
+        glam::DVec4::from(a - b).abs().max_element() <= ROTATION_ROUNDING
     }
 
     /// The image of point `p`.
