@@ -36,10 +36,14 @@ fn as_array<'py>(obj: &Bound<'py, PyAny>, name: &str, what: &str) -> PyResult<Bo
 }
 
 /// Whether `obj` is a bool, Python's (an `int` to Python: `True == 1`) or numpy's
-/// (`np.True_`, which converts to a number too): penedge takes neither where a number or
-/// an id is expected.
+/// (`np.True_`, which converts to a number too; its type is `numpy.bool`, `numpy.bool_`
+/// before numpy 2): penedge takes neither where a number or an id is expected.
 pub fn is_bool(obj: &Bound<'_, PyAny>) -> bool {
-    obj.is_instance_of::<pyo3::types::PyBool>() || obj.get_type().name().is_ok_and(|n| n == "bool")
+    if obj.is_instance_of::<pyo3::types::PyBool>() {
+        return true;
+    }
+    let ty = obj.get_type();
+    ty.name().is_ok_and(|n| n == "bool" || n == "bool_") && ty.module().is_ok_and(|m| m == "numpy")
 }
 
 /// The `InputError` (kind ``dtype``) for the bool `value` given as argument `name`, where
