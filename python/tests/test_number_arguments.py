@@ -147,7 +147,7 @@ def test_a_relative_gap_below_the_rounding_is_refused_everywhere(gap):
         assert penedge.detect_pair(a, b, gap=gap).outcome == "face-face"
 
 
-@pytest.mark.parametrize("scale", [-1.0, 3.0, -2.5, 1e-3])
+@pytest.mark.parametrize("scale", [-1.0, 3.0, -2.5, 1e-3, 1e200, -1e-300])
 def test_parts_of_one_body_take_one_rotation_as_any_quaternion_of_it(scale):
     system = notch_system()
     q = np.array([0.1, -0.2, 0.3, 0.9])
