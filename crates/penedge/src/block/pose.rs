@@ -48,7 +48,7 @@ impl Pose {
             if largest == 0.0 {
                 return None;
             }
-            rotation = rotation / largest;
+            rotation /= largest;
             len = rotation.length();
         }
         (len > 0.0).then(|| Pose {
