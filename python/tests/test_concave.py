@@ -1,6 +1,8 @@
 """Concave blocks from Python: bodies of convex parts, their mass properties and their
 contacts per pair of bodies, in contact regions (docs/concave-blocks.md). References by hand."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -78,6 +80,83 @@ def test_bad_parts_are_named():
     assert e.value.kind == "body_ids"
     with pytest.raises(penedge.InputError):
         apart.with_bodies([0, -1])
+
+
+def needles_json():
+    """Two parts of one body of a fine zig-zag slope excavation, as generated (planes
+    included, read back bit for bit): prisms 10 m long along y, needles 2.6 m by 2 to 8 mm in
+    section, glued along a slope face. The stored plane of that long thin face puts the
+    needles' shared tip 1.27e-8 off it, beyond the pair's length threshold (1.03e-8)."""
+    x0, x1, x2 = 6.619577447, 6.618327291000001, 7.1446246588908355
+    z0, z1, z2 = 6.7027870550000035, 6.688780474999998, 4.175638512728671
+    first = {
+        "vertices": [
+            [x0, 0, z0],
+            [x1, 0, z1],
+            [x2, 0, z2],
+            [x2, 10, z2],
+            [x1, 10, z1],
+            [x0, 10, z0],
+        ],
+        "faces": [[0, 1, 2], [3, 4, 5], [2, 1, 4, 3], [5, 4, 1, 0], [2, 3, 5, 0]],
+        "planes": [
+            [0, -1, 0, 5, 0, 5],
+            [0, 1, 0, 5, 10, 5],
+            [-0.9787679009252925, 0, -0.20497169589554765, 6.617702213, 5, 6.691765308000001],
+            [-0.996040422910225, 0, 0.08890149565007498, 6.6189523690000005, 5, 6.695783765],
+            [0.9790918262847176, 0, 0.2034187692973699, 6.620202525000001, 5, 6.699778439999996],
+        ],
+    }
+    u0, u1, u3 = 6.622077759999999, 6.620827602990678, 7.1446306101978
+    w0, w1, w3 = 6.710728727000002, 6.69676982489592, 4.175610319778413
+    second = {
+        "vertices": [
+            [u0, 0, w0],
+            [u1, 0, w1],
+            [x2, 0, z2],
+            [u3, 0, w3],
+            [u3, 10, w3],
+            [x2, 10, z2],
+            [u1, 10, w1],
+            [u0, 10, w0],
+        ],
+        "faces": [
+            [0, 1, 2, 3],
+            [4, 5, 6, 7],
+            [3, 2, 5, 4],
+            [2, 1, 6, 5],
+            [7, 6, 1, 0],
+            [3, 4, 7, 0],
+        ],
+        "planes": [
+            [0, -1, 0, 5, 0, 5],
+            [0, 1, 0, 5, 10, 5],
+            [-0.9784380582140522, 0, -0.20654047118740412, 6.6152019, 5, 6.683657271499988],
+            [-0.9790918262847176, 0, -0.2034187692973699, 6.620202525000001, 5, 6.699778439999996],
+            [-0.9960134835347997, 0, 0.08920280610425566, 6.621452681499999, 5, 6.703749275999999],
+            [0.9794099583739811, 0, 0.2018814836429451, 6.622702838, 5, 6.707696217000001],
+        ],
+    }
+    for body, block in enumerate((first, second)):
+        block["body"] = body
+        block["origins"] = [{"kind": "unknown"}] * len(block["faces"])
+    # The file's length threshold: twice the largest distance of a vertex from its face's
+    # plane, over the system's size.
+    system = {"format": "penedge-blocks", "version": 2, "length": 2.4636751916705936e-09}
+    return json.dumps({**system, "blocks": [first, second]})
+
+
+def test_needle_parts_that_only_touch_are_glued_not_refused():
+    system = penedge.BlockSystem.from_json(needles_json())
+    # The detection calls the pair penetrating: no face of the second part holds the tip.
+    assert penedge.detect_pair(system.blocks[0], system.blocks[1]).outcome == "penetrating"
+    glued = system.with_bodies([0, 0])
+    faces = glued.internal_faces()
+    assert faces["parts"].tolist() == [[0, 1]]
+    assert faces["faces"].tolist() == [[4, 3]]
+    # The second part's face, whole: its length across times 10 m.
+    tip, end = np.array(system.blocks[1].vertices)[[1, 2]]
+    assert faces["areas"][0] == pytest.approx(np.linalg.norm(tip - end) * 10, rel=1e-9)
 
 
 def test_json_keeps_the_bodies(tmp_path):

@@ -35,6 +35,94 @@ fn as_array<'py>(obj: &Bound<'py, PyAny>, name: &str, what: &str) -> PyResult<Bo
         .map_err(|e| input_error("dtype", format!("{name} must be an array of {what}: {e}")))
 }
 
+/// Whether `obj` is a bool, Python's (an `int` to Python: `True == 1`) or numpy's
+/// (`np.True_`, which converts to a number too; its type is `numpy.bool`, `numpy.bool_`
+/// before numpy 2): penedge takes neither where a number or an id is expected.
+pub fn is_bool(obj: &Bound<'_, PyAny>) -> bool {
+    if obj.is_instance_of::<pyo3::types::PyBool>() {
+        return true;
+    }
+    let ty = obj.get_type();
+    ty.name().is_ok_and(|n| n == "bool" || n == "bool_") && ty.module().is_ok_and(|m| m == "numpy")
+}
+
+/// The `InputError` (kind ``dtype``) for the bool `value` given as argument `name`, where
+/// `what` ("an integer", "a real number") is expected.
+pub fn bool_error(name: &str, what: &str, value: &impl std::fmt::Display) -> PyErr {
+    input_error(
+        "dtype",
+        format!("{name} must be {what}, got the bool {value}"),
+    )
+}
+
+/// What a number argument of type `T` must be, for [`bool_error`]'s message.
+pub trait NumberKind {
+    /// "a real number", "an integer".
+    const WHAT: &'static str;
+}
+
+impl NumberKind for f64 {
+    const WHAT: &'static str = "a real number";
+}
+
+impl NumberKind for Whole {
+    const WHAT: &'static str = "an integer";
+}
+
+/// A scalar number argument (a count, a step count, threads, a density, a stiffness, a
+/// gap, a time) as Python gave it: its value, as `T` takes it (a float, an int, anything
+/// with `__float__` or `__index__`), or a bool, which `T` would take as 0 or 1. The bool is
+/// kept, not refused here: the function that takes the argument knows its name, and
+/// [`Number::get`] refuses it as an `InputError` naming it, as a bool in a list of ids is
+/// ([`refuse_bools`]). Another type (a string) is pyo3's `TypeError` naming the argument,
+/// as before.
+#[derive(Clone, Debug)]
+pub enum Number<T> {
+    /// A number.
+    Value(T),
+    /// A bool, Python's or numpy's: its text (``True``).
+    Bool(String),
+}
+
+/// A real-number argument ([`Number`]).
+pub type Real = Number<f64>;
+
+/// A whole-number argument ([`Number`] of [`Whole`]).
+pub type Count = Number<Whole>;
+
+impl<'a, 'py, T> FromPyObject<'a, 'py> for Number<T>
+where
+    T: FromPyObject<'a, 'py>,
+    T::Error: Into<PyErr>,
+{
+    type Error = PyErr;
+
+    fn extract(obj: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        if is_bool(&obj) {
+            let text = obj
+                .str()
+                .map_or_else(|_| "?".to_string(), |s| s.to_string());
+            return Ok(Number::Bool(text));
+        }
+        obj.extract::<T>().map(Number::Value).map_err(Into::into)
+    }
+}
+
+impl<T: NumberKind> Number<T> {
+    /// The number given as argument `name`; a bool is an `InputError` naming it.
+    pub fn get(self, name: &str) -> PyResult<T> {
+        match self {
+            Number::Value(value) => Ok(value),
+            Number::Bool(text) => Err(bool_error(name, T::WHAT, &text)),
+        }
+    }
+
+    /// [`Number::get`] of an optional argument (`None` stays `None`).
+    pub fn optional(value: Option<Self>, name: &str) -> PyResult<Option<T>> {
+        value.map(|v| v.get(name)).transpose()
+    }
+}
+
 /// A list or tuple holding a bool, Python's or numpy's, as an `InputError` naming `name`:
 /// numpy would make 0 and 1 of it when other elements are integers (`[0, True]`).
 fn refuse_bools(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<()> {
@@ -46,10 +134,8 @@ fn refuse_bools(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<()> {
         return Ok(());
     };
     for (i, item) in items.iter().enumerate() {
-        let numpy_bool = item.get_type().name().is_ok_and(|n| n == "bool");
-        if item.is_instance_of::<pyo3::types::PyBool>() || numpy_bool {
-            let message = format!("{name}[{i}] must be an integer, got the bool {item}");
-            return Err(input_error("dtype", message));
+        if is_bool(item) {
+            return Err(bool_error(&format!("{name}[{i}]"), "an integer", item));
         }
     }
     Ok(())

@@ -1,6 +1,6 @@
 //! `detect_pair` and its answer `PairContact` (core [`Detector`]).
 
-use crate::arrays;
+use crate::arrays::{self, Real};
 use crate::block::Block;
 use crate::classify::{feature_tuple, type_code};
 use crate::tolerance::tolerance;
@@ -61,7 +61,8 @@ pub struct PairContact {
 /// gap : float, default 1e-12
 ///     Relative gap: blocks closer than ``gap * scale`` touch, and a penetration up to
 ///     ``gap * scale`` still counts as touching (scale: the smaller block's size). The default
-///     only absorbs rounding.
+///     only absorbs rounding. 0, or at least ``16 * 2**-52`` (3.6e-15): a smaller gap is
+///     below the rounding of the coordinates (``docs/tolerance.md``).
 /// length : float, optional
 ///     Relative length threshold ("no length", on a plane, parallel); at least ``10 * gap``.
 ///     Default ``max(1e-9, 10 * gap)``.
@@ -76,8 +77,11 @@ pub struct PairContact {
 ///
 /// Raises
 /// ------
+/// InputError
+///     A bool for `gap`, `length` or `absolute_gap` (kind ``dtype``): a bool is no number.
 /// ToleranceError
-///     `gap` not in [0, 0.01), `length` not in [0, 0.1), ``length < 10 * gap``, a negative
+///     `gap` not in [0, 0.01), a `gap` above 0 but below ``16 * 2**-52`` (kind
+///     ``gap_below_rounding``), `length` not in [0, 0.1), ``length < 10 * gap``, a negative
 ///     or non-finite `absolute_gap`, or both `gap` and `absolute_gap`.
 ///
 /// Examples
@@ -98,13 +102,14 @@ pub struct PairContact {
 /// >>> c.normal, c.area, c.distance
 /// (array([1., 0., 0.]), 1.0, 0.0)
 #[pyfunction]
-#[pyo3(signature = (a, b, gap = 1e-12, length = None, absolute_gap = None))]
+#[pyo3(signature = (a, b, gap = Real::Value(1e-12), length = None, absolute_gap = None),
+    text_signature = "(a, b, gap=1e-12, length=None, absolute_gap=None)")]
 pub fn detect_pair(
     a: &Bound<'_, Block>,
     b: &Bound<'_, Block>,
-    gap: f64,
-    length: Option<f64>,
-    absolute_gap: Option<f64>,
+    gap: Real,
+    length: Option<Real>,
+    absolute_gap: Option<Real>,
 ) -> PyResult<PairContact> {
     let (a, b) = (&a.get().inner, &b.get().inner);
     let mut detector = Detector::new(tolerance(gap, length, absolute_gap)?);

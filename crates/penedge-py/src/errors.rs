@@ -255,7 +255,7 @@ fn make_classes(py: Python<'_>) -> PyResult<Classes> {
         )?,
         tolerance: sub(
             "ToleranceError",
-            "An impossible tolerance: gap not in [0, 0.01), length not in [0, 0.1), length < 10 * gap, a negative absolute_gap, or both gaps.",
+            "An impossible tolerance: gap not in [0, 0.01) or above 0 but below 16 * 2**-52, length not in [0, 0.1), length < 10 * gap, a negative absolute_gap, or both gaps.",
         )?,
         spec: sub(
             "SpecError",

@@ -96,9 +96,9 @@ pub fn generate<'py>(
     py: Python<'py>,
     spec: &Bound<'py, PyAny>,
     progress: Option<Py<PyAny>>,
-    max_blocks: Option<arrays::Whole>,
+    max_blocks: Option<arrays::Count>,
 ) -> PyResult<(BlockSystem, Bound<'py, PyAny>)> {
-    let limits = match max_blocks {
+    let limits = match arrays::Count::optional(max_blocks, "max_blocks")? {
         None => Limits::from_memory(),
         Some(n) => Limits::blocks(block_limit(&n)?),
     };

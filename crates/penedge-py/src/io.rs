@@ -269,9 +269,14 @@ fn open_error(py: Python<'_>, e: IoError) -> PyErr {
 /// <DataSet timestep="0.0" group="" part="0" file="step0.vtu"/>
 /// >>> shutil.rmtree(folder)
 #[pyfunction]
-pub fn write_pvd(py: Python<'_>, path: PathBuf, datasets: Vec<(f64, PathBuf)>) -> PyResult<()> {
+pub fn write_pvd(
+    py: Python<'_>,
+    path: PathBuf,
+    datasets: Vec<(crate::arrays::Real, PathBuf)>,
+) -> PyResult<()> {
     let mut entries = Vec::with_capacity(datasets.len());
     for (k, (time, file)) in datasets.into_iter().enumerate() {
+        let time = time.get(&format!("the time of dataset {k}"))?;
         let file = file.into_os_string().into_string().map_err(|f| {
             input_error(
                 "file_name",
@@ -379,10 +384,11 @@ impl TimeSeries {
     fn write_step(
         &mut self,
         py: Python<'_>,
-        time: f64,
+        time: crate::arrays::Real,
         system: PyRef<'_, BlockSystem>,
         contacts: Option<PyRef<'_, SystemContacts>>,
     ) -> PyResult<usize> {
+        let time = time.get("time")?;
         let contacts = match &contacts {
             Some(c) => Some((&c.found, c.geometry()?)),
             None => None,

@@ -1,6 +1,6 @@
 //! `Simulation` (core `mechanics`): rigid-block DEM on a block system.
 
-use crate::arrays::{self, Whole};
+use crate::arrays::{self, Count, Real, Whole};
 use crate::errors::{input_error, to_py_err, Error};
 use crate::io::file_error;
 use crate::system::BlockSystem;
@@ -11,7 +11,7 @@ use penedge::geometry::DVec3;
 use penedge::mechanics::{self, Damping, Fixity, JointModel, Water};
 use penedge::{ConvexBlock, Tolerance};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict};
+use pyo3::types::PyDict;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -38,7 +38,8 @@ use std::time::{Duration, Instant};
 /// gap : float, default 1e-3
 ///     Relative detection gap, in (0, 0.01) (both ends excluded): the deepest overlap a
 ///     contact can carry, relative to the smaller block's size (a deeper one stops the run
-///     with an error). Not 0: a soft contact carries its load by overlapping.
+///     with an error). Not 0: a soft contact carries its load by overlapping; and not
+///     below ``16 * 2**-52`` (3.6e-15), the detection's smallest gap above 0.
 /// point_width : float, default 0.2
 ///     Width of point and edge contacts relative to the smaller body's diameter: a point
 ///     contact is a patch of ``w² / 2``, a segment of length ``l`` a strip of ``w l / 2``
@@ -46,11 +47,14 @@ use std::time::{Duration, Instant};
 ///
 /// Raises
 /// ------
+/// InputError
+///     A bool for `density`, `gap` or `point_width` (kind ``dtype``): a bool is no number,
+///     here or in any number argument of a simulation's methods.
 /// MechanicsError
 ///     A density that is not a finite number > 0, a point width not in (0, 1], a gap of 0
 ///     (kind ``parameter``).
 /// ToleranceError
-///     Any other gap out of range.
+///     Any other gap out of range (below ``16 * 2**-52``: kind ``gap_below_rounding``).
 ///
 /// Examples
 /// --------
@@ -202,10 +206,8 @@ fn natural(value: Whole, name: &str) -> PyResult<u64> {
 /// takes it, but not a bool (an `int` to Python): ``True`` is not body 1, as ``fix([True])``
 /// refuses it (an `InputError` of kind ``dtype`` naming the argument).
 fn whole_id(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Whole> {
-    let numpy_bool = value.get_type().name().is_ok_and(|n| n == "bool");
-    if value.is_instance_of::<PyBool>() || numpy_bool {
-        let message = format!("{name} must be an integer, got the bool {value}");
-        return Err(input_error("dtype", message));
+    if arrays::is_bool(value) {
+        return Err(arrays::bool_error(name, "an integer", value));
     }
     value.extract().map_err(|e: PyErr| {
         if e.is_instance_of::<pyo3::exceptions::PyTypeError>(value.py()) {
@@ -346,8 +348,13 @@ fn in_chunks(
 #[pymethods]
 impl Simulation {
     #[new]
-    #[pyo3(signature = (system, density = 2700.0, gap = 1e-3, point_width = 0.2))]
-    fn new(system: &BlockSystem, density: f64, gap: f64, point_width: f64) -> PyResult<Self> {
+    #[pyo3(signature = (system, density = Real::Value(2700.0), gap = Real::Value(1e-3),
+        point_width = Real::Value(0.2)),
+        text_signature = "(system, density=2700.0, gap=1e-3, point_width=0.2)")]
+    fn new(system: &BlockSystem, density: Real, gap: Real, point_width: Real) -> PyResult<Self> {
+        let density = density.get("density")?;
+        let gap = gap.get("gap")?;
+        let point_width = point_width.get("point_width")?;
         let mut inner = mechanics::Simulation::new(&system.inner, density).map_err(to_py_err)?;
         inner.set_gap(gap).map_err(to_py_err)?;
         inner.set_point_width(point_width).map_err(to_py_err)?;
@@ -404,30 +411,32 @@ impl Simulation {
     /// MechanicsError
     ///     A property out of range (the error names it), or a set the system does not have
     ///     (no block face of it and no entry of its generation spec: kind ``unknown_set``).
-    #[pyo3(signature = (kn, ks, friction, cohesion = 0.0, tension = 0.0, set = None,
-        residual_friction = None, residual_cohesion = 0.0))]
+    #[pyo3(signature = (kn, ks, friction, cohesion = Real::Value(0.0), tension = Real::Value(0.0),
+        set = None, residual_friction = None, residual_cohesion = Real::Value(0.0)),
+        text_signature = "($self, kn, ks, friction, cohesion=0.0, tension=0.0, set=None, \
+                          residual_friction=None, residual_cohesion=0.0)")]
     #[allow(clippy::too_many_arguments)]
     fn set_joint(
         &mut self,
-        kn: f64,
-        ks: f64,
-        friction: f64,
-        cohesion: f64,
-        tension: f64,
+        kn: Real,
+        ks: Real,
+        friction: Real,
+        cohesion: Real,
+        tension: Real,
         set: Option<&Bound<'_, PyAny>>,
-        residual_friction: Option<f64>,
-        residual_cohesion: f64,
+        residual_friction: Option<Real>,
+        residual_cohesion: Real,
     ) -> PyResult<()> {
-        let set = set.map(|s| set_id(s, "set")).transpose()?;
         let model = JointModel {
-            kn,
-            ks,
-            friction,
-            cohesion,
-            tension,
-            residual_friction,
-            residual_cohesion,
+            kn: kn.get("kn")?,
+            ks: ks.get("ks")?,
+            friction: friction.get("friction")?,
+            cohesion: cohesion.get("cohesion")?,
+            tension: tension.get("tension")?,
+            residual_friction: Real::optional(residual_friction, "residual_friction")?,
+            residual_cohesion: residual_cohesion.get("residual_cohesion")?,
         };
+        let set = set.map(|s| set_id(s, "set")).transpose()?;
         match set {
             None => self.inner.set_default_joint(model),
             Some(s) => self
@@ -466,29 +475,31 @@ impl Simulation {
     /// MechanicsError
     ///     A property out of range (the error names it), or a set the system does not have.
     #[pyo3(signature = (kn, ks, friction, cohesion, tension, set = None,
-        residual_friction = None, residual_cohesion = 0.0))]
+        residual_friction = None, residual_cohesion = Real::Value(0.0)),
+        text_signature = "($self, kn, ks, friction, cohesion, tension, set=None, \
+                          residual_friction=None, residual_cohesion=0.0)")]
     #[allow(clippy::too_many_arguments)]
     fn set_bridge(
         &mut self,
-        kn: f64,
-        ks: f64,
-        friction: f64,
-        cohesion: f64,
-        tension: f64,
+        kn: Real,
+        ks: Real,
+        friction: Real,
+        cohesion: Real,
+        tension: Real,
         set: Option<&Bound<'_, PyAny>>,
-        residual_friction: Option<f64>,
-        residual_cohesion: f64,
+        residual_friction: Option<Real>,
+        residual_cohesion: Real,
     ) -> PyResult<()> {
-        let set = set.map(|s| set_id(s, "set")).transpose()?;
         let model = JointModel {
-            kn,
-            ks,
-            friction,
-            cohesion,
-            tension,
-            residual_friction,
-            residual_cohesion,
+            kn: kn.get("kn")?,
+            ks: ks.get("ks")?,
+            friction: friction.get("friction")?,
+            cohesion: cohesion.get("cohesion")?,
+            tension: tension.get("tension")?,
+            residual_friction: Real::optional(residual_friction, "residual_friction")?,
+            residual_cohesion: residual_cohesion.get("residual_cohesion")?,
         };
+        let set = set.map(|s| set_id(s, "set")).transpose()?;
         match set {
             None => self.inner.set_default_bridge(model),
             Some(s) => self
@@ -556,15 +567,19 @@ impl Simulation {
     /// ValueError
     ///     Both `level` and `point`, or `point` without `normal`.
     #[pyo3(signature = (level = None, point = None, normal = None, pressures = None,
-        unit_weight = 9810.0))]
+        unit_weight = Real::Value(9810.0)),
+        text_signature = "($self, level=None, point=None, normal=None, pressures=None, \
+                          unit_weight=9810.0)")]
     fn set_water(
         &mut self,
-        level: Option<f64>,
+        level: Option<Real>,
         point: Option<&Bound<'_, PyAny>>,
         normal: Option<&Bound<'_, PyAny>>,
-        pressures: Option<std::collections::BTreeMap<WholeKey, f64>>,
-        unit_weight: f64,
+        pressures: Option<std::collections::BTreeMap<WholeKey, Real>>,
+        unit_weight: Real,
     ) -> PyResult<()> {
+        let level = Real::optional(level, "level")?;
+        let unit_weight = unit_weight.get("unit_weight")?;
         let mut water = match (level, point, normal) {
             (None, None, None) => Water::none(),
             (Some(z), None, None) => Water::level(z, unit_weight).map_err(to_py_err)?,
@@ -581,6 +596,7 @@ impl Simulation {
             }
         };
         for (WholeKey(set), p) in pressures.unwrap_or_default() {
+            let p = p.get(&format!("pressures[{set}]"))?;
             let set = set_number(set, "a set of pressures")?;
             self.inner.check_set(set).map_err(to_py_err)?;
             water = water.with_set_pressure(set, p).map_err(to_py_err)?;
@@ -616,13 +632,15 @@ impl Simulation {
     ///     `base` or `per_depth` not six real numbers.
     /// MechanicsError
     ///     After the first step, or a NaN.
-    #[pyo3(signature = (base = None, per_depth = None, surface = 0.0))]
+    #[pyo3(signature = (base = None, per_depth = None, surface = Real::Value(0.0)),
+        text_signature = "($self, base=None, per_depth=None, surface=0.0)")]
     fn set_initial_stress(
         &mut self,
         base: Option<&Bound<'_, PyAny>>,
         per_depth: Option<&Bound<'_, PyAny>>,
-        surface: f64,
+        surface: Real,
     ) -> PyResult<()> {
+        let surface = surface.get("surface")?;
         let base = base.map(|b| arrays::six(b, "base")).transpose()?;
         let per_depth = per_depth.map(|p| arrays::six(p, "per_depth")).transpose()?;
         let stress = (base.is_some() || per_depth.is_some()).then(|| mechanics::InitialStress {
@@ -636,8 +654,10 @@ impl Simulation {
     /// Sets the damping: local non-viscous (3DEC's, in [0, 1)) and mass-proportional
     /// viscous (a rate ≥ 0, in 1/s); both 0 until set. :meth:`solve` replaces the pair
     /// ``(0, 0)`` by local 0.8 for its steps, whether or not it was set so: see there.
-    #[pyo3(signature = (local = 0.0, viscous = 0.0))]
-    fn set_damping(&mut self, local: f64, viscous: f64) -> PyResult<()> {
+    #[pyo3(signature = (local = Real::Value(0.0), viscous = Real::Value(0.0)),
+        text_signature = "($self, local=0.0, viscous=0.0)")]
+    fn set_damping(&mut self, local: Real, viscous: Real) -> PyResult<()> {
+        let (local, viscous) = (local.get("local")?, viscous.get("viscous")?);
         self.inner
             .set_damping(Damping { local, viscous })
             .map_err(to_py_err)
@@ -652,7 +672,8 @@ impl Simulation {
 
     /// Sets the density of the given bodies (all when `ids` is None).
     #[pyo3(signature = (density, ids = None))]
-    fn set_density(&mut self, density: f64, ids: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+    fn set_density(&mut self, density: Real, ids: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let density = density.get("density")?;
         let ids = match ids {
             Some(ids) => body_ids(ids)?,
             None => (0..self.inner.bodies().len()).collect(),
@@ -809,13 +830,19 @@ impl Simulation {
         &mut self,
         point: &Bound<'_, PyAny>,
         direction: &Bound<'_, PyAny>,
-        length: f64,
-        stiffness: f64,
-        capacity: f64,
-        rupture_strain: Option<f64>,
-        shear_stiffness: Option<f64>,
-        shear_capacity: Option<f64>,
+        length: Real,
+        stiffness: Real,
+        capacity: Real,
+        rupture_strain: Option<Real>,
+        shear_stiffness: Option<Real>,
+        shear_capacity: Option<Real>,
     ) -> PyResult<usize> {
+        let length = length.get("length")?;
+        let stiffness = stiffness.get("stiffness")?;
+        let capacity = capacity.get("capacity")?;
+        let rupture_strain = Real::optional(rupture_strain, "rupture_strain")?;
+        let shear_stiffness = Real::optional(shear_stiffness, "shear_stiffness")?;
+        let shear_capacity = Real::optional(shear_capacity, "shear_capacity")?;
         let dowel = match (shear_stiffness, shear_capacity) {
             (None, None) => None,
             (Some(stiffness), Some(capacity)) => Some(mechanics::Dowel {
@@ -896,7 +923,9 @@ impl Simulation {
     /// MechanicsError
     ///     A step not positive or above the critical one, or no free body.
     #[pyo3(signature = (dt = None, safety = None))]
-    fn set_timestep(&mut self, dt: Option<f64>, safety: Option<f64>) -> PyResult<()> {
+    fn set_timestep(&mut self, dt: Option<Real>, safety: Option<Real>) -> PyResult<()> {
+        let dt = Real::optional(dt, "dt")?;
+        let safety = Real::optional(safety, "safety")?;
         if let Some(s) = safety {
             self.inner.set_safety(s).map_err(to_py_err)?;
         }
@@ -946,9 +975,9 @@ impl Simulation {
     /// KeyboardInterrupt
     ///     A signal (Ctrl-C) during the run: the steps taken stay taken, the simulation is
     ///     after a whole step and can go on.
-    #[pyo3(signature = (n = Whole::Fits(1)), text_signature = "($self, n=1)")]
-    fn step(&mut self, py: Python<'_>, n: Whole) -> PyResult<()> {
-        let mut left = natural(n, "n")?;
+    #[pyo3(signature = (n = Count::Value(Whole::Fits(1))), text_signature = "($self, n=1)")]
+    fn step(&mut self, py: Python<'_>, n: Count) -> PyResult<()> {
+        let mut left = natural(n.get("n")?, "n")?;
         in_chunks(py, &mut self.inner, |sim| {
             if left == 0 {
                 return Ok(true);
@@ -968,7 +997,8 @@ impl Simulation {
     ///     `t` not finite, or so far ahead that it takes more steps, ``(t - time) /
     ///     timestep``, than :meth:`step` takes (2**63 - 1): kind ``out_of_range``, before
     ///     any step.
-    fn run_until(&mut self, py: Python<'_>, t: f64) -> PyResult<()> {
+    fn run_until(&mut self, py: Python<'_>, t: Real) -> PyResult<()> {
+        let t = t.get("t")?;
         if !t.is_finite() {
             // The core's refusal, before any step.
             return self.inner.run_until(t).map_err(to_py_err);
@@ -1011,15 +1041,16 @@ impl Simulation {
     /// ------
     /// KeyboardInterrupt
     ///     A signal (Ctrl-C) during the run, as for :meth:`step` (the damping set back).
-    #[pyo3(signature = (ratio = 1e-5, max_steps = Whole::Fits(100_000)),
+    #[pyo3(signature = (ratio = Real::Value(1e-5), max_steps = Count::Value(Whole::Fits(100_000))),
         text_signature = "($self, ratio=1e-5, max_steps=100000)")]
     fn solve<'py>(
         &mut self,
         py: Python<'py>,
-        ratio: f64,
-        max_steps: Whole,
+        ratio: Real,
+        max_steps: Count,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let max_steps = natural(max_steps, "max_steps")?;
+        let ratio = ratio.get("ratio")?;
+        let max_steps = natural(max_steps.get("max_steps")?, "max_steps")?;
         // The core's `solve` one step at a time (it sets the damping for the step and back):
         // the same steps, tests and report as in one call.
         let mut report = self.inner.solve(ratio, 0).map_err(to_py_err)?;
@@ -1070,7 +1101,8 @@ impl Simulation {
     /// ------
     /// MechanicsError
     ///     A fraction that is negative or not finite.
-    fn set_update_fraction(&mut self, fraction: f64) -> PyResult<()> {
+    fn set_update_fraction(&mut self, fraction: Real) -> PyResult<()> {
+        let fraction = fraction.get("fraction")?;
         self.inner.set_update_fraction(fraction).map_err(to_py_err)
     }
 
@@ -1255,16 +1287,16 @@ impl Simulation {
     /// ------
     /// MechanicsError
     ///     An unknown body, or one removed already.
-    #[pyo3(signature = (ids, relax_steps = Whole::Fits(0)),
+    #[pyo3(signature = (ids, relax_steps = Count::Value(Whole::Fits(0))),
         text_signature = "($self, ids, relax_steps=0)")]
     fn excavate<'py>(
         &mut self,
         py: Python<'py>,
         ids: &Bound<'_, PyAny>,
-        relax_steps: Whole,
+        relax_steps: Count,
     ) -> PyResult<Bound<'py, PyDict>> {
         let ids = body_ids(ids)?;
-        let relax_steps = natural(relax_steps, "relax_steps")?;
+        let relax_steps = natural(relax_steps.get("relax_steps")?, "relax_steps")?;
         let report = self.inner.excavate(&ids, relax_steps).map_err(to_py_err)?;
         let out = PyDict::new(py);
         let removed: Vec<i64> = report.removed.iter().map(|&i| i as i64).collect();

@@ -1,6 +1,6 @@
 //! `overlap`: normal, depth and region of two penetrating blocks (core [`penedge::overlap`]).
 
-use crate::arrays;
+use crate::arrays::{self, Real};
 use crate::block::Block;
 use crate::tolerance::tolerance;
 use pyo3::prelude::*;
@@ -46,14 +46,15 @@ use pyo3::types::PyDict;
 /// >>> penedge.overlap(a, penedge.Block.cuboid([1, 0, 0], [2, 1, 1])) is None
 /// True
 #[pyfunction]
-#[pyo3(signature = (a, b, gap = 1e-12, length = None, absolute_gap = None))]
+#[pyo3(signature = (a, b, gap = Real::Value(1e-12), length = None, absolute_gap = None),
+    text_signature = "(a, b, gap=1e-12, length=None, absolute_gap=None)")]
 pub fn overlap<'py>(
     py: Python<'py>,
     a: &Bound<'py, Block>,
     b: &Bound<'py, Block>,
-    gap: f64,
-    length: Option<f64>,
-    absolute_gap: Option<f64>,
+    gap: Real,
+    length: Option<Real>,
+    absolute_gap: Option<Real>,
 ) -> PyResult<Option<Bound<'py, PyDict>>> {
     let tol = tolerance(gap, length, absolute_gap)?;
     let Some(o) = penedge::overlap::overlap(&a.get().inner, &b.get().inner, &tol) else {

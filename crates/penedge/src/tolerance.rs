@@ -65,6 +65,13 @@ pub enum ToleranceError {
     /// Both a relative and an absolute gap were given (the bindings' arguments).
     #[error("give a relative `gap` or an `absolute_gap`, not both")]
     BothGaps,
+    /// A relative gap above 0 but below [`MIN_GAP`]: a gap the rounding floor always
+    /// overrules, or that asks for less than the rounding of the block's own coordinates.
+    #[error("tolerance `gap` must be 0 or at least {} (16 x 2^-52: a smaller relative gap is below the rounding of the coordinates, and the rounding floor overrules it), got {}", crate::geometry::Short(MIN_GAP), crate::geometry::Short(*value))]
+    GapBelowRounding {
+        /// The value given.
+        value: f64,
+    },
     /// The length threshold is below ten times the gap.
     #[error("tolerance `length` ({length}) must be at least 10 x `gap` ({gap})")]
     LengthBelowGap {
@@ -88,7 +95,7 @@ impl Default for Tolerance {
 impl Tolerance {
     /// A policy with the given relative gap and length thresholds.
     pub fn new(gap: f64, length: f64) -> Result<Self, ToleranceError> {
-        check_range("gap", gap, MAX_GAP)?;
+        check_gap(gap)?;
         check_range("length", length, MAX_LENGTH)?;
         if length < 10.0 * gap {
             return Err(ToleranceError::LengthBelowGap { gap, length });
@@ -131,7 +138,7 @@ impl Tolerance {
     /// A policy with the given relative gap and the length threshold set to
     /// `max(default length, 10 * gap)`.
     pub fn with_gap(gap: f64) -> Result<Self, ToleranceError> {
-        check_range("gap", gap, MAX_GAP)?;
+        check_gap(gap)?;
         let length = Tolerance::default().length.max(10.0 * gap);
         Tolerance::new(gap, length)
     }
@@ -184,6 +191,27 @@ impl Tolerance {
 pub const MAX_GAP: f64 = 0.01;
 /// The largest relative length threshold (exclusive).
 pub const MAX_LENGTH: f64 = 0.1;
+
+/// The smallest relative gap above 0 ([`ToleranceError::GapBelowRounding`]): the rounding
+/// floor's fraction, 16 units of rounding (`2^-52` each). The absolute gap of a pair is
+/// `max(gap × s, ROUNDING_FLOOR × m)` (`s` the smaller block's size, `m` the largest
+/// coordinate magnitude of the pair), and `s ≤ 2√3 m` for any box (its diagonal is at most
+/// the sum of its corners' lengths), so a relative gap below `ROUNDING_FLOOR / (2√3)` never
+/// changes the absolute gap: it is 0 in effect, under a name that says otherwise. Between
+/// that and `ROUNDING_FLOOR` it can matter only for a block around the origin, and then asks
+/// for less than 16 units of rounding of the block's own size, less than the rounding the
+/// distances to its face planes carry. So a positive gap must be at least this (the
+/// default, 1e-12, is 4,500 units); a gap of 0 stays: the floor alone, as documented.
+pub const MIN_GAP: f64 = ROUNDING_FLOOR;
+
+/// A relative gap: 0, or in `[MIN_GAP, MAX_GAP)`.
+fn check_gap(gap: f64) -> Result<(), ToleranceError> {
+    check_range("gap", gap, MAX_GAP)?;
+    if gap > 0.0 && gap < MIN_GAP {
+        return Err(ToleranceError::GapBelowRounding { value: gap });
+    }
+    Ok(())
+}
 
 fn check_range(name: &'static str, value: f64, max: f64) -> Result<(), ToleranceError> {
     if value.is_finite() && (0.0..max).contains(&value) {
@@ -270,6 +298,25 @@ mod tests {
         assert_eq!(
             (kept.gap(), kept.length(), kept.absolute_gap()),
             (0.0, 1e-3, Some(0.0))
+        );
+    }
+
+    /// A positive relative gap below the rounding floor's fraction is refused by every
+    /// constructor (it was taken, and was 0 in effect); 0 and `MIN_GAP` itself are taken.
+    #[test]
+    fn a_gap_below_the_rounding_is_refused() {
+        for gap in [1e-300, f64::MIN_POSITIVE, 5e-324, 1e-16, MIN_GAP * 0.999] {
+            let refused = |r: Result<Tolerance, ToleranceError>| matches!(r, Err(ToleranceError::GapBelowRounding { value }) if value == gap);
+            assert!(refused(Tolerance::with_gap(gap)), "{gap}");
+            assert!(refused(Tolerance::new(gap, 1e-9)), "{gap}");
+        }
+        for gap in [0.0, MIN_GAP, 1e-14] {
+            assert_eq!(Tolerance::with_gap(gap).unwrap().gap(), gap);
+        }
+        let message = Tolerance::with_gap(1e-300).unwrap_err().to_string();
+        assert!(
+            message.contains("`gap`") && message.contains("1e-300"),
+            "{message}"
         );
     }
 

@@ -109,8 +109,11 @@ def check_explode(explode: float) -> float:
     Raises
     ------
     ValueError
-        Negative, larger, not a number (nan) or not finite.
+        Negative, larger, not a number (nan), not finite, or a bool.
     """
+    if isinstance(explode, (bool, np.bool_)):
+        # float(True) is 1.0: a bool is no distance, as it is no number anywhere in penedge.
+        raise ValueError(f"explode must be a number, got the bool {explode!r}")
     try:
         value = float(explode)
     except (TypeError, ValueError):
@@ -477,6 +480,8 @@ def build_scene(
     A concave block (parts sharing a body id) is drawn as one block: its parts move together
     (by the centroid of the whole body), its internal faces are left out, and it counts as
     one block of `max_blocks` (whole bodies are drawn or left out)."""
+    if isinstance(max_blocks, (bool, np.bool_)):
+        raise ValueError(f"max_blocks must be a whole number, got the bool {max_blocks!r}")
     if max_blocks is not None and max_blocks < 1:
         raise ValueError(f"max_blocks must be at least 1, got {max_blocks}")
     explode = check_explode(explode)

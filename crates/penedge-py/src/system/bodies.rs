@@ -2,7 +2,7 @@
 //! body mass properties, and the contacts of bodies as numpy arrays.
 
 use super::{thread_pool, watched, BlockSystem};
-use crate::arrays;
+use crate::arrays::{self, Count, Real};
 use crate::errors::input_error;
 use crate::tolerance::tolerance;
 use numpy::{PyArray1, PyArray2, PyArray3};
@@ -40,14 +40,15 @@ impl BlockSystem {
     /// >>> l_block = system.with_bodies([0, 0, 1])
     /// >>> l_block.body_ids.tolist(), l_block.internal_faces()["areas"].round(9).tolist()
     /// ([0, 0, 1], [1.0])
-    #[pyo3(signature = (body_ids, gap = 1e-12, length = None, absolute_gap = None))]
+    #[pyo3(signature = (body_ids, gap = Real::Value(1e-12), length = None, absolute_gap = None),
+        text_signature = "($self, body_ids, gap=1e-12, length=None, absolute_gap=None)")]
     fn with_bodies(
         &self,
         py: Python<'_>,
         body_ids: &Bound<'_, PyAny>,
-        gap: f64,
-        length: Option<f64>,
-        absolute_gap: Option<f64>,
+        gap: Real,
+        length: Option<Real>,
+        absolute_gap: Option<Real>,
     ) -> PyResult<BlockSystem> {
         let tol = tolerance(gap, length, absolute_gap)?;
         // Whole numbers of any integer dtype, no floats or bools (`arrays::indices`).
@@ -169,15 +170,17 @@ impl BlockSystem {
     /// >>> found = system.with_bodies([0, 0, 0, 1]).detect_bodies()
     /// >>> found.bodies.tolist(), found.regions.tolist(), found.areas.round(9).tolist()
     /// ([[0, 1], [0, 1], [0, 1]], [0, 1, 2], [1.0, 1.0, 1.0])
-    #[pyo3(signature = (gap = 1e-12, length = None, progress = None, threads = None, absolute_gap = None))]
+    #[pyo3(signature = (gap = Real::Value(1e-12), length = None, progress = None, threads = None,
+        absolute_gap = None),
+        text_signature = "($self, gap=1e-12, length=None, progress=None, threads=None, absolute_gap=None)")]
     fn detect_bodies(
         &self,
         py: Python<'_>,
-        gap: f64,
-        length: Option<f64>,
+        gap: Real,
+        length: Option<Real>,
         progress: Option<Py<PyAny>>,
-        threads: Option<crate::arrays::Whole>,
-        absolute_gap: Option<f64>,
+        threads: Option<Count>,
+        absolute_gap: Option<Real>,
     ) -> PyResult<BodyContacts> {
         let tol = tolerance(gap, length, absolute_gap)?;
         let pool = thread_pool(threads)?;

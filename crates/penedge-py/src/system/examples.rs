@@ -2,14 +2,16 @@
 
 use super::contacts::counts_dict;
 use super::BlockSystem;
-use crate::arrays::{self, Whole};
+use crate::arrays::{self, Count, Whole};
 use crate::errors::{input_error, to_py_err};
 use numpy::{PyArray1, PyArray2};
 use penedge::system::{self, PaperExample};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-fn example(n: Whole) -> PyResult<PaperExample> {
+/// Example `n` (1, 2 or 3; a bool is an `InputError`, as [`Count`] says).
+fn example(n: Count) -> PyResult<PaperExample> {
+    let n: Whole = n.get("n")?;
     n.value()
         .and_then(|n| u32::try_from(n).ok())
         .and_then(PaperExample::from_number)
@@ -41,7 +43,7 @@ fn example(n: Whole) -> PyResult<PaperExample> {
 /// >>> len(found), list(found.counts().values())
 /// (325, [205, 0, 0, 78, 0, 0, 42])
 #[pyfunction]
-pub fn paper_example(n: Whole) -> PyResult<BlockSystem> {
+pub fn paper_example(n: Count) -> PyResult<BlockSystem> {
     system::paper_example(example(n)?)
         .map(BlockSystem::wrap)
         .map_err(to_py_err)
@@ -57,7 +59,7 @@ type Planes<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
 /// normals : numpy.ndarray, shape (m, 3)
 /// offsets : numpy.ndarray, shape (m,)
 #[pyfunction]
-pub fn paper_example_planes(py: Python<'_>, n: Whole) -> PyResult<Planes<'_>> {
+pub fn paper_example_planes(py: Python<'_>, n: Count) -> PyResult<Planes<'_>> {
     let (normals, offsets) = example(n)?.planes();
     Ok((arrays::rows3(py, &normals), arrays::vector(py, offsets)))
 }
@@ -75,6 +77,6 @@ pub fn paper_example_planes(py: Python<'_>, n: Whole) -> PyResult<Planes<'_>> {
 /// >>> penedge.paper_table3(2)["face-face"]
 /// 20
 #[pyfunction]
-pub fn paper_table3(py: Python<'_>, n: Whole) -> PyResult<Bound<'_, PyDict>> {
+pub fn paper_table3(py: Python<'_>, n: Count) -> PyResult<Bound<'_, PyDict>> {
     counts_dict(py, &system::paper_table3(example(n)?))
 }

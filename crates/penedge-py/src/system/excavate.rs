@@ -2,7 +2,7 @@
 //! topographic surfaces removed from a block system, in stages.
 
 use super::BlockSystem;
-use crate::arrays;
+use crate::arrays::{self, Real};
 use crate::errors::{to_py_err, Error};
 use crate::generation::{in_dict, toml_text};
 use crate::tolerance::tolerance;
@@ -61,14 +61,15 @@ impl BlockSystem {
     /// ...                               "length": 20, "width": 2, "height": 3})
     /// >>> round(report["volume_removed"], 9), len(set(left.body_ids.tolist()))
     /// (60.0, 1)
-    #[pyo3(signature = (excavation, gap = 1e-12, length = None, absolute_gap = None))]
+    #[pyo3(signature = (excavation, gap = Real::Value(1e-12), length = None, absolute_gap = None),
+        text_signature = "($self, excavation, gap=1e-12, length=None, absolute_gap=None)")]
     fn excavate<'py>(
         &self,
         py: Python<'py>,
         excavation: &Bound<'py, PyAny>,
-        gap: f64,
-        length: Option<f64>,
-        absolute_gap: Option<f64>,
+        gap: Real,
+        length: Option<Real>,
+        absolute_gap: Option<Real>,
     ) -> PyResult<(BlockSystem, Bound<'py, PyAny>)> {
         let tol = tolerance(gap, length, absolute_gap)?;
         let text = toml_text(excavation, "excavation")?;

@@ -15,7 +15,7 @@ pub use contacts::SystemContacts;
 pub use examples::{paper_example, paper_example_planes, paper_table3};
 pub use tracker::ContactTracker;
 
-use crate::arrays::{self, Whole};
+use crate::arrays::{self, Count, Real, Whole};
 use crate::block::{cuboid, Block};
 use crate::errors::{input_error, to_py_err};
 use crate::tolerance::tolerance;
@@ -274,17 +274,19 @@ impl BlockSystem {
     /// (array([[1., 0., 0.]]), array([1.]), array([0, 4]))
     /// >>> found.points_of(0).tolist()
     /// [[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [1.0, 1.0, 1.0], [1.0, 0.0, 1.0]]
-    #[pyo3(signature = (gap = 1e-12, length = None, geometry = false, progress = None, threads = None, absolute_gap = None))]
+    #[pyo3(signature = (gap = Real::Value(1e-12), length = None, geometry = false, progress = None,
+        threads = None, absolute_gap = None),
+        text_signature = "($self, gap=1e-12, length=None, geometry=False, progress=None, threads=None, absolute_gap=None)")]
     #[allow(clippy::too_many_arguments)] // Python's keyword arguments, one per option
     fn detect(
         slf: &Bound<'_, Self>,
         py: Python<'_>,
-        gap: f64,
-        length: Option<f64>,
+        gap: Real,
+        length: Option<Real>,
         geometry: bool,
         progress: Option<Py<PyAny>>,
-        threads: Option<Whole>,
-        absolute_gap: Option<f64>,
+        threads: Option<Count>,
+        absolute_gap: Option<Real>,
     ) -> PyResult<SystemContacts> {
         let tol = tolerance(gap, length, absolute_gap)?;
         let pool = thread_pool(threads)?;
@@ -391,9 +393,10 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 /// The most threads a detection may ask for: each is an operating-system thread.
 const MAX_THREADS: i64 = 1024;
 
-/// A pool of `threads` threads, or none for rayon's global pool.
-fn thread_pool(threads: Option<Whole>) -> PyResult<Option<rayon::ThreadPool>> {
-    let Some(given) = threads else {
+/// A pool of `threads` threads, or none for rayon's global pool (a bool is an `InputError`,
+/// as [`Count`] says).
+pub(crate) fn thread_pool(threads: Option<Count>) -> PyResult<Option<rayon::ThreadPool>> {
+    let Some(given) = Count::optional(threads, "threads")? else {
         return Ok(None);
     };
     let Some(n) = given.value().filter(|n| (1..=MAX_THREADS).contains(n)) else {

@@ -1,7 +1,7 @@
 //! `ContactTracker` (core `system::ContactTracker`): contacts over time steps.
 
 use super::{BlockSystem, BodyContacts, SystemContacts};
-use crate::arrays;
+use crate::arrays::{self, Real};
 use crate::errors::input_error;
 use crate::tolerance::tolerance;
 use penedge::block::Pose;
@@ -93,16 +93,19 @@ pub struct ContactTracker {
 #[pymethods]
 impl ContactTracker {
     #[new]
-    #[pyo3(signature = (system, skin = 0.0, gap = 1e-12, length = None, absolute_gap = None, bodies = None))]
+    #[pyo3(signature = (system, skin = Real::Value(0.0), gap = Real::Value(1e-12), length = None,
+        absolute_gap = None, bodies = None),
+        text_signature = "(system, skin=0.0, gap=1e-12, length=None, absolute_gap=None, bodies=None)")]
     fn new(
         py: Python<'_>,
         system: &BlockSystem,
-        skin: f64,
-        gap: f64,
-        length: Option<f64>,
-        absolute_gap: Option<f64>,
+        skin: Real,
+        gap: Real,
+        length: Option<Real>,
+        absolute_gap: Option<Real>,
         bodies: Option<bool>,
     ) -> PyResult<Self> {
+        let skin = skin.get("skin")?;
         let tol = tolerance(gap, length, absolute_gap)?;
         let system = &system.inner;
         let bodies = bodies.unwrap_or(system.has_concave());
@@ -174,7 +177,10 @@ impl ContactTracker {
     /// ------
     /// InputError
     ///     Wrong shapes or dtypes, not one pose per block, NaN or infinite values, a zero
-    ///     quaternion, two parts of one body with different poses, a translation that
+    ///     quaternion, two parts of one body with different poses (rotations are compared,
+    ///     not quaternions: ``q``, ``-q`` and ``3 q`` are one rotation, and equal within
+    ///     4 units of ``2**-52`` per component once normalised and turned to one sign;
+    ///     the parts are then placed at the first part's pose), a translation that
     ///     could carry a block's coordinates beyond what double precision holds for it
     ///     (the rule of :meth:`Block.translated`: its closest vertices rounded together,
     ///     or past 1e50; the message names the block). The tracker is unchanged.

@@ -14,6 +14,10 @@ pub struct Pose {
     pub translation: DVec3,
 }
 
+/// How far two normalised quaternions of one rotation may differ in a component
+/// ([`Pose::same_placement`]).
+pub const ROTATION_ROUNDING: f64 = 4.0 * f64::EPSILON;
+
 impl Default for Pose {
     fn default() -> Self {
         Pose::IDENTITY
@@ -28,13 +32,48 @@ impl Pose {
     };
 
     /// A pose from a rotation (normalised here) and a translation; `None` when either has a
-    /// NaN or infinite component or the rotation is zero.
+    /// NaN or infinite component or the rotation is zero. Any finite non-zero multiple of a
+    /// quaternion is its rotation: one whose squared length overflows (`1e200 q`) or is
+    /// subnormal (`1e-200 q`) is first divided by its largest component, where dividing by
+    /// its length gave the zero quaternion (every block placed at its translation) or was
+    /// refused as zero. Others are divided by their length as they were, bit for bit.
     pub fn new(rotation: DQuat, translation: DVec3) -> Option<Pose> {
-        let len = rotation.length();
-        (rotation.is_finite() && translation.is_finite() && len > 0.0).then(|| Pose {
+        if !(rotation.is_finite() && translation.is_finite()) {
+            return None;
+        }
+        let mut rotation = rotation;
+        let mut len = rotation.length();
+        if !(len.is_finite() && len >= 1e-150) {
+            let largest = glam::DVec4::from(rotation).abs().max_element();
+            if largest == 0.0 {
+                return None;
+            }
+            rotation /= largest;
+            len = rotation.length();
+        }
+        (len > 0.0).then(|| Pose {
             rotation: rotation / len,
             translation,
         })
+    }
+
+    /// Whether `self` and `other` place a block alike: equal translations and the same
+    /// rotation. A rotation is compared, not its quaternion: `q` and `-q` are one rotation,
+    /// and so are `q` and any positive multiple of it once normalised ([`Pose::new`]). The
+    /// rule, on the normalised quaternions: `other`'s is turned into the hemisphere of
+    /// `self`'s (negated when their dot product is negative, an exact step), and then every
+    /// component must agree within `ROTATION_ROUNDING` (4 units of `2^-52`: the rounding of
+    /// normalising two multiples of one quaternion, a few units in the last place of
+    /// components at most 1). The relative angle of two such rotations is at most about
+    /// `2 × 4 × 2^-52 × 2` radians, 4e-15: below the rounding of the placed coordinates.
+    /// Both poses should come from [`Pose::new`] (unit quaternions).
+    pub fn same_placement(&self, other: &Pose) -> bool {
+        if self.translation != other.translation {
+            return false;
+        }
+        let (a, b) = (self.rotation, other.rotation);
+        let b = if a.dot(b) < 0.0 { -b } else { b };
+        glam::DVec4::from(a - b).abs().max_element() <= ROTATION_ROUNDING
     }
 
     /// The image of point `p`.
@@ -268,6 +307,25 @@ mod tests {
         assert!(Pose::new(DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0), DVec3::ZERO).is_none());
         assert!(Pose::new(DQuat::IDENTITY, DVec3::new(f64::NAN, 0.0, 0.0)).is_none());
         assert!(Pose::new(DQuat::from_xyzw(0.0, 0.0, 0.0, 2.0), DVec3::ZERO).is_some());
+    }
+
+    /// A quaternion far from unit length is its rotation all the same: `1e200 q` (whose
+    /// squared length overflows) and `1e-200 q` (subnormal) were the zero rotation and a
+    /// refusal.
+    #[test]
+    fn a_huge_or_tiny_multiple_of_a_quaternion_is_its_rotation() {
+        let q = DQuat::from_axis_angle(DVec3::new(1.0, -2.0, 0.5).normalize(), 0.7);
+        let unit = Pose::new(q, DVec3::ZERO).unwrap();
+        for scale in [1e200, -1e300, 1e-200, -1e-300, f64::MAX] {
+            let pose = Pose::new(q * scale, DVec3::ZERO).expect("a rotation");
+            assert!(pose.same_placement(&unit), "{scale}: {:?}", pose.rotation);
+            assert!((pose.rotation.length() - 1.0).abs() < 1e-15);
+        }
+        // Within the usual range, the division by the length is as it was.
+        assert_eq!(
+            Pose::new(q * 3.0, DVec3::ZERO).unwrap().rotation,
+            (q * 3.0) / (q * 3.0).length()
+        );
     }
 }
 

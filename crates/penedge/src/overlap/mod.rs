@@ -287,13 +287,15 @@ impl Region {
 
 /// Whether a point on the clipping plane is kept.
 #[derive(Clone, Copy)]
-enum Inside {
+pub(crate) enum Inside {
+    /// A point on the plane is kept.
     Closed,
+    /// A point on the plane is dropped.
     Open,
 }
 
 /// Clips the convex polygon `poly` by the half-space `n·x <= d` (Sutherland-Hodgman).
-fn clip(poly: &mut Vec<DVec3>, out: &mut Vec<DVec3>, n: DVec3, d: f64, inside: Inside) {
+pub(crate) fn clip(poly: &mut Vec<DVec3>, out: &mut Vec<DVec3>, n: DVec3, d: f64, inside: Inside) {
     let keep = |s: f64| match inside {
         Inside::Closed => s <= 0.0,
         Inside::Open => s < 0.0,

@@ -10,11 +10,13 @@
 //! L-block cut vertically) is a real face of the block where it is not covered.
 
 use super::BlockSystem;
+use crate::block::ConvexBlock;
 use crate::body::MassProperties;
 use crate::classify::{Feature, PairResult};
 use crate::contact::Detector;
-use crate::geometry::newell_normal;
-use crate::tolerance::Tolerance;
+use crate::geometry::{newell_normal, DVec3};
+use crate::overlap::{clip, overlap, Inside};
+use crate::tolerance::{Thresholds, Tolerance};
 use thiserror::Error;
 
 /// The overlap of two faces, of two parts of one body, that coincide with opposite normals:
@@ -146,24 +148,20 @@ impl BlockSystem {
                 continue;
             }
             let (a, b) = (&self.blocks[i as usize], &self.blocks[j as usize]);
-            match det.detect_with_geometry(a, b) {
-                (PairResult::Penetrating, _) => {
+            match meeting(&mut det, a, b) {
+                Meeting::Overlap => {
                     return Err(ConcaveError::Overlap {
                         body: ids[i as usize],
                         a: i,
                         b: j,
                     })
                 }
-                (PairResult::Contact(c), Some(g)) if g.area() > 0.0 => {
-                    if let (Feature::Face(fa), Feature::Face(fb)) = (c.feature_a, c.feature_b) {
-                        internal.push(InternalFace {
-                            parts: [i, j],
-                            faces: [fa, fb],
-                            area: g.area(),
-                        });
-                    }
-                }
-                _ => {}
+                Meeting::Glued(faces, area) => internal.push(InternalFace {
+                    parts: [i, j],
+                    faces,
+                    area,
+                }),
+                Meeting::Other => {}
             }
         }
         check_connected(&ids, &internal)?;
@@ -306,6 +304,110 @@ impl BlockSystem {
         }
         (covered, glued)
     }
+}
+
+/// How two parts of one body meet.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Meeting {
+    /// Their interiors overlap: a penetration deeper than the pair's gap.
+    Overlap,
+    /// They touch face to face: the face of each (in the order asked) and the area of the
+    /// overlap of the two faces.
+    Glued([u32; 2], f64),
+    /// Apart, or touching along an edge or at a vertex.
+    Other,
+}
+
+/// How parts `a` and `b` of one body meet (docs/concave-blocks.md, "A valid concave block").
+///
+/// The detection's answer, but for `Penetrating`, which is confirmed by the depth of the
+/// overlap before the parts are refused: the shortest translation that separates them
+/// ([`crate::overlap::Overlap::min_translation`], over the separating-axis candidates with
+/// both blocks' extents taken from their vertices) must be longer than the pair's gap, the
+/// policy's own line between touching and penetrating (docs/tolerance.md, rule 3). The
+/// classification also says `Penetrating` when no face of a block passes within the length
+/// threshold of every point of the contact; the parts of a fine excavation are long needles
+/// whose stored face planes are tilted by more than that over their length (a vertex 1.3e-8
+/// off the plane of its own face, with a length threshold of 1.0e-8), and parts glued along
+/// such a face touch although no face of the pair holds all the contact's points. Parts not
+/// confirmed to overlap touch: their internal face, if any, is found from the faces' own
+/// vertices ([`coplanar_faces`]).
+pub(super) fn meeting(det: &mut Detector, a: &ConvexBlock, b: &ConvexBlock) -> Meeting {
+    match det.detect_with_geometry(a, b) {
+        (PairResult::Contact(c), Some(g)) if g.area() > 0.0 => match (c.feature_a, c.feature_b) {
+            (Feature::Face(fa), Feature::Face(fb)) => Meeting::Glued([fa, fb], g.area()),
+            _ => Meeting::Other,
+        },
+        (PairResult::Penetrating, _) => {
+            let th = det.thresholds(a, b);
+            let depth = overlap(a, b, det.tolerance()).map_or(0.0, |o| o.min_translation.length());
+            if depth > th.gap {
+                Meeting::Overlap
+            } else {
+                coplanar_faces(a, b, th)
+            }
+        }
+        _ => Meeting::Other,
+    }
+}
+
+/// The faces of `a` and `b` that lie on each other with opposite normals, from their
+/// vertices alone (the stored planes are what the classification could not settle): the
+/// faces' Newell normals opposite within the sine of "lies in", every vertex of each face
+/// within the length threshold of the other face's plane, and the overlap of the two
+/// polygons (one clipped by the other's sides) wider than the length threshold (its area
+/// above the threshold times half its perimeter; a narrower strip is an edge, as in the
+/// classification). The largest such overlap; `Other` when there is none.
+fn coplanar_faces(a: &ConvexBlock, b: &ConvexBlock, th: Thresholds) -> Meeting {
+    let face = |block: &ConvexBlock, f: usize| -> (Vec<DVec3>, DVec3) {
+        let v = block.vertices();
+        let points: Vec<DVec3> = block.face(f).iter().map(|&k| v[k as usize]).collect();
+        let normal = newell_normal(points.iter().copied()).normalize_or_zero();
+        (points, normal)
+    };
+    let on = |points: &[DVec3], normal: DVec3, origin: DVec3| {
+        points
+            .iter()
+            .all(|&p| normal.dot(p - origin).abs() <= th.length)
+    };
+    let faces_b: Vec<_> = (0..b.n_faces()).map(|f| face(b, f)).collect();
+    let mut best = Meeting::Other;
+    let mut best_area = 0.0;
+    let (mut piece, mut spare) = (Vec::new(), Vec::new());
+    for fa in 0..a.n_faces() {
+        let (pa, na) = face(a, fa);
+        for (fb, (pb, nb)) in faces_b.iter().enumerate() {
+            let nb = *nb;
+            if (na + nb).length() > th.sine || !on(pb, na, pa[0]) || !on(&pa, nb, pb[0]) {
+                continue;
+            }
+            // Relative to a vertex of A's face; B's face is counter-clockwise about `nb`,
+            // so A's side of its edge p -> q is behind the plane of normal (q - p) x nb.
+            let r = pa[0];
+            piece.clear();
+            piece.extend(pa.iter().map(|&p| p - r));
+            for k in 0..pb.len() {
+                let (p, q) = (pb[k] - r, pb[(k + 1) % pb.len()] - r);
+                let n = (q - p).cross(nb);
+                clip(&mut piece, &mut spare, n, n.dot(p), Inside::Closed);
+                if piece.len() < 3 {
+                    break;
+                }
+            }
+            if piece.len() < 3 {
+                continue;
+            }
+            let area = newell_normal(piece.iter().copied()).length() / 2.0;
+            let perimeter: f64 = (0..piece.len())
+                .map(|k| (piece[(k + 1) % piece.len()] - piece[k]).length())
+                .sum();
+            if area > th.length * perimeter / 2.0 && area > best_area {
+                best_area = area;
+                best = Meeting::Glued([fa as u32, fb as u32], area);
+            }
+        }
+    }
+    best
 }
 
 /// Checks that the parts of every body are connected through internal faces.

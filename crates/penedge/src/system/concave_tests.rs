@@ -653,3 +653,185 @@ fn a_box_cut_into_random_parts_has_the_contacts_of_the_uncut_box() {
         "{merged} pieces merged into regions of others"
     );
 }
+
+/// Two parts of one body of a fine zig-zag slope excavation (`penedge generate` of a 10 m
+/// box, one vertical joint set and a slope profile of 8,000 vertices), as generated, planes
+/// included: prisms 10 m long along y whose cross-sections are needles 2.6 m long and 2 to
+/// 8 mm wide, glued along one face of the slope (face 4 of the first, face 3 of the second,
+/// one plane with opposite normals). The plane, fitted to the long thin face, leaves the
+/// needles' shared tip 1.27e-8 inside the first part's face and outside the second's, beyond
+/// the pair's length threshold (1.03e-8), so that the classification finds no face of the
+/// second part holding the contact and calls the pair penetrating.
+fn needles() -> [ConvexBlock; 2] {
+    use crate::block::FaceOrigin;
+    use crate::geometry::{Aabb, Plane};
+    let part = |vertices: &[[f64; 3]], faces: &[&[u32]], planes: &[([f64; 3], [f64; 3])]| {
+        let planes: Vec<Plane> = planes
+            .iter()
+            .map(|&(n, p)| Plane {
+                normal: DVec3::from(n),
+                point: DVec3::from(p),
+            })
+            .collect();
+        let origins = vec![FaceOrigin::Unknown; faces.len()];
+        // Checked at the domain's scale, as the generation made them.
+        let domain = Aabb {
+            min: DVec3::ZERO,
+            max: DVec3::splat(10.0),
+        };
+        let tol = Tolerance::default();
+        ConvexBlock::from_parts_in(vertices, faces, &planes, &origins, &tol, Some(&domain)).unwrap()
+    };
+    let a = part(
+        &[
+            [6.619577447, 0.0, 6.7027870550000035],
+            [6.618327291000001, 0.0, 6.688780474999998],
+            [7.1446246588908355, 0.0, 4.175638512728671],
+            [7.1446246588908355, 10.0, 4.175638512728671],
+            [6.618327291000001, 10.0, 6.688780474999998],
+            [6.619577447, 10.0, 6.7027870550000035],
+        ],
+        &[
+            &[0, 1, 2],
+            &[3, 4, 5],
+            &[2, 1, 4, 3],
+            &[5, 4, 1, 0],
+            &[2, 3, 5, 0],
+        ],
+        &[
+            ([0.0, -1.0, 0.0], [5.0, 0.0, 5.0]),
+            ([0.0, 1.0, 0.0], [5.0, 10.0, 5.0]),
+            (
+                [-0.9787679009252925, 0.0, -0.20497169589554765],
+                [6.617702213, 4.999999999999999, 6.691765308000001],
+            ),
+            (
+                [-0.996040422910225, -0.0, 0.08890149565007498],
+                [6.6189523690000005, 5.0, 6.695783765],
+            ),
+            (
+                [0.9790918262847176, -0.0, 0.2034187692973699],
+                [6.620202525000001, 4.999999999999999, 6.699778439999996],
+            ),
+        ],
+    );
+    let b = part(
+        &[
+            [6.622077759999999, 0.0, 6.710728727000002],
+            [6.620827602990678, 0.0, 6.69676982489592],
+            [7.1446246588908355, 0.0, 4.175638512728671],
+            [7.1446306101978, 0.0, 4.175610319778413],
+            [7.1446306101978, 10.0, 4.175610319778413],
+            [7.1446246588908355, 10.0, 4.175638512728671],
+            [6.620827602990678, 10.0, 6.69676982489592],
+            [6.622077759999999, 10.0, 6.710728727000002],
+        ],
+        &[
+            &[0, 1, 2, 3],
+            &[4, 5, 6, 7],
+            &[3, 2, 5, 4],
+            &[2, 1, 6, 5],
+            &[7, 6, 1, 0],
+            &[3, 4, 7, 0],
+        ],
+        &[
+            ([0.0, -1.0, 0.0], [5.0, 0.0, 5.0]),
+            ([0.0, 1.0, 0.0], [5.0, 10.0, 5.0]),
+            (
+                [-0.9784380582140522, 0.0, -0.20654047118740412],
+                [6.6152019, 4.999999999999998, 6.683657271499988],
+            ),
+            (
+                [-0.9790918262847176, 0.0, -0.2034187692973699],
+                [6.620202525000001, 4.999999999999999, 6.699778439999996],
+            ),
+            (
+                [-0.9960134835347997, -0.0, 0.08920280610425566],
+                [6.621452681499999, 4.999999999999999, 6.703749275999999],
+            ),
+            (
+                [0.9794099583739811, -0.0, 0.2018814836429451],
+                [6.622702838, 4.999999999999999, 6.707696217000001],
+            ),
+        ],
+    );
+    [a, b]
+}
+
+/// The outward normal of the first needle's glued face, from its vertices (the line of its
+/// two edges across, turned about y).
+fn needle_face_normal(a: &ConvexBlock) -> DVec3 {
+    let v = a.vertices();
+    DVec3::Y.cross(v[0] - v[2]).normalize()
+}
+
+#[test]
+fn needle_parts_glued_along_a_long_thin_face_touch_and_keep_their_internal_face() {
+    let tol = Tolerance::default();
+    let [a, b] = needles();
+    // The premise: the classification calls the pair penetrating (both ways), though the
+    // parts only touch: the shortest translation that separates them is below 1e-15.
+    let mut det = crate::Detector::new(tol);
+    assert_eq!(det.detect(&a, &b), crate::PairResult::Penetrating);
+    assert_eq!(det.detect(&b, &a), crate::PairResult::Penetrating);
+    let o = crate::overlap::overlap(&a, &b, &tol).unwrap();
+    assert!(
+        o.min_translation.length() < 1e-15,
+        "{:?}",
+        o.min_translation
+    );
+    // The glue is the whole face 3 of the second needle (its tip lies on the first one's
+    // face 4, which reaches 6 mm farther): the face's length across times 10 m.
+    let vb = b.vertices();
+    let glued = (vb[1] - vb[2]).length() * 10.0;
+    for (order, faces) in [([0, 1], [4, 3]), ([1, 0], [3, 4])] {
+        let parts: Vec<ConvexBlock> = order.iter().map(|&k| [&a, &b][k].clone()).collect();
+        let system = BlockSystem::new(parts)
+            .with_bodies(vec![0, 0], &tol)
+            .unwrap();
+        let internal = system.internal_faces();
+        assert_eq!(internal.len(), 1, "{internal:?}");
+        assert_eq!((internal[0].parts, internal[0].faces), ([0, 1], faces));
+        assert!(
+            (internal[0].area - glued).abs() < 1e-9 * glued,
+            "{internal:?}"
+        );
+        // The second needle's face is covered entirely, the first one's in part.
+        let at_a = order.iter().position(|&k| k == 0).unwrap() as u32;
+        assert!(system.is_internal_face(1 - at_a, 3));
+        assert!(!system.is_internal_face(at_a, 4));
+        let volume = system.body_mass_properties()[0].1.volume;
+        assert!((volume - a.volume() - b.volume()).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn needle_parts_pushed_into_each_other_beyond_the_gap_are_refused() {
+    let tol = Tolerance::default();
+    let [a, b] = needles();
+    let n = needle_face_normal(&a);
+    let gap = crate::Detector::new(tol).thresholds(&a, &b).gap;
+    // The second needle moved into the first along the face normal: by half the gap it
+    // still touches (glued), by twice the gap and by 1 µm (1e5 gaps) the parts overlap.
+    for (depth, overlaps) in [(0.5 * gap, false), (2.0 * gap, true), (1e-6, true)] {
+        let pushed = b.translated(-n * depth);
+        let result = BlockSystem::new(vec![a.clone(), pushed]).with_bodies(vec![7, 7], &tol);
+        match result {
+            Err(e) => {
+                assert!(overlaps, "{depth:e}: {e}");
+                assert_eq!(
+                    e,
+                    ConcaveError::Overlap {
+                        body: 7,
+                        a: 0,
+                        b: 1
+                    }
+                );
+            }
+            Ok(system) => {
+                assert!(!overlaps, "{depth:e}: accepted");
+                assert_eq!(system.internal_faces().len(), 1, "{depth:e}");
+            }
+        }
+    }
+}

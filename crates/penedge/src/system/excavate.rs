@@ -10,9 +10,9 @@
 //! volume up to rounding (see [`crate::cutting`]), so the volume removed is the volume of
 //! `R` within the blocks.
 
+use super::concave::{meeting, Meeting};
 use super::BlockSystem;
 use crate::block::{ConvexBlock, FaceOrigin};
-use crate::classify::{Feature, PairResult};
 use crate::contact::Detector;
 use crate::cutting::{Side, Splitter};
 use crate::generation::Extent;
@@ -429,15 +429,11 @@ fn connected_bodies(
         if bodies[i] != bodies[j] {
             continue;
         }
-        let glued = match det.detect_with_geometry(&system.blocks[i], &system.blocks[j]) {
-            (PairResult::Contact(c), Some(g)) => match (c.feature_a, c.feature_b) {
-                // Not across a crack: the pieces of a body held by rock bridges that touch
-                // only there are apart once the excavation has removed the bridges.
-                (Feature::Face(fa), Feature::Face(fb)) => {
-                    g.area() > 0.0 && !system.is_crack([i as u32, j as u32], [fa, fb])
-                }
-                _ => false,
-            },
+        // Glued as `with_bodies` finds it (a penetration confirmed by its depth only), and
+        // not across a crack: the pieces of a body held by rock bridges that touch only
+        // there are apart once the excavation has removed the bridges.
+        let glued = match meeting(&mut det, &system.blocks[i], &system.blocks[j]) {
+            Meeting::Glued(faces, _) => !system.is_crack([i as u32, j as u32], faces),
             _ => false,
         };
         if glued {

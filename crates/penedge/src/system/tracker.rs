@@ -407,12 +407,14 @@ impl ContactTracker {
     /// [`ContactTracker::new`]) and updates the contacts.
     ///
     /// An error, and the tracker unchanged, when the poses are not one per block, when one
-    /// is not finite or its rotation zero, when two parts of one body differ, or when a
-    /// pose translates its block so far that its coordinates could pass the largest
-    /// magnitude at which double precision keeps the block's closest vertices distinct (or
-    /// 1e50): [`ConvexBlock::try_translated`]'s rule, checked per pose on a bound of the
-    /// placed block's coordinates (its placed centroid's plus its radius; a pose without
-    /// translation always passes), without a pass over its vertices.
+    /// is not finite or its rotation zero, when two parts of one body differ (in
+    /// translation, or in rotation as [`Pose::same_placement`] compares them: `q`, `-q` and
+    /// a multiple of `q` are one rotation, and the parts are then all placed at the first
+    /// part's pose), or when a pose translates its block so far that its coordinates could
+    /// pass the largest magnitude at which double precision keeps the block's closest
+    /// vertices distinct (or 1e50): [`ConvexBlock::try_translated`]'s rule, checked per pose
+    /// on a bound of the placed block's coordinates (its placed centroid's plus its radius;
+    /// a pose without translation always passes), without a pass over its vertices.
     pub fn update(&mut self, poses: &[Pose]) -> Result<UpdateReport, TrackerError> {
         if poses.len() != self.reference.len() {
             return Err(TrackerError::PoseCount {
@@ -440,19 +442,32 @@ impl ContactTracker {
                 spacing: r.spacing,
             });
         }
+        // The parts of one body: one rotation, compared as a rotation (`q`, `-q` and `3 q`
+        // are one: `Pose::same_placement`), and each part then placed at its first part's
+        // pose, so that the parts stay glued bit for bit.
+        let mut shared = None;
         if let Some(tracking) = self.bodies.as_ref().filter(|_| self.current.has_concave()) {
             let first = &tracking.first_part;
-            if let Some(part) = (0..poses.len())
-                .into_par_iter()
-                .position_first(|k| poses[k] != poses[first[k] as usize])
-            {
+            if let Some(part) = (0..poses.len()).into_par_iter().position_first(|k| {
+                let f = first[k] as usize;
+                poses[k] != poses[f]
+                    && !normalised(&poses[k]).same_placement(&normalised(&poses[f]))
+            }) {
                 return Err(TrackerError::BodyPose {
                     body: self.current.body_of(part as u32),
                     first: first[part],
                     part: part as u32,
                 });
             }
+            if (0..poses.len())
+                .into_par_iter()
+                .any(|k| poses[k] != poses[first[k] as usize])
+            {
+                let one: Vec<Pose> = first.par_iter().map(|&f| poses[f as usize]).collect();
+                shared = Some(one);
+            }
         }
+        let poses = shared.as_deref().unwrap_or(poses);
         self.step = match self.step.checked_add(1) {
             Some(step) => step,
             None => self.restart_steps(),

@@ -304,6 +304,58 @@ fn parts_of_one_body_with_different_poses_are_refused() {
     check(&mut tracker, &system, &poses, &tol);
 }
 
+/// One rotation given as `q`, `-q` or a multiple of `q` to the parts of one body is one
+/// pose (a rotation, not a quaternion, is compared): the update is taken, and the parts are
+/// placed exactly as with `q` for each; a rotation that differs, however little, is refused.
+#[test]
+fn parts_of_one_body_take_one_rotation_as_any_quaternion_of_it() {
+    let tol = Tolerance::default();
+    let system = BlockSystem::new(vec![
+        cuboid([0.0, 0.0, 0.0], [2.0, 1.0, 1.0]),
+        cuboid([0.0, 0.0, 1.0], [1.0, 1.0, 2.0]),
+        cuboid([1.0, 0.0, 1.0], [2.0, 1.0, 2.0]),
+        cuboid([0.0, 0.0, -1.0], [2.0, 1.0, 0.0]),
+    ])
+    .with_bodies(vec![0, 0, 0, 1], &tol)
+    .unwrap();
+    let q = DQuat::from_axis_angle(DVec3::new(0.3, -0.5, 0.8).normalize(), 0.4);
+    let t = DVec3::new(0.25, -0.5, 3.0);
+    let pose = |rotation: DQuat| Pose {
+        rotation,
+        translation: t,
+    };
+    // Body 1 moves with body 0: they keep touching along z = 0 (turned).
+    let same = vec![pose(q); 4];
+    let mut expected = ContactTracker::tracking_bodies(&system, tol, 0.1).unwrap();
+    expected.update(&same).unwrap();
+    assert!(!expected.body_contacts().unwrap().contacts.is_empty());
+    for (b, c) in [(-q, q * 3.0), (q * -2.5, q * 1e-3), (q, -q)] {
+        let mut tracker = ContactTracker::tracking_bodies(&system, tol, 0.1).unwrap();
+        let poses = vec![pose(q), pose(b), pose(c), pose(q)];
+        tracker.update(&poses).unwrap();
+        let vertices = |t: &mut ContactTracker| -> Vec<Vec<DVec3>> {
+            let blocks = t.system().blocks();
+            blocks.iter().map(|b| b.vertices().to_vec()).collect()
+        };
+        assert_eq!(vertices(&mut tracker), vertices(&mut expected));
+        assert_eq!(tracker.body_contacts(), expected.body_contacts());
+    }
+    // Another rotation by 1e-9 rad, or another translation, is another pose.
+    let turned = q * DQuat::from_rotation_z(1e-9);
+    for other in [pose(-turned), Pose::new(q, t + DVec3::X * 1e-12).unwrap()] {
+        let mut tracker = ContactTracker::tracking_bodies(&system, tol, 0.1).unwrap();
+        let poses = vec![pose(q), pose(q), other, pose(q)];
+        assert_eq!(
+            tracker.update(&poses),
+            Err(TrackerError::BodyPose {
+                body: 0,
+                first: 0,
+                part: 2
+            })
+        );
+    }
+}
+
 /// On convex blocks, a tracker made to report the contacts of the bodies gives
 /// [`BlockSystem::detect_bodies`]' regions (one per touching pair) at every step, and its
 /// part contacts are those of an ordinary tracker.
