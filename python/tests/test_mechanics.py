@@ -240,6 +240,29 @@ def test_water_below_a_table_lifts_the_cube_by_the_water_force():
     assert contacts["water_forces"] == pytest.approx([9810.0 * (2.0 - contacts["points"][0, 2])])
 
 
+def test_water_lifts_a_light_cube_off_its_joint_and_keeps_pushing_it():
+    """A cube lighter than the water it displaces (density 300) on a fixed base under a
+    table 3 m above the joint: U = 9810 x 2 x 1 m2 > W, the joint opens, and past the
+    detection gap it is an opened joint that keeps its water (docs/mechanics.md, "Opened
+    joints"): undamped, the cube rises by (U - W) t^2 / (2 m) while the faces face each
+    other (here, up to a block size), no contact left."""
+    sim = cube_on_base(density=300.0)
+    sim.set_water(level=3.0)
+    base = sim.positions[1, 2]
+    while sim.time < 0.06:
+        sim.step()
+    mass = 300.0 * 1.0
+    uplift, weight = 9810.0 * (3.0 - 0.0), mass * 9.81
+    opened = sim.opened_joints()
+    assert sim.contacts()["pairs"].shape == (0, 2)
+    assert opened["pairs"].tolist() == [[0, 1]]
+    assert opened["water_forces"] == pytest.approx([uplift], rel=1e-12)
+    assert opened["normals"][0] == pytest.approx([0.0, 0.0, 1.0])
+    assert opened["centres"][0] == pytest.approx([0.0, 0.0, 0.0], abs=1e-12)
+    rise = sim.positions[1, 2] - base
+    assert rise == pytest.approx((uplift - weight) / mass * sim.time**2 / 2, rel=0.01)
+
+
 def test_a_set_the_system_does_not_have_is_refused_with_the_sets_it_has():
     # a typo in a set id must not silently leave the set's contacts at the default properties
     sim = sliced_box(planes=2)

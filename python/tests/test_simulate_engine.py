@@ -207,12 +207,16 @@ def test_planar_slope_with_water_in_its_tension_crack_matches_limit_equilibrium(
     )
     text = text.replace('type = "solve"', 'type = "solve"\nelastic = true', 1)
     text = text.replace("max_steps = 4000", "max_steps = 6000")
-    assert "crack = 20000.0" in text and "max_steps = 6000" in text
+    assert "crack = 20000.0" in text
+    assert "max_steps = 6000" in text
     psi, phi, width = math.radians(35), math.radians(40), 10.0
     base = 3 + (25 - 12) * math.tan(psi)  # the bedding at the crack
     section = [(12, base), (25, 3), (15, 15), (12, 15)]
     area = 0.5 * abs(
-        sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(section, section[1:] + section[:1]))
+        sum(
+            x0 * y1 - x1 * y0
+            for (x0, y0), (x1, y1) in zip(section, section[1:] + section[:1], strict=True)
+        )
     )
     weight = 2600 * 9.81 * area * width
     bedding = 13 / math.cos(psi) * width

@@ -1409,6 +1409,44 @@ impl Simulation {
         Ok(out)
     }
 
+    /// The joints opened beyond the detection gap that keep their water (``docs/mechanics.md``,
+    /// "Water pressure in the joints", "Opened joints"): a face-face contact that carried
+    /// water leaves one when its faces part; while the faces still face each other, within
+    /// the smaller block's size, the water pushes them apart. Their water is not in
+    /// :meth:`contacts` (no contact is there).
+    ///
+    /// Returns
+    /// -------
+    /// dict
+    ///     Per opened joint at the last step (m rows): ``pairs`` (m, 2) int64 body ids (A, B),
+    ///     ``sets`` (m,) the joint set (-1: none), ``water_forces`` (m,) the water force
+    ///     pushing B from A along ``normals`` (m, 3) (A's face normal), at ``centres`` (m, 3)
+    ///     (its centre of pressure, on A's face).
+    fn opened_joints<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let bodies = self.inner.part_bodies();
+        let opened: Vec<&mechanics::WetJoint> = self
+            .inner
+            .wet_joints()
+            .iter()
+            .filter(|j| j.opened)
+            .collect();
+        let out = PyDict::new(py);
+        let pairs: Vec<[i64; 2]> = opened
+            .iter()
+            .map(|j| j.parts.map(|p| i64::from(bodies[p as usize])))
+            .collect();
+        out.set_item("pairs", arrays::pairs(py, &pairs))?;
+        let sets: Vec<i64> = opened.iter().map(|j| j.set.map_or(-1, i64::from)).collect();
+        out.set_item("sets", arrays::vector(py, sets))?;
+        let forces: Vec<f64> = opened.iter().map(|j| j.force).collect();
+        out.set_item("water_forces", arrays::vector(py, forces))?;
+        let normals: Vec<[f64; 3]> = opened.iter().map(|j| j.normal.to_array()).collect();
+        out.set_item("normals", arrays::rows3(py, &normals))?;
+        let centres: Vec<[f64; 3]> = opened.iter().map(|j| j.centre.to_array()).collect();
+        out.set_item("centres", arrays::rows3(py, &centres))?;
+        Ok(out)
+    }
+
     /// An independent copy of the simulation in its current state (settings, bodies,
     /// contacts and their history): trials from one state, as a factor of safety by strength
     /// reduction runs them.

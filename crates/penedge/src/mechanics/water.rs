@@ -5,9 +5,9 @@
 
 use super::contacts::Contacts;
 use super::{MechanicsError, Simulation};
-use crate::classify::Feature;
 use crate::block::{ConvexBlock, Pose};
 use crate::classify::ContactType;
+use crate::classify::Feature;
 use crate::geometry::DVec3;
 use std::collections::BTreeMap;
 
@@ -290,7 +290,11 @@ impl Simulation {
             }
             corners.clear();
             corners.extend(self.contacts.subs_of(i).iter().map(|s| s.point));
-            if self.water.polygon_force(c.set, &corners, c.normal).is_none() {
+            if self
+                .water
+                .polygon_force(c.set, &corners, c.normal)
+                .is_none()
+            {
                 continue;
             }
             let pair = self.current[i].pair as usize;
@@ -446,6 +450,61 @@ mod tests {
             Water::phreatic(DVec3::new(0.0, 0.0, 10.0), DVec3::new(-1.0, 0.0, -1.0), 2.0).unwrap();
         assert!((water.pressure(None, DVec3::new(4.0, 3.0, 0.0)) - 12.0).abs() < 1e-12);
         assert_eq!(water.pressure(None, DVec3::new(4.0, 3.0, 7.0)), 0.0);
+    }
+
+    /// The covered part of an opened joint: a 2 × 2 face under a 1 × 1 face shifted by
+    /// (0.5, 0.25) and lifted by `h` covers 1 × 1 (the whole smaller face) until it slides
+    /// off the edge, half of it beyond; none when the faces turn 11° apart (10° is the
+    /// bound) or part by more than the smaller block's size.
+    #[test]
+    fn an_opened_joint_covers_what_the_faces_still_share() {
+        let a = ConvexBlock::cuboid([0.0, 0.0, -1.0], [2.0, 2.0, 0.0]).unwrap();
+        let top = |x: f64, y: f64, h: f64| {
+            ConvexBlock::cuboid([x, y, h], [x + 1.0, y + 1.0, h + 1.0]).unwrap()
+        };
+        let up = |block: &ConvexBlock| {
+            (0..block.n_faces() as u32)
+                .find(|&f| block.planes()[f as usize].normal.z > 0.5)
+                .unwrap()
+        };
+        let down = |block: &ConvexBlock| {
+            (0..block.n_faces() as u32)
+                .find(|&f| block.planes()[f as usize].normal.z < -0.5)
+                .unwrap()
+        };
+        let area = |poly: &[DVec3]| {
+            (1..poly.len() - 1)
+                .map(|k| triangle_area([poly[0], poly[k], poly[k + 1]], DVec3::Z))
+                .sum::<f64>()
+        };
+        let b = top(0.5, 0.25, 0.3);
+        let poly = opened_polygon(&a, up(&a), &b, down(&b)).unwrap();
+        assert!((area(&poly) - 1.0).abs() < 1e-12, "{poly:?}");
+        assert!(poly.iter().all(|p| p.z == 0.0));
+        let b = top(1.5, 0.25, 0.3);
+        let poly = opened_polygon(&a, up(&a), &b, down(&b)).unwrap();
+        assert!((area(&poly) - 0.5).abs() < 1e-12, "{poly:?}");
+        // Apart by more than the smaller block's size (its diagonal, √3): drained.
+        let b = top(0.5, 0.25, 1.8);
+        assert!(opened_polygon(&a, up(&a), &b, down(&b)).is_none());
+        let b = top(0.5, 0.25, 1.7);
+        assert!(opened_polygon(&a, up(&a), &b, down(&b)).is_some());
+        // Off the face: nothing covered.
+        let b = top(2.5, 0.25, 0.3);
+        assert!(opened_polygon(&a, up(&a), &b, down(&b)).is_none());
+        // Turned 11° (about x, through the face's centre) and 9°.
+        let turned = |deg: f64| {
+            top(0.5, 0.5, 0.3).transformed(
+                glam::DQuat::from_rotation_x(deg.to_radians()),
+                DVec3::ZERO,
+                1.0,
+            )
+        };
+        for (deg, holds) in [(11.0, false), (9.0, true)] {
+            let b = turned(deg);
+            let got = opened_polygon(&a, up(&a), &b, down(&b));
+            assert_eq!(got.is_some(), holds, "{deg}°");
+        }
     }
 
     #[test]
