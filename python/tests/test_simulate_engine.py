@@ -34,15 +34,18 @@ def water_force(corners, level, n=400):
     return sum(1000 * 9.81 * np.maximum(level - p[:, 2], 0).sum() * area for p in centroids)
 
 
-def wedge_limit_equilibrium(friction, pressure=0.0, seismic=0.0, level=None):
+def wedge_limit_equilibrium(
+    friction, pressure=0.0, seismic=0.0, level=None, joints=((45, 45), (45, 135)), friction_b=None
+):
     """Hoek & Bray's factor of safety of the wedge of examples/models/wedge_*.toml, by
     vectors: the weight W of the tetrahedron cut from the box corner region by the two
     joints, split into the reactions N_A n_A + N_B n_B normal to the joints and the driving
-    force along their line of intersection; F = (N_A' + N_B') tan phi / D with N' = N - U
-    (U = u A for a uniform water pressure u on each joint, or the hydrostatic force below a
-    water table at elevation `level`); `seismic` adds a pseudo-static force kh W towards
-    East (out of the slope face)."""
-    na, nb = plane_normal(45, 45), plane_normal(45, 135)
+    force along their line of intersection; F = (N_A' tan phi_A + N_B' tan phi_B) / D with
+    N' = N - U (U = u A for a uniform water pressure u on each joint, or the hydrostatic force
+    below a water table at elevation `level`); `seismic` adds a pseudo-static force kh W
+    towards East (out of the slope face). `joints`: the (dip, dip direction) of A and B, both
+    through (10, 5, 5); phi_A = `friction`, phi_B = `friction_b` (default: the same)."""
+    na, nb = (plane_normal(*j) for j in joints)
     apex = np.array([10.0, 5.0, 5.0])  # both planes pass through it
     # the corners on the top (z = 10) and the slope face (x = 10)
     line = np.cross(na, nb)
@@ -62,6 +65,9 @@ def wedge_limit_equilibrium(friction, pressure=0.0, seismic=0.0, level=None):
     # W + N_A n_A + N_B n_B + S line = 0 (S the shear resistance needed, along the line)
     matrix = np.column_stack([na, nb, line])
     n_a, n_b, _ = np.linalg.solve(matrix, -weight)
+    # the wedge rests on both joints
+    assert n_a > 0
+    assert n_b > 0
     driving = weight @ line
 
     def area(a, b, c):
@@ -72,7 +78,9 @@ def wedge_limit_equilibrium(friction, pressure=0.0, seismic=0.0, level=None):
         u_a, u_b = pressure * area(*tri_a), pressure * area(*tri_b)
     else:
         u_a, u_b = water_force(tri_a, level), water_force(tri_b, level)
-    resisting = (n_a - u_a + n_b - u_b) * math.tan(math.radians(friction))
+    friction_b = friction if friction_b is None else friction_b
+    tan_a, tan_b = math.tan(math.radians(friction)), math.tan(math.radians(friction_b))
+    resisting = (n_a - u_a) * tan_a + (n_b - u_b) * tan_b
     return resisting / driving, volume
 
 
@@ -155,6 +163,45 @@ def test_wedge_below_a_water_table_matches_limit_equilibrium():
     found, exact = critical_friction(40, safety.factor), critical_friction(40, reference)
     assert found == pytest.approx(exact, abs=1.0)
     assert safety.failing - safety.stable <= 0.01 + 1e-12
+
+
+ASYMMETRIC = ((60, 40), (35, 160))  # joints A and B: (dip, dip direction)
+
+
+def test_asymmetric_wedge_edge_contact_takes_its_joints_properties():
+    """wedge_dry.toml on joints A (60/040, friction 30) and B (35/160, friction 20), neither
+    with cohesion, the default properties much stronger than both (40 degrees, 50 kPa). The
+    wedge's lower edge touches the block below both joints along their line of intersection:
+    an edge-edge contact lying in both joints, which takes the weaker, B (docs/mechanics.md,
+    "Properties per joint set"). Before 2026-11-29 it took the default properties, whose
+    cohesion on the edge's nominal area held the wedge (F = 1.31 here; 1.80 with a default
+    of 30 degrees and point_width = 0.2). F by strength reduction against Hoek & Bray's (computed above, per
+    joint friction), as the critical friction angles of both joints within 1 degree (the
+    criterion of the wedge tests above)."""
+    text = (EXAMPLES / "wedge_dry.toml").read_text()
+    for (dip, direction), old in zip(ASYMMETRIC, ("45", "135"), strict=True):
+        text = text.replace(
+            f"dip = 45\ndip_direction = {old}\n", f"dip = {dip}\ndip_direction = {direction}\n"
+        )
+    text = text.replace("friction = 40", "friction = 40\ncohesion = 50e3")
+    extra = "[joint_properties.A]\nfriction = 30\ncohesion = 0\n\n"
+    extra += "[joint_properties.B]\nfriction = 20\ncohesion = 0\n\n"
+    text = text.replace("[regions.wedge]", extra + "[regions.wedge]")
+    assert "dip = 45" not in text
+    assert "point_width = 0.05" in text
+    outcome = pm.simulate(text)
+    assert outcome.stages[0].converged
+    safety = outcome.safety
+    reference, _ = wedge_limit_equilibrium(30.0, joints=ASYMMETRIC, friction_b=20.0)
+    print(
+        f"asymmetric wedge: F = {safety.factor} ({safety.stable}, {safety.failing}), LE {reference}"
+    )
+    for friction in (30.0, 20.0):
+        found = critical_friction(friction, safety.factor)
+        assert found == pytest.approx(critical_friction(friction, reference), abs=1.0)
+    assert safety.failing - safety.stable <= 0.01 + 1e-12
+    free = ~pm.prepare(text).layout.fixed
+    assert safety.failing_blocks == np.flatnonzero(free).tolist()
 
 
 def test_factor_of_safety_does_not_depend_on_the_step_budget():

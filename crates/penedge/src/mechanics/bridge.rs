@@ -7,7 +7,7 @@
 //! residual values after failure (cohesion and tension zero). Only its properties differ:
 //! those of the intact rock.
 
-use super::joint::{face_set, JointModel, JointTable};
+use super::joint::{contact_sets, JointModel, JointTable, SetChoice};
 use super::MechanicsError;
 use crate::block::ConvexBlock;
 use crate::classify::Feature;
@@ -78,9 +78,10 @@ impl BridgeTable {
 /// a bridge face on either side is a bridge (generation splits the faces on one side of the
 /// plane only, so the overlap of the two faces is then wholly bridge): it takes the bridge
 /// model of the set (of two sets, the weaker, as for joints). Any other contact takes its
-/// joint model ([`JointTable::set_of_contact`]), a bridge face counting as a face of its
-/// set: an edge or a vertex against a bridge face (where pieces of a cut block meet along a
-/// line) holds no area of intact rock, and once broken a bridge face is a fracture of its set.
+/// joint model ([`JointTable::set_of_contact`], the same rule of sets), a bridge face
+/// counting as a face of its set: an edge or a vertex against a bridge face, or two edges
+/// along a bridge's plane (where pieces of a cut block meet along a line), holds no area of
+/// intact rock, and once broken a bridge face is a fracture of its set.
 #[cfg(test)]
 pub(super) fn contact_model(
     joints: &JointTable,
@@ -93,13 +94,13 @@ pub(super) fn contact_model(
     ContactFaces::of(a, fa, b, fb).model(joints, bridges)
 }
 
-/// What a contact's model takes from its two features (their faces' joint sets, and whether
-/// the contact is face-face with a bridge face on either side): the features are kept
-/// between two queries of a pair, so a contact keeps this rather than reading its blocks'
-/// face origins at every step.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// What a contact's model takes from its two features (the joint sets it chooses from,
+/// [`contact_sets`], and whether the contact is face-face with a bridge face on either
+/// side): the features are kept between two queries of a pair, so a contact keeps this
+/// rather than reading its blocks' face origins at every step.
+#[derive(Clone, Debug, PartialEq)]
 pub(super) struct ContactFaces {
-    sets: [Option<u32>; 2],
+    sets: SetChoice,
     bridge_faces: bool,
 }
 
@@ -115,18 +116,18 @@ impl ContactFaces {
         };
         let faces = matches!((fa, fb), (Feature::Face(_), Feature::Face(_)));
         ContactFaces {
-            sets: [face_set(a, fa), face_set(b, fb)],
+            sets: contact_sets(a, fa, b, fb),
             bridge_faces: faces && (bridge_face(a, fa) || bridge_face(b, fb)),
         }
     }
 
     /// The contact's set, whether it is a bridge, and its model ([`contact_model`]).
     pub fn model(
-        self,
+        &self,
         joints: &JointTable,
         bridges: &BridgeTable,
     ) -> (Option<u32>, bool, JointModel) {
-        match joints.set_of_faces(self.sets) {
+        match joints.weakest(self.sets.as_slice()) {
             Some(s) if self.bridge_faces => (Some(s), true, bridges.of_set(s, joints)),
             set => (set, false, *joints.of_set(set)),
         }
@@ -166,7 +167,8 @@ mod tests {
         bridges.set(1, intact).unwrap();
         assert_eq!(contact_model(&joints, &bridges, &a, f, &b, f).2, intact);
         assert_eq!(bridges.max_stiffness(), 5e10);
-        // A joint face, or no face, keeps the joint model.
+        // A joint face keeps the joint model; so do two edges between bridge faces (a
+        // point contact, of no area of intact rock: the joint model of their set).
         let j = cube(FaceOrigin::Joint { set: 1, joint: 0 });
         assert_eq!(
             contact_model(&joints, &bridges, &j, f, &j, f),
@@ -175,6 +177,11 @@ mod tests {
         let e = Feature::Edge(0);
         assert_eq!(
             contact_model(&joints, &bridges, &a, e, &b, e),
+            (Some(1), false, weak)
+        );
+        let plain = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+        assert_eq!(
+            contact_model(&joints, &bridges, &plain, e, &plain, e),
             (None, false, JointModel::default())
         );
         // A bridge face against a joint face: the bridge; against an edge: the joint model

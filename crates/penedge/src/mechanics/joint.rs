@@ -168,9 +168,8 @@ impl JointTable {
             .fold(0.0f64, |k, m| k.max(m.kn).max(m.ks))
     }
 
-    /// The joint set of a contact from its features' face origins (docs/mechanics.md): a
-    /// face feature's set; for two faces of different sets, the weaker one; none without
-    /// a joint face.
+    /// The joint set of a contact from its features' face origins (docs/mechanics.md,
+    /// "Properties per joint set"): the weakest of [`contact_sets`], none when there is none.
     pub fn set_of_contact(
         &self,
         a: &ConvexBlock,
@@ -178,22 +177,164 @@ impl JointTable {
         b: &ConvexBlock,
         fb: Feature,
     ) -> Option<u32> {
-        self.set_of_faces([face_set(a, fa), face_set(b, fb)])
+        self.weakest(contact_sets(a, fa, b, fb).as_slice())
     }
 
-    /// The joint set of a contact whose two features have the sets `sets` ([`face_set`]):
-    /// of two different sets, the weaker one (as [`JointTable::set_of_contact`]). A contact
-    /// keeps its features between queries, so it keeps their sets and asks only this.
-    pub(super) fn set_of_faces(&self, sets: [Option<u32>; 2]) -> Option<u32> {
-        match sets {
-            [Some(x), Some(y)] if x != y => {
-                let (mx, my) = (self.of_set(Some(x)), self.of_set(Some(y)));
-                let key = |m: &JointModel| (m.tan_friction(), m.cohesion);
-                Some(if key(my) < key(mx) { y } else { x })
-            }
-            [Some(x), _] => Some(x),
-            [None, y] => y,
+    /// The weakest of `sets` (the smallest `tan φ`, then the smallest cohesion; of equals,
+    /// the first), none when `sets` is empty: a contact between two sets is only as strong as
+    /// its weaker side. A contact keeps its features between queries, so it keeps their sets
+    /// ([`contact_sets`]) and asks only this, with the properties of the step.
+    pub(super) fn weakest(&self, sets: &[u32]) -> Option<u32> {
+        let (&first, rest) = sets.split_first()?;
+        if rest.is_empty() {
+            return Some(first);
         }
+        let key = |s: u32| {
+            let m = self.of_set(Some(s));
+            (m.tan_friction(), m.cohesion)
+        };
+        let (mut best, mut best_key) = (first, key(first));
+        for &s in rest {
+            let k = key(s);
+            if k < best_key {
+                (best, best_key) = (s, k);
+            }
+        }
+        Some(best)
+    }
+}
+
+/// The joint sets a contact chooses from ([`contact_sets`]), distinct, in the order found:
+/// up to four inline (every contact but one at a vertex where faces of many sets meet), more
+/// in a list.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(super) enum SetChoice {
+    /// The first `len` of `sets`.
+    Few { len: u8, sets: [u32; 4] },
+    /// More than four.
+    Many(Box<[u32]>),
+}
+
+impl Default for SetChoice {
+    fn default() -> Self {
+        SetChoice::Few {
+            len: 0,
+            sets: [0; 4],
+        }
+    }
+}
+
+impl SetChoice {
+    /// The sets.
+    pub fn as_slice(&self) -> &[u32] {
+        match self {
+            SetChoice::Few { len, sets } => &sets[..*len as usize],
+            SetChoice::Many(sets) => sets,
+        }
+    }
+
+    /// Adds `set` unless it is there already.
+    fn push(&mut self, set: u32) {
+        if self.as_slice().contains(&set) {
+            return;
+        }
+        match self {
+            SetChoice::Few { len, sets } if (*len as usize) < sets.len() => {
+                sets[*len as usize] = set;
+                *len += 1;
+            }
+            _ => {
+                let mut all = self.as_slice().to_vec();
+                all.push(set);
+                *self = SetChoice::Many(all.into_boxed_slice());
+            }
+        }
+    }
+}
+
+/// The joint sets a contact between feature `fa` of `a` and feature `fb` of `b` chooses
+/// from (its set is the weakest of them, [`JointTable::weakest`]; the default when there
+/// is none), by the rule of docs/mechanics.md ("Properties per joint set"):
+///
+/// - **A face on either side** (face-face, edge-face, vertex-face): the contact lies in that
+///   face, and takes the sets of its face features (A's first).
+/// - **Edges and vertices only** (edge-edge, edge-vertex, vertex-vertex: the line or point
+///   where faces of each block meet): the contact lies in a joint when a face at A's feature
+///   and a face at B's are that joint's two sides: faces of the same joint plane (the same
+///   `joint` of their origins, [`FaceOrigin::Joint`] or [`FaceOrigin::Bridge`]) with
+///   opposite normals (their cosine below −1/2: a bridge's seam, whose faces have the
+///   joint's origin but lie across its plane, is not a side of it). It takes the sets of
+///   those joints: the wedge's lower edge, on the line where its two joint planes meet the
+///   rock below them, lies in both. Otherwise, the sets of all the joint faces at the two
+///   features: the surfaces that meet there, of which the contact is only as strong as the
+///   weakest.
+///
+/// Faces of unknown or boundary origin have no set. A bridge face counts as a face of its
+/// set (a point contact is never a bridge, `bridge.rs`).
+pub(super) fn contact_sets(
+    a: &ConvexBlock,
+    fa: Feature,
+    b: &ConvexBlock,
+    fb: Feature,
+) -> SetChoice {
+    let mut sets = SetChoice::default();
+    if matches!(fa, Feature::Face(_)) || matches!(fb, Feature::Face(_)) {
+        for s in [face_set(a, fa), face_set(b, fb)].into_iter().flatten() {
+            sets.push(s);
+        }
+        return sets;
+    }
+    let origin = |block: &ConvexBlock, f: usize| block.face_origins().get(f).copied();
+    // The joints with a face at each feature on both sides.
+    for_faces_at(a, fa, |i| {
+        let Some((set, joint)) = origin(a, i).and_then(joint_of) else {
+            return;
+        };
+        let normal = a.planes()[i].normal;
+        for_faces_at(b, fb, |j| {
+            if origin(b, j).and_then(joint_of) == Some((set, joint))
+                && normal.dot(b.planes()[j].normal) < -0.5
+            {
+                sets.push(set);
+            }
+        });
+    });
+    if sets.as_slice().is_empty() {
+        for (block, f) in [(a, fa), (b, fb)] {
+            for_faces_at(block, f, |i| {
+                if let Some(s) = origin(block, i).and_then(FaceOrigin::set) {
+                    sets.push(s);
+                }
+            });
+        }
+    }
+    sets
+}
+
+/// The set and joint plane of a joint or bridge face's origin.
+fn joint_of(origin: FaceOrigin) -> Option<(u32, u32)> {
+    match origin {
+        FaceOrigin::Joint { set, joint } | FaceOrigin::Bridge { set, joint } => Some((set, joint)),
+        _ => None,
+    }
+}
+
+/// Calls `visit` with each face of `block` at feature `f`: the face itself, an edge's two
+/// faces, the faces around a vertex.
+fn for_faces_at(block: &ConvexBlock, f: Feature, mut visit: impl FnMut(usize)) {
+    match f {
+        Feature::Face(i) => visit(i as usize),
+        Feature::Edge(e) => {
+            if let Some(edge) = block.edges().get(e as usize) {
+                edge.faces.iter().for_each(|&i| visit(i as usize));
+            }
+        }
+        Feature::Vertex(v) => match block.vertex_faces().get(v as usize) {
+            Some(&mask) => crate::block::Bits(mask).for_each(visit),
+            None => (0..block.n_faces())
+                .filter(|&i| block.face(i).contains(&v))
+                .for_each(visit),
+        },
     }
 }
 
@@ -409,12 +550,193 @@ mod tests {
             )
             .unwrap();
         assert_eq!(table.set_of_contact(&a, f, &b, f), Some(1));
-        // One joint face: its set; edges and vertices have none.
+        // One joint face: its set (whatever the other side's edge or vertex); a face of
+        // no set against an edge: none.
         assert_eq!(table.set_of_contact(&a, f, &plain, f), Some(1));
+        assert_eq!(table.set_of_contact(&a, f, &b, e), Some(1));
         assert_eq!(table.set_of_contact(&plain, f, &b, e), None);
-        assert_eq!(table.set_of_contact(&a, e, &b, v), None);
+        assert_eq!(table.set_of_contact(&plain, e, &plain, v), None);
         assert_eq!(table.of_set(Some(2)).friction, 20.0);
         assert_eq!(table.of_set(Some(7)), table.default_model());
+    }
+
+    /// A block `{x : n · x <= d}` of the half-spaces `planes`, each face's origin that of
+    /// its half-space.
+    fn block_of(planes: &[([f64; 3], f64, FaceOrigin)]) -> ConvexBlock {
+        let normals: Vec<[f64; 3]> = planes.iter().map(|p| p.0).collect();
+        let offsets: Vec<f64> = planes.iter().map(|p| p.1).collect();
+        let block = ConvexBlock::from_planes(&normals, &offsets).unwrap();
+        let origins = block
+            .planes()
+            .iter()
+            .map(|face| {
+                let unit = |n: [f64; 3]| DVec3::from(n).normalize();
+                planes
+                    .iter()
+                    .find(|p| unit(p.0).dot(face.normal) > 1.0 - 1e-9)
+                    .unwrap()
+                    .2
+            })
+            .collect();
+        block.with_face_origins(origins).unwrap()
+    }
+
+    /// The feature of `block` that is the edge from `p` to `q` (either way round).
+    fn edge(block: &ConvexBlock, p: [f64; 3], q: [f64; 3]) -> Feature {
+        let at = |v: u32, x: [f64; 3]| block.vertices()[v as usize].distance(x.into()) < 1e-9;
+        let k = block.edges().iter().position(|e| {
+            let [u, w] = e.vertices;
+            at(u, p) && at(w, q) || at(u, q) && at(w, p)
+        });
+        Feature::Edge(k.unwrap() as u32)
+    }
+
+    /// The feature of `block` that is the vertex at `p`.
+    fn vertex(block: &ConvexBlock, p: [f64; 3]) -> Feature {
+        let k = block
+            .vertices()
+            .iter()
+            .position(|v| v.distance(p.into()) < 1e-9);
+        Feature::Vertex(k.unwrap() as u32)
+    }
+
+    /// Point contacts (edges and vertices on both sides) take the joint they lie in: a
+    /// wedge on two joint planes A (`z = x`) and B (`z = -x`), whose line of intersection is
+    /// the y axis, touches the block below both planes along that line only (an edge-edge
+    /// contact, as in Hoek & Bray's wedge). Both of the wedge's faces there and both of the
+    /// lower block's are the two sides of A and of B: the contact lies in both joints and
+    /// takes the weaker. A lower block whose second face is another joint C lies in A only
+    /// and takes A, even when C is weaker; with no shared joint plane, the weakest of the
+    /// joints at the two features. Before 2026-11-29 every such contact took the default.
+    #[test]
+    fn a_point_contact_takes_the_joint_its_features_lie_in() {
+        let joint = |set, joint| FaceOrigin::Joint { set, joint };
+        let side = FaceOrigin::Boundary { part: 0, face: 0 };
+        let (a, b, c, d) = (joint(0, 0), joint(1, 1), joint(2, 2), joint(3, 3));
+        // The y-range [0, 1] and a top or a bottom at |z| = 1, of no joint.
+        let slab = |top: [f64; 3]| {
+            [
+                ([0.0, -1.0, 0.0], 0.0, side),
+                ([0.0, 1.0, 0.0], 1.0, side),
+                (top, 1.0, side),
+            ]
+        };
+        // Above A and B: z >= x, z >= -x.
+        let mut planes = slab([0.0, 0.0, 1.0]).to_vec();
+        planes.extend([([1.0, 0.0, -1.0], 0.0, a), ([-1.0, 0.0, -1.0], 0.0, b)]);
+        let wedge = block_of(&planes);
+        // Below A and B: z <= x, z <= -x.
+        let mut planes = slab([0.0, 0.0, -1.0]).to_vec();
+        planes.extend([([-1.0, 0.0, 1.0], 0.0, a), ([1.0, 0.0, 1.0], 0.0, b)]);
+        let below = block_of(&planes);
+        // Below A and below C (z <= -3x): it meets the wedge along the same line.
+        let mut planes = slab([0.0, 0.0, -1.0]).to_vec();
+        planes.extend([([-1.0, 0.0, 1.0], 0.0, a), ([3.0, 0.0, 1.0], 0.0, c)]);
+        let below_c = block_of(&planes);
+        // The same block with its face on A's plane from another joint, D: no shared joint.
+        planes[3].2 = d;
+        let unshared = block_of(&planes);
+
+        let (o, y) = ([0.0; 3], [0.0, 1.0, 0.0]);
+        let line = |block| edge(block, o, y);
+        let model = |friction| JointModel {
+            friction,
+            ..JointModel::default()
+        };
+        let mut table = JointTable::default();
+        table.set_default(model(45.0)).unwrap();
+        for (set, friction) in [(0, 30.0), (1, 20.0), (2, 10.0), (3, 25.0)] {
+            table.set(set, model(friction)).unwrap();
+        }
+        let of = |table: &JointTable, p, fp, q, fq| {
+            (
+                table.set_of_contact(p, fp, q, fq),
+                table.set_of_contact(q, fq, p, fp),
+            )
+        };
+        // The wedge's lower edge on the lower block's upper edge: in A and B, B weaker.
+        assert_eq!(
+            of(&table, &wedge, line(&wedge), &below, line(&below)),
+            (Some(1), Some(1))
+        );
+        // The wedge's apex against the lower block's edge or vertex at the origin.
+        assert_eq!(
+            of(&table, &wedge, vertex(&wedge, o), &below, line(&below)),
+            (Some(1), Some(1))
+        );
+        assert_eq!(
+            of(&table, &wedge, vertex(&wedge, o), &below, vertex(&below, o)),
+            (Some(1), Some(1))
+        );
+        // In A only: A (30°), though B (20°) and C (10°) are at the features too.
+        assert_eq!(
+            of(&table, &wedge, line(&wedge), &below_c, line(&below_c)),
+            (Some(0), Some(0))
+        );
+        // No shared joint plane: the weakest of A, B, C and D at the two edges, C.
+        assert_eq!(
+            of(&table, &wedge, line(&wedge), &unshared, line(&unshared)),
+            (Some(2), Some(2))
+        );
+        // The weaker of the two joints as the properties change: A once it is weaker than B.
+        table.set(0, model(15.0)).unwrap();
+        assert_eq!(
+            of(&table, &wedge, line(&wedge), &below, line(&below)),
+            (Some(0), Some(0))
+        );
+        // A bridge face counts as a face of its set and joint (its plane is the joint's).
+        let mut planes = slab([0.0, 0.0, -1.0]).to_vec();
+        let bridge = FaceOrigin::Bridge { set: 0, joint: 0 };
+        planes.extend([([-1.0, 0.0, 1.0], 0.0, bridge), ([3.0, 0.0, 1.0], 0.0, c)]);
+        let bridged = block_of(&planes);
+        assert_eq!(
+            of(&table, &wedge, line(&wedge), &bridged, line(&bridged)),
+            (Some(0), Some(0))
+        );
+        // Two faces of the same joint facing the same way (two blocks on one side of A) are
+        // not its two sides: the wedge against itself has no shared joint, the weakest of
+        // its own, A.
+        assert_eq!(
+            of(&table, &wedge, line(&wedge), &wedge, line(&wedge)),
+            (Some(0), Some(0))
+        );
+        // Blocks of no joint face: none (the default).
+        let plain = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+        assert_eq!(
+            of(&table, &plain, Feature::Edge(0), &plain, Feature::Vertex(0)),
+            (None, None)
+        );
+        // A face on either side: as before, the face's set (B's face against C's edge: B).
+        let b_face = |block: &ConvexBlock| {
+            let k = block.face_origins().iter().position(|&o| o == b).unwrap();
+            Feature::Face(k as u32)
+        };
+        assert_eq!(
+            of(&table, &wedge, b_face(&wedge), &below_c, line(&below_c)),
+            (Some(1), Some(1))
+        );
+    }
+
+    /// Many sets at one vertex: the list grows past its four inline entries.
+    #[test]
+    fn the_choice_keeps_every_set() {
+        let mut sets = SetChoice::default();
+        for s in [5, 3, 5, 9, 1, 3, 7, 2] {
+            sets.push(s);
+        }
+        assert_eq!(sets.as_slice(), &[5, 3, 9, 1, 7, 2]);
+        let mut table = JointTable::default();
+        table
+            .set(
+                7,
+                JointModel {
+                    friction: 10.0,
+                    ..JointModel::default()
+                },
+            )
+            .unwrap();
+        assert_eq!(table.weakest(sets.as_slice()), Some(7));
+        assert_eq!(table.weakest(&[]), None);
     }
 
     #[test]
