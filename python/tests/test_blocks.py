@@ -150,6 +150,25 @@ def test_block_from_the_convex_hull_of_points():
     assert info.value.kind == "too_small"
 
 
+def test_block_from_the_hull_of_a_dense_cloud_on_a_sphere():
+    # A tester's cloud, 25,600 random directions: refused as not convex by 5.4e-9 (a few
+    # length thresholds of 1e-9 x size) until 2026-11-29 (docs/api.md, Block.from_hull).
+    rng = np.random.default_rng(0)
+    points = rng.normal(size=(25_600, 3))
+    points /= np.linalg.norm(points, axis=1)[:, None]
+    block = penedge.Block.from_hull(points)
+    # Every point is a corner, and one of the points given.
+    assert len(block.vertices) == len(points)
+    assert {tuple(v) for v in block.vertices} == {tuple(p) for p in points}
+    # Every point on or below every face plane within the length threshold.
+    threshold = 1e-9 * np.linalg.norm(points.max(axis=0) - points.min(axis=0))
+    normals = block.face_normals
+    offsets = np.einsum("ij,ij->i", normals, block.vertices[[f[0] for f in block.faces]])
+    for chunk in np.array_split(points, 100):
+        assert (chunk @ normals.T - offsets).max() <= threshold
+    assert 4 / 3 * np.pi * 0.99 < block.volume < 4 / 3 * np.pi
+
+
 def test_blocks_are_equal_by_value_and_hash_alike():
     a = penedge.Block.cuboid([0, 0, 0], [1, 1, 1])
     b = penedge.Block(a.vertices, a.faces)
