@@ -263,6 +263,77 @@ def test_water_lifts_a_light_cube_off_its_joint_and_keeps_pushing_it():
     assert rise == pytest.approx((uplift - weight) / mass * sim.time**2 / 2, rel=0.01)
 
 
+def crack_behind_a_block():
+    """A fixed base and back rock, and a free 1 x 1 x 3 m block in front of the back rock
+    (the crack at x = 1), under a water table at its top; a small free cube on the base
+    away from them."""
+    base = penedge.Block.cuboid([-1, 0, -1], [4, 1, 0])
+    back = penedge.Block.cuboid([-1, 0, 0], [1, 1, 3])
+    block = penedge.Block.cuboid([1, 0, 0], [2, 1, 3])
+    cube = penedge.Block.cuboid([3.2, 0, 0], [3.7, 0.5, 0.5])
+    sim = penedge.Simulation(penedge.BlockSystem([base, back, block, cube]), density=2500.0)
+    sim.fix([0, 1])
+    sim.set_joint(kn=1e9, ks=1e9, friction=30.0)
+    sim.set_water(level=3.0)
+    return sim
+
+
+def test_a_crack_opening_about_a_hinge_keeps_its_water():
+    """The block turned away from the back rock about its toe (a V-shaped crack, as behind a
+    toppling block): the pair keeps an edge contact at the hinge, and the crack its water,
+    whether the pair's contact is a face-face one (its polygon's water) or not (the opened
+    joint's). When it went with the face-face contact, the water was 0 from 0.01 rad on."""
+    sim = crack_behind_a_block()
+    w = 0.02  # rad/s about y, through the toe (1, 0, 0): velocity of the centroid
+    seen = set()
+    while sim.time < 1.0:
+        sim.set_velocity(2, [1.5 * w, 0, 0.5 * w], [0, w, 0])
+        sim.step()
+        contacts, opened = sim.contacts(), sim.opened_joints()
+        crack = [k for k, p in enumerate(contacts["pairs"].tolist()) if p == [1, 2]]
+        kind = int(contacts["types"][crack[0]]) if crack else 0
+        water = sum(contacts["water_forces"][k] for k in crack) + sum(
+            u
+            for p, u in zip(opened["pairs"].tolist(), opened["water_forces"], strict=True)
+            if p == [1, 2]
+        )
+        seen.add(kind)
+        assert water > 0.0, (sim.time, kind)
+    # It went through a face-face contact and an edge contact (or none) at the hinge.
+    assert 7 in seen
+    assert seen - {7}
+
+
+def test_no_opened_joint_between_bodies_that_do_not_move():
+    """A wet crack whose block is fixed after a step: the pair is no candidate pair any more
+    (no contact between two fixed bodies), but its faces touch: no opened joint, and no
+    water force left on the fixed bodies."""
+    sim = crack_behind_a_block()
+    sim.step()
+    assert sim.contacts()["water_forces"].max() > 0.0
+    sim.fix([2])
+    sim.step(2)
+    assert sim.opened_joints()["pairs"].shape == (0, 2)
+    # The back rock touches only the (now fixed) block.
+    assert sim.contact_forces[1].tolist() == [0.0] * 3
+
+
+def test_a_loaded_simulation_reports_its_opened_joints(tmp_path):
+    """The opened joints' forces, not kept in restart files, are computed again on
+    reading: the same as before saving."""
+    sim = cube_on_base(density=300.0)
+    sim.set_water(level=3.0)
+    while sim.time < 0.03:
+        sim.step()
+    before = sim.opened_joints()
+    assert before["water_forces"].tolist() == pytest.approx([9810.0 * 3.0])
+    path = tmp_path / "opened.json"
+    sim.save(path)
+    after = penedge.Simulation.load(path)
+    for key in ("pairs", "sets", "water_forces", "normals", "centres"):
+        assert after.opened_joints()[key].tolist() == before[key].tolist(), key
+
+
 def test_a_set_the_system_does_not_have_is_refused_with_the_sets_it_has():
     # a typo in a set id must not silently leave the set's contacts at the default properties
     sim = sliced_box(planes=2)

@@ -88,7 +88,7 @@ CALLS = [
 CALL_IDS = [f"{name}-{i}" for i, (name, _) in enumerate(CALLS)]
 
 
-@pytest.mark.parametrize("value", [True, False, np.True_, np.False_], ids=repr)
+@pytest.mark.parametrize("value", [True, False, np.True_, np.False_, np.array(True)], ids=repr)
 @pytest.mark.parametrize(("name", "call"), CALLS, ids=CALL_IDS)
 def test_a_bool_is_no_number(name, call, value):
     with pytest.raises(penedge.InputError, match=r"must be (a real number|an integer)") as e:

@@ -175,9 +175,9 @@ def test_asymmetric_wedge_edge_contact_takes_its_joints_properties():
     an edge-edge contact lying in both joints, which takes the weaker, B (docs/mechanics.md,
     "Properties per joint set"). Before 2026-11-29 it took the default properties, whose
     cohesion on the edge's nominal area held the wedge (F = 1.31 here; 1.80 with a default
-    of 30 degrees and point_width = 0.2). F by strength reduction against Hoek & Bray's (computed above, per
-    joint friction), as the critical friction angles of both joints within 1 degree (the
-    criterion of the wedge tests above)."""
+    of 30 degrees and point_width = 0.2). F by strength reduction against Hoek & Bray's
+    (computed above, per joint friction), as the critical friction angles of both joints
+    within 1 degree (the criterion of the wedge tests above)."""
     text = (EXAMPLES / "wedge_dry.toml").read_text()
     for (dip, direction), old in zip(ASYMMETRIC, ("45", "135"), strict=True):
         text = text.replace(

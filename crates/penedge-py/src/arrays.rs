@@ -43,7 +43,18 @@ pub fn is_bool(obj: &Bound<'_, PyAny>) -> bool {
         return true;
     }
     let ty = obj.get_type();
-    ty.name().is_ok_and(|n| n == "bool" || n == "bool_") && ty.module().is_ok_and(|m| m == "numpy")
+    if !ty.module().is_ok_and(|m| m == "numpy") {
+        return false;
+    }
+    match ty.name() {
+        Ok(n) if n == "bool" || n == "bool_" => true,
+        // A numpy array of bools (`np.array(True)`, 0-d, read as a number otherwise).
+        Ok(n) if n == "ndarray" => obj
+            .getattr("dtype")
+            .and_then(|d| d.getattr("kind"))
+            .is_ok_and(|k| k.extract::<String>().is_ok_and(|k| k == "b")),
+        _ => false,
+    }
 }
 
 /// The `InputError` (kind ``dtype``) for the bool `value` given as argument `name`, where

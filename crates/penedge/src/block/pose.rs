@@ -33,10 +33,12 @@ impl Pose {
 
     /// A pose from a rotation (normalised here) and a translation; `None` when either has a
     /// NaN or infinite component or the rotation is zero. Any finite non-zero multiple of a
-    /// quaternion is its rotation: one whose squared length overflows (`1e200 q`) or is
-    /// subnormal (`1e-200 q`) is first divided by its largest component, where dividing by
-    /// its length gave the zero quaternion (every block placed at its translation) or was
-    /// refused as zero. Others are divided by their length as they were, bit for bit.
+    /// quaternion is its rotation: one whose length is not finite (its square overflows,
+    /// `1e200 q`) or below 1e-150 (its square underflows or loses bits, `1e-200 q`) is
+    /// first divided by its largest component, where dividing by its length gave the zero
+    /// quaternion (every block placed at its translation) or was refused as zero. Others
+    /// (every quaternion of length at least 1e-150) are divided by their length as before,
+    /// bit for bit.
     pub fn new(rotation: DQuat, translation: DVec3) -> Option<Pose> {
         if !(rotation.is_finite() && translation.is_finite()) {
             return None;

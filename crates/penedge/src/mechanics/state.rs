@@ -1199,27 +1199,37 @@ fn body_of(
     Ok(())
 }
 
+/// Two part ids of a file's pair list (contacts, wet joints), smaller first and below
+/// `n`, after the list's `last` (sorted by parts, one entry per pair).
+fn check_parts(
+    parts: [u32; 2],
+    last: Option<[u32; 2]>,
+    n: usize,
+    what: &str,
+    field: &str,
+) -> Result<(), IoError> {
+    let [p, q] = parts;
+    if !(p < q && (q as usize) < n) {
+        let msg = format!("must be two part ids, smaller first, below {n}; got {parts:?}");
+        return Err(bad(field, msg));
+    }
+    if last.is_some_and(|last| last >= parts) {
+        return Err(bad(
+            field,
+            format!("{what} must be sorted by their parts, one per pair"),
+        ));
+    }
+    Ok(())
+}
+
 /// The wet joints of a file: two parts, smaller first, and a face of each that exists,
 /// sorted by parts.
 fn wet_of(files: &[WetJointFile], placed: &[ConvexBlock]) -> Result<Vec<WetJoint>, IoError> {
     let mut out: Vec<WetJoint> = Vec::with_capacity(files.len());
     for (i, f) in files.iter().enumerate() {
         let field = |name: &str| format!("wet[{i}].{name}");
-        let [p, q] = f.parts;
-        if !(p < q && (q as usize) < placed.len()) {
-            let msg = format!(
-                "must be two part ids, smaller first, below {}; got {:?}",
-                placed.len(),
-                f.parts
-            );
-            return Err(bad(field("parts"), msg));
-        }
-        if out.last().is_some_and(|last| last.parts >= f.parts) {
-            return Err(bad(
-                field("parts"),
-                "wet joints must be sorted by their parts, one per pair",
-            ));
-        }
+        let last = out.last().map(|j| j.parts);
+        check_parts(f.parts, last, placed.len(), "wet joints", &field("parts"))?;
         for (k, (&part, &face)) in f.parts.iter().zip(&f.faces).enumerate() {
             let faces = placed[part as usize].n_faces();
             if face as usize >= faces {
@@ -1244,23 +1254,9 @@ fn contacts_of(files: &[ContactFile], part_body: &[u32]) -> Result<Contacts, IoE
     let mut out = Contacts::default();
     for (i, f) in files.iter().enumerate() {
         let field = |name: &str| format!("contacts[{i}].{name}");
+        let last = out.list.last().map(|c| c.parts);
+        check_parts(f.parts, last, part_body.len(), "contacts", &field("parts"))?;
         let [p, q] = f.parts;
-        if !(p < q && (q as usize) < part_body.len()) {
-            let msg = format!(
-                "must be two part ids, smaller first, below {}; got {:?}",
-                part_body.len(),
-                f.parts
-            );
-            return Err(bad(field("parts"), msg));
-        }
-        if let Some(last) = out.list.last() {
-            if last.parts >= f.parts {
-                return Err(bad(
-                    field("parts"),
-                    "contacts must be sorted by their parts",
-                ));
-            }
-        }
         let bodies = [part_body[p as usize], part_body[q as usize]];
         if f.bodies != bodies {
             let msg = format!("must be the parts' bodies {bodies:?}, got {:?}", f.bodies);
@@ -1808,5 +1804,6 @@ fn simulation_of(mut file: StateFile) -> Result<Simulation, IoError> {
     // force released at once: the file has no relaxation for it). None in a newer file.
     let removed = sim.removed();
     sim.bolts.remove_bodies(&removed, &sim.bodies);
+    sim.refresh_opened_joints();
     Ok(sim)
 }

@@ -274,8 +274,9 @@ pub fn opened_polygon(a: &ConvexBlock, fa: u32, b: &ConvexBlock, fb: u32) -> Opt
 impl Simulation {
     /// The wet joints after this step's contacts are built ([`WetJoint`]): every face-face
     /// contact that carries water now, then every joint of the last step's list whose pair
-    /// has no contact now and whose faces still bound an opened joint ([`opened_polygon`]),
-    /// with its water force; sorted by parts. Nothing without water (the list is emptied).
+    /// has no face-face contact now (none, or one of an edge or a vertex), with a body that
+    /// moves, and whose faces still bound an opened joint ([`opened_polygon`]), with its
+    /// water force; sorted by parts. Nothing without water (the list is emptied).
     pub(super) fn update_wet_joints(&mut self) {
         if self.water.is_dry() {
             self.wet.clear();
@@ -314,31 +315,67 @@ impl Simulation {
             }
         }
         for joint in old {
-            let [pa, pb] = joint.parts.map(|p| p as usize);
-            let removed = |p: usize| self.is_removed(self.part_body[p] as usize);
-            if self.contacts.find(joint.parts).is_some() || removed(pa) || removed(pb) {
+            // A pair with a face-face contact now: the contact carries its water (the first
+            // loop). With no contact, or a contact of an edge or a vertex (a crack opening
+            // as a V about a hinge, or a block tilting off its joint), the joint is open.
+            let polygon_contact = self.contacts.find(joint.parts).is_some_and(|k| {
+                let c = &self.contacts.list[k];
+                c.kind == ContactType::FaceFace && c.count >= 3
+            });
+            // A pair of two bodies that do not move (fixed, prescribed or removed since) is
+            // no candidate pair and has no contact, though its faces may touch: no joint.
+            let moves = |p: u32| {
+                let b = self.part_body[p as usize] as usize;
+                self.bodies.is_free(b) && !self.is_removed(b)
+            };
+            let [pa, pb] = joint.parts;
+            if polygon_contact || !(moves(pa) || moves(pb)) {
                 continue;
             }
-            let (a, b) = (&self.placed[pa], &self.placed[pb]);
-            let [fa, fb] = joint.faces;
-            let Some(polygon) = opened_polygon(a, fa, b, fb) else {
-                continue;
-            };
-            let normal = a.planes()[fa as usize].normal;
-            let (force, centre) = self
-                .water
-                .polygon_force(joint.set, &polygon, normal)
-                .unwrap_or((0.0, DVec3::ZERO));
-            wet.push(WetJoint {
-                opened: true,
-                force,
-                normal,
-                centre,
-                ..joint
-            });
+            if let Some(opened) = self.opened_joint(&joint) {
+                wet.push(opened);
+            }
         }
         wet.sort_by_key(|j| j.parts);
         self.wet = wet;
+    }
+
+    /// `joint` opened: its water force at the current poses, or `None` when its faces no
+    /// longer bound one joint ([`opened_polygon`]) or a part of it was removed.
+    fn opened_joint(&self, joint: &WetJoint) -> Option<WetJoint> {
+        let [pa, pb] = joint.parts.map(|p| p as usize);
+        let removed = |p: usize| self.is_removed(self.part_body[p] as usize);
+        if removed(pa) || removed(pb) {
+            return None;
+        }
+        let (a, b) = (&self.placed[pa], &self.placed[pb]);
+        let [fa, fb] = joint.faces;
+        let polygon = opened_polygon(a, fa, b, fb)?;
+        let normal = a.planes()[fa as usize].normal;
+        let (force, centre) = self
+            .water
+            .polygon_force(joint.set, &polygon, normal)
+            .unwrap_or((0.0, DVec3::ZERO));
+        Some(WetJoint {
+            opened: true,
+            force,
+            normal,
+            centre,
+            ..joint.clone()
+        })
+    }
+
+    /// After a restart file is read: the opened joints' forces at the file's poses (what
+    /// [`Simulation::wet_joints`] reports until the next step, which computes them again).
+    pub(super) fn refresh_opened_joints(&mut self) {
+        let wet = std::mem::take(&mut self.wet);
+        self.wet = wet
+            .into_iter()
+            .map(|j| match j.opened {
+                true => self.opened_joint(&j).unwrap_or(j),
+                false => j,
+            })
+            .collect();
     }
 
     /// Adds the opened joints' water forces to the bodies' sums: `U n` on B at the centre
