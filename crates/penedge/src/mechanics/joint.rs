@@ -169,7 +169,7 @@ impl JointTable {
     }
 
     /// The joint set of a contact from its features' face origins (docs/mechanics.md,
-    /// "Properties per joint set"): the weakest of [`contact_sets`], none when there is none.
+    /// "Properties per joint set"): the weakest of `contact_sets`, none when there is none.
     pub fn set_of_contact(
         &self,
         a: &ConvexBlock,
