@@ -103,9 +103,11 @@ def quarter_turn_about_z(points, about):
     [
         [0, 0, np.sin(np.pi / 4), np.cos(np.pi / 4)],  # quaternion x, y, z, w
         [0, 0, 2 * np.sin(np.pi / 4), 2 * np.cos(np.pi / 4)],  # normalised here
+        [0, 0, 1e200, 1e200],  # its squared length overflows
+        [0, 0, 1e-200, 1e-200],  # its squared length underflows
         [[0, -1, 0], [1, 0, 0], [0, 0, 1]],  # matrix
     ],
-    ids=["quaternion", "unnormalised", "matrix"],
+    ids=["quaternion", "unnormalised", "huge", "tiny", "matrix"],
 )
 def test_rotated_copy_about_the_centroid_or_a_point(rotation):
     box = penedge.Block.cuboid([0, 0, 0], [2, 1, 1])

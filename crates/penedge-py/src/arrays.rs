@@ -11,7 +11,7 @@ use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayDescrMethods, PyReadonlyArrayDyn, PyUntypedArray,
     PyUntypedArrayMethods,
 };
-use penedge::glam::{DMat3, DQuat};
+use penedge::glam::{DMat3, DQuat, DVec3};
 use pyo3::prelude::*;
 
 /// `numpy.asarray(obj)`, as an `InputError` naming `name` and what it should hold when
@@ -245,12 +245,16 @@ pub fn rotation(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<DQuat> {
         input_error("shape", msg)
     })?;
     let q = DQuat::from_xyzw(q[0], q[1], q[2], q[3]);
-    let len = q.length();
-    if !(q.is_finite() && len > 0.0) {
-        let msg = format!("{name} must be a non-zero finite quaternion, got {q:?}");
-        return Err(input_error("not_a_rotation", msg));
+    // Normalised as a pose's rotation is (`Pose::new`): any finite non-zero multiple of a
+    // quaternion is its rotation, 1e200 q and 1e-200 q too (dividing by the length gave
+    // the zero quaternion for the first and refused the second as zero).
+    match penedge::block::Pose::new(q, DVec3::ZERO) {
+        Some(pose) => Ok(pose.rotation),
+        None => {
+            let msg = format!("{name} must be a non-zero finite quaternion, got {q:?}");
+            Err(input_error("not_a_rotation", msg))
+        }
     }
-    Ok(q / len)
 }
 
 /// An `(n,)` array-like of non-negative whole numbers (offsets, indices); any integer
