@@ -231,6 +231,24 @@ fn body_id(value: &Bound<'_, PyAny>, name: &str) -> PyResult<usize> {
     Ok(usize::try_from(natural(value, name)?).unwrap_or(usize::MAX))
 }
 
+/// A joint (or bridge) model from the arguments of `set_joint` and `set_bridge`, each
+/// refused by its name when it is a bool ([`Real`]); the ranges are the engine's to check.
+fn joint_model(
+    [kn, ks, friction, cohesion, tension]: [Real; 5],
+    residual_friction: Option<Real>,
+    residual_cohesion: Real,
+) -> PyResult<JointModel> {
+    Ok(JointModel {
+        kn: kn.get("kn")?,
+        ks: ks.get("ks")?,
+        friction: friction.get("friction")?,
+        cohesion: cohesion.get("cohesion")?,
+        tension: tension.get("tension")?,
+        residual_friction: Real::optional(residual_friction, "residual_friction")?,
+        residual_cohesion: residual_cohesion.get("residual_cohesion")?,
+    })
+}
+
 /// A joint set id given as argument `name` ([`whole_id`]): a whole number from 0 to
 /// `u32::MAX`, else an `InputError` naming it.
 fn set_id(value: &Bound<'_, PyAny>, name: &str) -> PyResult<u32> {
@@ -427,15 +445,11 @@ impl Simulation {
         residual_friction: Option<Real>,
         residual_cohesion: Real,
     ) -> PyResult<()> {
-        let model = JointModel {
-            kn: kn.get("kn")?,
-            ks: ks.get("ks")?,
-            friction: friction.get("friction")?,
-            cohesion: cohesion.get("cohesion")?,
-            tension: tension.get("tension")?,
-            residual_friction: Real::optional(residual_friction, "residual_friction")?,
-            residual_cohesion: residual_cohesion.get("residual_cohesion")?,
-        };
+        let model = joint_model(
+            [kn, ks, friction, cohesion, tension],
+            residual_friction,
+            residual_cohesion,
+        )?;
         let set = set.map(|s| set_id(s, "set")).transpose()?;
         match set {
             None => self.inner.set_default_joint(model),
@@ -490,15 +504,11 @@ impl Simulation {
         residual_friction: Option<Real>,
         residual_cohesion: Real,
     ) -> PyResult<()> {
-        let model = JointModel {
-            kn: kn.get("kn")?,
-            ks: ks.get("ks")?,
-            friction: friction.get("friction")?,
-            cohesion: cohesion.get("cohesion")?,
-            tension: tension.get("tension")?,
-            residual_friction: Real::optional(residual_friction, "residual_friction")?,
-            residual_cohesion: residual_cohesion.get("residual_cohesion")?,
-        };
+        let model = joint_model(
+            [kn, ks, friction, cohesion, tension],
+            residual_friction,
+            residual_cohesion,
+        )?;
         let set = set.map(|s| set_id(s, "set")).transpose()?;
         match set {
             None => self.inner.set_default_bridge(model),

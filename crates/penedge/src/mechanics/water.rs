@@ -284,22 +284,11 @@ impl Simulation {
         }
         let old = std::mem::take(&mut self.wet);
         let mut wet = Vec::new();
-        let mut corners = Vec::new();
-        for (i, c) in self.contacts.list.iter().enumerate() {
-            if c.kind != ContactType::FaceFace || c.count < 3 {
-                continue;
-            }
-            corners.clear();
-            corners.extend(self.contacts.subs_of(i).iter().map(|s| s.point));
-            if self
-                .water
-                .polygon_force(c.set, &corners, c.normal)
-                .is_none()
-            {
-                continue;
-            }
-            let pair = self.current[i].pair as usize;
-            let found = self.memo[pair].found.as_deref();
+        // The contacts that carry water now, as the forces are summed ([`Water::each_force`]).
+        let (contacts, current, memo) = (&self.contacts, &self.current, &self.memo);
+        self.water.each_force(contacts, |i, _, _| {
+            let c = &contacts.list[i];
+            let found = memo[current[i].pair as usize].found.as_deref();
             if let Some((Feature::Face(fa), Feature::Face(fb))) =
                 found.map(|f| (f.contact.feature_a, f.contact.feature_b))
             {
@@ -313,7 +302,7 @@ impl Simulation {
                     centre: DVec3::ZERO,
                 });
             }
-        }
+        });
         for joint in old {
             // A pair with a face-face contact now: the contact carries its water (the first
             // loop). With no contact, or a contact of an edge or a vertex (a crack opening
