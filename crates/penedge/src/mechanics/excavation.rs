@@ -87,7 +87,6 @@ impl Simulation {
         // The forces of the removed bodies on the others, contact after contact.
         let mut force = vec![DVec3::ZERO; n];
         let mut moment = vec![DVec3::ZERO; n];
-        let mut loaded = vec![false; n];
         for (k, c) in self.contacts.list.iter().enumerate() {
             let [a, b] = [c.bodies[0] as usize, c.bodies[1] as usize];
             let (on, sign) = match (gone[a], gone[b]) {
@@ -101,7 +100,6 @@ impl Simulation {
                 force[on] += f;
                 moment[on] += (s.point - centre).cross(f);
             }
-            loaded[on] = true;
         }
         // The rock bolts anchored in them stop acting: their elements with an anchor in a
         // removed body go, and the forces those exerted on the bodies that stay relax with
@@ -113,13 +111,13 @@ impl Simulation {
         for (on, f, m) in self.bolts.remove_bodies(&now_removed, &self.bodies) {
             force[on] += f;
             moment[on] += m;
-            loaded[on] = true;
         }
         // A body counts as loaded only if the load is not zero: contacts without force
         // (open, or none computed yet: before the first step) and slack bolt elements
-        // exert none, and there is nothing to relax or report.
+        // exert none, and there is nothing to relax or report (a body nothing pushed on
+        // keeps its zero sums).
         let bodies: Vec<u32> = (0..n)
-            .filter(|&i| loaded[i] && (force[i] != DVec3::ZERO || moment[i] != DVec3::ZERO))
+            .filter(|&i| force[i] != DVec3::ZERO || moment[i] != DVec3::ZERO)
             .map(|i| i as u32)
             .collect();
         let report = ExcavationReport {
