@@ -11,6 +11,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import penedge
@@ -678,3 +679,56 @@ height = 2
         "0.4999; smallest 0.1)"
     )
     assert want in lines, lines
+
+
+def thin_slab(thin, policy):
+    """A 10 m box split by the joint y = 5, and an opening that removes y from 2 to
+    ``5 - thin`` right through: a slab ``thin`` thick left against the joint."""
+    width = 3 - thin
+    return (
+        CUBE
+        + f'\n[options]\nslivers = "{policy}"\n'
+        + plane([0, 5, 0], 90)
+        + f"""
+[[excavations]]
+type = "cavern"
+center = [5, {2 + width / 2!r}, 5]
+trend = 90
+length = 20
+width = {width!r}
+height = 20
+"""
+    )
+
+
+@pytest.mark.parametrize("policy", ["keep", "drop"])
+def test_the_summary_reports_the_slivers_an_excavation_leaves(tmp_path, policy):
+    # The 2e-6 m slab is below the default minimum thickness (1e-6 of the 17.3 m
+    # diagonal); the joints' cut alone made no sliver. It was a block of its own, in no
+    # report, whatever the policy.
+    thin = 2e-6
+    (tmp_path / "slab.toml").write_text(thin_slab(thin, policy), encoding="utf-8")
+    result = run("generate", "slab.toml", "-o", "b.json", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    lines = squeeze(result.stdout)
+    assert "slivers none (thinner than 1.73e-05 or smaller than 0)" in lines
+    volume = thin * 10 * 10
+    assert f"{3 if policy == 'keep' else 2} blocks in" in lines[0]
+    system, report = penedge.generate(str(tmp_path / "slab.toml"))
+    slivers = report["excavation_slivers"]
+    assert slivers["count"] == 1
+    assert slivers["volume"] == pytest.approx(volume, rel=1e-6)
+    centroids = system.centroids
+    ids = np.asarray(system.body_ids)
+    on_joint = (centroids[:, 1] > 5 - thin) & (centroids[:, 1] < 5)
+    if policy == "keep":
+        assert slivers["kept_bodies"] == sorted(set(ids[on_joint].tolist()))
+        assert on_joint.sum() == 1
+        body = slivers["kept_bodies"][0]
+        want = f"excavation slivers 1 kept: blocks {body} (thinner than 1.73e-05"
+    else:
+        assert slivers["kept_bodies"] == []
+        assert not on_joint.any()
+        assert float(np.sum(system.volumes)) == pytest.approx(700.0, rel=1e-12)
+        want = f"excavation slivers 1 dropped, volume {volume:.3g}"
+    assert any(line.startswith(want) for line in lines), lines

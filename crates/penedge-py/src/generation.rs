@@ -58,7 +58,10 @@ const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
 ///     ``volume_error``, ``slivers`` (``policy``, ``min_volume``, ``min_thickness``,
 ///     ``count``, ``volume``, ``kept_ids``) and ``tiny`` (blocks below 1e-3 of the median
 ///     block volume, slivers or not: ``median_volume``, ``threshold``, ``count``,
-///     ``smallest``; of the blocks the joints cut, before any excavation).
+///     ``smallest``; of the blocks the joints cut, before any excavation) and
+///     ``excavation_slivers`` (the blocks the excavations leave that are slivers, by body,
+///     with the same limits and policy: ``count``, ``volume``, ``kept_bodies``, body ids in
+///     the system returned; docs/generation.md, "Slivers").
 ///
 /// Raises
 /// ------

@@ -433,3 +433,141 @@ fn a_smooth_slope_of_2001_vertices_removes_the_air_above_its_polyline() {
     assert!((1000.0 - left(&out) - air).abs() < 1e-9 * air);
     assert_eq!(out.system.body_parts().len(), 3);
 }
+
+/// A 10 m box split by the joint x = 5, an opening `cavern` that removes x from 2 to
+/// `5 - thin` right through (leaving a slab `thin` thick against the joint), an `extra`
+/// entry, and `slivers` as the policy.
+fn thin_slab(thin: f64, slivers: &str, extra: &str) -> penedge::generation::Generated {
+    let width = 3.0 - thin;
+    let text = format!(
+        "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n\n\
+         [options]\nslivers = \"{slivers}\"\n\n\
+         [[joints]]\ntype = \"plane\"\npoint = [5, 0, 0]\ndip = 90\ndip_direction = 90\n\n\
+         [[excavations]]\ntype = \"cavern\"\ncenter = [{x}, 5, 5]\ntrend = 0\nlength = 20\n\
+         width = {width}\nheight = 20\n{extra}",
+        x = 2.0 + 0.5 * width,
+    );
+    generate(&parse_toml(&text).unwrap()).unwrap()
+}
+
+/// The body whose parts' centroids all lie strictly between `x0` and `x1` in x, if any.
+fn body_between(out: &penedge::generation::Generated, x0: f64, x1: f64) -> Option<u32> {
+    let blocks = out.system.blocks();
+    out.system
+        .body_parts()
+        .into_iter()
+        .find(|(_, parts)| {
+            parts.iter().all(|&k| {
+                let x = blocks[k as usize].centroid().x;
+                x0 < x && x < x1
+            })
+        })
+        .map(|(body, _)| body)
+}
+
+#[test]
+fn a_sliver_left_by_an_excavation_is_listed_or_dropped_by_the_sliver_policy() {
+    // The slab 2e-6 thick is far below the default minimum thickness (1e-6 of the domain's
+    // size: 1.7e-5); the joints' cut alone made no sliver.
+    let thin = 2e-6;
+    let kept = thin_slab(thin, "keep", "");
+    assert_eq!(kept.report.slivers.count, 0);
+    let slivers = &kept.report.excavation_slivers;
+    assert_eq!(slivers.count, 1, "{slivers:?}");
+    let exact = thin * 10.0 * 10.0;
+    assert!((slivers.volume - exact).abs() < 1e-6 * exact, "{slivers:?}");
+    let slab = body_between(&kept, 5.0 - thin, 5.0).expect("the slab is a body");
+    assert_eq!(slivers.kept_bodies, vec![slab]);
+    assert_eq!(kept.system.body_parts().len(), 3);
+
+    let dropped = thin_slab(thin, "drop", "");
+    let slivers = &dropped.report.excavation_slivers;
+    assert_eq!(slivers.count, 1);
+    assert!(slivers.kept_bodies.is_empty());
+    assert!(body_between(&dropped, 5.0 - thin, 5.0).is_none());
+    // The rock left: 1000 m^3 less the opening (3 - thin wide) less the slab.
+    assert_eq!(dropped.system.len(), 2);
+    assert_eq!(dropped.report.blocks, 2);
+    assert!((dropped.report.block_volume - 700.0).abs() < 1e-9 * 700.0);
+    assert!((left(&dropped) - 700.0).abs() < 1e-9 * 700.0);
+    assert_eq!(dropped.system.body_ids(), vec![0, 1]);
+
+    // A slab thicker than the limit is not a sliver.
+    let thick = thin_slab(1e-3, "drop", "");
+    assert_eq!(thick.report.excavation_slivers.count, 0);
+    assert_eq!(thick.system.body_parts().len(), 3);
+}
+
+#[test]
+fn dropping_an_excavations_sliver_keeps_the_other_bodies_glue() {
+    // A second opening takes the corner x > 7, z > 7 off the block beyond the joint: an
+    // L-shaped body of convex parts glued along internal faces, beside the sliver.
+    let corner = "\n[[excavations]]\ntype = \"cavern\"\ncenter = [10, 5, 10]\ntrend = 0\n\
+                  length = 20\nwidth = 6\nheight = 6\n";
+    let kept = thin_slab(2e-6, "keep", corner);
+    let dropped = thin_slab(2e-6, "drop", corner);
+    assert_eq!(kept.report.excavation_slivers.count, 1);
+    assert_eq!(dropped.report.excavation_slivers.count, 1);
+    let l_body = |out: &penedge::generation::Generated| {
+        let body = body_between(out, 5.0, 10.0).expect("the L-shaped body");
+        let parts: Vec<u32> = out
+            .system
+            .body_parts()
+            .into_iter()
+            .find(|(b, _)| *b == body)
+            .unwrap()
+            .1;
+        let blocks: Vec<_> = parts
+            .iter()
+            .map(|&k| out.system.blocks()[k as usize].clone())
+            .collect();
+        // The internal faces of the body, by their parts' blocks rather than their ids.
+        let faces: Vec<_> = out
+            .system
+            .internal_faces()
+            .iter()
+            .filter(|f| parts.contains(&f.parts[0]))
+            .map(|f| {
+                let at = |p: u32| parts.iter().position(|&q| q == p).unwrap();
+                (f.parts.map(at), f.faces, f.area)
+            })
+            .collect();
+        let covered: Vec<(usize, u32)> = parts
+            .iter()
+            .enumerate()
+            .flat_map(|(i, &k)| {
+                let n = out.system.blocks()[k as usize].planes().len() as u32;
+                (0..n)
+                    .filter(move |&f| out.system.is_internal_face(k, f))
+                    .map(move |f| (i, f))
+            })
+            .collect();
+        (blocks, faces, covered)
+    };
+    let (blocks_kept, faces_kept, covered_kept) = l_body(&kept);
+    let (blocks_dropped, faces_dropped, covered_dropped) = l_body(&dropped);
+    assert!(blocks_kept.len() >= 2, "the L is concave: several parts");
+    assert_eq!(blocks_kept, blocks_dropped);
+    assert_eq!(faces_kept, faces_dropped);
+    assert!(!faces_dropped.is_empty());
+    assert_eq!(covered_kept, covered_dropped);
+    // Its volume: the half block less the 3 x 10 x 3 corner.
+    let volume: f64 = blocks_dropped.iter().map(|b| b.volume()).sum();
+    assert!((volume - (500.0 - 90.0)).abs() < 1e-9 * 410.0);
+    assert_eq!(dropped.system.body_parts().len(), 2);
+}
+
+#[test]
+fn an_excavation_that_leaves_only_slivers_to_drop_is_an_error() {
+    let text = "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n\n\
+                [options]\nslivers = \"drop\"\n\n\
+                [[excavations]]\ntype = \"cavern\"\ncenter = [5, 5, 5.0000005]\ntrend = 0\n\
+                length = 20\nwidth = 20\nheight = 9.999999\n";
+    let err = generate(&parse_toml(text).unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("options.slivers") && err.contains("sliver"),
+        "{err}"
+    );
+}

@@ -248,6 +248,13 @@ def format_summary(summary: dict[str, Any], system: Any) -> str:
         plain = summary["bodies"] == summary["blocks"] or excavated
         label = "tiny blocks" if plain else "tiny parts"
         lines.append(row(label, tiny(report["tiny"], before_excavation=excavated)))
+    if report.get("excavated_volume") and "excavation_slivers" in report:
+        lines.append(
+            row(
+                "excavation slivers",
+                excavation_slivers(report["excavation_slivers"], report["slivers"]),
+            )
+        )
     if report["set_planes_outside"]:
         lines.append(row("set planes outside", f"{report['set_planes_outside']} (left out)"))
     if report["retried_cuts"]:
@@ -287,11 +294,25 @@ def tiny(t: dict[str, Any], before_excavation: bool = False) -> str:
 
 def slivers(s: dict[str, Any]) -> str:
     """What happened to the blocks below the minimum thickness or volume."""
-    limits = f"thinner than {s['min_thickness']:.3g} or smaller than {s['min_volume']:.3g}"
+    return sliver_summary(s, s, s["kept_ids"], "ids")
+
+
+def excavation_slivers(s: dict[str, Any], limits: dict[str, Any]) -> str:
+    """What happened to the blocks (bodies) left by the excavations below the minimum
+    thickness or volume (``limits``: the joints' cut's sliver report, whose limits and
+    policy they share)."""
+    return sliver_summary(s, limits, s["kept_bodies"], "blocks")
+
+
+def sliver_summary(s: dict[str, Any], limits: dict[str, Any], kept: list[int], what: str) -> str:
+    """``none (...)``, ``2 dropped, volume ... (...)`` or ``2 kept: <what> 3, 9 (...)``."""
+    bounds = (
+        f"thinner than {limits['min_thickness']:.3g} or smaller than {limits['min_volume']:.3g}"
+    )
     if s["count"] == 0:
-        return f"none ({limits})"
-    if s["policy"] == "drop":
-        return f"{s['count']} dropped, volume {s['volume']:.3g} ({limits})"
-    ids = ", ".join(str(i) for i in s["kept_ids"][:8])
-    more = ", ..." if len(s["kept_ids"]) > 8 else ""
-    return f"{s['count']} kept: ids {ids}{more} ({limits})"
+        return f"none ({bounds})"
+    if limits["policy"] == "drop":
+        return f"{s['count']} dropped, volume {s['volume']:.3g} ({bounds})"
+    ids = ", ".join(str(i) for i in kept[:8])
+    more = ", ..." if len(kept) > 8 else ""
+    return f"{s['count']} kept: {what} {ids}{more} ({bounds})"

@@ -57,7 +57,10 @@ pub use error::{GenerationError, Problem, SpecError};
 pub use excavation::{Excavation, ExcavationShape, Profile, MAX_SEGMENTS};
 pub use orientation::{Attitude, Frame};
 pub use record::{upward, JointRecord, JointShape, SetKind, SetRecord};
-pub use report::{thickness, GenerationReport, SliverReport, TinyReport, TINY_SHARE};
+pub use report::{
+    body_thickness, thickness, ExcavationSlivers, GenerationReport, SliverReport, TinyReport,
+    TINY_SHARE,
+};
 pub(crate) use slope::Extent;
 pub use slope::MAX_PROFILE_VERTICES;
 pub use spec::{
@@ -268,6 +271,19 @@ pub fn generate_with(
             .map_err(|e| SpecError::new("joints", Problem::Invalid(e.to_string())))?;
     }
     if !spec.excavations.is_empty() {
+        // The excavations' slivers, by body (a body is removed whole or not at all), once
+        // the bodies are final (after the bridges' glue).
+        let (kept, slivers) = report::sort_sliver_bodies(system, &report.slivers);
+        if kept.is_empty() {
+            let msg = format!(
+                "every one of the {} blocks the excavations leave is a sliver (thinner than \
+                 {:.3e} or smaller than {:.3e}), and slivers = \"drop\" would leave no block",
+                slivers.count, report.slivers.min_thickness, report.slivers.min_volume
+            );
+            return Err(SpecError::new("options.slivers", Problem::Invalid(msg)).into());
+        }
+        system = kept;
+        report.excavation_slivers = slivers;
         report.blocks = system.len();
         report.block_volume = system.blocks().iter().map(|b| b.volume()).sum();
     }

@@ -44,6 +44,24 @@ pub struct GenerationReport {
     /// are those before excavation).
     #[serde(default)]
     pub excavated_volume: f64,
+    /// The bodies left by the excavations that are slivers, by the limits and policy of
+    /// `slivers` (an excavation's boundary near a joint, or a profile's vertex, can leave a
+    /// piece far thinner than any the joints cut).
+    #[serde(default)]
+    pub excavation_slivers: ExcavationSlivers,
+}
+
+/// The bodies left by a spec's excavations that are slivers (a body is one when its volume
+/// is below the minimum volume or its [`body_thickness`] below the minimum thickness): kept
+/// and listed, or dropped, by the spec's sliver policy, counted either way.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ExcavationSlivers {
+    /// Sliver bodies found (kept or dropped).
+    pub count: usize,
+    /// Their total volume.
+    pub volume: f64,
+    /// Body ids, in the system returned, of the sliver bodies kept (empty when dropped).
+    pub kept_bodies: Vec<u32>,
 }
 
 /// Blocks whose volume is below [`TINY_SHARE`] of the median block volume: a spec's
@@ -156,6 +174,47 @@ pub(crate) fn sort_slivers(
     (kept, report)
 }
 
+/// The thickness of a body of convex parts: the largest of its parts' [`thickness`] (a
+/// body is at least as wide, in every direction, as each of its parts; for a convex body,
+/// the block's own thickness).
+pub fn body_thickness(parts: &[&ConvexBlock]) -> f64 {
+    parts.iter().map(|p| thickness(p)).fold(0.0, f64::max)
+}
+
+/// Finds the sliver bodies of `system` (the blocks left by a spec's excavations) by the
+/// limits and policy of `limits` (the joints' cut's report): a body is a sliver when its
+/// volume is below the minimum volume or its thickness ([`body_thickness`]) below the
+/// minimum thickness. Kept, they are listed by body id; dropped, every part of each is
+/// removed (the other bodies keep their glue; body ids renumbered `0..` in the order of
+/// each body's first part).
+pub(crate) fn sort_sliver_bodies(
+    system: crate::system::BlockSystem,
+    limits: &SliverReport,
+) -> (crate::system::BlockSystem, ExcavationSlivers) {
+    let mut report = ExcavationSlivers::default();
+    let mut slivers = Vec::new();
+    for (body, parts) in system.body_parts() {
+        let parts: Vec<&ConvexBlock> = parts
+            .iter()
+            .map(|&k| &system.blocks()[k as usize])
+            .collect();
+        let volume: f64 = parts.iter().map(|p| p.volume()).sum();
+        if volume < limits.min_volume || body_thickness(&parts) < limits.min_thickness {
+            report.count += 1;
+            report.volume += volume;
+            slivers.push(body);
+        }
+    }
+    match limits.policy {
+        SliverPolicy::Keep => {
+            report.kept_bodies = slivers;
+            (system, report)
+        }
+        SliverPolicy::Drop if slivers.is_empty() => (system, report),
+        SliverPolicy::Drop => (system.without_bodies(&slivers), report),
+    }
+}
+
 /// The report of a run (without the per-entry partial counts).
 pub(crate) fn summarise(
     blocks: &[ConvexBlock],
@@ -184,5 +243,6 @@ pub(crate) fn summarise(
         slivers,
         tiny: TinyReport::of(blocks),
         excavated_volume: 0.0,
+        excavation_slivers: ExcavationSlivers::default(),
     }
 }

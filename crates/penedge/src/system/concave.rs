@@ -176,6 +176,78 @@ impl BlockSystem {
         Ok(self)
     }
 
+    /// This system without the bodies `drop` (body ids; every part of each), the others'
+    /// glue kept as it was (their internal faces are within a body): the blocks renumbered
+    /// in order, the body ids `0..` in the order of each body's first part.
+    pub(crate) fn without_bodies(mut self, drop: &[u32]) -> BlockSystem {
+        let ids = self.body_ids();
+        let mut dropped = drop.to_vec();
+        dropped.sort_unstable();
+        let keep: Vec<bool> = ids
+            .iter()
+            .map(|b| dropped.binary_search(b).is_err())
+            .collect();
+        // The new index of each kept block.
+        let mut index = vec![u32::MAX; ids.len()];
+        let mut n = 0u32;
+        for (k, &kept) in keep.iter().enumerate() {
+            if kept {
+                index[k] = n;
+                n += 1;
+            }
+        }
+        let blocks: Vec<ConvexBlock> = std::mem::take(&mut self.blocks)
+            .into_iter()
+            .zip(&keep)
+            .filter_map(|(b, &kept)| kept.then_some(b))
+            .collect();
+        let glue = self.glue.take().and_then(|g| {
+            let mut renumber = std::collections::HashMap::new();
+            let ids: Vec<u32> = g
+                .ids
+                .iter()
+                .zip(&keep)
+                .filter(|(_, &kept)| kept)
+                .map(|(&b, _)| {
+                    let next = renumber.len() as u32;
+                    *renumber.entry(b).or_insert(next)
+                })
+                .collect();
+            // Each block its own body: no glue, as `with_bodies` leaves it.
+            if ids.iter().enumerate().all(|(i, &b)| b as usize == i) {
+                return None;
+            }
+            let part = |(block, face): PartFace| {
+                keep[block as usize].then(|| (index[block as usize], face))
+            };
+            Some(Glue {
+                ids,
+                internal: g
+                    .internal
+                    .iter()
+                    .filter(|f| keep[f.parts[0] as usize])
+                    .map(|f| InternalFace {
+                        parts: f.parts.map(|p| index[p as usize]),
+                        ..*f
+                    })
+                    .collect(),
+                covered: g.covered.iter().filter_map(|&f| part(f)).collect(),
+                glued: g.glued.iter().filter_map(|&f| part(f)).collect(),
+                multi: g
+                    .multi
+                    .iter()
+                    .zip(&keep)
+                    .filter_map(|(&m, &kept)| kept.then_some(m))
+                    .collect(),
+            })
+        });
+        BlockSystem {
+            blocks,
+            glue,
+            ..self
+        }
+    }
+
     /// The body id of each block (by default, its own index).
     pub fn body_ids(&self) -> Vec<u32> {
         match &self.glue {
