@@ -69,6 +69,11 @@ class InclineEngine:
     def set_elastic(self, on):
         """Elastic solves (Engine.set_elastic): the incline has no strength to lift."""
 
+    def set_damping(self, local):
+        """A stage's local damping (Engine.set_damping): the incline's motion is exact."""
+        previous, self.local = getattr(self, "local", 0.8), local
+        return previous
+
     def copy(self):
         return copy.deepcopy(self)
 

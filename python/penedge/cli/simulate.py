@@ -545,6 +545,8 @@ def run_summary(
             "converged": s.converged,
             "stopped": s.stopped,
         }
+        if s.damping is not None:
+            entry["damping"] = s.damping
         if s.safety is not None:
             f = s.safety
             entry["factor_of_safety"] = {
@@ -610,8 +612,43 @@ def stage_text(stage: dict[str, Any]) -> str:
             trials = f"UNRELIABLE, not from equilibrium; {trials}"
         return f"{text}: F {f['bound']} {factor_text(f['factor'])} ({trials})"
     if stage["steps"]:
-        return f"{text}: {stage['steps']:,} steps"
+        return f"{text}: {stage['steps']:,} steps{damping_text(stage)}"
     return text
+
+
+def damping_text(stage: dict[str, Any]) -> str:
+    """``, undamped`` or ``, local damping 0.8`` for a cycle or time stage (a damped
+    stage's motion is not physical: docs/models.md, stages); empty for the others."""
+    damping = stage.get("damping")
+    if damping is None:
+        return ""
+    return ", undamped" if damping == 0 else f", local damping {damping:g}"
+
+
+#: A start ratio from which some block may be unheld: its unbalanced force as large as the
+#: heaviest weight, as in free fall (or before the contacts have taken the load).
+UNHELD_RATIO = 0.99
+
+
+def unreliable_text(start_ratio: float) -> str:
+    """Why a factor of safety is unreliable, and what to do: its trials started from a
+    state not in equilibrium. From a ratio of about 1 some block may be held by nothing (free
+    fall), which no strength of the joints holds: then support, not a higher strength."""
+    start = (
+        f"UNRELIABLE: the trials started from a state NOT in equilibrium (ratio {start_ratio:.2g}"
+    )
+    advice = (
+        "solve with a higher strength, then a properties stage with the strength to test, "
+        "then factor_of_safety (docs/models.md, Factor of safety)"
+    )
+    if start_ratio >= UNHELD_RATIO:
+        return (
+            f"{start}: a block's unbalanced force as large as the heaviest weight, nothing "
+            "holding it yet). If blocks fall freely (a wedge with nothing under it), no strength "
+            "of the joints holds them: support them (bolts, a boundary) or find why no joint "
+            f"holds them; else {advice}"
+        )
+    return f"{start}: the blocks already moving), which fails them too soon; {advice}"
 
 
 def factor_text(factor: float) -> str:
@@ -693,16 +730,7 @@ def format_run(summary: dict[str, Any]) -> str:
                 )
             )
             if not f["reliable"]:
-                lines.append(
-                    row(
-                        "",
-                        f"UNRELIABLE: the trials started from a state NOT in equilibrium "
-                        f"(ratio {f['start_ratio']:.2g}: the blocks already moving), which "
-                        "fails them too soon; solve with a higher strength, then a properties "
-                        "stage with the strength to test, then factor_of_safety "
-                        "(docs/models.md, Factor of safety)",
-                    )
-                )
+                lines.append(row("", unreliable_text(f["start_ratio"])))
     if summary["written"]:
         lines.append(row("written", ", ".join(summary["written"])))
     return "\n".join(lines)

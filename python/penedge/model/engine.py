@@ -302,6 +302,13 @@ class Engine:
                 self.sim.set_bridge(**self.joint(reduced), set=self.set_ids[name])
         self.rescale()  # a stiffer joint lowers the critical steps
 
+    def set_damping(self, local: float) -> float:
+        """Sets the local damping (a ``cycle`` or ``time`` stage's); returns the one it
+        replaces, for the runner to set back after the stage."""
+        previous = float(self.sim.damping[0])
+        self.sim.set_damping(local=local, viscous=float(self.sim.damping[1]))
+        return previous
+
     #: The cohesion and tensile strength (Pa) of an elastic solve: no bond fails.
     UNBREAKABLE = 1e30
 

@@ -158,6 +158,7 @@ class StageResult:
     safety: SafetyFactor | None = None
     stopped: str | None = None  # "interrupted" or the engine's error, if the stage was cut short
     index: int | None = None  # the stage's place in the model's stages
+    damping: float | None = None  # cycle, time: the local damping it stepped with
 
 
 @dataclass
@@ -347,6 +348,7 @@ class Runner:
                         e_.ratio,
                         stopped="interrupted" if interrupted else "error",
                         index=index,
+                        damping=stage.damping,
                     )
                 )
                 self.record("interrupted" if interrupted else "error")
@@ -452,12 +454,17 @@ class Runner:
                 assert stage.time is not None
                 total = time_steps(stage.time, e.timestep)
                 refuse_long_time_stage(index, stage, total, e.timestep)
-            done = 0
-            while done < total:
-                k = min(self.chunk, total - done)
-                self.advance(stage, k, total)
-                done += k
-                self.report(stage, done, total)
+            assert stage.damping is not None
+            before = e.set_damping(stage.damping)
+            try:
+                done = 0
+                while done < total:
+                    k = min(self.chunk, total - done)
+                    self.advance(stage, k, total)
+                    done += k
+                    self.report(stage, done, total)
+            finally:
+                e.set_damping(before)
         elif stage.kind in ("properties", "boundary"):
             # The engine's properties (the note's after a restart) and the runner's masks,
             # which the stage changes in place (`StageEffects.apply`, as the replays do).
@@ -488,6 +495,7 @@ class Runner:
             e.ratio,
             converged,
             safety,
+            damping=stage.damping,
         )
 
     def report(self, stage: Stage, done: int, total: int | None) -> None:

@@ -283,6 +283,9 @@ class Stage:
     low: float = 0.1  # factor_of_safety: search range
     high: float = 10.0
     elastic: bool = False  # solve: bonds (cohesion, tension) unbreakable during the stage
+    # cycle, time: the local damping of the stage (time: 0 by default, the motion physical;
+    # cycle: [mechanics] damping by default)
+    damping: float | None = None
 
 
 @dataclass(frozen=True)
@@ -913,9 +916,22 @@ def parse_stage(
             elastic=t.boolean("elastic", False),
         )
     elif kind == "cycle":
-        stage = Stage(name, kind, steps=t.integer("steps", minimum=1, maximum=MAX_STEPS))
+        stage = Stage(
+            name,
+            kind,
+            steps=t.integer("steps", minimum=1, maximum=MAX_STEPS),
+            damping=t.number("damping", mechanics.damping, at_least=0, below=1),
+        )
     elif kind == "time":
-        stage = Stage(name, kind, time=t.number("time", required=True, above=0))
+        # Model time is physical time: undamped unless the stage says otherwise (local
+        # damping takes 0.8 of the unbalanced force away: a block sliding on a plane moved
+        # a sixth of its distance).
+        stage = Stage(
+            name,
+            kind,
+            time=t.number("time", required=True, above=0),
+            damping=t.number("damping", 0.0, at_least=0, below=1),
+        )
     elif kind == "properties":
         sets = stage_sets(t, set_names)
         refuse_unknown(t, ("type", "name", "sets", *PROPERTY_FIELDS))

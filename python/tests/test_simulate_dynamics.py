@@ -1,0 +1,146 @@
+"""``time`` and ``cycle`` stages and their damping (docs/models.md, stages): a ``time``
+stage is model time, undamped unless it says otherwise, so that a block sliding down a plane
+follows ``x = a t² / 2``; a ``cycle`` stage takes ``[mechanics] damping``; each says what it
+stepped with."""
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+import penedge.model as pm
+from penedge import cli
+from penedge.model.run import Outcome
+
+SLOPE, FRICTION = 30.0, 20.0
+G = 9.81
+
+# A 1 m block on a fixed base, gravity tilted by SLOPE about y (the plane's dip), a fixed
+# block beside it on the uphill side: it slides downhill (-x) from rest.
+SLIDER = f"""
+[domain]
+type = "box"
+min = [8, 0, 0]
+max = [10, 1, 1.25]
+
+[[joints]]
+type = "plane"
+name = "bed"
+point = [0, 0, 1]
+dip = 0
+dip_direction = 0
+
+[[joints]]
+type = "plane"
+name = "cut"
+point = [9, 0, 0]
+dip = 90
+dip_direction = 90
+
+[rock]
+density = 2500
+
+[mechanics]
+gravity = [{-G * math.sin(math.radians(SLOPE))!r}, 0, {-G * math.cos(math.radians(SLOPE))!r}]
+{{mechanics}}
+
+[joint_properties.default]
+kn = 1e10
+ks = 1e10
+friction = {FRICTION}
+
+[[boundary]]
+region = {{{{type = "below", z = 1}}}}
+condition = "fixed"
+
+[[boundary]]
+region = {{{{type = "box", min = [9, 0, 1], max = [10, 1, 1.25]}}}}
+condition = "fixed"
+"""
+
+
+def run(stages: str, mechanics: str = "") -> tuple[float, Outcome]:
+    """The slider's displacement along x at the end of `stages`, and the outcome."""
+    outcome = pm.simulate(SLIDER.format(mechanics=mechanics) + stages)
+    free = np.flatnonzero(outcome.free)
+    assert len(free) == 1
+    return float(outcome.displacement[free[0], 0]), outcome
+
+
+def slide(t: float) -> float:
+    """The distance slid in `t` seconds from rest: ``a t² / 2``, ``a = g (sin θ − cos θ
+    tan φ)``."""
+    theta, phi = math.radians(SLOPE), math.radians(FRICTION)
+    return 0.5 * G * (math.sin(theta) - math.cos(theta) * math.tan(phi)) * t * t
+
+
+def test_a_time_stage_is_undamped_by_default_and_slides_as_the_closed_form():
+    t = 0.2
+    dx, outcome = run(f'[[stages]]\ntype = "time"\ntime = {t}\n')
+    # The stage's model time is t to within a step.
+    assert outcome.time == pytest.approx(t, abs=1e-4)
+    assert -dx == pytest.approx(slide(outcome.time), rel=0.01)
+    assert outcome.stages[0].damping == 0.0
+
+
+def test_a_time_stage_takes_the_damping_it_is_given():
+    t = 0.2
+    dx, outcome = run(f'[[stages]]\ntype = "time"\ntime = {t}\ndamping = 0.8\n')
+    assert outcome.stages[0].damping == 0.8
+    # Local damping 0.8 takes 0.8 of the unbalanced force off while it moves: far short.
+    assert 0 < -dx < 0.5 * slide(outcome.time)
+
+
+def test_a_cycle_stage_takes_the_mechanics_damping_unless_it_says_otherwise():
+    stages = '[[stages]]\ntype = "cycle"\nsteps = 2000\n'
+    damped, outcome = run(stages)
+    assert outcome.stages[0].damping == 0.8
+    free, outcome = run(stages + "damping = 0\n")
+    assert outcome.stages[0].damping == 0.0
+    assert -free == pytest.approx(slide(outcome.time), rel=0.01)
+    assert 0 < -damped < 0.5 * -free
+    # [mechanics] damping sets it too; the engine's damping is the model's after the stage.
+    again, outcome = run(stages, mechanics="damping = 0")
+    assert again == free
+
+
+def test_the_summary_says_what_each_stepping_stage_was_damped_with(tmp_path, capsys):
+    model = tmp_path / "slide.toml"
+    stages = '[[stages]]\ntype = "cycle"\nsteps = 100\n[[stages]]\ntype = "time"\ntime = 0.01\n'
+    model.write_text(SLIDER.format(mechanics="") + stages, encoding="utf-8")
+    code = cli.main(["simulate", str(model), "-o", str(tmp_path / "out"), "--no-pictures"])
+    assert code == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "stages[0] cycle: 100 steps, local damping 0.8" in out
+    assert re.search(r"stages\[1\] time: [\d,]+ steps, undamped", out), out
+
+
+@pytest.mark.parametrize("bad", ["-0.1", "1", "1.5", '"high"'])
+def test_a_stage_damping_outside_0_1_is_refused_naming_it(bad):
+    text = SLIDER.format(mechanics="") + f'[[stages]]\ntype = "time"\ntime = 0.1\ndamping = {bad}\n'
+    with pytest.raises(pm.ModelError) as info:
+        pm.parse_model(text)
+    assert "stages[0].damping" in str(info.value)
+
+
+def test_a_factor_of_safety_of_blocks_nothing_holds_says_to_support_them(tmp_path, capsys):
+    # The base is left free as well: it falls, and the slider with it (only the uphill
+    # block is fixed). A higher strength cannot hold a falling block: the summary said to
+    # "solve with a higher strength".
+    text = SLIDER.format(mechanics="").replace(
+        '[[boundary]]\nregion = {type = "below", z = 1}\ncondition = "fixed"\n', ""
+    )
+    assert text.count("[[boundary]]") == 1
+    stages = (
+        '[[stages]]\ntype = "solve"\nmax_steps = 50\n'
+        '[[stages]]\ntype = "factor_of_safety"\nmax_steps = 50\n'
+    )
+    model = tmp_path / "falling.toml"
+    model.write_text(text + stages, encoding="utf-8")
+    code = cli.main(["simulate", str(model), "-o", str(tmp_path / "out"), "--no-pictures"])
+    assert code == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "UNRELIABLE: the trials started from a state NOT in equilibrium (ratio 1:" in out
+    assert "If blocks fall freely (a wedge with nothing under it)" in out
+    assert "support them (bolts, a boundary)" in out
