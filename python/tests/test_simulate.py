@@ -21,6 +21,7 @@ import pytest
 import penedge
 import penedge.model as pm
 from penedge import cli
+from penedge.cli import simulate as simulate_command
 from penedge.model import engine as engines
 from penedge.model.run import Runner
 
@@ -99,6 +100,11 @@ class InclineEngine:
     @property
     def time(self):
         return self.steps * self.dt
+
+    def rotations(self):
+        """The incline's block slides without turning."""
+        n = len(self.start)
+        return np.tile([0.0, 0.0, 0.0, 1.0], (n, 1))
 
     def positions(self):
         p = self.start.copy()
@@ -571,3 +577,52 @@ def test_simulate_refuses_a_density_beyond_any_rock(tmp_path, capsys):
     )
     assert err.rstrip().endswith(f"(in {model})")
     assert not out.exists()
+
+
+def test_factor_of_safety_says_how_far_each_failing_block_moved_and_turned():
+    f = Runner(wedge(40.0, FOS.format(1000)), InclineEngine).run().safety
+    failing = next(t for t in f.trials if t.factor == f.failing)
+    assert f.failing_blocks == failing.moved
+    assert len(f.failing_blocks) > 0
+    # The incline's block slides (by the distance its exact model gives) without turning.
+    assert f.failing_displacement == failing.displacement
+    assert all(d > 1e-3 for d in f.failing_displacement)
+    assert f.failing_rotation == [0.0] * len(f.failing_blocks)
+    entry = {
+        "failing_blocks": f.failing_blocks,
+        "failing_displacement": f.failing_displacement,
+        "failing_rotation": f.failing_rotation,
+    }
+    text = simulate_command.failing_text(entry)
+    first = f"{f.failing_blocks[0]} ({f.failing_displacement[0]:.2g} m, 0°)"
+    assert text.startswith("failing blocks, moved and turned in the first failing trial: ")
+    assert first in text
+    # A summary written before the rotations were kept: the ids alone.
+    old = {"failing_blocks": [3, 4]}
+    assert simulate_command.failing_text(old) == "failing blocks: 3, 4"
+    assert simulate_command.failing_text({"failing_blocks": []}) == "failing blocks: none"
+
+
+@pytest.mark.parametrize("angle", [0.0, 1e-9, 1e-3, 0.5, 30.0, 90.0, 179.0])
+def test_rotation_degrees_is_the_angle_between_two_orientations(angle):
+    from penedge.model.run import rotation_degrees
+
+    rng = np.random.default_rng(7)
+    before = rng.normal(size=(5, 4))
+    before /= np.linalg.norm(before, axis=1)[:, None]
+    axis = rng.normal(size=(5, 3))
+    axis /= np.linalg.norm(axis, axis=1)[:, None]
+    half = math.radians(angle) / 2
+    turn = np.hstack([axis * math.sin(half), np.full((5, 1), math.cos(half))])
+
+    def times(p, q):  # quaternion products, rows x, y, z, w
+        pv, pw, qv, qw = p[:, :3], p[:, 3:], q[:, :3], q[:, 3:]
+        v = pw * qv + qw * pv + np.cross(pv, qv)
+        w = pw * qw - np.einsum("ij,ij->i", pv, qv)[:, None]
+        return np.hstack([v, w])
+
+    after = times(turn, before)
+    got = rotation_degrees(before, after)
+    assert got == pytest.approx(np.full(5, angle), rel=1e-9, abs=1e-12)
+    # -q is the same orientation as q.
+    assert rotation_degrees(before, -after) == pytest.approx(got, rel=1e-9, abs=1e-12)

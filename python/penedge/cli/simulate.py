@@ -555,6 +555,8 @@ def run_summary(
                 "stable": f.stable,
                 "failing": f.failing,
                 "failing_blocks": f.failing_blocks,
+                "failing_displacement": f.failing_displacement,
+                "failing_rotation": f.failing_rotation,
                 "from_equilibrium": f.in_equilibrium,
                 "reliable": f.in_equilibrium,
                 "start_ratio": f.start_ratio,
@@ -585,6 +587,25 @@ def run_summary(
         }
     )
     return summary
+
+
+def failing_text(f: dict[str, Any], most: int = 12) -> str:
+    """The failing blocks of a factor of safety, each with how far it moved and turned in
+    the smallest failing trial (``15 (0.21 m, 2°)`` slides, ``8 (0.35 m, 14°)`` turns:
+    topples): ``failing blocks, moved and turned in the first failing trial: ...``, or
+    ``failing blocks: none``."""
+    blocks = f["failing_blocks"]
+    if not blocks:
+        return "failing blocks: none"
+    more = f" and {len(blocks) - most} more" if len(blocks) > most else ""
+    moves = f.get("failing_displacement") or []
+    turns = f.get("failing_rotation") or []
+    if len(moves) != len(blocks) or len(turns) != len(blocks):  # an older summary's
+        return "failing blocks: " + ", ".join(map(str, blocks[:most])) + more
+    each = ", ".join(
+        f"{b} ({m:.2g} m, {t:.2g}°)" for b, m, t in zip(blocks[:most], moves, turns, strict=False)
+    )
+    return f"failing blocks, moved and turned in the first failing trial: {each}{more}"
 
 
 def bolts_text(bolts: list[dict[str, Any]]) -> str:
@@ -720,13 +741,12 @@ def format_run(summary: dict[str, Any]) -> str:
     for s in summary["stages"]:
         if "factor_of_safety" in s:
             f = s["factor_of_safety"]
-            blocks = ", ".join(map(str, f["failing_blocks"][:12])) or "none"
             lines.append(
                 row(
                     "factor of safety",
                     f"{f['bound']} {factor_text(f['factor'])}"
                     + ("" if f["reliable"] else " UNRELIABLE")
-                    + f" (failing blocks: {blocks})",
+                    + f" ({failing_text(f)})",
                 )
             )
             if not f["reliable"]:

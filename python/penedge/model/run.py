@@ -120,6 +120,8 @@ class Trial:
     speed: float  # m/s, the largest speed of a free block at the end
     moved: list[int]  # free blocks that moved more than the threshold, or still move faster
     # than the stage's velocity, at the end of the trial
+    displacement: list[float] = field(default_factory=list)  # m, of each `moved` block
+    rotation: list[float] = field(default_factory=list)  # degrees, of each `moved` block
 
 
 @dataclass
@@ -131,6 +133,10 @@ class SafetyFactor:
     failing: float | None  # ... and smallest failing factor
     failing_blocks: list[int]
     trials: list[Trial]
+    # of each failing block, in the smallest failing trial: its displacement (m) and
+    # rotation (degrees), which tell sliding from toppling
+    failing_displacement: list[float] = field(default_factory=list)
+    failing_rotation: list[float] = field(default_factory=list)
     start_ratio: float = 0.0  # the unbalanced-force ratio of the state the trials start from
     in_equilibrium: bool = True  # whether that state was below the equilibrium ratio ...
     target: float = 1e-5  # ... the stage's `ratio`
@@ -653,7 +659,7 @@ class Runner:
             if reduce_default:
                 e.default = default.reduced(factor)
             e.apply_properties({n: p.reduced(factor) for n, p in original.items()}, factor)
-            before = e.positions()
+            before, turned = e.positions(), e.rotations()
             start = e.steps  # the engine's count so far: the trial's own steps are after it
             try:
                 converged = self.solve(stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e)
@@ -668,9 +674,19 @@ class Runner:
             speeds = np.linalg.norm(e.velocities(), axis=1)
             speed = float(speeds[free].max(initial=0.0))
             failed = broke or (not converged and speed > stage.velocity)
-            shifted = np.linalg.norm(e.positions() - before, axis=1) > threshold
-            moved = np.flatnonzero(free & (shifted | (speeds > stage.velocity)))
-            t = Trial(factor, failed, e.steps - start, e.ratio, speed, moved.tolist())
+            distance = np.linalg.norm(e.positions() - before, axis=1)
+            moved = np.flatnonzero(free & ((distance > threshold) | (speeds > stage.velocity)))
+            angle = rotation_degrees(turned[moved], e.rotations()[moved])
+            t = Trial(
+                factor,
+                failed,
+                e.steps - start,
+                e.ratio,
+                speed,
+                moved.tolist(),
+                distance[moved].tolist(),
+                angle.tolist(),
+            )
             trials.append(t)
             if self.progress is not None:
                 self.progress(e, stage, len(trials), None)
@@ -723,7 +739,22 @@ class Runner:
             failing=None if failing is None else failing.factor,
             failing_blocks=[] if failing is None else failing.moved,
             trials=trials,
+            failing_displacement=[] if failing is None else failing.displacement,
+            failing_rotation=[] if failing is None else failing.rotation,
         )
+
+
+def rotation_degrees(before: np.ndarray, after: np.ndarray) -> np.ndarray:
+    """The angle (degrees, 0 to 180) of the rotation from each unit quaternion of
+    `before` to the one of `after` (rows ``x, y, z, w``): ``2 atan2(|v|, |w|)`` of
+    ``after * conj(before)``, exact for small angles (where ``acos`` of the dot product is
+    not)."""
+    b, a = np.asarray(before, dtype=float), np.asarray(after, dtype=float)
+    bv, bw = -b[:, :3], b[:, 3]  # the conjugate of `before`
+    av, aw = a[:, :3], a[:, 3]
+    w = aw * bw - np.einsum("ij,ij->i", av, bv)
+    v = aw[:, None] * bv + bw[:, None] * av + np.cross(av, bv)
+    return np.degrees(2.0 * np.arctan2(np.linalg.norm(v, axis=1), np.abs(w)))
 
 
 def timestep_of(engine: Any) -> float | None:
