@@ -69,6 +69,7 @@ def test_every_example_reads_and_checks():
         "slope_excavation.toml",
         "slope_planar.toml",
         "slope_step_path.toml",
+        "slope_toppling.toml",
         "tunnel_concave.toml",
         "tunnel_roof_bolt.toml",
         "tunnel_support.toml",
