@@ -752,6 +752,27 @@ mod tests {
             of(&table, &wedge, b_face(&wedge), &below_c, line(&below_c)),
             (Some(1), Some(1))
         );
+        // Where joints cross (docs/mechanics.md, "Where joints cross"): the contacts lying
+        // in A and B, of edges or vertices, have no area; those lying in one joint or none,
+        // or with a face on either side, keep theirs.
+        let crossing = |p, fp, q, fq| (crosses_joints(p, fp, q, fq), crosses_joints(q, fq, p, fp));
+        for (p, fp, q, fq, expected) in [
+            (&wedge, line(&wedge), &below, line(&below), true),
+            (&wedge, vertex(&wedge, o), &below, line(&below), true),
+            (&wedge, vertex(&wedge, o), &below, vertex(&below, o), true),
+            (&wedge, line(&wedge), &below_c, line(&below_c), false),
+            (&wedge, line(&wedge), &unshared, line(&unshared), false),
+            (&wedge, line(&wedge), &bridged, line(&bridged), false),
+            (&wedge, line(&wedge), &wedge, line(&wedge), false),
+            (&wedge, b_face(&wedge), &below, line(&below), false),
+            (&plain, Feature::Edge(0), &plain, Feature::Vertex(0), false),
+        ] {
+            assert_eq!(
+                crossing(p, fp, q, fq),
+                (expected, expected),
+                "{fp:?} {fq:?}"
+            );
+        }
     }
 
     /// Many sets at one vertex: the list grows past its four inline entries.
