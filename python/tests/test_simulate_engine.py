@@ -177,7 +177,9 @@ def test_asymmetric_wedge_edge_contact_takes_its_joints_properties():
     cohesion on the edge's nominal area held the wedge (F = 1.31 here; 1.80 with a default
     of 30 degrees and point_width = 0.2). F by strength reduction against Hoek & Bray's
     (computed above, per joint friction), as the critical friction angles of both joints
-    within 1 degree (the criterion of the wedge tests above)."""
+    within 1 degree (the criterion of the wedge tests above). Since the edge lies in two
+    joints, it is where they cross, and it has had no area since 2026-11-29
+    (docs/mechanics.md, "Where joints cross"): F = 1.133 (1.109 with the edge's strip)."""
     text = (EXAMPLES / "wedge_dry.toml").read_text()
     for (dip, direction), old in zip(ASYMMETRIC, ("45", "135"), strict=True):
         text = text.replace(
@@ -334,3 +336,84 @@ def test_slope_excavated_at_its_toe_then_its_factor_matches_limit_equilibrium():
     free = ~layout.fixed & ~removed
     assert safety.failing_blocks == np.flatnonzero(free).tolist()
     assert len(safety.failing_blocks) == 1
+
+
+ROOF_WEDGE = """
+title = "Roof wedge sliding on two joints"
+[domain]
+type = "box"
+min = [0, 0, 0]
+max = [12, 10, 6]
+[[joints]]
+type = "plane"
+name = "S"
+point = [8, 5, 3]
+dip = 35
+dip_direction = 270
+[[joints]]
+type = "plane"
+name = "B"
+point = [8, 5, 3]
+dip = 80
+dip_direction = 340
+[[joints]]
+type = "plane"
+name = "C"
+point = [8, 5, 3]
+dip = 80
+dip_direction = 200
+[rock]
+density = 2700
+[joint_properties.default]
+kn = 1e10
+ks = 1e9
+friction = 60
+[[boundary]]
+region = {type = "all"}
+condition = "fixed"
+[[boundary]]
+region = {type = "point", point = [5.47, 5, 0.75]}
+condition = "free"
+[[stages]]
+type = "solve"
+max_steps = 30000
+[[stages]]
+type = "properties"
+friction = 40
+[[stages]]
+type = "factor_of_safety"
+max_steps = 8000
+"""
+
+
+def test_roof_wedge_on_two_joints_matches_hoek_and_bray_at_the_default_point_width():
+    """A tetrahedron in the roof (z = 0) of a box cut by three joints through (8, 5, 3):
+    S 35/270, B 80/340, C 80/200. The wedge separates from S and slides on B and C along
+    their line of intersection; it is symmetric about the vertical plane y = 5 (beta = 90
+    degrees), so Hoek & Bray's closed form holds, F = tan(phi) / tan(psi) / sin(xi / 2),
+    psi the line's plunge and xi the included angle of B and C, computed here (1.1416).
+    The joints are persistent: the block across both B and C meets the wedge along that
+    line, an edge-edge contact where two joints cross, which has no area (docs/mechanics.md,
+    "Where joints cross"). Given the nominal strip of the default point_width (0.2), it took
+    31 % of the load normal to the line, on its bisecting normal, without the wedging of the
+    two faces (1 / sin(xi / 2) = 2.6): F = 0.91, "NOT stable" (1.05 at point_width 0.05).
+    Compared as the critical friction angle, within 1 degree (the wedge tests' criterion)."""
+    nb, nc = plane_normal(80, 340), plane_normal(80, 200)
+    xi = math.pi - math.acos(nb @ nc)
+    line = np.cross(nb, nc)
+    psi = math.asin(abs(line[2]) / np.linalg.norm(line))
+    reference = math.tan(math.radians(40)) / math.tan(psi) / math.sin(xi / 2)
+    # the same by vectors: gravity split on the two normals and the line (Hoek & Bray)
+    a, b, c = np.linalg.solve(np.column_stack([nb, nc, line / np.linalg.norm(line)]), [0, 0, -1])
+    vectors = (abs(a) + abs(b)) * math.tan(math.radians(40)) / abs(c)
+    assert reference == pytest.approx(vectors, rel=1e-9)
+    assert "point_width" not in ROOF_WEDGE
+    outcome = pm.simulate(ROOF_WEDGE)
+    assert outcome.stages[0].converged
+    safety = outcome.safety
+    print(f"roof wedge: F = {safety.factor} ({safety.stable}, {safety.failing}), LE {reference}")
+    found, exact = critical_friction(40, safety.factor), critical_friction(40, reference)
+    assert found == pytest.approx(exact, abs=1.0)
+    assert safety.failing - safety.stable <= 0.01 + 1e-12
+    free = ~pm.prepare(ROOF_WEDGE).layout.fixed
+    assert safety.failing_blocks == np.flatnonzero(free).tolist()

@@ -1603,3 +1603,107 @@ fn a_body_pushed_with_a_bad_density_or_pose_is_refused() {
     assert!(bodies.is_empty(), "nothing pushed by a refused call");
     assert_eq!(bodies.push(shape, pose, 2500.0).unwrap(), 0);
 }
+
+/// Four unit cubes around the line where two joints cross (x = 0, set 0; z = 0, set 1): W
+/// free, pushed by a gravity of (-4, 0, -8) m/s² into the cube across the x joint and the one
+/// across the z joint, both of which carry it on faces; the cube diagonally across both
+/// meets W on the line alone (an edge-edge superposition along the crossing). That contact
+/// has no area and carries nothing (docs/mechanics.md, "Where joints cross"): the two faces
+/// hold W's weight. Given the nominal strip of `point_width` (as before 2026-11-29, and still
+/// for blocks whose faces are of no joint), it took a share of the load on the cone rule's
+/// diagonal normal, overlapping by the smaller of the two joints' closures: a roof wedge on
+/// two joints had F = 0.91 for limit equilibrium's 1.14 (python/tests/test_simulate_engine.py).
+#[test]
+fn where_two_joints_cross_the_diagonal_block_carries_nothing() {
+    use penedge::block::FaceOrigin;
+    let corners = [
+        ([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]),   // W, free
+        ([-1.0, 0.0, 0.0], [0.0, 1.0, 1.0]),  // across the x joint
+        ([0.0, 0.0, -1.0], [1.0, 1.0, 0.0]),  // across the z joint
+        ([-1.0, 0.0, -1.0], [0.0, 1.0, 0.0]), // across both
+    ];
+    let gravity = DVec3::new(-4.0, 0.0, -8.0);
+    let run = |jointed: bool| {
+        let blocks: Vec<ConvexBlock> = corners
+            .iter()
+            .map(|&(lo, hi)| {
+                let cube = ConvexBlock::cuboid(lo, hi).unwrap();
+                if !jointed {
+                    return cube;
+                }
+                // The faces in the plane x = 0 are of joint 0 (set 0), those in z = 0 of
+                // joint 1 (set 1); the others of the domain's boundary.
+                let origins = (0..cube.n_faces())
+                    .map(|i| {
+                        let p = cube.planes()[i];
+                        let on = |axis: DVec3| {
+                            p.normal.dot(axis).abs() > 0.5 && p.point.dot(axis).abs() < 1e-12
+                        };
+                        if on(DVec3::X) {
+                            FaceOrigin::Joint { set: 0, joint: 0 }
+                        } else if on(DVec3::Z) {
+                            FaceOrigin::Joint { set: 1, joint: 1 }
+                        } else {
+                            FaceOrigin::Boundary {
+                                part: 0,
+                                face: i as u32,
+                            }
+                        }
+                    })
+                    .collect();
+                cube.with_face_origins(origins).unwrap()
+            })
+            .collect();
+        let mut sim = Simulation::new(&BlockSystem::new(blocks), 2500.0).unwrap();
+        for b in 1..4 {
+            sim.fix(b).unwrap();
+        }
+        sim.set_default_joint(joint(1e9, 60.0, 0.0, 0.0)).unwrap();
+        sim.set_gravity(gravity).unwrap();
+        let report = sim.solve(1e-7, 50_000).unwrap();
+        assert!(report.converged, "{report:?}");
+        let weight = gravity * sim.bodies().masses()[0];
+        let contacts = sim.contacts();
+        let (mut faces, mut diagonal, mut area) = (DVec3::ZERO, 0.0, 0.0);
+        for (k, c) in contacts.list.iter().enumerate() {
+            if !c.bodies.contains(&0) {
+                continue; // between two fixed cubes
+            }
+            let other = c.bodies[0] + c.bodies[1];
+            // The force on W: along the normal from A to B, W being B.
+            let sign = if c.bodies[1] == 0 { 1.0 } else { -1.0 };
+            let force: DVec3 = contacts
+                .subs_of(k)
+                .iter()
+                .map(|s| c.normal * s.normal_force + s.shear_force)
+                .sum::<DVec3>()
+                * sign;
+            if other == 3 {
+                assert_eq!(c.kind, ContactType::EdgeEdgeSuperposition);
+                diagonal = contacts.subs_of(k).iter().map(|s| s.normal_force).sum();
+                area = contacts.subs_of(k).iter().map(|s| s.area).sum();
+            } else {
+                faces += force;
+            }
+        }
+        (weight, faces, diagonal, area)
+    };
+    let (weight, faces, diagonal, area) = run(true);
+    println!("jointed: faces {faces:?}, diagonal {diagonal:.3e} N on {area} m²");
+    assert_eq!((diagonal, area), (0.0, 0.0));
+    assert!(
+        (faces + weight).length() <= 1e-6 * weight.length(),
+        "the faces carry {faces:?} against the weight {weight:?}"
+    );
+    // Blocks of no joint: the edge keeps its strip (point_width × the diameter × its length
+    // / 2) and takes a share of the load (the scope of the rule: it cannot tell a crossing).
+    let (weight, faces, diagonal, area) = run(false);
+    println!("unjointed: faces {faces:?}, diagonal {diagonal:.3e} N on {area} m²");
+    let strip = 0.2 * 3f64.sqrt() / 2.0;
+    assert!((area - strip).abs() < 1e-9 * strip, "{area}");
+    assert!(diagonal > 0.02 * weight.length(), "{diagonal}");
+    assert!(
+        (faces + weight).length() > 0.02 * weight.length(),
+        "{faces:?}"
+    );
+}

@@ -7,7 +7,7 @@
 //! residual values after failure (cohesion and tension zero). Only its properties differ:
 //! those of the intact rock.
 
-use super::joint::{contact_sets, JointModel, JointTable, SetChoice};
+use super::joint::{contact_sets, crosses_joints, JointModel, JointTable, SetChoice};
 use super::MechanicsError;
 use crate::block::ConvexBlock;
 use crate::classify::Feature;
@@ -102,6 +102,8 @@ pub(super) fn contact_model(
 pub(super) struct ContactFaces {
     sets: SetChoice,
     bridge_faces: bool,
+    /// Whether the contact is where joints cross ([`crosses_joints`]): no nominal area.
+    crossing: bool,
 }
 
 impl ContactFaces {
@@ -118,7 +120,14 @@ impl ContactFaces {
         ContactFaces {
             sets: contact_sets(a, fa, b, fb),
             bridge_faces: faces && (bridge_face(a, fa) || bridge_face(b, fb)),
+            crossing: crosses_joints(a, fa, b, fb),
         }
+    }
+
+    /// Whether the contact is where two joints or more cross, two edges or vertices in each
+    /// of their planes ([`crosses_joints`]): it gets no nominal area.
+    pub fn crossing(&self) -> bool {
+        self.crossing
     }
 
     /// The contact's set, whether it is a bridge, and its model ([`contact_model`]).

@@ -558,7 +558,14 @@ pub(super) fn build_contact(
         let radius = |i: u32| input.bodies.shape(i as usize).radius();
         2.0 * radius(bodies[0]).min(radius(bodies[1]))
     });
-    let width = input.point_width * diameter;
+    // Where joints cross (two edges or vertices, each in both joints' planes), the blocks
+    // across each single joint carry it: the contact, on a line or point of no area, gets
+    // none (docs/mechanics.md, "Where joints cross").
+    let width = if found.carry.faces.crossing() {
+        0.0
+    } else {
+        input.point_width * diameter
+    };
     // The gaps are measured in the frame A had at the query, A's motion since undone (a
     // rigid motion of both bodies changes no gap): there A's feature, the points moving with
     // A, the normal (when it moves with A) and the cone's other directions are as they were
@@ -751,8 +758,14 @@ pub(super) fn build_contact(
             Some((first, old)) => {
                 let k = nearest(old, local);
                 let o = &old[k];
+                // (A contact where joints cross has no area, and no shear force.)
+                let carried = if o.area > 0.0 {
+                    o.shear_force * (area / o.area)
+                } else {
+                    DVec3::ZERO
+                };
                 (
-                    o.shear_force * (area / o.area),
+                    carried,
                     o.shear_displacement,
                     o.bonded,
                     input.previous.prestress(first + k),

@@ -311,6 +311,43 @@ pub(super) fn contact_sets(
     sets
 }
 
+/// Whether the contact between feature `fa` of `a` and feature `fb` of `b`, neither a face,
+/// lies in two joints or more ([`contact_sets`]'s rule: at each feature a face of the joint,
+/// the two on opposite sides of its plane): the line or point where joint planes cross,
+/// the blocks around it meeting there. Each of those joints has its faces on both sides of
+/// the crossing, so the blocks across one joint from each of the two carry it there; the
+/// two blocks diagonally across meet on the line alone, of no area. Such a contact gets no
+/// nominal area (docs/mechanics.md, "Where joints cross"): a strip of `point_width` gave the
+/// line a stiffness and, along the cone rule's normal between the joints', took a share of
+/// a wedge's load without the wedging of its two faces (a roof wedge's factor of safety 0.91
+/// for limit equilibrium's 1.14).
+pub(super) fn crosses_joints(a: &ConvexBlock, fa: Feature, b: &ConvexBlock, fb: Feature) -> bool {
+    if matches!(fa, Feature::Face(_)) || matches!(fb, Feature::Face(_)) {
+        return false;
+    }
+    let origin = |block: &ConvexBlock, f: usize| block.face_origins().get(f).copied();
+    let mut first: Option<(u32, u32)> = None;
+    let mut crossing = false;
+    for_faces_at(a, fa, |i| {
+        let Some(joint) = origin(a, i).and_then(joint_of) else {
+            return;
+        };
+        let normal = a.planes()[i].normal;
+        for_faces_at(b, fb, |j| {
+            if origin(b, j).and_then(joint_of) == Some(joint)
+                && normal.dot(b.planes()[j].normal) < -0.5
+            {
+                match first {
+                    None => first = Some(joint),
+                    Some(other) if other != joint => crossing = true,
+                    Some(_) => {}
+                }
+            }
+        });
+    });
+    crossing
+}
+
 /// The set and joint plane of a joint or bridge face's origin.
 fn joint_of(origin: FaceOrigin) -> Option<(u32, u32)> {
     match origin {
@@ -715,6 +752,27 @@ mod tests {
             of(&table, &wedge, b_face(&wedge), &below_c, line(&below_c)),
             (Some(1), Some(1))
         );
+        // Where joints cross (docs/mechanics.md, "Where joints cross"): the contacts lying
+        // in A and B, of edges or vertices, have no area; those lying in one joint or none,
+        // or with a face on either side, keep theirs.
+        let crossing = |p, fp, q, fq| (crosses_joints(p, fp, q, fq), crosses_joints(q, fq, p, fp));
+        for (p, fp, q, fq, expected) in [
+            (&wedge, line(&wedge), &below, line(&below), true),
+            (&wedge, vertex(&wedge, o), &below, line(&below), true),
+            (&wedge, vertex(&wedge, o), &below, vertex(&below, o), true),
+            (&wedge, line(&wedge), &below_c, line(&below_c), false),
+            (&wedge, line(&wedge), &unshared, line(&unshared), false),
+            (&wedge, line(&wedge), &bridged, line(&bridged), false),
+            (&wedge, line(&wedge), &wedge, line(&wedge), false),
+            (&wedge, b_face(&wedge), &below, line(&below), false),
+            (&plain, Feature::Edge(0), &plain, Feature::Vertex(0), false),
+        ] {
+            assert_eq!(
+                crossing(p, fp, q, fq),
+                (expected, expected),
+                "{fp:?} {fq:?}"
+            );
+        }
     }
 
     /// Many sets at one vertex: the list grows past its four inline entries.
