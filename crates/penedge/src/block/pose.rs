@@ -135,6 +135,10 @@ impl ConvexBlock {
     pub(crate) fn prefetch(&self, what: Prefetch) {
         match what {
             Prefetch::Block => prefetch_bytes(std::slice::from_ref(self)),
+            Prefetch::Points => {
+                prefetch_bytes(&self.vertices);
+                prefetch_bytes(&self.planes);
+            }
             Prefetch::Coordinates | Prefetch::Query => {
                 prefetch_bytes(&self.vertices);
                 prefetch_bytes(&self.planes);
@@ -402,6 +406,9 @@ pub(crate) enum Prefetch {
     Block,
     /// The buffers that placing reads (of the reference) and writes (of the placed block).
     Coordinates,
+    /// The vertices and planes alone: what [`ConvexBlock::place_coordinates`] reads and
+    /// writes.
+    Points,
     /// The buffers a pair query reads most.
     Query,
 }

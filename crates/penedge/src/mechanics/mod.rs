@@ -1198,11 +1198,10 @@ impl Simulation {
                     }
                     if j + 2 * AHEAD < n {
                         crate::block::prefetch_value(reference(k + 2 * AHEAD));
-                        placed[j + 2 * AHEAD].prefetch(Prefetch::Block);
                     }
                     if j + AHEAD < n && moved_at[body(k + AHEAD)] == next {
-                        reference(k + AHEAD).prefetch(Prefetch::Coordinates);
-                        placed[j + AHEAD].prefetch(Prefetch::Coordinates);
+                        reference(k + AHEAD).prefetch(Prefetch::Points);
+                        placed[j + AHEAD].prefetch(Prefetch::Points);
                     }
                     let b = body(k);
                     if moved_at[b] == next {
@@ -1699,6 +1698,9 @@ impl Simulation {
             .zip(bookkeeping.2.par_iter_mut())
             .enumerate()
             .map(|(i, (((((pose, v), l), last_step), travel), moved_at))| {
+                // A task takes its bodies in ascending order: the shape of a body a few
+                // ahead is asked for now (hides a wait on memory per body).
+                inertia.prefetch_shape(i + 4);
                 let unbalanced = if inertia.is_free(i) {
                     let load = gravity * inertia.mass(i) + inertia.applied_force(i);
                     [(forces[i] + load).length(), load.length()]
