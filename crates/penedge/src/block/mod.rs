@@ -27,7 +27,7 @@ pub use origin::FaceOrigin;
 #[cfg(test)]
 pub(crate) use pose::assert_same_placed;
 pub use pose::Pose;
-pub(crate) use pose::Prefetch;
+pub(crate) use pose::{prefetch_value, Prefetch};
 pub(crate) use reach::Reach;
 
 /// The largest coordinate magnitude of a block: beyond it, products of four lengths (the

@@ -88,13 +88,23 @@ impl Pose {
     /// `self` to pose `to`: the centre's displacement plus `2 sin(θ / 2) radius`, `θ` the
     /// angle of the relative rotation.
     pub fn displacement_bound(&self, to: &Pose, centre: DVec3, radius: f64) -> f64 {
-        let shift = to.apply(centre).distance(self.apply(centre));
+        // About the origin (the mechanics' bodies, about their centroids), a finite rotation
+        // turns the centre into zeros of either sign: the images are the translations but
+        // for the signs of zero coordinates, which neither the distance nor the rounding
+        // below sees (the same bits without the two rotations of a zero vector).
+        let (from, image) =
+            if centre == DVec3::ZERO && self.rotation.is_finite() && to.rotation.is_finite() {
+                (self.translation, to.translation)
+            } else {
+                (self.apply(centre), to.apply(centre))
+            };
+        let shift = image.distance(from);
         // The relative rotation's vector part has length sin(θ / 2): a point at distance r
         // from the axis moves along a chord of 2 sin(θ / 2) r.
         let relative = to.rotation * self.rotation.conjugate();
         let sin_half = relative.xyz().length().min(1.0);
         // Rounding of the rotated coordinates: a few units in the last place of each.
-        let rounding = 8.0 * f64::EPSILON * (to.apply(centre).abs().max_element() + radius);
+        let rounding = 8.0 * f64::EPSILON * (image.abs().max_element() + radius);
         shift + 2.0 * sin_half * radius + rounding
     }
 }
@@ -125,6 +135,10 @@ impl ConvexBlock {
     pub(crate) fn prefetch(&self, what: Prefetch) {
         match what {
             Prefetch::Block => prefetch_bytes(std::slice::from_ref(self)),
+            Prefetch::Points => {
+                prefetch_bytes(&self.vertices);
+                prefetch_bytes(&self.planes);
+            }
             Prefetch::Coordinates | Prefetch::Query => {
                 prefetch_bytes(&self.vertices);
                 prefetch_bytes(&self.planes);
@@ -285,6 +299,59 @@ mod tests {
         );
     }
 
+    /// About a zero centre (of either sign) the bound skips rotating it: the same bits as
+    /// the rotated images give, for translations with zeros of either sign, rotations by
+    /// zero and by large angles, tiny and huge coordinates, and rotations that are not
+    /// finite (their images are NaN: the fast path is not theirs).
+    #[test]
+    fn the_bound_about_the_origin_is_the_rotated_images_bound_bit_for_bit() {
+        let general = |from: &Pose, to: &Pose, centre: DVec3, radius: f64| {
+            let shift = to.apply(centre).distance(from.apply(centre));
+            let relative = to.rotation * from.rotation.conjugate();
+            let sin_half = relative.xyz().length().min(1.0);
+            let rounding = 8.0 * f64::EPSILON * (to.apply(centre).abs().max_element() + radius);
+            shift + 2.0 * sin_half * radius + rounding
+        };
+        let rotations = [
+            DQuat::IDENTITY,
+            -DQuat::IDENTITY,
+            DQuat::from_xyzw(-0.0, 0.0, -0.0, 1.0),
+            DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -0.2, 1.1),
+            DQuat::from_euler(glam::EulerRot::XYZ, 1e-9, 2e-12, -3.0),
+            DQuat::from_rotation_z(std::f64::consts::PI),
+            // Not finite (a state that fails its step): the rotated images, NaN included.
+            DQuat::from_xyzw(f64::NAN, 0.0, 0.0, 1.0),
+            DQuat::from_xyzw(0.0, f64::INFINITY, 0.0, 0.0),
+        ];
+        let translations = [
+            DVec3::ZERO,
+            DVec3::new(-0.0, 0.0, -0.0),
+            DVec3::new(5.0, -0.0, 2.0),
+            DVec3::new(1e-300, -1e300, 0.0),
+            DVec3::new(0.1, 0.2, 0.3),
+        ];
+        let poses: Vec<Pose> = rotations
+            .iter()
+            .flat_map(|&rotation| {
+                translations.iter().map(move |&translation| Pose {
+                    rotation,
+                    translation,
+                })
+            })
+            .collect();
+        for from in &poses {
+            for to in &poses {
+                for centre in [DVec3::ZERO, DVec3::new(-0.0, -0.0, 0.0)] {
+                    for radius in [0.0, 0.87, 1e5] {
+                        let bound = from.displacement_bound(to, centre, radius);
+                        let expected = general(from, to, centre, radius);
+                        assert_eq!(bound.to_bits(), expected.to_bits(), "{from:?} {to:?}");
+                    }
+                }
+            }
+        }
+    }
+
     #[test]
     fn placing_in_two_halves_gives_the_block_placed_at_once() {
         let (reference, pose) = box_and_pose();
@@ -339,8 +406,18 @@ pub(crate) enum Prefetch {
     Block,
     /// The buffers that placing reads (of the reference) and writes (of the placed block).
     Coordinates,
+    /// The vertices and planes alone: what [`ConvexBlock::place_coordinates`] reads and
+    /// writes.
+    Points,
     /// The buffers a pair query reads most.
     Query,
+}
+
+/// Asks for the cache lines of `item` (a hint, as [`ConvexBlock::prefetch`]: no effect on
+/// any result), for what is not a block (a body's shape, before its parts are read).
+#[inline(always)]
+pub(crate) fn prefetch_value<T>(item: &T) {
+    prefetch_bytes(std::slice::from_ref(item));
 }
 
 /// Asks for the cache lines of `items` (never faults, whatever the address).
