@@ -571,3 +571,49 @@ fn an_excavation_that_leaves_only_slivers_to_drop_is_an_error() {
         "{err}"
     );
 }
+
+#[test]
+fn slivers_an_excavation_leaves_under_a_bridged_joint_are_found_before_the_glue() {
+    // A horizontal disc joint with rock bridges at z = 5 and an opening whose top stops
+    // 1e-6 m below it: the slab between is cut into pieces that the bridge glues to the rock
+    // above (one body), yet each is a rigid body of its own in a simulation, 1e-6 m thick
+    // (a reviewer's case: they were in no report and not dropped).
+    let spec = |policy: &str| {
+        format!(
+            "[domain]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [10, 10, 10]\n\n\
+             [options]\nslivers = \"{policy}\"\n\n\
+             [[joints]]\ntype = \"disc\"\ncenter = [5, 5, 5]\nradius = 3\ndip = 0\n\
+             dip_direction = 0\nbridge = true\n\n\
+             [[excavations]]\ntype = \"cavern\"\ncenter = [5, 5, 2.499999]\ntrend = 0\n\
+             length = 12\nwidth = 12\nheight = 5\n"
+        )
+    };
+    let in_slab = |b: &penedge::ConvexBlock| {
+        let z = b.vertices().iter().map(|v| v.z);
+        z.clone().fold(f64::INFINITY, f64::min) > 4.999998 && z.fold(0.0, f64::max) < 5.000001
+    };
+    let kept = generate(&parse_toml(&spec("keep")).unwrap()).unwrap();
+    let pieces: Vec<u32> = (0..kept.system.len() as u32)
+        .filter(|&k| in_slab(&kept.system.blocks()[k as usize]))
+        .collect();
+    assert!(
+        !pieces.is_empty(),
+        "the opening leaves a slab under the disc"
+    );
+    let slivers = &kept.report.excavation_slivers;
+    assert_eq!(slivers.count, pieces.len(), "{slivers:?}");
+    // Listed by the bodies they are glued into.
+    for &k in &pieces {
+        assert!(slivers.kept_bodies.contains(&kept.system.body_of(k)));
+    }
+    let dropped = generate(&parse_toml(&spec("drop")).unwrap()).unwrap();
+    assert_eq!(dropped.report.excavation_slivers.count, pieces.len());
+    assert!(dropped.report.excavation_slivers.kept_bodies.is_empty());
+    assert!(!dropped.system.blocks().iter().any(in_slab));
+    let volume = |out: &penedge::generation::Generated| left(out);
+    let slab: f64 = pieces
+        .iter()
+        .map(|&k| kept.system.blocks()[k as usize].volume())
+        .sum();
+    assert!((volume(&kept) - volume(&dropped) - slab).abs() < 1e-9 * volume(&kept));
+}

@@ -1608,11 +1608,12 @@ fn a_body_pushed_with_a_bad_density_or_pose_is_refused() {
 /// free, pushed by a gravity of (-4, 0, -8) m/s² into the cube across the x joint and the one
 /// across the z joint, both of which carry it on faces; the cube diagonally across both
 /// meets W on the line alone (an edge-edge superposition along the crossing). That contact
-/// has no area and carries nothing (docs/mechanics.md, "Where joints cross"): the two faces
-/// hold W's weight. Given the nominal strip of `point_width` (as before 2026-11-29, and still
-/// for blocks whose faces are of no joint), it took a share of the load on the cone rule's
-/// diagonal normal, overlapping by the smaller of the two joints' closures: a roof wedge on
-/// two joints had F = 0.91 for limit equilibrium's 1.14 (python/tests/test_simulate_engine.py).
+/// bears only past an overlap of half the detection gap, and W's overlap on it is the
+/// smaller of the two joints' closures, micrometres: it carries nothing (docs/mechanics.md,
+/// "Where joints cross"), and the two faces hold W's weight. Bearing from the first overlap
+/// (as before 2026-11-29, and still for blocks whose faces are of no joint), it took a share
+/// of the load on the cone rule's diagonal normal: a roof wedge on two joints had F = 0.91
+/// for limit equilibrium's 1.14 (python/tests/test_simulate_engine.py).
 #[test]
 fn where_two_joints_cross_the_diagonal_block_carries_nothing() {
     use penedge::block::FaceOrigin;
@@ -1664,7 +1665,7 @@ fn where_two_joints_cross_the_diagonal_block_carries_nothing() {
         assert!(report.converged, "{report:?}");
         let weight = gravity * sim.bodies().masses()[0];
         let contacts = sim.contacts();
-        let (mut faces, mut diagonal, mut area) = (DVec3::ZERO, 0.0, 0.0);
+        let (mut faces, mut diagonal, mut area, mut found) = (DVec3::ZERO, 0.0, 0.0, false);
         for (k, c) in contacts.list.iter().enumerate() {
             if !c.bodies.contains(&0) {
                 continue; // between two fixed cubes
@@ -1680,17 +1681,25 @@ fn where_two_joints_cross_the_diagonal_block_carries_nothing() {
                 * sign;
             if other == 3 {
                 assert_eq!(c.kind, ContactType::EdgeEdgeSuperposition);
+                found = true;
                 diagonal = contacts.subs_of(k).iter().map(|s| s.normal_force).sum();
                 area = contacts.subs_of(k).iter().map(|s| s.area).sum();
             } else {
                 faces += force;
             }
         }
+        assert!(
+            found,
+            "W and the diagonal cube touch on the line: a contact"
+        );
         (weight, faces, diagonal, area)
     };
+    // The nominal strip: point_width × the diameter (√3) × the edge's length / 2.
+    let strip = 0.2 * 3f64.sqrt() / 2.0;
     let (weight, faces, diagonal, area) = run(true);
     println!("jointed: faces {faces:?}, diagonal {diagonal:.3e} N on {area} m²");
-    assert_eq!((diagonal, area), (0.0, 0.0));
+    assert_eq!(diagonal, 0.0);
+    assert!((area - strip).abs() < 1e-9 * strip, "{area}");
     assert!(
         (faces + weight).length() <= 1e-6 * weight.length(),
         "the faces carry {faces:?} against the weight {weight:?}"
@@ -1699,11 +1708,84 @@ fn where_two_joints_cross_the_diagonal_block_carries_nothing() {
     // / 2) and takes a share of the load (the scope of the rule: it cannot tell a crossing).
     let (weight, faces, diagonal, area) = run(false);
     println!("unjointed: faces {faces:?}, diagonal {diagonal:.3e} N on {area} m²");
-    let strip = 0.2 * 3f64.sqrt() / 2.0;
     assert!((area - strip).abs() < 1e-9 * strip, "{area}");
     assert!(diagonal > 0.02 * weight.length(), "{diagonal}");
     assert!(
         (faces + weight).length() > 0.02 * weight.length(),
         "{faces:?}"
+    );
+}
+
+/// The same crossing with the cubes across each single joint gone (excavated, or a free
+/// face): W rests on the diagonal cube's edge alone, pushed straight into it (gravity along
+/// the diagonal, so it balances). The line must bear it: W sinks by half the detection gap,
+/// where the contact starts to bear, and then by its weight over the strip's stiffness,
+/// `W / (kn A)`, and stays there (a reviewer's case: given no area at all, W sank until the
+/// run stopped with an overlap deeper than the detection gap).
+#[test]
+fn a_block_on_the_diagonal_blocks_edge_alone_bears_on_it_past_half_the_gap() {
+    use penedge::block::FaceOrigin;
+    use penedge::contact::Detector;
+    use penedge::Tolerance;
+    let jointed = |lo: [f64; 3], hi: [f64; 3]| {
+        let cube = ConvexBlock::cuboid(lo, hi).unwrap();
+        let origins = (0..cube.n_faces())
+            .map(|i| {
+                let p = cube.planes()[i];
+                let on =
+                    |axis: DVec3| p.normal.dot(axis).abs() > 0.5 && p.point.dot(axis).abs() < 1e-12;
+                if on(DVec3::X) {
+                    FaceOrigin::Joint { set: 0, joint: 0 }
+                } else if on(DVec3::Z) {
+                    FaceOrigin::Joint { set: 1, joint: 1 }
+                } else {
+                    FaceOrigin::Boundary {
+                        part: 0,
+                        face: i as u32,
+                    }
+                }
+            })
+            .collect();
+        cube.with_face_origins(origins).unwrap()
+    };
+    let w = jointed([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]);
+    let d = jointed([-1.0, 0.0, -1.0], [0.0, 1.0, 0.0]);
+    let gap = Detector::new(Tolerance::with_gap(1e-3).unwrap())
+        .thresholds(&w, &d)
+        .gap;
+    let mut sim = Simulation::new(&BlockSystem::new(vec![w, d]), 2500.0).unwrap();
+    sim.fix(1).unwrap();
+    let kn = 1e9;
+    sim.set_default_joint(joint(kn, 60.0, 0.0, 0.0)).unwrap();
+    let gravity = DVec3::new(-1.0, 0.0, -1.0).normalize() * 9.81;
+    sim.set_gravity(gravity).unwrap();
+    let report = sim.solve(1e-7, 50_000).unwrap();
+    assert!(report.converged, "{report:?}");
+    let weight = (gravity * sim.bodies().masses()[0]).length();
+    let contacts = sim.contacts();
+    assert_eq!(contacts.list.len(), 1);
+    let c = &contacts.list[0];
+    assert_eq!(c.kind, ContactType::EdgeEdgeSuperposition);
+    let subs = contacts.subs_of(0);
+    let force: f64 = subs.iter().map(|s| s.normal_force).sum();
+    let area: f64 = subs.iter().map(|s| s.area).sum();
+    let strip = 0.2 * 3f64.sqrt() / 2.0;
+    assert!((area - strip).abs() < 1e-9 * strip, "{area}");
+    // Statics: the line carries the weight, along the diagonal.
+    assert!(
+        (force - weight).abs() < 1e-6 * weight,
+        "{force} against {weight}"
+    );
+    let depth = 0.5 * gap + weight / (kn * area);
+    for s in subs {
+        assert!(
+            (-s.gap - depth).abs() < 1e-6 * depth,
+            "overlap {} against {depth}",
+            -s.gap
+        );
+    }
+    assert!(
+        depth < gap,
+        "it bears before the detection gap's overlap ({depth} < {gap})"
     );
 }

@@ -557,6 +557,7 @@ def run_summary(
                 "failing_blocks": f.failing_blocks,
                 "failing_displacement": f.failing_displacement,
                 "failing_rotation": f.failing_rotation,
+                "unheld_blocks": f.unheld_blocks,
                 "from_equilibrium": f.in_equilibrium,
                 "reliable": f.in_equilibrium,
                 "start_ratio": f.start_ratio,
@@ -646,15 +647,10 @@ def damping_text(stage: dict[str, Any]) -> str:
     return ", undamped" if damping == 0 else f", local damping {damping:g}"
 
 
-#: A start ratio from which some block may be unheld: its unbalanced force as large as the
-#: heaviest weight, as in free fall (or before the contacts have taken the load).
-UNHELD_RATIO = 0.99
-
-
-def unreliable_text(start_ratio: float) -> str:
+def unreliable_text(start_ratio: float, unheld: list[int] | None = None) -> str:
     """Why a factor of safety is unreliable, and what to do: its trials started from a
-    state not in equilibrium. From a ratio of about 1 some block may be held by nothing (free
-    fall), which no strength of the joints holds: then support, not a higher strength."""
+    state not in equilibrium. With blocks that no contact held at the start (`unheld`:
+    falling freely), which no strength of the joints holds: support, not a higher strength."""
     start = (
         f"UNRELIABLE: the trials started from a state NOT in equilibrium (ratio {start_ratio:.2g}"
     )
@@ -662,12 +658,13 @@ def unreliable_text(start_ratio: float) -> str:
         "solve with a higher strength, then a properties stage with the strength to test, "
         "then factor_of_safety (docs/models.md, Factor of safety)"
     )
-    if start_ratio >= UNHELD_RATIO:
+    if unheld:
+        ids = ", ".join(map(str, unheld[:12])) + (", ..." if len(unheld) > 12 else "")
         return (
-            f"{start}: a block's unbalanced force as large as the heaviest weight, nothing "
-            "holding it yet). If blocks fall freely (a wedge with nothing under it), no strength "
-            "of the joints holds them: support them (bolts, a boundary) or find why no joint "
-            f"holds them; else {advice}"
+            f"{start}): blocks {ids} were held by no contact (falling freely), which no "
+            "strength of the joints holds: support them (bolts, a boundary) or find why no "
+            "joint holds them, then solve and factor_of_safety (docs/models.md, Factor of "
+            "safety)"
         )
     return f"{start}: the blocks already moving), which fails them too soon; {advice}"
 
@@ -750,7 +747,7 @@ def format_run(summary: dict[str, Any]) -> str:
                 )
             )
             if not f["reliable"]:
-                lines.append(row("", unreliable_text(f["start_ratio"])))
+                lines.append(row("", unreliable_text(f["start_ratio"], f.get("unheld_blocks"))))
     if summary["written"]:
         lines.append(row("written", ", ".join(summary["written"])))
     return "\n".join(lines)

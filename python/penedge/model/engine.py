@@ -488,6 +488,10 @@ class Engine:
         body's)."""
         return np.array(self.sim.positions, dtype=float)[self.body]
 
+    def contact_forces(self) -> np.ndarray:
+        """Per block, its body's sum of contact (and bolt) forces at the last step, (n, 3)."""
+        return np.array(self.sim.contact_forces, dtype=float)[self.body]
+
     def rotations(self) -> np.ndarray:
         """Per block, its body's orientation now, a unit quaternion ``x, y, z, w`` (n, 4)."""
         return np.array(self.sim.quaternions, dtype=float)[self.body]

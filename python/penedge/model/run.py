@@ -137,6 +137,9 @@ class SafetyFactor:
     # rotation (degrees), which tell sliding from toppling
     failing_displacement: list[float] = field(default_factory=list)
     failing_rotation: list[float] = field(default_factory=list)
+    # free blocks that no contact held when the trials started (after steps were taken):
+    # falling freely, which no strength of the joints can hold
+    unheld_blocks: list[int] = field(default_factory=list)
     start_ratio: float = 0.0  # the unbalanced-force ratio of the state the trials start from
     in_equilibrium: bool = True  # whether that state was below the equilibrium ratio ...
     target: float = 1e-5  # ... the stage's `ratio`
@@ -651,6 +654,11 @@ class Runner:
         free = free_of(self.fixed, self.velocity, removed_of(self.engine))
         if not free.any():
             raise ModelError(f"stages[{index}]", NO_FREE_BLOCK)
+        # Blocks held by no contact at the start (a step taken: before it none has a force).
+        unheld: list[int] = []
+        if self.engine.steps > 0:
+            held = np.any(self.engine.contact_forces() != 0.0, axis=1)
+            unheld = np.flatnonzero(free & ~held).tolist()
         threshold = self.model.results.moved
         trials: list[Trial] = []
 
@@ -741,6 +749,7 @@ class Runner:
             trials=trials,
             failing_displacement=[] if failing is None else failing.displacement,
             failing_rotation=[] if failing is None else failing.rotation,
+            unheld_blocks=unheld,
         )
 
 

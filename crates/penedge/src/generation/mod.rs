@@ -263,16 +263,12 @@ pub fn generate_with(
             excavations_total,
         )?;
     }
-    // The pieces a bridged joint cut through, one body while the bridge holds (after the
-    // excavations: they cut and remove single pieces, and the bridges left glue what holds).
-    if let Some(ids) = system.bridge_glued_ids(&spec.options.tolerance) {
-        system = system
-            .with_bodies(ids, &spec.options.tolerance)
-            .map_err(|e| SpecError::new("joints", Problem::Invalid(e.to_string())))?;
-    }
-    if !spec.excavations.is_empty() {
-        // The excavations' slivers, by body (a body is removed whole or not at all), once
-        // the bodies are final (after the bridges' glue).
+    // The excavations' slivers, by body (a body is removed whole or not at all), before the
+    // bridges' glue: a sliver piece a bridge glues to more rock is still a rigid body of its
+    // own in a simulation (`rigid_body_ids`), whose time step it sets.
+    let excavated = !spec.excavations.is_empty();
+    let mut sliver_blocks = Vec::new();
+    if excavated {
         let (kept, slivers) = report::sort_sliver_bodies(system, &report.slivers);
         if kept.is_empty() {
             let msg = format!(
@@ -282,8 +278,29 @@ pub fn generate_with(
             );
             return Err(SpecError::new("options.slivers", Problem::Invalid(msg)).into());
         }
+        sliver_blocks = kept
+            .body_parts()
+            .into_iter()
+            .filter(|(body, _)| slivers.kept_bodies.binary_search(body).is_ok())
+            .flat_map(|(_, parts)| parts)
+            .collect();
         system = kept;
         report.excavation_slivers = slivers;
+    }
+    // The pieces a bridged joint cut through, one body while the bridge holds (after the
+    // excavations: they cut and remove single pieces, and the bridges left glue what holds).
+    if let Some(ids) = system.bridge_glued_ids(&spec.options.tolerance) {
+        system = system
+            .with_bodies(ids, &spec.options.tolerance)
+            .map_err(|e| SpecError::new("joints", Problem::Invalid(e.to_string())))?;
+    }
+    if excavated {
+        // The slivers kept, by their bodies' ids now (a sliver piece glued by a bridge: the
+        // body it is glued to).
+        let mut bodies: Vec<u32> = sliver_blocks.iter().map(|&k| system.body_of(k)).collect();
+        bodies.sort_unstable();
+        bodies.dedup();
+        report.excavation_slivers.kept_bodies = bodies;
         report.blocks = system.len();
         report.block_volume = system.blocks().iter().map(|b| b.volume()).sum();
     }

@@ -60,7 +60,10 @@ pub struct ExcavationSlivers {
     pub count: usize,
     /// Their total volume.
     pub volume: f64,
-    /// Body ids, in the system returned, of the sliver bodies kept (empty when dropped).
+    /// Body ids, in the system returned, of the sliver bodies kept (empty when dropped): the
+    /// slivers are found before the rock bridges glue pieces into bodies (each piece is a
+    /// rigid body of its own in a simulation), so a sliver piece a bridge glues to more rock
+    /// is listed by the body it is glued into.
     pub kept_bodies: Vec<u32>,
 }
 

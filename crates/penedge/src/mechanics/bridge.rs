@@ -102,7 +102,8 @@ pub(super) fn contact_model(
 pub(super) struct ContactFaces {
     sets: SetChoice,
     bridge_faces: bool,
-    /// Whether the contact is where joints cross ([`crosses_joints`]): no nominal area.
+    /// Whether the contact is where joints cross ([`crosses_joints`]): it bears only past half
+    /// the detection gap of overlap.
     crossing: bool,
 }
 
@@ -125,7 +126,8 @@ impl ContactFaces {
     }
 
     /// Whether the contact is where two joints or more cross, two edges or vertices in each
-    /// of their planes ([`crosses_joints`]): it gets no nominal area.
+    /// of their planes ([`crosses_joints`]): it bears only past half the detection gap of
+    /// overlap ([`super::contacts::Carry::engage`]).
     pub fn crossing(&self) -> bool {
         self.crossing
     }

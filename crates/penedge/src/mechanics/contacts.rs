@@ -130,6 +130,9 @@ pub(super) struct Carry {
     pub tolerance: f64,
     /// What the contact's joint model takes from its features (kept with them).
     pub faces: ContactFaces,
+    /// The overlap past which the contact bears: half the detection gap where joints cross
+    /// ([`ContactFaces::crossing`]; docs/mechanics.md, "Where joints cross"), else 0.
+    pub engage: f64,
     /// The two features (A's, B's) as placed at the query: a carried contact measures its gaps
     /// in A's frame at the query, where A's is as it was and B's is moved by B's motion
     /// relative to A, rather than reading the placed blocks.
@@ -179,12 +182,14 @@ impl Carry {
             (contact.feature_a, contact.feature_b),
             (Feature::Vertex(_) | Feature::Edge(_), Feature::Face(_))
         );
+        let faces = ContactFaces::of(a, contact.feature_a, b, contact.feature_b);
         Carry {
             poses,
             with_b,
             normal_with_b,
             tolerance,
-            faces: ContactFaces::of(a, contact.feature_a, b, contact.feature_b),
+            engage: if faces.crossing() { 0.5 * gap } else { 0.0 },
+            faces,
             features: [
                 FeatureAt::of(a, contact.feature_a),
                 FeatureAt::of(b, contact.feature_b),
@@ -558,14 +563,12 @@ pub(super) fn build_contact(
         let radius = |i: u32| input.bodies.shape(i as usize).radius();
         2.0 * radius(bodies[0]).min(radius(bodies[1]))
     });
-    // Where joints cross (two edges or vertices, each in both joints' planes), the blocks
-    // across each single joint carry it: the contact, on a line or point of no area, gets
-    // none (docs/mechanics.md, "Where joints cross").
-    let width = if found.carry.faces.crossing() {
-        0.0
-    } else {
-        input.point_width * diameter
-    };
+    let width = input.point_width * diameter;
+    // Where joints cross (two edges or vertices, each in both joints' planes), the contact
+    // bears only past an overlap of half the detection gap (`Carry::engage`; 0 elsewhere):
+    // the blocks across each single joint carry the line while they are there, and a block
+    // pivoting on it at a free face still finds it (docs/mechanics.md, "Where joints cross").
+    let engage = found.carry.engage;
     // The gaps are measured in the frame A had at the query, A's motion since undone (a
     // rigid motion of both bodies changes no gap): there A's feature, the points moving with
     // A, the normal (when it moves with A) and the cone's other directions are as they were
@@ -758,14 +761,8 @@ pub(super) fn build_contact(
             Some((first, old)) => {
                 let k = nearest(old, local);
                 let o = &old[k];
-                // (A contact where joints cross has no area, and no shear force.)
-                let carried = if o.area > 0.0 {
-                    o.shear_force * (area / o.area)
-                } else {
-                    DVec3::ZERO
-                };
                 (
-                    carried,
+                    o.shear_force * (area / o.area),
                     o.shear_displacement,
                     o.bonded,
                     input.previous.prestress(first + k),
@@ -776,7 +773,7 @@ pub(super) fn build_contact(
             // across joint faces: face-face contacts only (a vertex or an edge touching has
             // no real area to carry it).
             None => {
-                let touching = input.initial && gap <= slack;
+                let touching = input.initial && gap + engage <= slack;
                 let (normal, shear) = match input.initial_stress {
                     Some(field) if touching && found.contact.kind == ContactType::FaceFace => {
                         let (normal, shear) = field.traction(p, n);
@@ -797,11 +794,12 @@ pub(super) fn build_contact(
         let du_s = du - n * du.dot(n);
         slip += du_s;
         shear -= du_s * (model.ks * area);
-        // The installed normal stress as an offset of the gap: (σn - kn gap) A.
+        // The installed normal stress as an offset of the gap: (σn - kn gap) A; and where
+        // joints cross, the depth at which the contact starts to bear.
         let out = joint_law(
             model,
             area,
-            gap - prestress / model.kn,
+            gap + engage - prestress / model.kn,
             shear,
             bonded,
             slack,

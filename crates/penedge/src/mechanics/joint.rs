@@ -316,11 +316,12 @@ pub(super) fn contact_sets(
 /// the two on opposite sides of its plane): the line or point where joint planes cross,
 /// the blocks around it meeting there. Each of those joints has its faces on both sides of
 /// the crossing, so the blocks across one joint from each of the two carry it there; the
-/// two blocks diagonally across meet on the line alone, of no area. Such a contact gets no
-/// nominal area (docs/mechanics.md, "Where joints cross"): a strip of `point_width` gave the
-/// line a stiffness and, along the cone rule's normal between the joints', took a share of
-/// a wedge's load without the wedging of its two faces (a roof wedge's factor of safety 0.91
-/// for limit equilibrium's 1.14).
+/// two blocks diagonally across meet on the line alone, of no area. Such a contact bears
+/// only past an overlap of half the detection gap (docs/mechanics.md, "Where joints
+/// cross"): bearing from the first overlap, its strip of `point_width` took, along the cone
+/// rule's normal between the joints', a share of a wedge's load without the wedging of its
+/// two faces (a roof wedge's factor of safety 0.91 for limit equilibrium's 1.14), and keyed
+/// blocks sliding over a joint of their base.
 pub(super) fn crosses_joints(a: &ConvexBlock, fa: Feature, b: &ConvexBlock, fb: Feature) -> bool {
     if matches!(fa, Feature::Face(_)) || matches!(fb, Feature::Face(_)) {
         return false;
@@ -753,8 +754,8 @@ mod tests {
             (Some(1), Some(1))
         );
         // Where joints cross (docs/mechanics.md, "Where joints cross"): the contacts lying
-        // in A and B, of edges or vertices, have no area; those lying in one joint or none,
-        // or with a face on either side, keep theirs.
+        // in A and B, of edges or vertices, bear only past half the gap; those lying in one
+        // joint or none, or with a face on either side, from the first overlap.
         let crossing = |p, fp, q, fq| (crosses_joints(p, fp, q, fq), crosses_joints(q, fq, p, fp));
         for (p, fp, q, fq, expected) in [
             (&wedge, line(&wedge), &below, line(&below), true),
