@@ -101,10 +101,9 @@ class InclineEngine:
     def time(self):
         return self.steps * self.dt
 
-    def contact_forces(self):
-        """The incline holds its block (a friction force) once it has stepped."""
-        n = len(self.start)
-        return np.ones((n, 3)) if self.steps else np.zeros((n, 3))
+    def held(self):
+        """The incline holds its block (Engine.held) once it has stepped."""
+        return np.full(len(self.start), self.steps > 0)
 
     def rotations(self):
         """The incline's block slides without turning."""

@@ -604,9 +604,15 @@ def failing_text(f: dict[str, Any], most: int = 12) -> str:
     if len(moves) != len(blocks) or len(turns) != len(blocks):  # an older summary's
         return "failing blocks: " + ", ".join(map(str, blocks[:most])) + more
     each = ", ".join(
-        f"{b} ({m:.2g} m, {t:.2g}°)" for b, m, t in zip(blocks[:most], moves, turns, strict=False)
+        f"{b} ({m:.2g} m, {angle_text(t)})"
+        for b, m, t in zip(blocks[:most], moves, turns, strict=False)
     )
     return f"failing blocks, moved and turned in the first failing trial: {each}{more}"
+
+
+def angle_text(degrees: float) -> str:
+    """``14°``, ``0.031°``; below 0.001° (rounding, for a block that slides) ``0°``."""
+    return "0°" if abs(degrees) < 1e-3 else f"{degrees:.2g}°"
 
 
 def bolts_text(bolts: list[dict[str, Any]]) -> str:

@@ -488,9 +488,19 @@ class Engine:
         body's)."""
         return np.array(self.sim.positions, dtype=float)[self.body]
 
-    def contact_forces(self) -> np.ndarray:
-        """Per block, its body's sum of contact (and bolt) forces at the last step, (n, 3)."""
-        return np.array(self.sim.contact_forces, dtype=float)[self.body]
+    #: A body whose contact forces sum to less than this share of its weight is held by
+    #: nothing (falling freely: blocks falling together touch with forces of rounding size).
+    HELD_SHARE = 1e-3
+
+    def held(self) -> np.ndarray:
+        """Per block, whether its body's contact (and bolt) forces at the last step are at
+        least :attr:`HELD_SHARE` of its weight, (n,) bool: a body held by nothing (falling
+        freely, or before any step) is not."""
+        forces = np.linalg.norm(np.array(self.sim.contact_forces, dtype=float), axis=1)
+        weights = np.asarray(self.sim.masses, dtype=float) * float(
+            np.linalg.norm(np.asarray(self.sim.gravity, dtype=float))
+        )
+        return (forces >= self.HELD_SHARE * weights)[self.body]
 
     def rotations(self) -> np.ndarray:
         """Per block, its body's orientation now, a unit quaternion ``x, y, z, w`` (n, 4)."""

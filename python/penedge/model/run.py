@@ -657,8 +657,7 @@ class Runner:
         # Blocks held by no contact at the start (a step taken: before it none has a force).
         unheld: list[int] = []
         if self.engine.steps > 0:
-            held = np.any(self.engine.contact_forces() != 0.0, axis=1)
-            unheld = np.flatnonzero(free & ~held).tolist()
+            unheld = np.flatnonzero(free & ~self.engine.held()).tolist()
         threshold = self.model.results.moved
         trials: list[Trial] = []
 
