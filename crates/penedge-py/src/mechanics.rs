@@ -44,6 +44,9 @@ use std::time::{Duration, Instant};
 ///     Width of point and edge contacts relative to the smaller body's diameter: a point
 ///     contact is a patch of ``w² / 2``, a segment of length ``l`` a strip of ``w l / 2``
 ///     (``docs/mechanics.md``). The softer they are, the deeper they sink under a load.
+///     A contact of edges or vertices where two joints of the rock cross (faces of joint
+///     origin on both sides) bears only past half the detection gap of overlap
+///     (``docs/mechanics.md``, "Where joints cross").
 ///
 /// Raises
 /// ------

@@ -667,6 +667,8 @@ impl Simulation {
     }
 
     /// Sets the width of point contacts relative to the smaller block's size (in (0, 1]).
+    /// A contact of edges or vertices where two joints cross bears only past half the
+    /// detection gap of overlap (docs/mechanics.md, "Where joints cross").
     pub fn set_point_width(&mut self, width: f64) -> Result<(), MechanicsError> {
         if !(width.is_finite() && width > 0.0 && width <= 1.0) {
             return Err(MechanicsError::Parameter {
