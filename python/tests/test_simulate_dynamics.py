@@ -203,3 +203,18 @@ def test_a_light_block_falling_beside_a_held_heavy_one_is_named_unheld():
     assert len(free) == 2  # the slider and the block beside the excavated one
     slider = max(free, key=lambda i: outcome.displacement[i, 2] * -1)
     assert f.unheld_blocks == [slider]
+
+
+def test_the_check_and_a_stopped_stage_say_the_damping_too(tmp_path, capsys):
+    model = tmp_path / "slide.toml"
+    stages = '[[stages]]\ntype = "cycle"\nsteps = 100\n[[stages]]\ntype = "time"\ntime = 0.01\n'
+    model.write_text(SLIDER.format(mechanics="") + stages, encoding="utf-8")
+    assert cli.main(["simulate", str(model), "--check"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "stages[0] cycle 100 steps, local damping 0.8" in out
+    assert re.search(r"stages\[1\] time [\d,]+ steps, undamped", out), out
+    # A stage the engine stopped (its summary entry as run_summary writes it).
+    from penedge.cli.simulate import stage_text
+
+    stopped = {"name": "s", "kind": "time", "stopped": "error", "steps": 12, "damping": 0.0}
+    assert stage_text(stopped) == "s time: stopped by the engine after 12 steps, undamped"

@@ -49,8 +49,8 @@ def test_check_states_the_time_step_and_what_each_stage_takes(tmp_path, capsys):
     dt = column_timestep()
     steps = math.ceil(0.5 / dt - 1e-9)
     assert f"time step {dt:.3g} s (at the start)" in lines, lines
-    assert f"steps stages[0] time {steps:,} steps" in lines, lines
-    assert "steps stages[1] cycle 1,000 steps" in lines
+    assert f"steps stages[0] time {steps:,} steps, undamped" in lines, lines
+    assert "steps stages[1] cycle 1,000 steps, local damping 0.8" in lines
     assert "steps stages[2] solve at most 100,000 steps" in lines
     # F = 1; 2, 4, 8, 10 (or 0.5 ... 0.1); at most 9 halvings of a bracket of 5 to 0.01
     assert "steps stages[3] factor_of_safety at most 14 trials of at most 2,000 steps" in lines
@@ -138,7 +138,8 @@ def test_a_long_run_says_at_its_start_what_it_takes(tmp_path, capsys, monkeypatc
     err = capsys.readouterr().err
     dt = column_timestep()
     assert err.startswith(
-        f"penedge simulate: a long run: time step {dt:.3g} s; stages[0] cycle 2,000,000 steps; "
+        f"penedge simulate: a long run: time step {dt:.3g} s; stages[0] cycle 2,000,000 steps, "
+        "local damping 0.8; "
         "at most 5 history points"
     ), err
     short = '[[stages]]\ntype = "cycle"\nsteps = 1000\n'

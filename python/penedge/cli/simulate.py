@@ -456,7 +456,7 @@ def stage_plan_text(p: dict[str, Any]) -> str:
         return f"{name} (steps unknown: no time step yet)"
     if p["trials"]:
         return f"{name} at most {p['trials']} trials of at most {p['steps']:,} steps"
-    return f"{name} {'' if p['exact'] else 'at most '}{p['steps']:,} steps"
+    return f"{name} {'' if p['exact'] else 'at most '}{p['steps']:,} steps{damping_text(p)}"
 
 
 def plan_text(plan: dict[str, Any]) -> str:
@@ -625,7 +625,7 @@ def stage_text(stage: dict[str, Any]) -> str:
     if stage["stopped"] == "interrupted":
         return f"{text}: interrupted after {stage['steps']:,} steps (ratio {stage['ratio']:.1e})"
     if stage["stopped"] == "error":
-        return f"{text}: stopped by the engine after {stage['steps']:,} steps"
+        return f"{text}: stopped by the engine after {stage['steps']:,} steps{damping_text(stage)}"
     if stage["kind"] == "solve":
         if stage["converged"]:
             return (

@@ -819,6 +819,7 @@ class StagePlan:
     history: int = 0
     frames: int = 0
     trials: int = 0
+    damping: float | None = None  # cycle, time: the local damping it will step with
 
 
 def safety_trials(stage: Stage) -> int:
@@ -855,7 +856,9 @@ def plan_stages(model: Model, timestep: float | None, first: int = 0) -> list[St
             steps, exact, trials = stage.max_steps, False, safety_trials(stage)
         else:
             continue
-        plan = StagePlan(i, stage.name, stage.kind, steps, exact, trials=trials)
+        plan = StagePlan(
+            i, stage.name, stage.kind, steps, exact, trials=trials, damping=stage.damping
+        )
         if steps is not None and not trials:
             plan.history = -(-steps // every)
             plan.frames = 1 + (steps // frame_every if frame_every else 0)
