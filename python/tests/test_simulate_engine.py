@@ -178,8 +178,9 @@ def test_asymmetric_wedge_edge_contact_takes_its_joints_properties():
     of 30 degrees and point_width = 0.2). F by strength reduction against Hoek & Bray's
     (computed above, per joint friction), as the critical friction angles of both joints
     within 1 degree (the criterion of the wedge tests above). Since the edge lies in two
-    joints, it is where they cross, and it has had no area since 2026-11-29
-    (docs/mechanics.md, "Where joints cross"): F = 1.133 (1.109 with the edge's strip)."""
+    joints, it is where they cross, and it has borne only past half the detection gap since
+    2026-11-29 (docs/mechanics.md, "Where joints cross"): F = 1.133 (1.109 with the edge's
+    strip bearing from the first overlap)."""
     text = (EXAMPLES / "wedge_dry.toml").read_text()
     for (dip, direction), old in zip(ASYMMETRIC, ("45", "135"), strict=True):
         text = text.replace(
@@ -393,10 +394,12 @@ def test_roof_wedge_on_two_joints_matches_hoek_and_bray_at_the_default_point_wid
     degrees), so Hoek & Bray's closed form holds, F = tan(phi) / tan(psi) / sin(xi / 2),
     psi the line's plunge and xi the included angle of B and C, computed here (1.1416).
     The joints are persistent: the block across both B and C meets the wedge along that
-    line, an edge-edge contact where two joints cross, which has no area (docs/mechanics.md,
-    "Where joints cross"). Given the nominal strip of the default point_width (0.2), it took
-    31 % of the load normal to the line, on its bisecting normal, without the wedging of the
-    two faces (1 / sin(xi / 2) = 2.6): F = 0.91, "NOT stable" (1.05 at point_width 0.05).
+    line, an edge-edge contact where two joints cross, which bears only past half the
+    detection gap (docs/mechanics.md, "Where joints cross"): the joints' closures stay far
+    below it. Bearing from the first overlap on the strip of the default point_width (0.2),
+    it took 31 % of the load normal to the line, on its bisecting normal, without the
+    wedging of the two faces (1 / sin(xi / 2) = 2.6): F = 0.91, "NOT stable" (1.05 at
+    point_width 0.05).
     Compared as the critical friction angle, within 1 degree (the wedge tests' criterion)."""
     nb, nc = plane_normal(80, 340), plane_normal(80, 200)
     xi = math.pi - math.acos(nb @ nc)

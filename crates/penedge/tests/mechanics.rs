@@ -1604,6 +1604,32 @@ fn a_body_pushed_with_a_bad_density_or_pose_is_refused() {
     assert_eq!(bodies.push(shape, pose, 2500.0).unwrap(), 0);
 }
 
+/// The box from `lo` to `hi` with its faces in the plane x = 0 of joint 0 (set 0), those in
+/// z = 0 of joint 1 (set 1), the others of the domain's boundary: blocks around the line
+/// where two joints cross.
+fn jointed_box(lo: [f64; 3], hi: [f64; 3]) -> ConvexBlock {
+    use penedge::block::FaceOrigin;
+    let cube = ConvexBlock::cuboid(lo, hi).unwrap();
+    let origins = (0..cube.n_faces())
+        .map(|i| {
+            let p = cube.planes()[i];
+            let on =
+                |axis: DVec3| p.normal.dot(axis).abs() > 0.5 && p.point.dot(axis).abs() < 1e-12;
+            if on(DVec3::X) {
+                FaceOrigin::Joint { set: 0, joint: 0 }
+            } else if on(DVec3::Z) {
+                FaceOrigin::Joint { set: 1, joint: 1 }
+            } else {
+                FaceOrigin::Boundary {
+                    part: 0,
+                    face: i as u32,
+                }
+            }
+        })
+        .collect();
+    cube.with_face_origins(origins).unwrap()
+}
+
 /// Four unit cubes around the line where two joints cross (x = 0, set 0; z = 0, set 1): W
 /// free, pushed by a gravity of (-4, 0, -8) m/s² into the cube across the x joint and the one
 /// across the z joint, both of which carry it on faces; the cube diagonally across both
@@ -1616,7 +1642,6 @@ fn a_body_pushed_with_a_bad_density_or_pose_is_refused() {
 /// for limit equilibrium's 1.14 (python/tests/test_simulate_engine.py).
 #[test]
 fn where_two_joints_cross_the_diagonal_block_carries_nothing() {
-    use penedge::block::FaceOrigin;
     let corners = [
         ([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]),   // W, free
         ([-1.0, 0.0, 0.0], [0.0, 1.0, 1.0]),  // across the x joint
@@ -1628,31 +1653,11 @@ fn where_two_joints_cross_the_diagonal_block_carries_nothing() {
         let blocks: Vec<ConvexBlock> = corners
             .iter()
             .map(|&(lo, hi)| {
-                let cube = ConvexBlock::cuboid(lo, hi).unwrap();
-                if !jointed {
-                    return cube;
+                if jointed {
+                    jointed_box(lo, hi)
+                } else {
+                    ConvexBlock::cuboid(lo, hi).unwrap()
                 }
-                // The faces in the plane x = 0 are of joint 0 (set 0), those in z = 0 of
-                // joint 1 (set 1); the others of the domain's boundary.
-                let origins = (0..cube.n_faces())
-                    .map(|i| {
-                        let p = cube.planes()[i];
-                        let on = |axis: DVec3| {
-                            p.normal.dot(axis).abs() > 0.5 && p.point.dot(axis).abs() < 1e-12
-                        };
-                        if on(DVec3::X) {
-                            FaceOrigin::Joint { set: 0, joint: 0 }
-                        } else if on(DVec3::Z) {
-                            FaceOrigin::Joint { set: 1, joint: 1 }
-                        } else {
-                            FaceOrigin::Boundary {
-                                part: 0,
-                                face: i as u32,
-                            }
-                        }
-                    })
-                    .collect();
-                cube.with_face_origins(origins).unwrap()
             })
             .collect();
         let mut sim = Simulation::new(&BlockSystem::new(blocks), 2500.0).unwrap();
@@ -1724,36 +1729,17 @@ fn where_two_joints_cross_the_diagonal_block_carries_nothing() {
 /// run stopped with an overlap deeper than the detection gap).
 #[test]
 fn a_block_on_the_diagonal_blocks_edge_alone_bears_on_it_past_half_the_gap() {
-    use penedge::block::FaceOrigin;
     use penedge::contact::Detector;
     use penedge::Tolerance;
-    let jointed = |lo: [f64; 3], hi: [f64; 3]| {
-        let cube = ConvexBlock::cuboid(lo, hi).unwrap();
-        let origins = (0..cube.n_faces())
-            .map(|i| {
-                let p = cube.planes()[i];
-                let on =
-                    |axis: DVec3| p.normal.dot(axis).abs() > 0.5 && p.point.dot(axis).abs() < 1e-12;
-                if on(DVec3::X) {
-                    FaceOrigin::Joint { set: 0, joint: 0 }
-                } else if on(DVec3::Z) {
-                    FaceOrigin::Joint { set: 1, joint: 1 }
-                } else {
-                    FaceOrigin::Boundary {
-                        part: 0,
-                        face: i as u32,
-                    }
-                }
-            })
-            .collect();
-        cube.with_face_origins(origins).unwrap()
-    };
-    let w = jointed([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]);
-    let d = jointed([-1.0, 0.0, -1.0], [0.0, 1.0, 0.0]);
-    let gap = Detector::new(Tolerance::with_gap(1e-3).unwrap())
+    let w = jointed_box([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]);
+    let d = jointed_box([-1.0, 0.0, -1.0], [0.0, 1.0, 0.0]);
+    // The detection gap of the pair, at the relative gap the simulation is given.
+    let relative = 1e-3;
+    let gap = Detector::new(Tolerance::with_gap(relative).unwrap())
         .thresholds(&w, &d)
         .gap;
     let mut sim = Simulation::new(&BlockSystem::new(vec![w, d]), 2500.0).unwrap();
+    sim.set_gap(relative).unwrap();
     sim.fix(1).unwrap();
     let kn = 1e9;
     sim.set_default_joint(joint(kn, 60.0, 0.0, 0.0)).unwrap();

@@ -269,7 +269,7 @@ pub fn generate_with(
     let excavated = !spec.excavations.is_empty();
     let mut sliver_blocks = Vec::new();
     if excavated {
-        let (kept, slivers) = report::sort_sliver_bodies(system, &report.slivers);
+        let (kept, slivers, parts) = report::sort_sliver_bodies(system, &report.slivers);
         if kept.is_empty() {
             let msg = format!(
                 "every one of the {} blocks the excavations leave is a sliver (thinner than \
@@ -278,12 +278,7 @@ pub fn generate_with(
             );
             return Err(SpecError::new("options.slivers", Problem::Invalid(msg)).into());
         }
-        sliver_blocks = kept
-            .body_parts()
-            .into_iter()
-            .filter(|(body, _)| slivers.kept_bodies.binary_search(body).is_ok())
-            .flat_map(|(_, parts)| parts)
-            .collect();
+        sliver_blocks = parts;
         system = kept;
         report.excavation_slivers = slivers;
     }

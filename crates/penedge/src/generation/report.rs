@@ -187,34 +187,33 @@ pub fn body_thickness(parts: &[&ConvexBlock]) -> f64 {
 /// Finds the sliver bodies of `system` (the blocks left by a spec's excavations) by the
 /// limits and policy of `limits` (the joints' cut's report): a body is a sliver when its
 /// volume is below the minimum volume or its thickness ([`body_thickness`]) below the
-/// minimum thickness. Kept, they are listed by body id; dropped, every part of each is
-/// removed (the other bodies keep their glue; body ids renumbered `0..` in the order of
-/// each body's first part).
+/// minimum thickness. Dropped, every part of each is removed (the other bodies keep their
+/// glue; body ids renumbered `0..` in the order of each body's first part); kept, the ids
+/// of their parts are returned (the report's `kept_bodies` is left to the caller, whose
+/// bodies may still change: the bridges' glue).
 pub(crate) fn sort_sliver_bodies(
     system: crate::system::BlockSystem,
     limits: &SliverReport,
-) -> (crate::system::BlockSystem, ExcavationSlivers) {
+) -> (crate::system::BlockSystem, ExcavationSlivers, Vec<u32>) {
     let mut report = ExcavationSlivers::default();
-    let mut slivers = Vec::new();
+    let (mut bodies, mut parts_of_slivers) = (Vec::new(), Vec::new());
     for (body, parts) in system.body_parts() {
-        let parts: Vec<&ConvexBlock> = parts
+        let blocks: Vec<&ConvexBlock> = parts
             .iter()
             .map(|&k| &system.blocks()[k as usize])
             .collect();
-        let volume: f64 = parts.iter().map(|p| p.volume()).sum();
-        if volume < limits.min_volume || body_thickness(&parts) < limits.min_thickness {
+        let volume: f64 = blocks.iter().map(|p| p.volume()).sum();
+        if volume < limits.min_volume || body_thickness(&blocks) < limits.min_thickness {
             report.count += 1;
             report.volume += volume;
-            slivers.push(body);
+            bodies.push(body);
+            parts_of_slivers.extend(parts);
         }
     }
     match limits.policy {
-        SliverPolicy::Keep => {
-            report.kept_bodies = slivers;
-            (system, report)
-        }
-        SliverPolicy::Drop if slivers.is_empty() => (system, report),
-        SliverPolicy::Drop => (system.without_bodies(&slivers), report),
+        SliverPolicy::Keep => (system, report, parts_of_slivers),
+        SliverPolicy::Drop if bodies.is_empty() => (system, report, Vec::new()),
+        SliverPolicy::Drop => (system.without_bodies(&bodies), report, Vec::new()),
     }
 }
 

@@ -7,7 +7,7 @@
 //! residual values after failure (cohesion and tension zero). Only its properties differ:
 //! those of the intact rock.
 
-use super::joint::{contact_sets, crosses_joints, JointModel, JointTable, SetChoice};
+use super::joint::{contact_sets, JointModel, JointTable, SetChoice};
 use super::MechanicsError;
 use crate::block::ConvexBlock;
 use crate::classify::Feature;
@@ -102,9 +102,6 @@ pub(super) fn contact_model(
 pub(super) struct ContactFaces {
     sets: SetChoice,
     bridge_faces: bool,
-    /// Whether the contact is where joints cross ([`crosses_joints`]): it bears only past half
-    /// the detection gap of overlap.
-    crossing: bool,
 }
 
 impl ContactFaces {
@@ -121,15 +118,7 @@ impl ContactFaces {
         ContactFaces {
             sets: contact_sets(a, fa, b, fb),
             bridge_faces: faces && (bridge_face(a, fa) || bridge_face(b, fb)),
-            crossing: crosses_joints(a, fa, b, fb),
         }
-    }
-
-    /// Whether the contact is where two joints or more cross, two edges or vertices in each
-    /// of their planes ([`crosses_joints`]): it bears only past half the detection gap of
-    /// overlap ([`super::contacts::Carry::engage`]).
-    pub fn crossing(&self) -> bool {
-        self.crossing
     }
 
     /// The contact's set, whether it is a bridge, and its model ([`contact_model`]).

@@ -4,7 +4,7 @@
 
 use super::bodies::Bodies;
 use super::bridge::{BridgeTable, ContactFaces};
-use super::joint::{joint_law, JointTable, SubState, Tangents};
+use super::joint::{crosses_joints, joint_law, JointTable, SubState, Tangents};
 use super::stress::InitialStress;
 use crate::block::{ConvexBlock, Pose};
 use crate::classify::{Contact, ContactType, Feature};
@@ -131,7 +131,7 @@ pub(super) struct Carry {
     /// What the contact's joint model takes from its features (kept with them).
     pub faces: ContactFaces,
     /// The overlap past which the contact bears: half the detection gap where joints cross
-    /// ([`ContactFaces::crossing`]; docs/mechanics.md, "Where joints cross"), else 0.
+    /// ([`crosses_joints`]; docs/mechanics.md, "Where joints cross"), else 0.
     pub engage: f64,
     /// The two features (A's, B's) as placed at the query: a carried contact measures its gaps
     /// in A's frame at the query, where A's is as it was and B's is moved by B's motion
@@ -182,14 +182,18 @@ impl Carry {
             (contact.feature_a, contact.feature_b),
             (Feature::Vertex(_) | Feature::Edge(_), Feature::Face(_))
         );
-        let faces = ContactFaces::of(a, contact.feature_a, b, contact.feature_b);
+        let (fa, fb) = (contact.feature_a, contact.feature_b);
         Carry {
             poses,
             with_b,
             normal_with_b,
             tolerance,
-            engage: if faces.crossing() { 0.5 * gap } else { 0.0 },
-            faces,
+            engage: if crosses_joints(a, fa, b, fb) {
+                0.5 * gap
+            } else {
+                0.0
+            },
+            faces: ContactFaces::of(a, fa, b, fb),
             features: [
                 FeatureAt::of(a, contact.feature_a),
                 FeatureAt::of(b, contact.feature_b),
