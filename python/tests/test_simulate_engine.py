@@ -35,7 +35,13 @@ def water_force(corners, level, n=400):
 
 
 def wedge_limit_equilibrium(
-    friction, pressure=0.0, seismic=0.0, level=None, joints=((45, 45), (45, 135)), friction_b=None
+    friction,
+    pressure=0.0,
+    seismic=0.0,
+    level=None,
+    joints=((45, 45), (45, 135)),
+    friction_b=None,
+    cohesion=(0.0, 0.0),
 ):
     """Hoek & Bray's factor of safety of the wedge of examples/models/wedge_*.toml, by
     vectors: the weight W of the tetrahedron cut from the box corner region by the two
@@ -44,7 +50,9 @@ def wedge_limit_equilibrium(
     N' = N - U (U = u A for a uniform water pressure u on each joint, or the hydrostatic force
     below a water table at elevation `level`); `seismic` adds a pseudo-static force kh W
     towards East (out of the slope face). `joints`: the (dip, dip direction) of A and B, both
-    through (10, 5, 5); phi_A = `friction`, phi_B = `friction_b` (default: the same)."""
+    through (10, 5, 5); phi_A = `friction`, phi_B = `friction_b` (default: the same);
+    `cohesion` (c_A, c_B) adds c A of each joint's triangle to the resisting force (the whole
+    cohesion at once, as limit equilibrium has it)."""
     na, nb = (plane_normal(*j) for j in joints)
     apex = np.array([10.0, 5.0, 5.0])  # both planes pass through it
     # the corners on the top (z = 10) and the slope face (x = 10)
@@ -81,6 +89,7 @@ def wedge_limit_equilibrium(
     friction_b = friction if friction_b is None else friction_b
     tan_a, tan_b = math.tan(math.radians(friction)), math.tan(math.radians(friction_b))
     resisting = (n_a - u_a) * tan_a + (n_b - u_b) * tan_b
+    resisting += cohesion[0] * area(*tri_a) + cohesion[1] * area(*tri_b)
     return resisting / driving, volume
 
 
@@ -168,6 +177,17 @@ def test_wedge_below_a_water_table_matches_limit_equilibrium():
 ASYMMETRIC = ((60, 40), (35, 160))  # joints A and B: (dip, dip direction)
 
 
+def asymmetric_wedge(extra):
+    """wedge_dry.toml on the joints of ASYMMETRIC, with `extra` (joint property tables)."""
+    text = (EXAMPLES / "wedge_dry.toml").read_text()
+    for (dip, direction), old in zip(ASYMMETRIC, ("45", "135"), strict=True):
+        text = text.replace(
+            f"dip = 45\ndip_direction = {old}\n", f"dip = {dip}\ndip_direction = {direction}\n"
+        )
+    assert "dip = 45" not in text
+    return text.replace("[regions.wedge]", extra + "[regions.wedge]")
+
+
 def test_asymmetric_wedge_edge_contact_takes_its_joints_properties():
     """wedge_dry.toml on joints A (60/040, friction 30) and B (35/160, friction 20), neither
     with cohesion, the default properties much stronger than both (40 degrees, 50 kPa). The
@@ -181,16 +201,10 @@ def test_asymmetric_wedge_edge_contact_takes_its_joints_properties():
     joints, it is where they cross, and it has borne only past half the detection gap since
     2026-11-29 (docs/mechanics.md, "Where joints cross"): F = 1.133 (1.109 with the edge's
     strip bearing from the first overlap)."""
-    text = (EXAMPLES / "wedge_dry.toml").read_text()
-    for (dip, direction), old in zip(ASYMMETRIC, ("45", "135"), strict=True):
-        text = text.replace(
-            f"dip = 45\ndip_direction = {old}\n", f"dip = {dip}\ndip_direction = {direction}\n"
-        )
-    text = text.replace("friction = 40", "friction = 40\ncohesion = 50e3")
     extra = "[joint_properties.A]\nfriction = 30\ncohesion = 0\n\n"
     extra += "[joint_properties.B]\nfriction = 20\ncohesion = 0\n\n"
-    text = text.replace("[regions.wedge]", extra + "[regions.wedge]")
-    assert "dip = 45" not in text
+    text = asymmetric_wedge(extra).replace("friction = 40", "friction = 40\ncohesion = 50e3")
+    assert "cohesion = 50e3" in text
     assert "point_width = 0.05" in text
     outcome = pm.simulate(text)
     assert outcome.stages[0].converged
@@ -205,6 +219,42 @@ def test_asymmetric_wedge_edge_contact_takes_its_joints_properties():
     assert safety.failing - safety.stable <= 0.01 + 1e-12
     free = ~pm.prepare(text).layout.fixed
     assert safety.failing_blocks == np.flatnonzero(free).tolist()
+
+
+def test_wedge_with_cohesion_ductile_matches_limit_equilibrium_brittle_fails_progressively():
+    """The asymmetric wedge with cohesion on its joints (A: 30 degrees and 2 kPa, B: 20
+    degrees and 6 kPa). Ductile (residual_cohesion = cohesion: nothing lost where a joint
+    reaches its strength) F is limit equilibrium's with the whole cohesion at once, within
+    the search's tolerance of 0.01 and 1 %. Brittle (the default residual cohesion, 0) the
+    least loaded corners fail first and shed their load onto the rest: F lies between the
+    joints' friction alone and the ductile F, far below it (docs/models.md, "Brittle
+    cohesion"), and no lower than friction alone less the tolerance."""
+    cohesion = (2e3, 6e3)
+
+    def tables(residual):
+        out = ""
+        for name, phi, c in (("A", 30, cohesion[0]), ("B", 20, cohesion[1])):
+            out += f"[joint_properties.{name}]\nfriction = {phi}\ncohesion = {c}\n"
+            out += f"residual_cohesion = {c if residual else 0}\n\n"
+        return out
+
+    with_cohesion, _ = wedge_limit_equilibrium(
+        30.0, joints=ASYMMETRIC, friction_b=20.0, cohesion=cohesion
+    )
+    frictional, _ = wedge_limit_equilibrium(30.0, joints=ASYMMETRIC, friction_b=20.0)
+    assert with_cohesion > frictional * 1.2  # the cohesion matters here
+    ductile = pm.simulate(asymmetric_wedge(tables(residual=True)))
+    assert ductile.stages[0].converged
+    d = ductile.safety
+    print(f"ductile: F = {d.factor} ({d.stable}, {d.failing}), LE {with_cohesion}")
+    assert d.stable <= with_cohesion * 1.01
+    assert d.failing >= with_cohesion * 0.99
+    brittle = pm.simulate(asymmetric_wedge(tables(residual=False)))
+    assert brittle.stages[0].converged
+    b = brittle.safety
+    print(f"brittle: F = {b.factor} ({b.stable}, {b.failing}), friction alone {frictional}")
+    assert frictional - 0.01 <= b.factor
+    assert b.factor < frictional + 0.25 * (with_cohesion - frictional)
 
 
 def test_factor_of_safety_does_not_depend_on_the_step_budget():

@@ -399,6 +399,50 @@ def test_the_warning_of_a_stiffer_kn_comes_with_the_run_too(tmp_path, capsys):
     strict(captured.out)  # stdout stays JSON
 
 
+FOS = '[[stages]]\ntype = "factor_of_safety"\n'
+FOS_BEDDING = FOS + 'sets = ["bedding"]\n'
+
+
+@pytest.mark.parametrize(
+    ("stages", "warned"),
+    [
+        # every set and the default properties, brittle (the default residual cohesion, 0)
+        (
+            properties(cohesion=1e4) + SOLVE + FOS,
+            ["bedding (10000 Pa, residual 0)", "the default properties (10000 Pa"],
+        ),
+        # only the sets the stage reduces
+        (properties(cohesion=1e4) + SOLVE + FOS_BEDDING, ["bedding (10000 Pa, residual 0)"]),
+        # partly ductile is still brittle; wholly ductile is not
+        (properties(cohesion=1e4, residual_cohesion=5e3) + SOLVE + FOS, ["residual 5000"]),
+        (properties(cohesion=1e4, residual_cohesion=1e4) + SOLVE + FOS, None),
+        # what is in effect when the stage runs counts
+        (properties(cohesion=1e4) + SOLVE + properties(residual_cohesion=1e4) + FOS, None),
+        (properties(cohesion=1e4) + SOLVE + FOS + properties(residual_cohesion=1e4), ["bedding"]),
+        (properties(cohesion=1e4) + SOLVE, None),  # no factor of safety
+        (SOLVE + FOS, None),  # no cohesion
+    ],
+)
+def test_a_factor_of_safety_reducing_brittle_cohesion_is_warned_of(
+    tmp_path, capsys, stages, warned
+):
+    """The block column's joints with cohesion: a factor_of_safety stage reducing a cohesion
+    above its residual value is warned of (docs/models.md, "Brittle cohesion")."""
+    assert simulate(tmp_path, stages, "--check", "-q") == 0
+    err = capsys.readouterr().err
+    if warned is None:
+        assert err == ""
+        return
+    assert err.startswith("penedge: warning: stages["), err
+    assert "reduces brittle cohesion" in err
+    assert "residual_cohesion = cohesion" in err
+    assert err.count("warning") == 1
+    for text in warned:
+        assert text in err, err
+    if "sets = " in stages:  # the default properties are reduced with every set only
+        assert "the default properties" not in err
+
+
 def test_a_restart_file_of_another_model_is_refused(tmp_path, capsys):
     # The same number of blocks (five), other blocks: the bedding shifted by half a metre.
     assert simulate(tmp_path, SAVE_AND_GO_ON) == 0

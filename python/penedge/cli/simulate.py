@@ -165,9 +165,9 @@ def simulate_model(args: argparse.Namespace, path: Path) -> int:
     show = progress.wanted(args.quiet or args.json)
     model = pm.read_model(path)
     refuse_outputs_as_saves(model, folder)
-    from penedge.model.run import stiffening_warnings
+    from penedge.model.run import brittle_warnings, stiffening_warnings
 
-    for warning in stiffening_warnings(model):
+    for warning in stiffening_warnings(model) + brittle_warnings(model):
         print(f"{PROG}: warning: {warning}", file=sys.stderr)
     bar = ProgressBar(sys.stderr, f"{PROG} simulate: generating", unit="planes") if show else None
     try:

@@ -928,6 +928,52 @@ def stiffening_warnings(model: Model) -> list[str]:
     return warnings
 
 
+def brittle_warnings(model: Model) -> list[str]:
+    """A warning for each ``factor_of_safety`` stage that reduces a brittle cohesion: a
+    joint set (or the default properties, or a set's rock bridges) whose cohesion is above
+    its residual cohesion (3DEC's default residual is 0) when the stage runs. A sub-contact
+    that reaches its strength then loses cohesion, and the load it sheds can fail the next:
+    F includes that progressive failure, and can lie far below limit equilibrium's, which
+    has the whole cohesion at once (docs/models.md, "Brittle cohesion")."""
+    properties = dict(model.properties)
+    default = model.default_properties
+    warnings = []
+    for stage in model.stages:
+        if stage.kind == "properties":
+            names = stage.sets or tuple(model.set_names)
+            if not stage.sets:  # every set, and the contacts of no set (as the run applies it)
+                default = merge(default, stage.changes)
+            properties.update({name: merge(properties[name], stage.changes) for name in names})
+            continue
+        if stage.kind != "factor_of_safety":
+            continue
+        names = stage.sets or tuple(model.set_names)
+        reduced = [(name, properties[name]) for name in names]
+        if not stage.sets:
+            reduced.append(("the default properties", default))
+        reduced += [
+            (f"{name}'s rock bridges", model.bridges[name])
+            for name in names
+            if name in model.bridges
+        ]
+        brittle = [
+            f"{name} ({p.cohesion:g} Pa, residual {p.residual_cohesion:g})"
+            for name, p in reduced
+            if p.cohesion > p.residual_cohesion
+        ]
+        if not brittle:
+            continue
+        warnings.append(
+            f"{stage.name} (factor_of_safety) reduces brittle cohesion: {', '.join(brittle)}. "
+            "A joint loses its cohesion where it reaches its strength, and the load it sheds "
+            "can fail the rest: F includes this progressive failure and can lie well below "
+            "limit equilibrium's, which has the whole cohesion at once (a wedge on joints of "
+            "2 and 6 kPa: 1.15 against 1.47). For limit equilibrium's assumption give "
+            'residual_cohesion = cohesion (docs/models.md, "Brittle cohesion")'
+        )
+    return warnings
+
+
 # --- what a restart file must share with the model (docs/models.md, "Restart") --------
 
 
