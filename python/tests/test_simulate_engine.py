@@ -2,6 +2,7 @@
 computed here: Hoek & Bray's limit equilibrium of the wedge, the elastic settlement of a
 block column. The runs are skipped where this build has no engine."""
 
+import json
 import math
 from pathlib import Path
 
@@ -387,6 +388,71 @@ def test_slope_excavated_at_its_toe_then_its_factor_matches_limit_equilibrium():
     free = ~layout.fixed & ~removed
     assert safety.failing_blocks == np.flatnonzero(free).tolist()
     assert len(safety.failing_blocks) == 1
+
+
+def test_a_block_that_slides_off_its_plane_and_lands_fails_its_trial():
+    """slope_excavation.toml with a budget long enough for a trial's block to slide off the
+    daylit bedding and land on the bench below (32,000 steps per trial; it lands within
+    about 13,000 at F = 2 and above, 1.74 m down): in equilibrium there, but failed. Before
+    the trials' displacement limit (docs/models.md, "Failure criterion") every trial came
+    out stable and F > 10 (a tester's finding); now F is Hoek & Bray's planar one, and a
+    failing trial stops as soon as its block passes 1 % of its size (the cube root of its
+    volume), long before the budget."""
+    text = (EXAMPLES / "slope_excavation.toml").read_text()
+    assert text.count("max_steps = 4000") == 1
+    text = text.replace("max_steps = 4000", "max_steps = 32000")
+    setup = pm.prepare(text)
+    outcome = pm.simulate(setup)
+    safety = outcome.safety
+    exact = math.tan(math.radians(40)) / math.tan(math.radians(35))
+    assert safety.stable < exact + 0.01
+    assert safety.failing > exact - 0.01
+    (block,) = safety.failing_blocks
+    limit = 0.01 * setup.blocks.volumes[block] ** (1 / 3)
+    far = [t for t in safety.trials if t.factor >= 2]
+    assert far, "no trial at F >= 2"
+    for t in far:
+        assert t.failed
+        assert t.beyond == [block]
+        assert t.steps < 32000 / 4  # stopped when the block passed the limit
+        assert t.displacement[t.moved.index(block)] > limit
+    for t in safety.trials:
+        if not t.failed:
+            assert t.beyond == []
+
+
+def test_blocks_moved_before_the_trials_are_named(tmp_path):
+    """wedge_dry.toml with a displacement limit of 0.1 mm: its first solve settles the wedge
+    by 0.28 mm (the joints' elastic closure and slip under gravity applied at once), farther
+    than a trial may move it, which the factor of safety names (`moved_before`) and the
+    summary prints as a CAUTION (docs/models.md, "Loads applied at once")."""
+    from penedge import cli
+
+    text = (EXAMPLES / "wedge_dry.toml").read_text()
+    assert text.count('type = "factor_of_safety"\n') == 1
+    text = text.replace(
+        'type = "factor_of_safety"\n', 'type = "factor_of_safety"\ndisplacement = 1e-4\n'
+    )
+    model = tmp_path / "wedge.toml"
+    model.write_text(text)
+    setup = pm.prepare(text)
+    outcome = pm.simulate(setup)
+    safety = outcome.safety
+    (wedge,) = np.flatnonzero(~setup.layout.fixed)
+    settled = float(np.linalg.norm(outcome.displacement[wedge]))
+    assert safety.moved_before == [wedge]
+    # before the trials the wedge was where the run ended (the trials are discarded)
+    assert safety.moved_before_displacement == [pytest.approx(settled, rel=1e-9)]
+    assert settled > 1e-4
+    assert (
+        cli.main(
+            ["simulate", str(model), "-o", str(tmp_path / "out"), "--no-pictures", "--no-series"]
+        )
+        == 0
+    )
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    entry = summary["stages"][1]["factor_of_safety"]
+    assert entry["moved_before"] == [int(wedge)]
 
 
 ROOF_WEDGE = """

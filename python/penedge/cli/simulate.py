@@ -558,6 +558,8 @@ def run_summary(
                 "failing_displacement": f.failing_displacement,
                 "failing_rotation": f.failing_rotation,
                 "unheld_blocks": f.unheld_blocks,
+                "moved_before": f.moved_before,
+                "moved_before_displacement": f.moved_before_displacement,
                 "from_equilibrium": f.in_equilibrium,
                 "reliable": f.in_equilibrium,
                 "start_ratio": f.start_ratio,
@@ -675,6 +677,21 @@ def unreliable_text(start_ratio: float, unheld: list[int] | None = None) -> str:
     return f"{start}: the blocks already moving), which fails them too soon; {advice}"
 
 
+def moved_before_text(f: dict[str, Any]) -> str:
+    """The blocks that had moved farther than the trials' displacement limit before them:
+    F is that of where they came to rest."""
+    pairs = list(zip(f["moved_before"], f["moved_before_displacement"], strict=True))
+    ids = ", ".join(f"{b} ({d:.3g} m)" for b, d in pairs[:12]) + (
+        ", ..." if len(pairs) > 12 else ""
+    )
+    return (
+        f"CAUTION: blocks {ids} had moved farther than a trial may before the trials began: "
+        "F is that of the state they came to rest in, not of the model as built (loads "
+        "applied at once can slide a block; solve with a higher strength first: "
+        'docs/models.md, "Loads applied at once")'
+    )
+
+
 def factor_text(factor: float) -> str:
     """A factor of safety to 2 decimals, one below 1 with the digits that keep it below 1
     (``0.996``, not ``1.00``: :func:`penedge.model.run.below_one`)."""
@@ -754,6 +771,8 @@ def format_run(summary: dict[str, Any]) -> str:
             )
             if not f["reliable"]:
                 lines.append(row("", unreliable_text(f["start_ratio"], f.get("unheld_blocks"))))
+            if f.get("moved_before"):
+                lines.append(row("", moved_before_text(f)))
     if summary["written"]:
         lines.append(row("written", ", ".join(summary["written"])))
     return "\n".join(lines)

@@ -122,6 +122,9 @@ class Trial:
     # than the stage's velocity, at the end of the trial
     displacement: list[float] = field(default_factory=list)  # m, of each `moved` block
     rotation: list[float] = field(default_factory=list)  # degrees, of each `moved` block
+    # free blocks that moved farther than the stage's displacement limit (failing the trial
+    # even where they came to rest: a block that slid off its plane onto the rock below)
+    beyond: list[int] = field(default_factory=list)
 
 
 @dataclass
@@ -140,6 +143,10 @@ class SafetyFactor:
     # free blocks that no contact held when the trials started (after steps were taken):
     # falling freely, which no strength of the joints can hold
     unheld_blocks: list[int] = field(default_factory=list)
+    # free blocks that had moved farther than the displacement limit before the trials (since
+    # the start of the run, or the last reset): F is of the state they came to rest in
+    moved_before: list[int] = field(default_factory=list)
+    moved_before_displacement: list[float] = field(default_factory=list)  # m, of each
     start_ratio: float = 0.0  # the unbalanced-force ratio of the state the trials start from
     in_equilibrium: bool = True  # whether that state was below the equilibrium ratio ...
     target: float = 1e-5  # ... the stage's `ratio`
@@ -511,9 +518,17 @@ class Runner:
         if self.progress is not None:
             self.progress(self.engine, stage, done, total)
 
-    def solve(self, stage: Stage, ratio: float, max_steps: int, engine: Any = None) -> bool:
+    def solve(
+        self,
+        stage: Stage,
+        ratio: float,
+        max_steps: int,
+        engine: Any = None,
+        stop: Callable[[Any], bool] | None = None,
+    ) -> bool:
         """Steps until the ratio is below `ratio`, at most `max_steps`; whether it got
-        there. With `engine` (a trial): on that engine, without history."""
+        there. With `engine` (a trial): on that engine, without history; with `stop`, it
+        also ends (not there) once `stop(engine)` holds, checked as the ratio is."""
         e = self.engine if engine is None else engine
         done = 0
         while done < max_steps:
@@ -527,6 +542,8 @@ class Runner:
                 self.report(stage, done, None)
             if e.ratio < ratio:
                 return True
+            if stop is not None and stop(e):
+                return False
         return False
 
     # --- excavation and restart (docs/models.md) ---------------------------------------
@@ -659,6 +676,11 @@ class Runner:
         if self.engine.steps > 0:
             unheld = np.flatnonzero(free & ~self.engine.held()).tolist()
         threshold = self.model.results.moved
+        limit = self.displacement_limit(stage)
+        # Blocks that came to rest far from where they started (loads applied at once can
+        # slide a block before the trials: docs/models.md, "Loads applied at once").
+        before_trials = np.linalg.norm(self.engine.positions() - self.reference, axis=1)
+        moved_before = np.flatnonzero(free & (before_trials > limit))
         trials: list[Trial] = []
 
         def trial(factor: float) -> Trial:
@@ -668,8 +690,16 @@ class Runner:
             e.apply_properties({n: p.reduced(factor) for n, p in original.items()}, factor)
             before, turned = e.positions(), e.rotations()
             start = e.steps  # the engine's count so far: the trial's own steps are after it
+
+            def gone(e: Any) -> bool:
+                # A block beyond the limit has failed the trial: no need to step on.
+                far = np.linalg.norm(e.positions() - before, axis=1) > limit
+                return bool((free & far).any())
+
             try:
-                converged = self.solve(stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e)
+                converged = self.solve(
+                    stage, stage.ratio or 0.0, stage.max_steps or 0, engine=e, stop=gone
+                )
                 broke = False
             except MechanicsError as error:
                 # Blocks driven into each other: the reduced strength is failing. Any other
@@ -680,9 +710,14 @@ class Runner:
                 converged, broke = False, True
             speeds = np.linalg.norm(e.velocities(), axis=1)
             speed = float(speeds[free].max(initial=0.0))
-            failed = broke or (not converged and speed > stage.velocity)
             distance = np.linalg.norm(e.positions() - before, axis=1)
-            moved = np.flatnonzero(free & ((distance > threshold) | (speeds > stage.velocity)))
+            # Failing: still moving when the steps ran out, driven into other blocks, or
+            # moved farther than the limit, where it may have come to rest (a block that
+            # slid off its plane onto the bench below: equilibrium, not stability).
+            beyond = np.flatnonzero(free & (distance > limit))
+            failed = broke or (not converged and speed > stage.velocity) or beyond.size > 0
+            far = distance > np.minimum(limit, threshold)  # the blocks beyond the limit too
+            moved = np.flatnonzero(free & (far | (speeds > stage.velocity)))
             angle = rotation_degrees(turned[moved], e.rotations()[moved])
             t = Trial(
                 factor,
@@ -693,6 +728,7 @@ class Runner:
                 moved.tolist(),
                 distance[moved].tolist(),
                 angle.tolist(),
+                beyond.tolist(),
             )
             trials.append(t)
             if self.progress is not None:
@@ -749,7 +785,20 @@ class Runner:
             failing_displacement=[] if failing is None else failing.displacement,
             failing_rotation=[] if failing is None else failing.rotation,
             unheld_blocks=unheld,
+            moved_before=moved_before.tolist(),
+            moved_before_displacement=before_trials[moved_before].tolist(),
         )
+
+    def displacement_limit(self, stage: Stage) -> np.ndarray:
+        """Per block, how far it may move in a trial of `stage` that does not fail: the
+        stage's ``displacement``, else 1 % of the block's size (the cube root of its body's
+        volume: a concave block's parts share their body's)."""
+        n = len(self.reference)
+        if stage.displacement is not None:
+            return np.full(n, stage.displacement)
+        body = self.engine.body
+        volume = np.bincount(body, self.setup.blocks.volumes, minlength=int(body.max()) + 1)
+        return DISPLACEMENT_SHARE * np.cbrt(volume[body])
 
 
 def rotation_degrees(before: np.ndarray, after: np.ndarray) -> np.ndarray:
@@ -878,6 +927,9 @@ def below_one(factor: float) -> str:
 
 #: The version of the note a ``save`` stage keeps in its restart file.
 RESTART_NOTE_VERSION = 1
+
+#: The default displacement limit of a factor of safety's trial, as a share of a block's size.
+DISPLACEMENT_SHARE = 0.01
 
 #: Why a ``factor_of_safety`` stage without a free block cannot run.
 NO_FREE_BLOCK = (

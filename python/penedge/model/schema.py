@@ -279,6 +279,9 @@ class Stage:
     file: str | None = None  # save: the restart file (relative: in the results folder)
     boundary: Boundary | None = None  # boundary
     velocity: float = 1e-4  # factor_of_safety: m/s, still moving above this
+    # factor_of_safety: m, a trial fails when a free block moved farther (None: 1 % of each
+    # block's size, the cube root of its body's volume)
+    displacement: float | None = None
     tolerance: float = 0.01  # factor_of_safety
     low: float = 0.1  # factor_of_safety: search range
     high: float = 10.0
@@ -970,6 +973,7 @@ def parse_stage(
             ratio=t.number("ratio", mechanics.ratio, above=0, below=1),
             max_steps=t.integer("max_steps", mechanics.max_steps, minimum=1, maximum=MAX_STEPS),
             velocity=t.number("velocity", moving, above=0),
+            displacement=t.optional_number("displacement", above=0),
             tolerance=t.number("tolerance", 0.01, above=0),
             low=t.number("low", 0.1, above=0),
             high=t.number("high", 10.0, above=0),
