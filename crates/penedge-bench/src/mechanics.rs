@@ -4,7 +4,7 @@
 //! `cargo run --release -p penedge-bench -- mechanics [--blocks N] [--threads T]
 //! [--ratio R] [--speed V] [--max-steps S] [--samples K] [--seed X] [--export FILE] [--full 0|1]
 //! [--update F] [--dormant 0|1] [--progress P] [--save-at S --save FILE] [--load FILE]
-//! [--max-wall W] [--joints open|closed]`
+//! [--max-wall W] [--joints open|closed|jointed]`
 //!
 //! `--update F` (default 0.1, `FAST_UPDATE_FRACTION`) carries touching pairs until their
 //! bodies have moved `F` × the gap; `--update 0` is the engine's exact default.
@@ -26,6 +26,14 @@
 //! closed at zero stress at the start (a jointed rock mass in place, 3DEC's usual start):
 //! the free blocks do not fall, they settle by the joints' elastic closure under their
 //! weight, and every block touches its 26 neighbours (faces, edges, corners).
+//!
+//! `--joints jointed`: the closed grid with the face origins a generation from three joint
+//! sets gives it (`FaceOrigin::Joint`: set 0, 1, 2 for the planes normal to x, y, z, one
+//! joint per plane; the box's outer faces `FaceOrigin::Boundary`). The cubes' contacts of
+//! edges and corners then lie where joints cross and bear only past half the detection gap
+//! (docs/mechanics.md, "Where joints cross"), as in a rock mass generated from joint sets;
+//! `closed` has no origins (blocks given by their vertices), and those contacts bear from
+//! the first overlap.
 //!
 //! **The run**: `Simulation::step` until the unbalanced-force ratio (largest unbalanced
 //! force of a free block over its weight) is below `R` (default 1e-5, 3DEC's), at most `S`
@@ -79,6 +87,7 @@
 use crate::heap;
 use crate::rng::SplitMix64;
 use crate::system::pool;
+use penedge::block::FaceOrigin;
 use penedge::classify::PairResult;
 use penedge::glam::{DQuat, DVec3};
 use penedge::mechanics::{BodyContact, Damping, JointModel, Simulation, StepTimings, SubContact};
@@ -136,8 +145,9 @@ struct Options {
     load: Option<String>,
     /// Stop after this many wall seconds of steps.
     max_wall: Option<f64>,
-    /// Joints closed at the start (spacing 1, no turn or shift) instead of open 2 mm.
-    closed: bool,
+    /// Joints closed at the start (spacing 1, no turn or shift) instead of open 2 mm, with
+    /// or without the faces' joint origins.
+    joints: Joints,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -157,7 +167,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         save: None,
         load: None,
         max_wall: None,
-        closed: false,
+        joints: Joints::Open,
     };
     let mut save_at = None;
     let mut save_to = None;
@@ -193,10 +203,11 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--full" => o.full = crate::number::<u8>(value)? != 0,
             "--dormant" => o.dormant = crate::number::<u8>(value)? != 0,
             "--joints" => {
-                o.closed = match value.as_str() {
-                    "open" => false,
-                    "closed" => true,
-                    _ => return Err(format!("--joints is open or closed, got {value}")),
+                o.joints = match value.as_str() {
+                    "open" => Joints::Open,
+                    "closed" => Joints::Closed,
+                    "jointed" => Joints::Jointed,
+                    _ => return Err(format!("--joints is open, closed or jointed, got {value}")),
                 }
             }
             other => return Err(format!("unknown option {other}")),
@@ -224,6 +235,47 @@ fn parse(args: &[String]) -> Result<Options, String> {
     Ok(o)
 }
 
+/// The joints of the model (`--joints`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Joints {
+    /// Open 2 mm, the free blocks turned and shifted a little.
+    Open,
+    /// Closed, the blocks without face origins.
+    Closed,
+    /// Closed, the faces with the origins of three joint sets.
+    Jointed,
+}
+
+/// The face origins of a unit cube of the closed grid whose lower corner is `lo` (integer
+/// coordinates), in a box of `size` cubes along each axis: the origins a generation from
+/// three joint sets of spacing 1 gives (set `a` for the planes normal to axis `a`, joint
+/// numbers counted across the sets), the box's own faces its boundary.
+fn grid_origins(block: &ConvexBlock, lo: DVec3, size: [usize; 3]) -> Vec<FaceOrigin> {
+    block
+        .planes()
+        .iter()
+        .map(|plane| {
+            let axis = (0..3)
+                .max_by(|&i, &j| plane.normal[i].abs().total_cmp(&plane.normal[j].abs()))
+                .expect("three axes");
+            let upper = plane.normal[axis] > 0.0;
+            let at = lo[axis] as usize + usize::from(upper);
+            if at == 0 || at == size[axis] {
+                FaceOrigin::Boundary {
+                    part: 0,
+                    face: (2 * axis + usize::from(upper)) as u32,
+                }
+            } else {
+                let before: usize = size[..axis].iter().map(|s| s - 1).sum();
+                FaceOrigin::Joint {
+                    set: axis as u32,
+                    joint: (before + at - 1) as u32,
+                }
+            }
+        })
+        .collect()
+}
+
 /// The model: blocks and which are fixed.
 struct Model {
     system: BlockSystem,
@@ -240,7 +292,8 @@ fn side(blocks: usize) -> usize {
         .unwrap_or(1)
 }
 
-fn model(blocks: usize, seed: u64, closed: bool) -> Model {
+fn model(blocks: usize, seed: u64, joints: Joints) -> Model {
+    let closed = joints != Joints::Open;
     let n = side(blocks);
     let spacing = if closed { 1.0 } else { SPACING };
     let (w, h) = (n + 2, n + 1);
@@ -262,7 +315,16 @@ fn model(blocks: usize, seed: u64, closed: bool) -> Model {
                         rng.point_in_cube(SHIFT),
                     )
                 };
-                blocks.push(unit.transformed(turn, centre + shift, 1.0));
+                let block = unit.transformed(turn, centre + shift, 1.0);
+                let block = match joints {
+                    Joints::Jointed => {
+                        let lo = DVec3::new(i as f64, j as f64, k as f64);
+                        let origins = grid_origins(&block, lo, [w, w, h]);
+                        block.with_face_origins(origins).expect("one per face")
+                    }
+                    _ => block,
+                };
+                blocks.push(block);
                 fixed.push(wall);
             }
         }
@@ -289,7 +351,7 @@ struct Heap {
 }
 
 fn settle(o: &Options) -> Result<(), String> {
-    let m = model(o.blocks, o.seed, o.closed);
+    let m = model(o.blocks, o.seed, o.joints);
     let (bodies, free) = (m.system.len(), m.n * m.n * m.n);
     heap::count();
     let before = heap::live();
@@ -758,7 +820,7 @@ mod tests {
 
     #[test]
     fn closed_joints_put_every_block_exactly_on_the_unit_grid() {
-        let m = model(100, 1, true);
+        let m = model(100, 1, Joints::Closed);
         for (b, block) in m.system.blocks().iter().enumerate() {
             let (i, j, k) = (b % 5, (b / 5) % 5, b / 25);
             let lo = DVec3::new(i as f64, j as f64, k as f64);
@@ -772,8 +834,35 @@ mod tests {
     }
 
     #[test]
+    fn jointed_faces_name_the_joint_plane_they_lie_in() {
+        let m = model(100, 1, Joints::Jointed);
+        let (w, h) = (5usize, 4usize);
+        for (b, block) in m.system.blocks().iter().enumerate() {
+            for (plane, origin) in block.planes().iter().zip(block.face_origins()) {
+                // The plane's axis and its coordinate along it (an integer on the grid).
+                let axis = (0..3).find(|&a| plane.normal[a].abs() == 1.0).unwrap();
+                let at = plane.point[axis].round() as usize;
+                let size = [w, w, h][axis];
+                match *origin {
+                    FaceOrigin::Boundary { face, .. } => {
+                        assert!(at == 0 || at == size, "block {b}");
+                        assert_eq!(face as usize / 2, axis);
+                    }
+                    FaceOrigin::Joint { set, joint } => {
+                        assert_eq!(set as usize, axis, "block {b}");
+                        // joints 0..4 normal to x (x = 1..4), 4..8 to y, 8..11 to z
+                        let first = [0, w - 1, 2 * (w - 1)][axis];
+                        assert_eq!(joint as usize, first + at - 1, "block {b}");
+                    }
+                    other => panic!("block {b}: {other:?}"),
+                }
+            }
+        }
+    }
+
+    #[test]
     fn neighbouring_blocks_of_the_model_are_at_least_a_millimetre_apart() {
-        let m = model(100, 1, false);
+        let m = model(100, 1, Joints::Open);
         assert_eq!(m.system.len(), 5 * 5 * 4);
         assert_eq!(m.fixed.iter().filter(|f| !**f).count(), 27);
         // Along each axis, the extent of a block's corners ends at least 1 mm before its

@@ -577,7 +577,7 @@ fn water_set_during_a_run_wakes_dormant_contacts() {
 /// whatever the motion (a contact dormant while its gap closes) fails this test.
 #[test]
 fn dormant_contacts_give_the_same_motion_and_forces_bit_for_bit() {
-    let (d, _) = dormant_beside_updated(settling_stack(), 900);
+    let (d, _, _) = dormant_beside_updated(settling_stack(), 900);
     println!(
         "carried {} pair-steps, of them dormant {} ({:.0} %)",
         d.carried,
@@ -606,7 +606,7 @@ fn dormant_contacts_over_several_chunks_give_the_same_motion_bit_for_bit() {
         let axis = DVec3::new(uniform(), uniform(), uniform()).normalize();
         (DQuat::from_axis_angle(axis, 2e-3 * uniform()), DVec3::ZERO)
     });
-    let (d, most) = dormant_beside_updated(sim, 150);
+    let (d, most, _) = dormant_beside_updated(sim, 150);
     assert!(
         most > 3 * 512,
         "{most} contacts at most: fewer than 4 chunks"
@@ -617,8 +617,11 @@ fn dormant_contacts_over_several_chunks_give_the_same_motion_bit_for_bit() {
 /// Steps `sim` with dormant contacts (the default) beside a copy that updates every contact,
 /// `steps` times, comparing the motion and every contact and sub-contact's forces bit for
 /// bit, and checking the layout of the dormant run's contacts (above). Returns the dormant
-/// run's timings and its largest number of contacts.
-fn dormant_beside_updated(sim: Simulation, steps: u64) -> (penedge::mechanics::StepTimings, usize) {
+/// run's timings, its largest number of contacts and the dormant run.
+fn dormant_beside_updated(
+    sim: Simulation,
+    steps: u64,
+) -> (penedge::mechanics::StepTimings, usize, Simulation) {
     let mut updated = sim;
     updated
         .set_update_fraction(penedge::mechanics::FAST_UPDATE_FRACTION)
@@ -706,7 +709,45 @@ fn dormant_beside_updated(sim: Simulation, steps: u64) -> (penedge::mechanics::S
         [d.queried, d.certified, d.carried],
         [u.queried, u.certified, u.carried]
     );
-    (d, most)
+    (d, most, dormant)
+}
+
+/// A jointed rock mass in place (docs/mechanics.md, "Dormant contacts"): a closed grid of
+/// cubes whose faces come from three joint sets, settling under gravity. The cubes' edge and
+/// corner contacts lie where joints cross, and bear only past an overlap of half the
+/// detection gap ("Where joints cross"): once settled, many overlap their diagonal
+/// neighbours by the joints' closures (micrometres) and carry nothing. They stay dormant
+/// while that holds: the motion and every force bit for bit as when every contact is
+/// updated (`dormant_beside_updated`), and at the step after, more contacts are dormant
+/// than have every gap positive, which a certificate asking for positive gaps (the first
+/// version's) cannot give.
+#[test]
+fn contacts_where_joints_cross_stay_dormant_while_they_bear_nothing() {
+    let (_, _, mut sim) = dormant_beside_updated(support::jointed_cubes_in_a_box(6, 5), 300);
+    let c = sim.contacts();
+    let overlapping = (0..c.list.len())
+        .filter(|&k| {
+            let subs = c.subs_of(k);
+            subs.iter().all(|s| s.normal_force == 0.0) && subs.iter().any(|s| s.gap < 0.0)
+        })
+        .count();
+    let positive = (0..c.list.len())
+        .filter(|&k| c.subs_of(k).iter().all(|s| s.gap > 0.0))
+        .count();
+    let contacts = c.list.len();
+    let before = sim.timings().dormant;
+    sim.step().unwrap();
+    let dormant = sim.timings().dormant - before;
+    println!(
+        "{} contacts: {overlapping} overlapping without force, {positive} with every gap \
+         positive; {dormant} dormant at the next step",
+        contacts
+    );
+    assert!(overlapping > 0, "no crossing contact overlaps");
+    assert!(
+        dormant > positive as u64,
+        "{dormant} dormant, not more than the {positive} open contacts"
+    );
 }
 
 /// Two bodies turned together (no gravity; each step both are given the velocity and spin

@@ -266,7 +266,8 @@ pub(super) fn motion_in_a(before: &Pose, now: [&Pose; 2], radius_b: f64) -> (f64
 pub(super) struct OpenCert {
     /// B's pose in A's body frame at the update ([`b_in_a`]).
     pub b_in_a: Pose,
-    /// The smallest gap then, less the rounding margin.
+    /// The smallest gap then, plus the depth at which the contact bears ([`Carry::engage`]),
+    /// less the rounding margin.
     pub min_gap: f64,
     /// `reach` of the features.
     pub reach: f64,
@@ -295,7 +296,8 @@ impl OpenCert {
         })
     }
 
-    /// Whether every gap of the contact is still positive with A and B at `now`.
+    /// Whether every gap of the contact is still above the depth at which it bears (positive,
+    /// or above minus half the detection gap where joints cross) with A and B at `now`.
     pub fn holds(&self, now: [&Pose; 2]) -> bool {
         self.gap_change(now).is_some_and(|d| d < self.min_gap)
     }
@@ -712,11 +714,16 @@ pub(super) fn build_contact(
     // heights (the largest of them and of the heights along the cone's other directions),
     // and the margin is monotone in it (a point contact open only by rounding, as the
     // diagonal neighbours in a grid of blocks at rest are: most of the open contacts).
+    // Open means bearing nothing: a gap above the depth at which the contact starts to bear
+    // (`engage`: 0, or half the detection gap where joints cross), so a contact where joints
+    // cross stays dormant while its overlap stays below that depth (docs/mechanics.md,
+    // "Dormant contacts").
     let open = (input.dormancy
         && found.carry.tolerance > 0.0
         && !found.carry.normal_with_b
-        && gaps.iter().all(|&g| g > 0.0)
-        && (from_distance || margin(gaps.iter().copied().fold(f64::INFINITY, f64::min)) > 0.0))
+        && gaps.iter().all(|&g| g + engage > 0.0)
+        && (from_distance
+            || margin(gaps.iter().copied().fold(f64::INFINITY, f64::min) + engage) > 0.0))
         .then(|| {
             // B's centroid in A's frame at the query.
             let centre = found.carry.poses[1].translation;
@@ -833,10 +840,10 @@ pub(super) fn build_contact(
     // units in the last place of the largest, over a cosine above 1/4), far below the slack
     // but for coordinates some 10^5 block sizes from the origin.
     let cert = open.and_then(|(min_gap, reach, base, edges)| {
-        let min_gap = margin(min_gap);
+        let min_gap = margin(min_gap + engage);
         let all_open = subs
             .iter()
-            .all(|s| s.state == SubState::Open && !s.bonded && s.gap > 0.0);
+            .all(|s| s.state == SubState::Open && !s.bonded && s.gap + engage > 0.0);
         (all_open && min_gap > 0.0 && base > 0.5).then(|| OpenCert {
             b_in_a: b_in_a(&poses[0], &poses[1]),
             min_gap,

@@ -268,6 +268,57 @@ pub fn cubes_in_a_box_at(
     sim
 }
 
+/// [`cubes_in_a_box_at`] at a spacing of 1 (every joint closed, no jitter), each face with
+/// the origin a generation from three joint sets of spacing 1 gives it: set `a` for the
+/// planes normal to axis `a`, one joint per plane (numbered across the sets), the box's
+/// outer faces its boundary. The cubes' edges and corners then meet where joints cross.
+pub fn jointed_cubes_in_a_box(w: usize, h: usize) -> penedge::mechanics::Simulation {
+    use penedge::block::FaceOrigin;
+    let size = [w, w, h];
+    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
+    let (mut blocks, mut fixed) = (Vec::new(), Vec::new());
+    for k in 0..h {
+        for j in 0..w {
+            for i in 0..w {
+                let lo = [i, j, k];
+                let block = unit.transformed(
+                    glam::DQuat::IDENTITY,
+                    DVec3::new(i as f64, j as f64, k as f64) + 0.5,
+                    1.0,
+                );
+                let origins = block
+                    .planes()
+                    .iter()
+                    .map(|p| {
+                        let axis = (0..3).find(|&a| p.normal[a].abs() == 1.0).unwrap();
+                        let upper = p.normal[axis] > 0.0;
+                        let at = lo[axis] + usize::from(upper);
+                        if at == 0 || at == size[axis] {
+                            FaceOrigin::Boundary {
+                                part: 0,
+                                face: (2 * axis + usize::from(upper)) as u32,
+                            }
+                        } else {
+                            let before: usize = size[..axis].iter().map(|s| s - 1).sum();
+                            FaceOrigin::Joint {
+                                set: axis as u32,
+                                joint: (before + at - 1) as u32,
+                            }
+                        }
+                    })
+                    .collect();
+                blocks.push(block.with_face_origins(origins).unwrap());
+                fixed.push(k == 0 || i == 0 || j == 0 || i == w - 1 || j == w - 1);
+            }
+        }
+    }
+    let mut sim = penedge::mechanics::Simulation::new(&BlockSystem::new(blocks), 2500.0).unwrap();
+    for i in (0..fixed.len()).filter(|&i| fixed[i]) {
+        sim.fix(i).unwrap();
+    }
+    sim
+}
+
 /// Every face of `block` tagged with the joint set `set(normal)` of its outward normal.
 pub fn with_sets(block: ConvexBlock, set: impl Fn(DVec3) -> u32) -> ConvexBlock {
     let origins = block
