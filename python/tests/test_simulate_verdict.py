@@ -109,14 +109,21 @@ def test_blocks_falling_at_the_end_are_not_stable(tmp_path):
 
 
 def test_a_trial_counts_its_own_steps(tmp_path):
-    # The budget of each trial is 4000 steps: a failing trial takes all of them, and no
-    # trial more (the steps of the solve before are not the trial's).
+    # The budget of each trial is 4000 steps: a failing trial takes all of them unless its
+    # block passes the displacement limit first (where it stops: docs/models.md, "Failure
+    # criterion"), and no trial more (the steps of the solve before are not the trial's).
     _, summary, _ = run(tmp_path, incline(35) + '[[stages]]\ntype = "solve"\n' + FOS)
     solve_steps = summary["stages"][0]["steps"]
     assert solve_steps > 0
     trials = summary["stages"][-1]["factor_of_safety"]["trials"]
     assert all(0 < t["steps"] <= 4000 for t in trials), trials
-    assert {t["steps"] for t in trials if t["failed"]} == {4000}, trials
+    failed = [t for t in trials if t["failed"]]
+    assert failed, trials
+    for t in failed:
+        assert t["steps"] == 4000 or t["beyond"], t
+    # the trials far above F stop early, those near it creep to the end of the budget
+    assert any(t["steps"] < 4000 for t in failed), trials
+    assert any(t["steps"] == 4000 for t in failed), trials
 
 
 @pytest.mark.parametrize(

@@ -796,8 +796,12 @@ class Runner:
         n = len(self.reference)
         if stage.displacement is not None:
             return np.full(n, stage.displacement)
-        body = self.engine.body
-        volume = np.bincount(body, self.setup.blocks.volumes, minlength=int(body.max()) + 1)
+        volumes = np.asarray(self.setup.blocks.volumes, dtype=float)
+        bodies = self.setup.layout.bodies
+        if bodies is None:  # every block its own body
+            return DISPLACEMENT_SHARE * np.cbrt(volumes)
+        body = np.asarray(bodies, dtype=np.int64)
+        volume = np.bincount(body, volumes, minlength=int(body.max()) + 1)
         return DISPLACEMENT_SHARE * np.cbrt(volume[body])
 
 
