@@ -165,9 +165,15 @@ def simulate_model(args: argparse.Namespace, path: Path) -> int:
     show = progress.wanted(args.quiet or args.json)
     model = pm.read_model(path)
     refuse_outputs_as_saves(model, folder)
-    from penedge.model.run import brittle_warnings, stiffening_warnings
+    from penedge.model.run import (
+        brittle_warnings,
+        input_warnings,
+        layout_warnings,
+        stiffening_warnings,
+    )
 
-    for warning in stiffening_warnings(model) + brittle_warnings(model):
+    warnings = stiffening_warnings(model) + brittle_warnings(model) + input_warnings(model)
+    for warning in warnings:
         print(f"{PROG}: warning: {warning}", file=sys.stderr)
     bar = ProgressBar(sys.stderr, f"{PROG} simulate: generating", unit="planes") if show else None
     try:
@@ -175,6 +181,8 @@ def simulate_model(args: argparse.Namespace, path: Path) -> int:
     finally:
         if bar is not None:
             bar.close()
+    for warning in layout_warnings(setup):
+        print(f"{PROG}: warning: {warning}", file=sys.stderr)
     if args.check:
         with progress.activity(show, f"{PROG} simulate: building the engine"):
             runner = check_run(setup, folder, args.restart)
@@ -389,6 +397,17 @@ def check_summary(path: Path, setup: Any) -> dict[str, Any]:
             {"name": s.name, "pressure": s.pressure, "area": area}
             for s, area in zip(setup.model.support, layout.support_areas, strict=True)
         ],
+        "bolts": [
+            {
+                "name": b.name,
+                "blocks": path.blocks,
+                "length": b.length,
+                "in_rock": path.in_rock,
+                "capacity": b.capacity,
+                "stiffness": b.stiffness,
+            }
+            for b, path in zip(setup.model.bolts, layout.bolt_paths, strict=True)
+        ],
         "stages": [f"{s.name} {s.kind}" for s in setup.model.stages],
         "not_supported": [f"{field}: {message}" for field, message in unsupported(setup.model)],
     }
@@ -504,6 +523,8 @@ def format_check(summary: dict[str, Any]) -> str:
     for support in summary.get("supports", []):
         pushed = f"{support['pressure']:g} Pa on {support['area']:.4g} m² of free faces"
         lines.append(row("support", f"{support['name']}: {pushed}"))
+    for bolt in summary.get("bolts", []):
+        lines.append(row("bolt", bolt_check_text(bolt)))
     if "plan" in summary:
         dt = summary["time_step"]
         dt_text = f"{dt:.3g} s (at the start)" if dt is not None else "none yet (no engine)"
@@ -518,6 +539,21 @@ def format_check(summary: dict[str, Any]) -> str:
     for note in summary["not_supported"]:
         lines.append(row("cannot run yet", note))
     return "\n".join(lines)
+
+
+def bolt_check_text(bolt: dict[str, Any]) -> str:
+    """``crown: 5 m, 5 m in rock, through blocks 3, 1; capacity 600 kN, stiffness 5e+07
+    N/m`` (``--check``)."""
+    import numpy as np
+
+    from penedge.model.check import block_list
+
+    shown = block_list(np.asarray(bolt["blocks"], dtype=np.int64))
+    return (
+        f"{bolt['name']}: {bolt['length']:.4g} m, {bolt['in_rock']:.4g} m in rock, through "
+        f"blocks {shown}; capacity {bolt['capacity'] / 1e3:.4g} kN, stiffness "
+        f"{bolt['stiffness']:g} N/m"
+    )
 
 
 def blocks_text(summary: dict[str, Any]) -> str:

@@ -77,6 +77,7 @@ class Blocks:
     glue_areas: np.ndarray | None = None  # (m,) its area
     system: Any = None  # the penedge.BlockSystem (contact detection, for bare joint faces)
     bare: BareFaces | None = None  # the joint faces an excavation left bare (bare_faces)
+    lowest: float | None = None  # the lowest vertex's z (m)
 
     @classmethod
     def of(cls, system: Any) -> Blocks:
@@ -112,6 +113,7 @@ class Blocks:
             glue_faces=glue_faces,
             glue_areas=np.asarray(glue["areas"], dtype=float),
             system=system,
+            lowest=float(lo[2]),
         )
 
     def __len__(self) -> int:
@@ -226,6 +228,17 @@ def select(region: Region, blocks: Blocks, path: str) -> np.ndarray:
 
 
 @dataclass
+class BoltPath:
+    """Where a bolt lies in the rock: the blocks its segment passes through, in order from
+    the collar, and how much of its length lies before the first of them (in the air in
+    front of the rock face, where a collar given off the face puts it)."""
+
+    blocks: list[int]  # the blocks it passes through, from the collar's
+    outside: float  # m of its length before the first block (0 for a collar on the face)
+    in_rock: float  # m of its length from the first block on (`length` - `outside`)
+
+
+@dataclass
 class Layout:
     """What the checks resolved, in block ids."""
 
@@ -233,9 +246,11 @@ class Layout:
     velocity: np.ndarray  # (n, 3) prescribed velocity (NaN where none)
     monitors: dict[str, int]  # monitor name -> block id
     bolts: list[tuple[int, int]] = field(default_factory=list)  # block at the collar, at the end
+    bolt_paths: list[BoltPath] = field(default_factory=list)  # per bolt: what it crosses
     support_forces: np.ndarray | None = None  # (n, 3) force of the support pressures (N)
     support_moments: np.ndarray | None = None  # (n, 3) their moment about the centroid (N m)
     support_areas: list[float] = field(default_factory=list)  # per support: area pushed (m²)
+    support_blocks: list[np.ndarray] = field(default_factory=list)  # per support: blocks pushed
     regions: dict[str, np.ndarray] = field(default_factory=dict)  # name -> mask
     bodies: np.ndarray | None = None  # (n,) body id per block; a concave block's parts share one
 
@@ -362,6 +377,7 @@ def resolve(model: Model, blocks: Blocks) -> Layout:
             layout.monitors[monitor.name] = block
     for i, bolt in enumerate(model.bolts):
         layout.bolts.append(bolt_blocks(blocks, bolt.point, bolt.end, f"bolts[{i}]"))
+        layout.bolt_paths.append(bolt_path(blocks, bolt.point, bolt.end))
     if model.support:
         forces = np.zeros((n, 3))
         moments = np.zeros((n, 3))
@@ -381,6 +397,10 @@ def resolve(model: Model, blocks: Blocks) -> Layout:
                 )
             area = pressure_load(blocks, faces, s.pressure, forces, moments, path, bare)
             layout.support_areas.append(area)
+            pushed = blocks.face_block[faces]
+            if bare is not None:
+                pushed = np.concatenate([pushed, blocks.face_block[bare.faces]])
+            layout.support_blocks.append(np.unique(pushed))
         layout.support_forces, layout.support_moments = forces, moments
     return layout
 
@@ -403,6 +423,14 @@ def check_scale(model: Model, blocks: Blocks) -> None:
     density = m.density if stress.density is None else stress.density
     z = blocks.face_points[:, 2]  # a vertex of each face: the blocks' extent, near enough
     surface = float(z.max()) if stress.surface is None else stress.surface
+    lowest = float(z.min()) if blocks.lowest is None else blocks.lowest
+    if stress.surface is not None and surface <= lowest:
+        raise ModelError(
+            "initial_stress.surface",
+            f"the ground surface z = {surface:g} m lies below every block (the lowest is at "
+            f"z = {lowest:.6g} m): the overburden would be zero everywhere; give the z of the "
+            "ground surface above the blocks (or leave surface out: the top of the blocks)",
+        )
     depth = max(0.0, surface - float(z.min()))
     deepest = density * float(np.linalg.norm(m.gravity)) * depth * max(1.0, *stress.k0)
     field = "initial_stress.surface" if stress.surface is not None else "initial_stress"
@@ -643,6 +671,13 @@ def bolt_blocks(blocks: Blocks, start: Any, end: Any, path: str) -> tuple[int, i
 def first_block_along(blocks: Blocks, start: np.ndarray, end: np.ndarray) -> int | None:
     """The block the segment start -> end enters first (the collar may lie on a free face,
     a hair outside the rock)."""
+    crossed, _ = blocks_along(blocks, start, end)
+    return crossed[0] if crossed else None
+
+
+def blocks_along(blocks: Blocks, start: np.ndarray, end: np.ndarray) -> tuple[list[int], float]:
+    """The blocks the segment start -> end passes through, in the order it enters them, and
+    the fraction of the segment before the first (0 when `start` is in or on it)."""
     d = end - start
     # clip the segment by each block's face planes: t_in = max entering, t_out = min leaving
     dn = blocks.face_normals @ d
@@ -660,6 +695,16 @@ def first_block_along(blocks: Blocks, start: np.ndarray, end: np.ndarray) -> int
     blocked = np.bincount(blocks.face_block, parallel_out, n).astype(bool)
     crosses = (t_out - t_in > 1e-9) & ~blocked
     if not crosses.any():
-        return None
+        return [], 1.0
     candidates = np.flatnonzero(crosses)
-    return int(candidates[np.argmin(t_in[candidates])])
+    order = candidates[np.argsort(t_in[candidates], kind="stable")]
+    return [int(b) for b in order], float(t_in[order[0]])
+
+
+def bolt_path(blocks: Blocks, start: Any, end: Any) -> BoltPath:
+    """Where the bolt from `start` to `end` lies in the rock (:class:`BoltPath`); call after
+    :func:`bolt_blocks` has accepted it."""
+    a, b = np.asarray(start, float), np.asarray(end, float)
+    crossed, before = blocks_along(blocks, a, b)
+    length = float(np.linalg.norm(b - a))
+    return BoltPath(crossed, before * length, (1.0 - before) * length)

@@ -29,7 +29,7 @@ import numpy as np
 
 from penedge._core import MechanicsError, PenedgeError
 from penedge.model.check import apply_boundary, block_list, partial_body
-from penedge.model.fields import MAX_STEPS, MAX_STEPS_WHY, ModelError
+from penedge.model.fields import MAX_STEPS, MAX_STEPS_WHY, ModelError, point_text
 from penedge.model.schema import JointProperties, Model, Stage
 
 
@@ -1026,6 +1026,92 @@ def brittle_warnings(model: Model) -> list[str]:
             "limit equilibrium's, which has the whole cohesion at once (a wedge on joints of "
             "2 and 6 kPa: 1.15 against 1.47). For limit equilibrium's assumption give "
             'residual_cohesion = cohesion (docs/models.md, "Brittle cohesion")'
+        )
+    return warnings
+
+
+#: A bolt's ``rupture_strain`` above this is warned of: steel bolts and cables break at a
+#: few to some 15 % (0.02 to 0.15); 20 % is more than a steel bar stretches.
+RUPTURE_STRAIN_WARNED = 0.2
+
+#: Water lighter than this (kg/m³) is warned of: water is 1000, a brine more; 1 is a
+#: density in t/m³ (or g/cm³) typed for kg/m³.
+WATER_DENSITY_WARNED = 500.0
+
+#: A bolt whose collar lies farther outside the rock than this share of its length is
+#: warned of: its elements (in the rock only) are that much stiffer than `stiffness`.
+BOLT_OUTSIDE_WARNED = 0.01
+
+
+def input_warnings(model: Model) -> list[str]:
+    """A warning for each value of the model file that is accepted but likely a mistake
+    (docs/models.md, "Warnings"): a bolt's ``rupture_strain`` above
+    :data:`RUPTURE_STRAIN_WARNED` (a percent typed), ``[water] density`` below
+    :data:`WATER_DENSITY_WARNED` (t/m³ typed for kg/m³), a uniform ``[initial_stress]``
+    with a tensile principal stress (compression is negative: a sign missed)."""
+    warnings = []
+    for i, bolt in enumerate(model.bolts):
+        if bolt.rupture_strain is not None and bolt.rupture_strain > RUPTURE_STRAIN_WARNED:
+            warnings.append(
+                f"bolts[{i}].rupture_strain = {bolt.rupture_strain:g} is a strain of "
+                f"{100 * bolt.rupture_strain:g} %: steel bolts break at a few to some 15 % "
+                "(0.02 to 0.15); a percent typed? (give 5 % as 0.05)"
+            )
+    if model.water is not None and model.water.density < WATER_DENSITY_WARNED:
+        warnings.append(
+            f"water.density = {model.water.density:g} kg/m³: water is 1000 kg/m³; a "
+            "density in t/m³ typed? (the joints' water pressure is "
+            f"{model.water.density / 1000:.3g} of water's)"
+        )
+    stress = model.initial_stress
+    if stress is not None and stress.kind == "uniform":
+        xx, yy, zz, xy, yz, zx = stress.components
+        tensor = np.array([[xx, xy, zx], [xy, yy, yz], [zx, yz, zz]])
+        largest = float(np.linalg.eigvalsh(tensor).max())
+        if largest > 0:
+            warnings.append(
+                f"initial_stress is tensile in some direction (its largest principal stress "
+                f"is +{largest:.4g} Pa; compression is negative, as in 3DEC): joints across "
+                "that direction without tensile strength cannot hold it and open at once, "
+                "and what they held moves; for a compressive stress give it negative"
+            )
+    return warnings
+
+
+def layout_warnings(setup: Any) -> list[str]:
+    """A warning for each input that the blocks show to be likely a mistake (docs/models.md,
+    "Warnings"): a bolt whose collar lies farther outside the rock than
+    :data:`BOLT_OUTSIDE_WARNED` of its length (it is installed from the rock face, and its
+    stiffness, ``EA / length`` of the whole bolt, then acts on the part in the rock), and a
+    support whose blocks are all fixed or driven (a pressure on them does nothing)."""
+    model, layout = setup.model, setup.layout
+    warnings = []
+    for i, (bolt, path) in enumerate(zip(model.bolts, layout.bolt_paths, strict=True)):
+        if path.outside <= BOLT_OUTSIDE_WARNED * bolt.length:
+            continue
+        warnings.append(
+            f"bolts[{i}].point: the collar {point_text(bolt.point)} lies {path.outside:.3g} m "
+            f"outside the rock along the bolt: the bolt is installed from where it enters the "
+            f"rock (block {path.blocks[0]}), {path.in_rock:.3g} m of its {bolt.length:g} m, "
+            f"and as stiffness = {bolt.stiffness:g} N/m is EA / length of the whole "
+            f"{bolt.length:g} m, those {path.in_rock:.3g} m are "
+            f"{bolt.length / path.in_rock:.3g} times as stiff; put the collar on the rock face "
+            "and give the length in the rock"
+        )
+    held = layout.fixed | layout.driven
+    freed = np.zeros(len(held), bool)
+    for stage in model.stages:
+        b = stage.boundary
+        if stage.kind == "boundary" and b is not None and b.condition != "fixed":
+            region = layout.regions.get(b.region)
+            freed |= True if region is None else region
+    for i, (support, blocks) in enumerate(zip(model.support, layout.support_blocks, strict=True)):
+        if not held[blocks].all() or freed[blocks].any():
+            continue
+        warnings.append(
+            f"support[{i}].region: every block the support {support.name!r} pushes on "
+            f"({block_list(blocks)}) is fixed or driven: a pressure on them does nothing; "
+            "give a region of free blocks"
         )
     return warnings
 

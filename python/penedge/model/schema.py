@@ -825,12 +825,26 @@ def parse_bolts(tables: list[Table]) -> list[Bolt]:
                 stiffness=BOLT_STIFFNESS.check(
                     t.field("stiffness"), t.number("stiffness", required=True, above=0)
                 ),
-                rupture_strain=t.optional_number("rupture_strain", above=0),
+                rupture_strain=rupture_strain(t),
                 **parse_dowel(t),
             )
         )
         t.done()
     return bolts
+
+
+def rupture_strain(t: Table) -> float | None:
+    """A bolt's ``rupture_strain``, above 0 and below 1: a strain of 1 doubles the bolt's
+    length, which no bolt survives (a percent typed: 5 for 5 %; one above 0.2 is warned
+    of, penedge.model.run.input_warnings)."""
+    strain = t.optional_number("rupture_strain", above=0)
+    if strain is not None and strain >= 1:
+        raise ModelError(
+            t.field("rupture_strain"),
+            f"must be below 1 (a strain: 0.05 is 5 %), got {strain:g}: a strain of {strain:g} "
+            f"stretches the bolt to {1 + strain:g} times its length; a percent typed?",
+        )
+    return strain
 
 
 def parse_dowel(t: Table) -> dict[str, float | None]:
