@@ -20,6 +20,17 @@ echo "== rust: format, lint, tests"
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --quiet -- -D warnings
 cargo test --workspace --quiet
+# The Rust examples (crates/penedge/examples, docs/rust.md) assert what they show: each runs,
+# in release (together about a second once built), its output shown only when it fails.
+echo "== rust: examples"
+for example in crates/penedge/examples/*.rs; do
+    name="$(basename "$example" .rs)"
+    output="$(cargo run --release --quiet -p penedge --example "$name" 2>&1)" || {
+        echo "$output"
+        echo "example $name failed"
+        exit 1
+    }
+done
 RUSTDOCFLAGS='-D warnings' cargo doc -p penedge --no-deps --quiet
 
 echo "== python: lint, tests"
