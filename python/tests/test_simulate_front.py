@@ -409,16 +409,28 @@ FOS_BEDDING = FOS + 'sets = ["bedding"]\n'
         # every set and the default properties, brittle (the default residual cohesion, 0)
         (
             properties(cohesion=1e4) + SOLVE + FOS,
-            ["bedding (10000 Pa, residual 0)", "the default properties (10000 Pa"],
+            [
+                "bedding (cohesion 10000 Pa, residual 0)",
+                "the default properties (cohesion 10000 Pa",
+            ],
         ),
         # only the sets the stage reduces
-        (properties(cohesion=1e4) + SOLVE + FOS_BEDDING, ["bedding (10000 Pa, residual 0)"]),
+        (
+            properties(cohesion=1e4) + SOLVE + FOS_BEDDING,
+            ["bedding (cohesion 10000 Pa, residual 0)"],
+        ),
         # partly ductile is still brittle; wholly ductile is not
         (properties(cohesion=1e4, residual_cohesion=5e3) + SOLVE + FOS, ["residual 5000"]),
         (properties(cohesion=1e4, residual_cohesion=1e4) + SOLVE + FOS, None),
         # what is in effect when the stage runs counts
         (properties(cohesion=1e4) + SOLVE + properties(residual_cohesion=1e4) + FOS, None),
         (properties(cohesion=1e4) + SOLVE + FOS + properties(residual_cohesion=1e4), ["bedding"]),
+        # tension is lost where it fails (no residual tension), friction to its residual
+        (properties(tension=1e4) + SOLVE + FOS, ["bedding (tension 10000 Pa, residual 0)"]),
+        (
+            properties(residual_friction=20) + SOLVE + FOS,
+            ["bedding (friction 30°, residual 20°)"],
+        ),
         (properties(cohesion=1e4) + SOLVE, None),  # no factor of safety
         (SOLVE + FOS, None),  # no cohesion
     ],
@@ -434,7 +446,7 @@ def test_a_factor_of_safety_reducing_brittle_cohesion_is_warned_of(
         assert err == ""
         return
     assert err.startswith("penedge: warning: stages["), err
-    assert "reduces brittle cohesion" in err
+    assert "reduces brittle strength" in err
     assert "residual_cohesion = cohesion" in err
     assert err.count("warning") == 1
     for text in warned:

@@ -1604,32 +1604,6 @@ fn a_body_pushed_with_a_bad_density_or_pose_is_refused() {
     assert_eq!(bodies.push(shape, pose, 2500.0).unwrap(), 0);
 }
 
-/// The box from `lo` to `hi` with its faces in the plane x = 0 of joint 0 (set 0), those in
-/// z = 0 of joint 1 (set 1), the others of the domain's boundary: blocks around the line
-/// where two joints cross.
-fn jointed_box(lo: [f64; 3], hi: [f64; 3]) -> ConvexBlock {
-    use penedge::block::FaceOrigin;
-    let cube = ConvexBlock::cuboid(lo, hi).unwrap();
-    let origins = (0..cube.n_faces())
-        .map(|i| {
-            let p = cube.planes()[i];
-            let on =
-                |axis: DVec3| p.normal.dot(axis).abs() > 0.5 && p.point.dot(axis).abs() < 1e-12;
-            if on(DVec3::X) {
-                FaceOrigin::Joint { set: 0, joint: 0 }
-            } else if on(DVec3::Z) {
-                FaceOrigin::Joint { set: 1, joint: 1 }
-            } else {
-                FaceOrigin::Boundary {
-                    part: 0,
-                    face: i as u32,
-                }
-            }
-        })
-        .collect();
-    cube.with_face_origins(origins).unwrap()
-}
-
 /// Four unit cubes around the line where two joints cross (x = 0, set 0; z = 0, set 1): W
 /// free, pushed by a gravity of (-4, 0, -8) m/s² into the cube across the x joint and the one
 /// across the z joint, both of which carry it on faces; the cube diagonally across both
@@ -1654,7 +1628,7 @@ fn where_two_joints_cross_the_diagonal_block_carries_nothing() {
             .iter()
             .map(|&(lo, hi)| {
                 if jointed {
-                    jointed_box(lo, hi)
+                    support::jointed_box(lo, hi)
                 } else {
                     ConvexBlock::cuboid(lo, hi).unwrap()
                 }
@@ -1731,8 +1705,8 @@ fn where_two_joints_cross_the_diagonal_block_carries_nothing() {
 fn a_block_on_the_diagonal_blocks_edge_alone_bears_on_it_past_half_the_gap() {
     use penedge::contact::Detector;
     use penedge::Tolerance;
-    let w = jointed_box([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]);
-    let d = jointed_box([-1.0, 0.0, -1.0], [0.0, 1.0, 0.0]);
+    let w = support::jointed_box([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]);
+    let d = support::jointed_box([-1.0, 0.0, -1.0], [0.0, 1.0, 0.0]);
     // The detection gap of the pair, at the relative gap the simulation is given.
     let relative = 1e-3;
     let gap = Detector::new(Tolerance::with_gap(relative).unwrap())

@@ -712,11 +712,44 @@ fn dormant_beside_updated(
     (d, most, dormant)
 }
 
+/// A block sinking onto a crossing edge (tests/mechanics.rs,
+/// `a_block_on_the_diagonal_blocks_edge_alone_bears_on_it_past_half_the_gap`: W on the
+/// diagonal cube's edge alone, pushed along the diagonal into it, sinks by half the detection
+/// gap before the contact bears) run with dormant contacts beside every contact updated: the
+/// contact starts exactly touching, is certified from the depth where it bears, sinks through
+/// it dormant and must wake where it starts to bear: the same bits all the way. (Found in
+/// review: the jointed grid's test below passes with a certificate four times too loose;
+/// this one diverges at step 74 with it.)
+#[test]
+fn a_block_sinking_onto_a_crossing_edge_wakes_where_it_bears() {
+    let w = support::jointed_box([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]);
+    let d = support::jointed_box([-1.0, 0.0, -1.0], [0.0, 1.0, 0.0]);
+    let mut sim = Simulation::new(&BlockSystem::new(vec![w, d]), 2500.0).unwrap();
+    sim.set_gap(1e-3).unwrap();
+    sim.fix(1).unwrap();
+    let model = JointModel {
+        kn: 1e9,
+        ks: 1e9,
+        friction: 60.0,
+        ..JointModel::default()
+    };
+    sim.set_default_joint(model).unwrap();
+    sim.set_gravity(DVec3::new(-1.0, 0.0, -1.0).normalize() * 9.81)
+        .unwrap();
+    let (d, _, done) = dormant_beside_updated(sim, 1500);
+    let c = done.contacts();
+    let force: f64 = c.subs.iter().map(|s| s.normal_force).sum();
+    println!("{d:?}; force at the end {force}");
+    assert!(force > 0.0, "the crossing contact never bore");
+    assert!(d.dormant > 0, "the crossing contact was never dormant");
+}
+
 /// A jointed rock mass in place (docs/mechanics.md, "Dormant contacts"): a closed grid of
 /// cubes whose faces come from three joint sets, settling under gravity. The cubes' edge and
 /// corner contacts lie where joints cross, and bear only past an overlap of half the
-/// detection gap ("Where joints cross"): once settled, many overlap their diagonal
-/// neighbours by the joints' closures (micrometres) and carry nothing. They stay dormant
+/// detection gap ("Where joints cross"): in the closed grid they touch exactly (gaps of
+/// rounding size, zero or below, as deep as -8.5e-22 m here; found in review: not the joints'
+/// closures) and carry nothing. They stay dormant
 /// while that holds: the motion and every force bit for bit as when every contact is
 /// updated (`dormant_beside_updated`), and at the step after, more contacts are dormant
 /// than have every gap positive, which a certificate asking for positive gaps (the first

@@ -714,14 +714,15 @@ def unreliable_text(start_ratio: float, unheld: list[int] | None = None) -> str:
 
 
 def moved_before_text(f: dict[str, Any]) -> str:
-    """The blocks that had moved farther than the trials' displacement limit before them:
-    F is that of where they came to rest."""
+    """The blocks that had moved farther than five times the trials' displacement limit
+    before them: F is that of where they came to rest."""
     pairs = list(zip(f["moved_before"], f["moved_before_displacement"], strict=True))
     ids = ", ".join(f"{b} ({d:.3g} m)" for b, d in pairs[:12]) + (
         ", ..." if len(pairs) > 12 else ""
     )
     return (
-        f"CAUTION: blocks {ids} had moved farther than a trial may before the trials began: "
+        f"CAUTION: blocks {ids} had moved five times farther than a trial may (its "
+        "displacement) before the trials began: "
         "F is that of the state they came to rest in, not of the model as built (loads "
         "applied at once can slide a block; solve with a higher strength first: "
         'docs/models.md, "Loads applied at once")'

@@ -268,6 +268,32 @@ pub fn cubes_in_a_box_at(
     sim
 }
 
+/// The box from `lo` to `hi` with its faces in the plane x = 0 of joint 0 (set 0), those in
+/// z = 0 of joint 1 (set 1), the others of the domain's boundary: blocks around the line
+/// where two joints cross.
+pub fn jointed_box(lo: [f64; 3], hi: [f64; 3]) -> ConvexBlock {
+    use penedge::block::FaceOrigin;
+    let cube = ConvexBlock::cuboid(lo, hi).unwrap();
+    let origins = (0..cube.n_faces())
+        .map(|i| {
+            let p = cube.planes()[i];
+            let on =
+                |axis: DVec3| p.normal.dot(axis).abs() > 0.5 && p.point.dot(axis).abs() < 1e-12;
+            if on(DVec3::X) {
+                FaceOrigin::Joint { set: 0, joint: 0 }
+            } else if on(DVec3::Z) {
+                FaceOrigin::Joint { set: 1, joint: 1 }
+            } else {
+                FaceOrigin::Boundary {
+                    part: 0,
+                    face: i as u32,
+                }
+            }
+        })
+        .collect();
+    cube.with_face_origins(origins).unwrap()
+}
+
 /// [`cubes_in_a_box_at`] at a spacing of 1 (every joint closed, no jitter), each face with
 /// the origin a generation from three joint sets of spacing 1 gives it: set `a` for the
 /// planes normal to axis `a`, one joint per plane (numbered across the sets), the box's
