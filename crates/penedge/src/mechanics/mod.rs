@@ -51,7 +51,7 @@ pub const DEFAULT_UPDATE_FRACTION: f64 = 0.0;
 /// their bodies until they have moved a tenth of the detection gap.
 pub const FAST_UPDATE_FRACTION: f64 = 0.1;
 
-use crate::block::{ConvexBlock, Pose, Prefetch, MAX_COORDINATE};
+use crate::block::{readable, ConvexBlock, Pose, Prefetch, MAX_COORDINATE};
 use crate::body::BodyError;
 use crate::classify::PairResult;
 use crate::contact::Detector;
@@ -207,9 +207,10 @@ pub enum MechanicsError {
     /// A density that gives a body a mass or a principal moment of inertia that is not a
     /// finite number > 0 (beyond double precision's range).
     #[error(
-        "body {body}: the density {density} gives it a mass of {mass} (largest principal \
-         moment of inertia {moment}), not a finite number > 0 in double precision; give the \
-         density (or the lengths) in other units"
+        "body {body}: the density {} gives it a mass of {} (largest principal moment of \
+         inertia {}), not a finite number > 0 in double precision; give the density (or the \
+         lengths) in other units",
+        readable(.density), readable(.mass), readable(.moment)
     )]
     Mass {
         /// The body.
@@ -255,7 +256,7 @@ pub enum MechanicsError {
 
 /// The message of [`MechanicsError::TimeStepTooSmall`].
 fn small_step_text(dt: f64, smallest: f64, given: bool, safety: f64, viscous: f64) -> String {
-    let short = |x: f64| crate::block::readable(&x).to_string();
+    let short = |x: f64| readable(&x).to_string();
     let cause = if given {
         "the step given (set_timestep)".to_string()
     } else {
@@ -277,7 +278,7 @@ fn small_step_text(dt: f64, smallest: f64, given: bool, safety: f64, viscous: f6
 
 /// The message of [`MechanicsError::OutOfRange`].
 fn out_of_range_text(body: usize, what: &str, magnitude: f64, limit: f64) -> String {
-    let short = |x: f64| crate::block::readable(&x).to_string();
+    let short = |x: f64| readable(&x).to_string();
     if what == "pose" {
         return format!(
             "the pose of body {body} places it too far: its coordinates could reach {} in \
@@ -993,7 +994,16 @@ impl Simulation {
     /// this velocity and spin (finite).
     fn check_speed(&self, i: usize, velocity: DVec3, spin: DVec3) -> Result<(), MechanicsError> {
         self.bodies.check(i)?;
-        let speed = velocity.length() + spin.length() * self.bodies.shape(i).radius();
+        // Lengths scaled by the largest component: 1e200 is 1e200, not an overflowed square.
+        let length = |v: DVec3| {
+            let big = v.abs().max_element();
+            if big > 0.0 {
+                big * (v / big).length()
+            } else {
+                0.0
+            }
+        };
+        let speed = length(velocity) + length(spin) * self.bodies.shape(i).radius();
         if speed <= MAX_COORDINATE {
             return Ok(());
         }
