@@ -180,15 +180,21 @@ def test_run_until_refuses_more_steps_than_step_takes():
     cube = penedge.Block.cuboid([-0.5, -0.5, 0], [0.5, 0.5, 1])
     sim = penedge.Simulation(penedge.BlockSystem([base, cube]), density=2500.0)
     sim.fix([0])
-    sim.set_timestep(1e-300)  # accepted: below the critical step
+    # A step of 1e-300 is refused since 2026-11-29 (below 2**-52 of the critical step,
+    # docs/mechanics.md "The smallest time step"); 1e-19 is taken, and run_until(1.0) would
+    # take 1e19 steps.
+    with pytest.raises(penedge.MechanicsError, match="2\\^-52 of the undamped") as small:
+        sim.set_timestep(1e-300)
+    assert small.value.kind == "time_step_too_small"
+    sim.set_timestep(1e-19)  # accepted: below the critical step, above its rounding
 
     def ran_on(signum, frame):  # run_until looks for signals between its chunks
-        raise AssertionError("run_until(1.0) took on its 1e300 steps")
+        raise AssertionError("run_until(1.0) took on its 1e19 steps")
 
     alarm = signal.signal(signal.SIGALRM, ran_on)
     signal.setitimer(signal.ITIMER_REAL, 5.0)
     try:
-        refused = r"run_until\(1e0\) takes 1\.000e300 steps"
+        refused = r"run_until\(1e0\) takes 1\.000e19 steps"
         with pytest.raises(penedge.InputError, match=refused) as e:
             sim.run_until(1.0)
     finally:

@@ -134,6 +134,8 @@ impl From<SystemError> for Error {
             }
             SystemError::Generation(g) => g.into(),
             SystemError::Arrays { .. } => Error::Input("arrays".into(), e.to_string()),
+            // The bindings check the lengths first (`arrays::planes`): a wrong shape.
+            SystemError::PlaneCount { .. } => Error::Input("shape".into(), e.to_string()),
             SystemError::InvalidBlock { ref source, .. } => {
                 Error::Block(variant_name(source), e.to_string())
             }

@@ -787,3 +787,53 @@ fn blocks_moved_beyond_double_range_are_refused_and_never_written() {
     assert!(csv::write_block_table_to(&system, &mut out).is_err());
     assert!(vtu::write_blocks_to(&system, &mut out).is_err());
 }
+
+/// Planes given with a different number of normals and offsets: `from_domain_cut` dropped
+/// the normals without an offset (2 normals and 1 offset gave 2 blocks, the second plane
+/// ignored), and `from_planes` called the mistake an unbounded set. Both name the counts.
+#[test]
+fn planes_with_more_normals_than_offsets_are_refused_with_the_counts() {
+    use penedge::system::SystemError;
+    let domain = ConvexBlock::cuboid([0.0; 3], [1.0; 3]).unwrap();
+    let normals = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let e = BlockSystem::from_domain_cut(domain.clone(), &normals, &[0.5], &Tolerance::default())
+        .unwrap_err();
+    assert_eq!(
+        e,
+        SystemError::PlaneCount {
+            normals: 2,
+            offsets: 1
+        }
+    );
+    assert!(e.to_string().starts_with("2 normals but 1 offsets"), "{e}");
+    let e = BlockSystem::from_domain_cut(domain, &normals[..1], &[0.5, 0.5], &Tolerance::default())
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            SystemError::PlaneCount {
+                normals: 1,
+                offsets: 2
+            }
+        ),
+        "{e:?}"
+    );
+    let box_normals = [
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+    ];
+    let e = ConvexBlock::from_planes(&box_normals, &[1.0; 5]).unwrap_err();
+    assert_eq!(
+        e,
+        BlockError::PlaneCount {
+            normals: 6,
+            offsets: 5
+        }
+    );
+    assert!(e.to_string().contains("6 normals but 5 offsets"), "{e}");
+    ConvexBlock::from_planes(&box_normals, &[1.0; 6]).unwrap();
+}

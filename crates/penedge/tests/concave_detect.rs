@@ -135,3 +135,53 @@ fn blocks_that_are_their_own_bodies_keep_every_contact() {
         .collect();
     assert_eq!(found, expected);
 }
+
+/// Twelve unit cubes in a row (11 touching pairs), the last two one body when `glued`.
+fn cube_row(glued: bool, tol: &Tolerance) -> BlockSystem {
+    use penedge::ConvexBlock;
+    let blocks: Vec<ConvexBlock> = (0..12)
+        .map(|i| {
+            let x = f64::from(i);
+            ConvexBlock::cuboid([x, 0.0, 0.0], [x + 1.0, 1.0, 1.0]).unwrap()
+        })
+        .collect();
+    let system = BlockSystem::new(blocks);
+    if !glued {
+        return system;
+    }
+    let mut ids: Vec<u32> = (0..12).collect();
+    ids[11] = 10;
+    system.with_bodies(ids, tol).unwrap()
+}
+
+/// A tracker step that drops the regions of the first pair of bodies copies the later
+/// pairs' regions to an earlier place in its output: their piece and point offsets move
+/// down. That shift is negative (it overflowed, a panic in debug builds, a tester's finding
+/// through `tracking_bodies` and through `ContactTracker::new` on concave blocks); the
+/// regions after the step are those of a fresh `detect_bodies`.
+#[test]
+fn a_tracker_step_that_drops_the_first_pairs_regions_matches_a_fresh_detection() {
+    use penedge::block::Pose;
+    use penedge::glam::DVec3;
+    let tol = Tolerance::default();
+    for glued in [false, true] {
+        let system = cube_row(glued, &tol);
+        let mut tracker = if glued {
+            ContactTracker::new(&system, tol, 1.0).unwrap()
+        } else {
+            ContactTracker::tracking_bodies(&system, tol, 1.0).unwrap()
+        };
+        let before = tracker.body_contacts().unwrap().contacts.len();
+        assert_eq!(before, if glued { 10 } else { 11 });
+        // Cube 0 moves 0.1 away from cube 1: only pair (0, 1) is queried, and it loses its
+        // region.
+        let mut poses = vec![Pose::IDENTITY; 12];
+        poses[0].translation = DVec3::new(-0.1, 0.0, 0.0);
+        tracker.update(&poses).unwrap();
+        let tracked = tracker.body_contacts().unwrap().clone();
+        assert_eq!(tracked.contacts.len(), before - 1, "glued {glued}");
+        assert!(tracked.contacts.iter().all(|c| c.bodies != [0, 1]));
+        let fresh = tracker.system().detect_bodies(&tol);
+        assert_eq!(tracked, fresh, "glued {glued}");
+    }
+}

@@ -230,6 +230,17 @@ pub enum BlockError {
         /// What went wrong.
         reason: &'static str,
     },
+    /// Half-spaces given with as many normals as offsets: one of each is needed per plane.
+    #[error(
+        "{normals} normals but {offsets} offsets: each half-space needs one normal and one \
+         offset"
+    )]
+    PlaneCount {
+        /// Normals given.
+        normals: usize,
+        /// Offsets given.
+        offsets: usize,
+    },
     /// A half-space with a zero, NaN or infinite normal or offset.
     #[error("half-space {plane} has a zero, NaN or infinite normal or offset")]
     DegeneratePlane {

@@ -77,8 +77,9 @@ impl ConvexBlock {
 
 fn unit_planes(normals: &[[f64; 3]], offsets: &[f64]) -> Result<Vec<Plane>, BlockError> {
     if normals.len() != offsets.len() {
-        return Err(BlockError::Unbounded {
-            reason: "as many normals as offsets are needed",
+        return Err(BlockError::PlaneCount {
+            normals: normals.len(),
+            offsets: offsets.len(),
         });
     }
     normals

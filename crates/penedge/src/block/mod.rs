@@ -189,6 +189,10 @@ impl ConvexBlock {
     }
 
     /// The vertex indices of face `f`, counter-clockwise seen from outside.
+    ///
+    /// # Panics
+    ///
+    /// If there is no face `f` (`f >= self.n_faces()`).
     pub fn face(&self, f: usize) -> &[u32] {
         let (s, e) = (self.face_offsets[f], self.face_offsets[f + 1]);
         &self.face_vertices[s as usize..e as usize]

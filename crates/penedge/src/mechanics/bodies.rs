@@ -108,6 +108,7 @@ impl Bodies {
         density: f64,
     ) -> Result<usize, MechanicsError> {
         check_density(density)?;
+        check_mass(self.len(), &shape, density)?;
         if !pose.translation.is_finite() {
             return Err(MechanicsError::NotFinite("the pose's translation"));
         }
@@ -160,6 +161,14 @@ impl Bodies {
     }
 
     /// The mass of body `i` (its shape's volume times its density).
+    ///
+    /// # Panics
+    ///
+    /// If there is no body `i` (`i >= self.len()`), as the other accessors of one body by
+    /// id (`shape`, `moments`, `is_free`, `fixity`, `mass_scale`, `inertial_mass`,
+    /// `inertial_moments`, `spin`, `velocity`, `kinetic_energy`, `world_inertia`); the
+    /// [`super::Simulation`] methods that take a body id return
+    /// [`MechanicsError::UnknownBody`] instead.
     pub fn mass(&self, i: usize) -> f64 {
         self.inertia().mass(i)
     }
@@ -191,6 +200,10 @@ impl Bodies {
     }
 
     /// How body `i` moves.
+    ///
+    /// # Panics
+    ///
+    /// If there is no body `i` (`i >= self.len()`).
     pub fn fixity(&self, i: usize) -> Fixity {
         self.inertia().fixity(i)
     }
@@ -284,6 +297,10 @@ impl Bodies {
     }
 
     /// The velocity of body `i`'s centroid: its own when free, else fixed or prescribed.
+    ///
+    /// # Panics
+    ///
+    /// If there is no body `i` (`i >= self.len()`).
     pub fn velocity(&self, i: usize) -> DVec3 {
         match self.fixity(i) {
             Fixity::Free => self.velocity[i],
@@ -321,6 +338,7 @@ impl Bodies {
     pub(super) fn set_density(&mut self, i: usize, density: f64) -> Result<(), MechanicsError> {
         self.check(i)?;
         check_density(density)?;
+        check_mass(i, &self.shapes[i], density)?;
         let old = self.inertial_moments(i);
         self.density[i] = density;
         // The angular velocity stays: scale the momentum with the inertia.
@@ -513,6 +531,24 @@ fn check_density(density: f64) -> Result<(), MechanicsError> {
     } else {
         Err(MechanicsError::Density(density))
     }
+}
+
+/// Whether `shape` at `density` (valid) has a mass and principal moments that are finite
+/// numbers > 0: a density of 1e308 on a 10 m cube gave an infinite mass, taken, and a step
+/// that failed with a NaN state.
+fn check_mass(body: usize, shape: &Shape, density: f64) -> Result<(), MechanicsError> {
+    let mass = shape.volume() * density;
+    let moments = shape.principal_moments() * density;
+    let fine = |x: f64| x.is_finite() && x > 0.0;
+    if fine(mass) && moments.to_array().into_iter().all(fine) {
+        return Ok(());
+    }
+    Err(MechanicsError::Mass {
+        body,
+        density,
+        mass,
+        moment: moments.max_element(),
+    })
 }
 
 /// `[S, Σ_f A_f max_v |r_v|²]` of a shape: its surface area, and the bound of its rotational

@@ -51,7 +51,7 @@ pub const DEFAULT_UPDATE_FRACTION: f64 = 0.0;
 /// their bodies until they have moved a tenth of the detection gap.
 pub const FAST_UPDATE_FRACTION: f64 = 0.1;
 
-use crate::block::{ConvexBlock, Pose, Prefetch};
+use crate::block::{readable, ConvexBlock, Pose, Prefetch, MAX_COORDINATE};
 use crate::body::BodyError;
 use crate::classify::PairResult;
 use crate::contact::Detector;
@@ -128,6 +128,23 @@ pub enum MechanicsError {
         /// The critical step.
         critical: f64,
     },
+    /// A time step below [`MIN_STEP_FRACTION`] of the undamped critical step: given
+    /// ([`Simulation::set_timestep`]), or the automatic one lowered that far by the safety
+    /// factor or viscous damping. A run would take more than 2^52 times the steps the
+    /// stiffness needs (`set_timestep(Some(1e-300))` was taken: `run_until(1.0)` never ended).
+    #[error("{}", small_step_text(*.dt, *.smallest, *.given, *.safety, *.viscous))]
+    TimeStepTooSmall {
+        /// The step.
+        dt: f64,
+        /// The smallest allowed: [`MIN_STEP_FRACTION`] times the undamped critical step.
+        smallest: f64,
+        /// Whether the step was given (else the automatic one).
+        given: bool,
+        /// The safety factor.
+        safety: f64,
+        /// The viscous damping rate.
+        viscous: f64,
+    },
     /// Every body is fixed or prescribed: nothing to solve.
     #[error("no free body: every body is fixed or has a prescribed velocity")]
     NoFreeBody,
@@ -187,6 +204,117 @@ pub enum MechanicsError {
     /// A simulation of a block system without blocks.
     #[error("the block system has no blocks")]
     NoBlocks,
+    /// A density that gives a body a mass or a principal moment of inertia that is not a
+    /// finite number > 0 (beyond double precision's range).
+    #[error(
+        "body {body}: the density {} gives it a mass of {} (largest principal moment of \
+         inertia {}), not a finite number > 0 in double precision; give the density (or the \
+         lengths) in other units",
+        readable(.density), readable(.mass), readable(.moment)
+    )]
+    Mass {
+        /// The body.
+        body: usize,
+        /// The density given.
+        density: f64,
+        /// Its mass at that density.
+        mass: f64,
+        /// Its largest principal moment of inertia at that density.
+        moment: f64,
+    },
+    /// A pose or velocity out of the range the detection works in
+    /// ([`Simulation::set_pose`], [`Simulation::set_velocity`]).
+    #[error("{}", out_of_range_text(*.body, .what, *.magnitude, *.limit))]
+    OutOfRange {
+        /// The body.
+        body: usize,
+        /// `"pose"` or `"velocity"`.
+        what: &'static str,
+        /// A pose: the largest coordinate magnitude a part of the body could have there; a
+        /// velocity: the largest speed of a point of the body (`|v| + |ω| r`).
+        magnitude: f64,
+        /// The largest allowed.
+        limit: f64,
+    },
+    /// A free body moved farther in one step than [`TRAVEL_LIMIT`] times its radius: at
+    /// such a step it could pass through another body between two detections, unseen
+    /// (docs/mechanics.md, "Travel in one step").
+    #[error("{}", travel_text(*.body, *.step, *.travel, *.radius, *.dt))]
+    Travel {
+        /// The body (the smallest id of those that moved too far).
+        body: u32,
+        /// The step.
+        step: u64,
+        /// How far its points moved in the step (a bound: translation plus rotation).
+        travel: f64,
+        /// Its radius (the largest distance of its points from its centroid).
+        radius: f64,
+        /// The time step.
+        dt: f64,
+    },
+}
+
+/// The message of [`MechanicsError::TimeStepTooSmall`].
+fn small_step_text(dt: f64, smallest: f64, given: bool, safety: f64, viscous: f64) -> String {
+    let short = |x: f64| readable(&x).to_string();
+    let cause = if given {
+        "the step given (set_timestep)".to_string()
+    } else {
+        format!(
+            "the automatic step, lowered by the safety factor {} and the viscous damping rate \
+             {} (a rate β bounds the step by about 2 / β)",
+            short(safety),
+            short(viscous)
+        )
+    };
+    format!(
+        "the time step {} is below {}, 2^-52 of the undamped critical step (the rounding of \
+         that step): a run would take more than 2^52 times the steps the stiffness needs and \
+         might never end; it is {cause}",
+        short(dt),
+        short(smallest)
+    )
+}
+
+/// The message of [`MechanicsError::OutOfRange`].
+fn out_of_range_text(body: usize, what: &str, magnitude: f64, limit: f64) -> String {
+    let short = |x: f64| readable(&x).to_string();
+    if what == "pose" {
+        return format!(
+            "the pose of body {body} places it too far: its coordinates could reach {} in \
+             magnitude, beyond {}, the most at which double precision keeps its closest \
+             vertices distinct (and at most 1e50)",
+            short(magnitude),
+            short(limit)
+        );
+    }
+    format!(
+        "the {what} of body {body} moves its points at up to {} per unit of time, beyond {}, \
+         the largest coordinate a block may have: within a unit of time it would leave the \
+         range of coordinates",
+        short(magnitude),
+        short(limit)
+    )
+}
+
+/// The message of [`MechanicsError::Travel`].
+fn travel_text(body: u32, step: u64, travel: f64, radius: f64, dt: f64) -> String {
+    let short = |x: f64| {
+        let rounded = format!("{x:.2e}").parse().unwrap_or(x);
+        crate::geometry::Short(rounded).to_string()
+    };
+    format!(
+        "body {body} moved up to {} in one step (step {step}, time step {}), more than {} of \
+         its radius ({}): at such a step a body can pass through another between two \
+         detections, unseen; the joints are likely too soft for the time step (the automatic \
+         step grows as the square root of mass over stiffness: very small kn and ks, or \
+         stiffness in other units than the lengths and masses, give steps of seconds); raise \
+         kn and ks, or set a smaller time step",
+        short(travel),
+        short(dt),
+        TRAVEL_LIMIT,
+        short(radius)
+    )
 }
 
 /// The message of [`MechanicsError::Penetration`].
@@ -521,7 +649,11 @@ impl Simulation {
         &self.origin
     }
 
-    /// The contacts and sub-contacts of the last step.
+    /// The contacts and sub-contacts of the last step: those of the candidate pairs, pairs
+    /// of bodies of which at least one is free. Two bodies neither of which is free (fixed
+    /// or with a prescribed velocity) have no contact here, however they touch (their forces
+    /// would move nothing; docs/mechanics.md, "Integration"): a full detection of
+    /// [`Simulation::placed_system`] finds these pairs' contacts too, this list does not.
     pub fn contacts(&self) -> &Contacts {
         &self.contacts
     }
@@ -640,8 +772,12 @@ impl Simulation {
                 value: damping.viscous,
             });
         }
-        self.damping = damping;
-        Ok(())
+        let old = std::mem::replace(&mut self.damping, damping);
+        let checked = self.check_small_step();
+        if checked.is_err() {
+            self.damping = old;
+        }
+        checked
     }
 
     /// Sets the detection gap (relative to block size, as [`Tolerance::with_gap`]): the
@@ -706,7 +842,10 @@ impl Simulation {
         Ok(())
     }
 
-    /// Gives body `i` a prescribed velocity and spin (world frame).
+    /// Gives body `i` a prescribed velocity and spin (world frame). A velocity or spin not
+    /// finite is a [`MechanicsError::NotFinite`]; one that moves a point of the body faster
+    /// than [`MAX_COORDINATE`] per unit of time a [`MechanicsError::OutOfRange`] (as
+    /// [`Simulation::set_velocity`]).
     pub fn prescribe(
         &mut self,
         i: usize,
@@ -716,6 +855,7 @@ impl Simulation {
         if !(velocity.is_finite() && spin.is_finite()) {
             return Err(MechanicsError::NotFinite("prescribed velocity"));
         }
+        self.check_speed(i, velocity, spin)?;
         self.set_fixity(i, Fixity::Prescribed { velocity, spin })
     }
 
@@ -729,6 +869,13 @@ impl Simulation {
     /// Sets the velocity and spin of free body `i` at the current time (its next step
     /// starts with a half kick; the other bodies' velocities stay the leapfrog's half-step
     /// values, and their next kick is a whole one).
+    ///
+    /// A velocity or spin not finite is a [`MechanicsError::NotFinite`]; one that moves a
+    /// point of the body faster than [`MAX_COORDINATE`] (1e50, the largest coordinate a
+    /// block may have) per unit of time, `|v| + |ω| r > 1e50` with `r` the body's radius, a
+    /// [`MechanicsError::OutOfRange`]: such a body leaves the range of coordinates within
+    /// a unit of time. (A slower one that moves more than [`TRAVEL_LIMIT`] of its radius in
+    /// a step is refused by the step: [`MechanicsError::Travel`].)
     pub fn set_velocity(
         &mut self,
         i: usize,
@@ -736,6 +883,9 @@ impl Simulation {
         spin: DVec3,
     ) -> Result<(), MechanicsError> {
         self.check_present(i)?;
+        if velocity.is_finite() && spin.is_finite() {
+            self.check_speed(i, velocity, spin)?;
+        }
         self.bodies.set_velocity(i, velocity, spin)?;
         self.synced.add(i);
         Ok(())
@@ -800,15 +950,69 @@ impl Simulation {
         &self.bolts
     }
 
-    /// Sets body `i`'s pose (it must keep the body clear of others by the gap).
+    /// Sets body `i`'s pose: the map from the body's own frame (origin at its centroid, axes
+    /// its principal axes of inertia, the frame its shape is stored in) to the world, as
+    /// [`Bodies::poses`] (docs/bodies.md). It is not a displacement of the block as given: a
+    /// new simulation starts each body at the pose that places its shape where its block
+    /// was, `(principal axes, centroid)`, so `Pose::new(DQuat::IDENTITY, c)` turns a block
+    /// whose principal axes are not the world's. The rotation is normalised. The pose must
+    /// keep the body clear of the others by the gap (an overlap deeper is a
+    /// [`MechanicsError::Penetration`] at the next step).
+    ///
+    /// # Errors
+    ///
+    /// [`MechanicsError::NotFinite`] for a NaN or infinite component or a zero rotation;
+    /// [`MechanicsError::OutOfRange`] for a pose that places a part of the body where double
+    /// precision no longer holds it (the rule of [`ContactTracker::update`]: coordinates
+    /// beyond the magnitude at which its closest vertices stay distinct, at most 1e50);
+    /// [`MechanicsError::UnknownBody`] or [`MechanicsError::Removed`] for a body that is
+    /// not there.
+    ///
+    /// [`ContactTracker::update`]: crate::system::ContactTracker::update
     pub fn set_pose(&mut self, i: usize, pose: Pose) -> Result<(), MechanicsError> {
         self.check_present(i)?;
         let pose =
             Pose::new(pose.rotation, pose.translation).ok_or(MechanicsError::NotFinite("pose"))?;
+        for part in self.bodies.shape(i).parts() {
+            let reach = crate::block::Reach::of(part);
+            if !reach.admits(&pose) {
+                return Err(MechanicsError::OutOfRange {
+                    body: i,
+                    what: "pose",
+                    magnitude: reach.magnitude_at(&pose),
+                    limit: reach.limit.max(reach.home),
+                });
+            }
+        }
         self.bodies.pose[i] = pose;
         self.place_body(i);
         self.built_at = None;
         Ok(())
+    }
+
+    /// Whether the points of body `i` move at most [`MAX_COORDINATE`] per unit of time at
+    /// this velocity and spin (finite).
+    fn check_speed(&self, i: usize, velocity: DVec3, spin: DVec3) -> Result<(), MechanicsError> {
+        self.bodies.check(i)?;
+        // Lengths scaled by the largest component: 1e200 is 1e200, not an overflowed square.
+        let length = |v: DVec3| {
+            let big = v.abs().max_element();
+            if big > 0.0 {
+                big * (v / big).length()
+            } else {
+                0.0
+            }
+        };
+        let speed = length(velocity) + length(spin) * self.bodies.shape(i).radius();
+        if speed <= MAX_COORDINATE {
+            return Ok(());
+        }
+        Err(MechanicsError::OutOfRange {
+            body: i,
+            what: "velocity",
+            magnitude: speed,
+            limit: MAX_COORDINATE,
+        })
     }
 
     /// Body `i` exists and was not excavated.
@@ -890,7 +1094,10 @@ impl Simulation {
         self.dormancy
     }
 
-    /// Sets the time step; `None` for the automatic one (safety × critical).
+    /// Sets the time step; `None` for the automatic one (safety × critical). A step must be
+    /// in `(0, critical]` ([`MechanicsError::TimeStep`]) and at least [`MIN_STEP_FRACTION`]
+    /// of the undamped critical step ([`MechanicsError::TimeStepTooSmall`]: a step of 1e-300
+    /// would make `run_until(1.0)` run for ever).
     pub fn set_timestep(&mut self, dt: Option<f64>) -> Result<(), MechanicsError> {
         if let Some(dt) = dt {
             let critical = self.critical_timestep()?;
@@ -898,11 +1105,17 @@ impl Simulation {
                 return Err(MechanicsError::TimeStep { dt, critical });
             }
         }
-        self.dt = dt;
-        Ok(())
+        let old = std::mem::replace(&mut self.dt, dt);
+        let checked = self.check_small_step();
+        if checked.is_err() {
+            self.dt = old;
+        }
+        checked
     }
 
-    /// Sets the safety factor of the automatic time step (in (0, 1]).
+    /// Sets the safety factor of the automatic time step (in (0, 1]; the step must stay at
+    /// least [`MIN_STEP_FRACTION`] of the undamped critical one,
+    /// [`MechanicsError::TimeStepTooSmall`]).
     pub fn set_safety(&mut self, safety: f64) -> Result<(), MechanicsError> {
         if !(safety.is_finite() && safety > 0.0 && safety <= 1.0) {
             return Err(MechanicsError::Parameter {
@@ -911,8 +1124,21 @@ impl Simulation {
                 value: safety,
             });
         }
-        self.safety = safety;
-        Ok(())
+        let old = std::mem::replace(&mut self.safety, safety);
+        let checked = self.check_small_step();
+        if checked.is_err() {
+            self.safety = old;
+        }
+        checked
+    }
+
+    /// Whether the time step is at least [`MIN_STEP_FRACTION`] of the undamped critical
+    /// step, where there is one now (no free body: nothing to check until there is).
+    fn check_small_step(&self) -> Result<(), MechanicsError> {
+        match self.timestep() {
+            Err(e @ MechanicsError::TimeStepTooSmall { .. }) => Err(e),
+            _ => Ok(()),
+        }
     }
 
     /// Mass scaling for quasi-static runs (3DEC's density scaling): with `on`, each free body
@@ -968,22 +1194,42 @@ impl Simulation {
     /// free bodies, with their bolts, lowered for viscous damping (`integrate::damped_step`:
     /// a rate β above `2 / dt` makes the explicit step unstable, whatever the stiffness).
     pub fn critical_timestep(&self) -> Result<f64, MechanicsError> {
+        self.undamped_timestep()
+            .map(|undamped| integrate::damped_step(undamped, self.damping.viscous))
+    }
+
+    /// The critical time step without viscous damping's bound.
+    fn undamped_timestep(&self) -> Result<f64, MechanicsError> {
         let k = self.max_stiffness();
         self.bodies
             .critical_timestep(k)
             .ok_or(MechanicsError::NoFreeBody)
             .map(|contacts| self.bolts.critical_step(&self.bodies, contacts))
-            .map(|undamped| integrate::damped_step(undamped, self.damping.viscous))
     }
 
-    /// The time step the next step takes.
+    /// The time step the next step takes: an error for a step given above the critical
+    /// step ([`MechanicsError::TimeStep`], after the stiffness or damping changed), or
+    /// below [`MIN_STEP_FRACTION`] of the undamped one
+    /// ([`MechanicsError::TimeStepTooSmall`], after the stiffness changed).
     pub fn timestep(&self) -> Result<f64, MechanicsError> {
-        let critical = self.critical_timestep()?;
-        match self.dt {
-            Some(dt) if dt > critical => Err(MechanicsError::TimeStep { dt, critical }),
-            Some(dt) => Ok(dt),
-            None => Ok(self.safety * critical),
+        let undamped = self.undamped_timestep()?;
+        let critical = integrate::damped_step(undamped, self.damping.viscous);
+        let dt = match self.dt {
+            Some(dt) if dt > critical => return Err(MechanicsError::TimeStep { dt, critical }),
+            Some(dt) => dt,
+            None => self.safety * critical,
+        };
+        let smallest = MIN_STEP_FRACTION * undamped;
+        if dt < smallest {
+            return Err(MechanicsError::TimeStepTooSmall {
+                dt,
+                smallest,
+                given: self.dt.is_some(),
+                safety: self.safety,
+                viscous: self.damping.viscous,
+            });
         }
+        Ok(dt)
     }
 
     /// Simulated time.
@@ -1052,6 +1298,27 @@ impl Simulation {
 
     /// One step: bodies at their poses -> contacts -> sub-contacts -> forces ->
     /// integration -> new poses (docs/mechanics.md, "One step").
+    ///
+    /// # Errors
+    ///
+    /// A step that fails is not undone (that would cost every step a copy of the state);
+    /// what it leaves depends on where it failed:
+    ///
+    /// - the time step ([`MechanicsError::TimeStep`], [`MechanicsError::TimeStepTooSmall`],
+    ///   [`MechanicsError::NoFreeBody`]): nothing has changed;
+    /// - the detection ([`MechanicsError::Penetration`]), before any force: the bodies'
+    ///   poses, velocities and angular momenta, the last step's contacts and forces, the time
+    ///   and the step count are as they were. The overlap is in the poses the last step (or
+    ///   [`Simulation::set_pose`]) left, which can be read and saved; the next step builds
+    ///   the candidate pairs afresh and finds it again;
+    /// - the integration ([`MechanicsError::NotFinite`], [`MechanicsError::Travel`]), after
+    ///   the forces: the contacts, their joint states and the contact forces are this step's
+    ///   (at the poses before it), and every body's pose, velocity and angular momentum has
+    ///   been advanced (not finite for `NotFinite`; the far body where the step took it for
+    ///   `Travel`), but the time and the step count have not, and the placed parts
+    ///   ([`Simulation::placed_system`]) are still at the poses before. This is no state to
+    ///   go on from: set the poses and velocities again, or start again from a restart file
+    ///   ([`Simulation::load_state`]) or a new simulation.
     pub fn step(&mut self) -> Result<(), MechanicsError> {
         let dt = self.timestep()?;
         let mut clock = Instant::now();
@@ -1724,7 +1991,7 @@ impl Simulation {
                 );
                 let kick = synced.kick(i);
                 let after = integrate::advanced(&inertia, i, before, [f, m], dt, kick);
-                let mut passed = false;
+                let (mut passed, mut far) = (false, None);
                 *last_step = if same_bits(&before.pose, &after.pose) {
                     0.0
                 } else {
@@ -1732,9 +1999,17 @@ impl Simulation {
                     passed = built.is_some_and(|b| passed_skin(&b[i], &after.pose, radius, half));
                     // The detection of the next step is the first to see this pose.
                     *moved_at = next;
-                    before
+                    let moved = before
                         .pose
-                        .displacement_bound(&after.pose, DVec3::ZERO, radius)
+                        .displacement_bound(&after.pose, DVec3::ZERO, radius);
+                    if moved > TRAVEL_LIMIT * radius && inertia.is_free(i) {
+                        far = Some(FarBody {
+                            body: i as u32,
+                            travel: moved,
+                            radius,
+                        });
+                    }
+                    moved
                 };
                 *travel += *last_step;
                 (*pose, *v, *l) = (after.pose, after.velocity, after.momentum);
@@ -1742,6 +2017,7 @@ impl Simulation {
                     largest: unbalanced[0],
                     reference: unbalanced[1],
                     passed,
+                    far,
                     finite: pose.translation.is_finite()
                         && pose.rotation.is_finite()
                         && v.is_finite()
@@ -1761,6 +2037,15 @@ impl Simulation {
         // below its target (it ran its whole budget). An error, as a state that is not finite.
         if !(largest.is_finite() && reference.is_finite()) {
             return Err(MechanicsError::NotFinite("a free body's unbalanced force"));
+        }
+        if let Some(far) = summary.far {
+            return Err(MechanicsError::Travel {
+                body: far.body,
+                step: self.steps,
+                travel: far.travel,
+                radius: far.radius,
+                dt,
+            });
         }
         self.ratio = if reference > 0.0 {
             largest / reference
@@ -1827,9 +2112,37 @@ struct Summary {
     reference: f64,
     /// Whether a body moved more than half the skin since the candidate pairs were built.
     passed: bool,
+    /// The free body of smallest id that moved farther than [`TRAVEL_LIMIT`] times its
+    /// radius, if any.
+    far: Option<FarBody>,
     /// Whether every body's new state is finite.
     finite: bool,
 }
+
+/// A free body that moved too far in one step ([`MechanicsError::Travel`]).
+#[derive(Clone, Copy, Debug)]
+struct FarBody {
+    body: u32,
+    /// The bound of its points' displacement in the step.
+    travel: f64,
+    /// Its radius ([`crate::body::Shape::radius`]).
+    radius: f64,
+}
+
+/// The farthest a free body may move in one step, as a fraction of its radius (the largest
+/// distance of its points from its centroid): a body moving farther could pass through
+/// another between two detections (docs/mechanics.md, "Travel in one step").
+pub const TRAVEL_LIMIT: f64 = 0.1;
+
+/// The smallest time step, as a fraction of the undamped critical step (docs/mechanics.md,
+/// "The smallest time step"): a step given below it, or an automatic one that the safety
+/// factor or viscous damping takes below it, is a [`MechanicsError::TimeStepTooSmall`].
+/// It is the rounding of the critical step (2^-52, 2.2e-16): no stiffness, mass or damping
+/// of the model asks for a step that small beside it. (A bound relative to the critical
+/// step cannot be much larger: tests step a body made a billion times heavier, or given
+/// joints of 1e-6 Pa/m to keep contacts out of a free flight, at 5e-10 of their critical
+/// step.)
+pub const MIN_STEP_FRACTION: f64 = f64::EPSILON;
 
 impl Default for Summary {
     fn default() -> Self {
@@ -1837,6 +2150,7 @@ impl Default for Summary {
             largest: 0.0,
             reference: 0.0,
             passed: false,
+            far: None,
             finite: true,
         }
     }
@@ -1848,6 +2162,11 @@ impl Summary {
             largest: self.largest.max(other.largest),
             reference: self.reference.max(other.reference),
             passed: self.passed || other.passed,
+            // The smallest id: the same body whatever the order of the merges.
+            far: match (self.far, other.far) {
+                (Some(a), Some(b)) => Some(if a.body < b.body { a } else { b }),
+                (a, b) => a.or(b),
+            },
             finite: self.finite && other.finite,
         }
     }

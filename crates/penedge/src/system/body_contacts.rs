@@ -108,22 +108,23 @@ impl BodyContacts {
             other.piece_offsets[range.start] as usize..other.piece_offsets[range.end] as usize;
         let points = other.piece_point_offsets[pieces.start] as usize
             ..other.piece_point_offsets[pieces.end] as usize;
-        let (piece_shift, point_shift) = (
-            self.pieces.len() as u64 - pieces.start as u64,
-            self.piece_points.len() as u64 - points.start as u64,
-        );
-        self.contacts
-            .extend_from_slice(&other.contacts[range.clone()]);
+        // An offset `x` of `other` (at least the copied stretch's start, offsets being
+        // sorted) moves from `start` in `other` to this one's end: `x - start + end`. The
+        // stretch can start past this one's end (earlier regions of `other` dropped), so the
+        // shift `end - start` can be negative and is not computed alone.
+        let (start, end) = (pieces.start as u64, self.pieces.len() as u64);
         self.piece_offsets.extend(
             other.piece_offsets[range.start + 1..=range.end]
                 .iter()
-                .map(|x| x + piece_shift),
+                .map(|&x| x - start + end),
         );
+        let (start, end) = (points.start as u64, self.piece_points.len() as u64);
         self.piece_point_offsets.extend(
             other.piece_point_offsets[pieces.start + 1..=pieces.end]
                 .iter()
-                .map(|x| x + point_shift),
+                .map(|&x| x - start + end),
         );
+        self.contacts.extend_from_slice(&other.contacts[range]);
         self.pieces.extend_from_slice(&other.pieces[pieces]);
         self.piece_points
             .extend_from_slice(&other.piece_points[points]);

@@ -47,6 +47,10 @@ impl ContactGeometries {
     }
 
     /// The points of contact `i`.
+    ///
+    /// # Panics
+    ///
+    /// If there is no contact `i` (`i >= self.len()`).
     pub fn points_of(&self, i: usize) -> &[[f64; 3]] {
         let (start, end) = (self.point_offsets[i], self.point_offsets[i + 1]);
         &self.points[start as usize..end as usize]

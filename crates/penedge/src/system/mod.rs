@@ -69,6 +69,17 @@ pub enum SystemError {
         /// Plane index.
         plane: usize,
     },
+    /// Cutting planes given with a different number of normals and offsets.
+    #[error(
+        "{normals} normals but {offsets} offsets: each cutting plane needs one normal and one \
+         offset"
+    )]
+    PlaneCount {
+        /// Normals given.
+        normals: usize,
+        /// Offsets given.
+        offsets: usize,
+    },
     /// The domain or a piece is not a valid block.
     #[error("invalid block: {0}")]
     Block(#[from] BlockError),
@@ -161,13 +172,20 @@ impl BlockSystem {
 
     /// The `domain` cut by infinite planes `normals[i] · x = offsets[i]`: each plane splits
     /// every block it crosses (through the cutting tree). Plane `i` is joint `i` of entry `i`;
-    /// planes that miss the domain cut nothing.
+    /// planes that miss the domain cut nothing. As many offsets as normals are needed
+    /// ([`SystemError::PlaneCount`]).
     pub fn from_domain_cut(
         domain: ConvexBlock,
         normals: &[[f64; 3]],
         offsets: &[f64],
         tol: &Tolerance,
     ) -> Result<Self, SystemError> {
+        if normals.len() != offsets.len() {
+            return Err(SystemError::PlaneCount {
+                normals: normals.len(),
+                offsets: offsets.len(),
+            });
+        }
         let domain = Domain::convex(domain);
         let mut joints = Vec::with_capacity(normals.len());
         for (i, (n, &d)) in normals.iter().zip(offsets).enumerate() {

@@ -157,7 +157,7 @@ pub(crate) fn holds(deadline: f64, travel: [f64; 2]) -> bool {
 /// let system = paper_example(PaperExample::One).unwrap();
 /// let mut tracker = ContactTracker::new(&system, Tolerance::default(), 0.1).unwrap();
 /// assert_eq!(tracker.contacts().contacts.len(), 28);
-/// // Lift block 0 by 1 mm: it leaves its neighbours.
+/// // Move block 0 (at a bottom corner) down by 1 mm: it leaves some of its neighbours.
 /// let mut poses = vec![Pose::IDENTITY; system.len()];
 /// poses[0].translation.z = -1e-3;
 /// let report = tracker.update(&poses).unwrap();
