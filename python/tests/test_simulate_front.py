@@ -455,6 +455,25 @@ def test_a_factor_of_safety_reducing_brittle_cohesion_is_warned_of(
         assert "the default properties" not in err
 
 
+def test_a_restarted_run_warns_only_of_the_stages_it_runs(tmp_path, capsys):
+    """A brittle factor of safety before the save is not run by a run restarted from it,
+    and is not warned of; one after it is (with --check too)."""
+    save = '[[stages]]\ntype = "save"\nfile = "s.json"\n'
+    fos = FOS + "max_steps = 200\n"
+    brittle = properties(cohesion=1e4)
+    for stages, warned in (
+        (brittle + SOLVE + fos + save + SOLVE, False),
+        (brittle + SOLVE + save + fos, True),
+    ):
+        assert simulate(tmp_path, stages) == 0
+        assert "reduces brittle strength" in capsys.readouterr().err  # the whole run warns
+        saved = str(tmp_path / "out" / "s.json")
+        for flags in (("--check",), ()):
+            assert simulate(tmp_path, stages, *flags, "--restart", saved) == 0
+            err = capsys.readouterr().err
+            assert ("reduces brittle strength" in err) == warned, (stages, flags, err)
+
+
 def test_a_restart_file_of_another_model_is_refused(tmp_path, capsys):
     # The same number of blocks (five), other blocks: the bedding shifted by half a metre.
     assert simulate(tmp_path, SAVE_AND_GO_ON) == 0

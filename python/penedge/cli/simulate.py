@@ -172,8 +172,14 @@ def simulate_model(args: argparse.Namespace, path: Path) -> int:
         stiffening_warnings,
     )
 
-    warnings = stiffening_warnings(model) + brittle_warnings(model) + input_warnings(model)
-    for warning in warnings:
+    def stage_warnings(first: int) -> None:
+        # Of the stages from `first` on: a restarted run runs none before it.
+        for warning in stiffening_warnings(model, first) + brittle_warnings(model, first):
+            print(f"{PROG}: warning: {warning}", file=sys.stderr)
+
+    if args.restart is None:
+        stage_warnings(0)
+    for warning in input_warnings(model):
         print(f"{PROG}: warning: {warning}", file=sys.stderr)
     bar = ProgressBar(sys.stderr, f"{PROG} simulate: generating", unit="planes") if show else None
     try:
@@ -186,6 +192,8 @@ def simulate_model(args: argparse.Namespace, path: Path) -> int:
     if args.check:
         with progress.activity(show, f"{PROG} simulate: building the engine"):
             runner = check_run(setup, folder, args.restart)
+        if args.restart is not None:
+            stage_warnings(0 if runner is None else runner.first)
         summary = check_summary(path, setup)
         summary.update(plan_summary(setup, runner, args.no_series))
         if runner is not None and args.restart is not None:
@@ -230,6 +238,8 @@ def simulate_model(args: argparse.Namespace, path: Path) -> int:
     runner = Runner(
         setup, engine_factory, progress=report, frame=frame, folder=folder, restart=args.restart
     )
+    if args.restart is not None:
+        stage_warnings(runner.first)
     plan = plan_summary(setup, runner, args.no_series)
     for warning in plan_warnings(plan):
         print(f"{PROG}: warning: {warning}", file=sys.stderr)

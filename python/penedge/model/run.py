@@ -953,18 +953,19 @@ NO_FREE_BLOCK = (
 STEPPING_STAGES = ("solve", "cycle", "time", "excavate")
 
 
-def stiffening_warnings(model: Model) -> list[str]:
+def stiffening_warnings(model: Model, first: int = 0) -> list[str]:
     """A warning for each ``properties`` stage that raises ``kn`` (of a set, or the default
     properties) after a stage that took steps. The normal force comes from the blocks'
     total overlap (docs/mechanics.md, "Normal force: total"), so the overlap they settled
     with is pushed harder at once and the blocks move to a new equilibrium: a tenfold kn
     throws them. ``ks`` is not warned of: the shear force is incremental, a stiffer ks
-    changes the steps after, not the force now."""
+    changes the steps after, not the force now. Only for the stages from `first` on (a run
+    restarted there runs none before it)."""
     kn = {name: p.kn for name, p in model.properties.items()}
     default = model.default_properties.kn
     stepped: Stage | None = None
     warnings = []
-    for stage in model.stages:
+    for index, stage in enumerate(model.stages):
         if stepped is None and stage.kind in STEPPING_STAGES:
             stepped = stage
         if stage.kind != "properties" or "kn" not in stage.changes:
@@ -977,7 +978,7 @@ def stiffening_warnings(model: Model) -> list[str]:
             default = new
         kn.update(dict.fromkeys(names, new))
         raised = [name for name, old in before.items() if new > old]
-        if stepped is None or not raised:
+        if stepped is None or not raised or index < first:
             continue
         old = min(before[name] for name in raised)
         warnings.append(
@@ -991,25 +992,26 @@ def stiffening_warnings(model: Model) -> list[str]:
     return warnings
 
 
-def brittle_warnings(model: Model) -> list[str]:
+def brittle_warnings(model: Model, first: int = 0) -> list[str]:
     """A warning for each ``factor_of_safety`` stage that reduces a brittle strength: a
     joint set (or the default properties, or a set's rock bridges) whose cohesion or tension
     is above its residual value (3DEC's default residual is 0), or whose residual friction
     is below its friction, when the stage runs. A sub-contact that reaches its strength then
     loses it, and the load it sheds can fail the next: F includes that progressive failure,
     and can lie far below limit equilibrium's, which has the whole strength at once
-    (docs/models.md, "Brittle cohesion")."""
+    (docs/models.md, "Brittle cohesion"). Only for the stages from `first` on (a run
+    restarted there runs none before it)."""
     properties = dict(model.properties)
     default = model.default_properties
     warnings = []
-    for stage in model.stages:
+    for index, stage in enumerate(model.stages):
         if stage.kind == "properties":
             names = stage.sets or tuple(model.set_names)
             if not stage.sets:  # every set, and the contacts of no set (as the run applies it)
                 default = merge(default, stage.changes)
             properties.update({name: merge(properties[name], stage.changes) for name in names})
             continue
-        if stage.kind != "factor_of_safety":
+        if stage.kind != "factor_of_safety" or index < first:
             continue
         names = stage.sets or tuple(model.set_names)
         reduced = [(name, properties[name]) for name in names]
