@@ -284,21 +284,7 @@ pub(super) fn contact_sets(
         }
         return sets;
     }
-    let origin = |block: &ConvexBlock, f: usize| block.face_origins().get(f).copied();
-    // The joints with a face at each feature on both sides.
-    for_faces_at(a, fa, |i| {
-        let Some((set, joint)) = origin(a, i).and_then(joint_of) else {
-            return;
-        };
-        let normal = a.planes()[i].normal;
-        for_faces_at(b, fb, |j| {
-            if origin(b, j).and_then(joint_of) == Some((set, joint))
-                && normal.dot(b.planes()[j].normal) < -0.5
-            {
-                sets.push(set);
-            }
-        });
-    });
+    joints_lying_in(a, fa, b, fb, |(set, _)| sets.push(set));
     if sets.as_slice().is_empty() {
         for (block, f) in [(a, fa), (b, fb)] {
             for_faces_at(block, f, |i| {
@@ -309,6 +295,37 @@ pub(super) fn contact_sets(
         }
     }
     sets
+}
+
+/// The origin of face `f` of `block` (none past its faces).
+fn origin(block: &ConvexBlock, f: usize) -> Option<FaceOrigin> {
+    block.face_origins().get(f).copied()
+}
+
+/// Calls `visit` with the joint (set, joint plane) of each pair of faces, one at feature
+/// `fa` of `a` and one at `fb` of `b`, that are that joint's two sides: the same joint plane
+/// with opposite normals (cosine below −1/2). The joints a contact of edges or vertices lies
+/// in ([`contact_sets`], [`crosses_joints`]); a joint met by several pairs is visited for each.
+fn joints_lying_in(
+    a: &ConvexBlock,
+    fa: Feature,
+    b: &ConvexBlock,
+    fb: Feature,
+    mut visit: impl FnMut((u32, u32)),
+) {
+    for_faces_at(a, fa, |i| {
+        let Some(joint) = origin(a, i).and_then(joint_of) else {
+            return;
+        };
+        let normal = a.planes()[i].normal;
+        for_faces_at(b, fb, |j| {
+            if origin(b, j).and_then(joint_of) == Some(joint)
+                && normal.dot(b.planes()[j].normal) < -0.5
+            {
+                visit(joint);
+            }
+        });
+    });
 }
 
 /// Whether the contact between feature `fa` of `a` and feature `fb` of `b`, neither a face,
@@ -326,25 +343,11 @@ pub(super) fn crosses_joints(a: &ConvexBlock, fa: Feature, b: &ConvexBlock, fb: 
     if matches!(fa, Feature::Face(_)) || matches!(fb, Feature::Face(_)) {
         return false;
     }
-    let origin = |block: &ConvexBlock, f: usize| block.face_origins().get(f).copied();
     let mut first: Option<(u32, u32)> = None;
     let mut crossing = false;
-    for_faces_at(a, fa, |i| {
-        let Some(joint) = origin(a, i).and_then(joint_of) else {
-            return;
-        };
-        let normal = a.planes()[i].normal;
-        for_faces_at(b, fb, |j| {
-            if origin(b, j).and_then(joint_of) == Some(joint)
-                && normal.dot(b.planes()[j].normal) < -0.5
-            {
-                match first {
-                    None => first = Some(joint),
-                    Some(other) if other != joint => crossing = true,
-                    Some(_) => {}
-                }
-            }
-        });
+    joints_lying_in(a, fa, b, fb, |joint| match first {
+        None => first = Some(joint),
+        Some(other) => crossing |= other != joint,
     });
     crossing
 }

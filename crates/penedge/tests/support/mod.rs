@@ -242,7 +242,19 @@ pub fn cubes_in_a_box_at(
     w: usize,
     h: usize,
     spacing: f64,
+    jitter: impl FnMut() -> (glam::DQuat, DVec3),
+) -> penedge::mechanics::Simulation {
+    grid_of_cubes(w, h, spacing, jitter, |_, block| block)
+}
+
+/// The grid of [`cubes_in_a_box_at`], each cube passed through `tag` with its grid point
+/// `(i, j, k)` before it is placed in the system.
+fn grid_of_cubes(
+    w: usize,
+    h: usize,
+    spacing: f64,
     mut jitter: impl FnMut() -> (glam::DQuat, DVec3),
+    tag: impl Fn([usize; 3], ConvexBlock) -> ConvexBlock,
 ) -> penedge::mechanics::Simulation {
     let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
     let (mut blocks, mut fixed) = (Vec::new(), Vec::new());
@@ -256,7 +268,8 @@ pub fn cubes_in_a_box_at(
                 } else {
                     jitter()
                 };
-                blocks.push(unit.transformed(turn, centre + shift, 1.0));
+                let block = unit.transformed(turn, centre + shift, 1.0);
+                blocks.push(tag([i, j, k], block));
                 fixed.push(wall);
             }
         }
@@ -299,50 +312,43 @@ pub fn jointed_box(lo: [f64; 3], hi: [f64; 3]) -> ConvexBlock {
 /// planes normal to axis `a`, one joint per plane (numbered across the sets), the box's
 /// outer faces its boundary. The cubes' edges and corners then meet where joints cross.
 pub fn jointed_cubes_in_a_box(w: usize, h: usize) -> penedge::mechanics::Simulation {
+    let still = || (glam::DQuat::IDENTITY, DVec3::ZERO);
+    grid_of_cubes(w, h, 1.0, still, |lo, block| {
+        let origins = grid_origins(&block, lo, [w, w, h]);
+        block.with_face_origins(origins).unwrap()
+    })
+}
+
+/// The face origins of the unit cube at grid point `lo` of a box of `size` cubes: set `a`
+/// for the planes normal to axis `a`, one joint per inner plane (numbered across the sets),
+/// the box's outer faces its boundary (as `penedge-bench mechanics --joints jointed`).
+fn grid_origins(
+    block: &ConvexBlock,
+    lo: [usize; 3],
+    size: [usize; 3],
+) -> Vec<penedge::block::FaceOrigin> {
     use penedge::block::FaceOrigin;
-    let size = [w, w, h];
-    let unit = ConvexBlock::cuboid([-0.5; 3], [0.5; 3]).unwrap();
-    let (mut blocks, mut fixed) = (Vec::new(), Vec::new());
-    for k in 0..h {
-        for j in 0..w {
-            for i in 0..w {
-                let lo = [i, j, k];
-                let block = unit.transformed(
-                    glam::DQuat::IDENTITY,
-                    DVec3::new(i as f64, j as f64, k as f64) + 0.5,
-                    1.0,
-                );
-                let origins = block
-                    .planes()
-                    .iter()
-                    .map(|p| {
-                        let axis = (0..3).find(|&a| p.normal[a].abs() == 1.0).unwrap();
-                        let upper = p.normal[axis] > 0.0;
-                        let at = lo[axis] + usize::from(upper);
-                        if at == 0 || at == size[axis] {
-                            FaceOrigin::Boundary {
-                                part: 0,
-                                face: (2 * axis + usize::from(upper)) as u32,
-                            }
-                        } else {
-                            let before: usize = size[..axis].iter().map(|s| s - 1).sum();
-                            FaceOrigin::Joint {
-                                set: axis as u32,
-                                joint: (before + at - 1) as u32,
-                            }
-                        }
-                    })
-                    .collect();
-                blocks.push(block.with_face_origins(origins).unwrap());
-                fixed.push(k == 0 || i == 0 || j == 0 || i == w - 1 || j == w - 1);
+    block
+        .planes()
+        .iter()
+        .map(|p| {
+            let axis = (0..3).find(|&a| p.normal[a].abs() == 1.0).unwrap();
+            let upper = p.normal[axis] > 0.0;
+            let at = lo[axis] + usize::from(upper);
+            if at == 0 || at == size[axis] {
+                FaceOrigin::Boundary {
+                    part: 0,
+                    face: (2 * axis + usize::from(upper)) as u32,
+                }
+            } else {
+                let before: usize = size[..axis].iter().map(|s| s - 1).sum();
+                FaceOrigin::Joint {
+                    set: axis as u32,
+                    joint: (before + at - 1) as u32,
+                }
             }
-        }
-    }
-    let mut sim = penedge::mechanics::Simulation::new(&BlockSystem::new(blocks), 2500.0).unwrap();
-    for i in (0..fixed.len()).filter(|&i| fixed[i]) {
-        sim.fix(i).unwrap();
-    }
-    sim
+        })
+        .collect()
 }
 
 /// Every face of `block` tagged with the joint set `set(normal)` of its outward normal.
