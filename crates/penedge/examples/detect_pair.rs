@@ -149,9 +149,10 @@ fn main() {
     assert_eq!(g.normal(), DVec3::X);
     assert_eq!(g.points().len(), 1);
     assert!((g.points()[0] - DVec3::new(1.0, 0.5, 0.5)).length() < 1e-12);
-    assert_eq!(g.area(), 0.0); // only a polygon has an area
-                               // B and the octahedron are apart: B is above z = 1, the octahedron's top corner at 1.
-                               // (It touches B's bottom face at a vertex, x = 1.5, y = 0.5, z = 1: another vertex-face.)
+    // Only a polygon has an area.
+    assert_eq!(g.area(), 0.0);
+    // B lies above z = 1 and the octahedron's top corner is at z = 1: it touches B's bottom
+    // face at that vertex (x = 1.5, y = 0.5, z = 1), another vertex-face contact.
     let bo = detect_pair(&b, &octahedron, &exact);
     println!("B-octahedron: {}", bo.name());
     assert_eq!(bo.contact_type(), Some(ContactType::VertexFace));

@@ -142,16 +142,19 @@ fn a_cone_of_as_many_half_spaces_as_allowed_is_built_in_reasonable_time() {
     assert_eq!(block.n_faces(), sides + 1);
 }
 
+/// The outward normals of a box, one per face.
+const AXES: [[f64; 3]; 6] = [
+    [1.0, 0.0, 0.0],
+    [-1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.0, -1.0, 0.0],
+    [0.0, 0.0, 1.0],
+    [0.0, 0.0, -1.0],
+];
+
 #[test]
 fn half_space_normals_of_any_finite_length_count_by_direction() {
-    let base = [
-        [1.0, 0.0, 0.0],
-        [-1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, -1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        [0.0, 0.0, -1.0],
-    ];
+    let base = AXES;
     for big in [1e200, 1e-200, 1e300, f64::MIN_POSITIVE] {
         let mut normals = base;
         normals[0] = [big, 0.0, 0.0];
@@ -818,15 +821,8 @@ fn planes_with_more_normals_than_offsets_are_refused_with_the_counts() {
         ),
         "{e:?}"
     );
-    let box_normals = [
-        [1.0, 0.0, 0.0],
-        [-1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, -1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        [0.0, 0.0, -1.0],
-    ];
-    let e = ConvexBlock::from_planes(&box_normals, &[1.0; 5]).unwrap_err();
+
+    let e = ConvexBlock::from_planes(&AXES, &[1.0; 5]).unwrap_err();
     assert_eq!(
         e,
         BlockError::PlaneCount {
@@ -835,5 +831,5 @@ fn planes_with_more_normals_than_offsets_are_refused_with_the_counts() {
         }
     );
     assert!(e.to_string().contains("6 normals but 5 offsets"), "{e}");
-    ConvexBlock::from_planes(&box_normals, &[1.0; 6]).unwrap();
+    ConvexBlock::from_planes(&AXES, &[1.0; 6]).unwrap();
 }

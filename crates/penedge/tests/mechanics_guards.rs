@@ -253,3 +253,42 @@ fn a_time_step_below_the_rounding_of_the_critical_one_is_refused() {
     sim.set_safety(1e-15).unwrap();
     sim.step().unwrap();
 }
+
+/// A given step valid for the joints when it was set, then joints a trillion times softer:
+/// the critical step grows a millionfold and the given step falls below its floor. The step
+/// refuses it (the path `set_timestep` cannot see: the stiffness changed after it).
+#[test]
+fn a_given_step_below_the_floor_after_the_joints_soften_is_refused_by_the_step() {
+    let mut sim = cube_on_base();
+    let stiff = JointModel {
+        kn: 1e9,
+        ks: 1e9,
+        ..JointModel::default()
+    };
+    sim.set_default_joint(stiff).unwrap();
+    let critical = sim.critical_timestep().unwrap();
+    // Ten times the floor now, so accepted.
+    let dt = 10.0 * MIN_STEP_FRACTION * critical;
+    sim.set_timestep(Some(dt)).unwrap();
+    let soft = JointModel {
+        kn: 1e-3,
+        ks: 1e-3,
+        ..JointModel::default()
+    };
+    sim.set_default_joint(soft).unwrap();
+    let softer = sim.critical_timestep().unwrap();
+    assert!(dt < MIN_STEP_FRACTION * softer, "{dt} {softer}");
+    let e = sim.step().unwrap_err();
+    match e {
+        MechanicsError::TimeStepTooSmall {
+            dt: refused,
+            smallest,
+            given,
+            ..
+        } => {
+            assert_eq!((refused, given), (dt, true));
+            assert_eq!(smallest, MIN_STEP_FRACTION * softer);
+        }
+        ref other => panic!("{other:?}"),
+    }
+}
