@@ -1005,11 +1005,9 @@ def brittle_warnings(model: Model, first: int = 0) -> list[str]:
     default = model.default_properties
     warnings = []
     for index, stage in enumerate(model.stages):
-        if stage.kind == "properties":
-            names = stage.sets or tuple(model.set_names)
-            if not stage.sets:  # every set, and the contacts of no set (as the run applies it)
-                default = merge(default, stage.changes)
-            properties.update({name: merge(properties[name], stage.changes) for name in names})
+        if stage.kind == "properties":  # as the run applies it (StageEffects.apply)
+            default, changed = properties_changed(stage, model, default, properties)
+            properties.update(changed)
             continue
         if stage.kind != "factor_of_safety" or index < first:
             continue
@@ -1234,10 +1232,7 @@ class StageEffects:
         """The effect of `stage`, in place (the arrays too); for a ``properties`` stage, the
         sets it changes with their new properties (empty for another stage)."""
         if stage.kind == "properties":
-            names = stage.sets or tuple(model.set_names)
-            if not stage.sets:  # every set, and the contacts of no set
-                self.default = merge(self.default, stage.changes)
-            changed = {name: merge(self.properties[name], stage.changes) for name in names}
+            self.default, changed = properties_changed(stage, model, self.default, self.properties)
             self.properties.update(changed)
             return changed
         if stage.kind == "boundary" and stage.boundary is not None:
@@ -1247,6 +1242,21 @@ class StageEffects:
         elif stage.kind == "excavate" and stage.region is not None:
             self.removed |= layout.regions[stage.region]
         return {}
+
+
+def properties_changed(
+    stage: Stage,
+    model: Model,
+    default: JointProperties,
+    properties: dict[str, JointProperties],
+) -> tuple[JointProperties, dict[str, JointProperties]]:
+    """What the ``properties`` stage `stage` makes of the default properties `default` and
+    those of the sets (`properties`): the new default (changed only by a stage of every
+    set: the contacts of no set too) and the sets it changes with their new properties."""
+    names = stage.sets or tuple(model.set_names)
+    if not stage.sets:
+        default = merge(default, stage.changes)
+    return default, {name: merge(properties[name], stage.changes) for name in names}
 
 
 def replay(model: Model, layout: Any, upto: int) -> StageEffects:

@@ -772,12 +772,7 @@ impl Simulation {
                 value: damping.viscous,
             });
         }
-        let old = std::mem::replace(&mut self.damping, damping);
-        let checked = self.check_small_step();
-        if checked.is_err() {
-            self.damping = old;
-        }
-        checked
+        self.set_if_step_kept(|sim| &mut sim.damping, damping)
     }
 
     /// Sets the detection gap (relative to block size, as [`Tolerance::with_gap`]): the
@@ -1105,12 +1100,7 @@ impl Simulation {
                 return Err(MechanicsError::TimeStep { dt, critical });
             }
         }
-        let old = std::mem::replace(&mut self.dt, dt);
-        let checked = self.check_small_step();
-        if checked.is_err() {
-            self.dt = old;
-        }
-        checked
+        self.set_if_step_kept(|sim| &mut sim.dt, dt)
     }
 
     /// Sets the safety factor of the automatic time step (in (0, 1]; the step must stay at
@@ -1124,10 +1114,21 @@ impl Simulation {
                 value: safety,
             });
         }
-        let old = std::mem::replace(&mut self.safety, safety);
+        self.set_if_step_kept(|sim| &mut sim.safety, safety)
+    }
+
+    /// Sets the setting `field` (of the time step) to `value`, unless the time step it gives
+    /// is below its floor ([`Simulation::check_small_step`]): then the setting stays as it
+    /// was, and the error says why.
+    fn set_if_step_kept<V>(
+        &mut self,
+        field: fn(&mut Simulation) -> &mut V,
+        value: V,
+    ) -> Result<(), MechanicsError> {
+        let old = std::mem::replace(field(self), value);
         let checked = self.check_small_step();
         if checked.is_err() {
-            self.safety = old;
+            *field(self) = old;
         }
         checked
     }
